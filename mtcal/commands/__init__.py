@@ -1,0 +1,1 @@
+"""One module per `mtcal` subcommand (see mtcal/cli.py for the contract)."""

@@ -1,0 +1,228 @@
+"""Runtime machine model: a thin layer over the generated kinematics of one chain spec.
+
+Units: linear axes and positions in mm, rotary axes in degrees (as in NC programs), errors in mm and rad
+with ISO 230-1 names.  Pose = [x, y, z, i, j, k]: tool tip and tool axis in the workpiece frame.
+"""
+from __future__ import annotations
+
+import importlib
+import json
+import warnings
+from functools import cached_property
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from mtcal.errors import InputError
+
+
+
+class StaleGeneratedCodeWarning(UserWarning):
+    """generated/ was produced from a different derive/ than the one beside it."""
+
+
+def _check_stale() -> None:
+    try:
+        import mtcal.generated as g
+        manifest = json.loads((Path(g.__file__).with_name("manifest.json")).read_text())
+        from derive.__main__ import derive_hash  # only present in a source checkout
+    except Exception:  # installed without derive/: nothing to compare against
+        return
+    if manifest.get("derive_sha256") != derive_hash():
+        warnings.warn("generated/ is stale relative to derive/: run `python -m derive`",
+                      StaleGeneratedCodeWarning, stacklevel=3)
+
+
+class Machine:
+    """Kinematics of one machine (see ``load_machine``)."""
+
+    def __init__(self, name: str):
+        try:
+            self._np = importlib.import_module(f"mtcal.generated.{name}_numpy")
+        except ModuleNotFoundError:
+            raise InputError(f"unknown machine {name!r}; available: {', '.join(available_machines())}") from None
+        m = self._np
+        self.name: str = m.MACHINE
+        self.title: str = m.TITLE
+        self.axes: tuple[str, ...] = m.AXES
+        self.axis_kinds: tuple[str, ...] = m.AXIS_KINDS
+        self.limits: tuple = m.AXIS_LIMITS
+        self.error_names: tuple[str, ...] = m.ERRORS
+        self.error_groups: dict[str, list[str]] = m.ERROR_GROUPS
+        self.parameters: dict[str, str] = m.PARAMETERS
+        self.ik_info: dict = m.IK
+        self._err_index = {n: i for i, n in enumerate(self.error_names)}
+
+    def __repr__(self) -> str:
+        return f"Machine({self.name!r}: {self.title})"
+
+    @cached_property
+    def casadi(self):
+        """The generated CasADi module (functions return casadi.Function objects)."""
+        return importlib.import_module(f"mtcal.generated.{self.name}_casadi")
+
+    # ------------------------------------------------------------------ input checks
+    def check_axes(self, axes) -> np.ndarray:
+        """(..., n_axes) float array; NaN, wrong shapes and positions outside the limits are errors."""
+        a = np.asarray(axes, dtype=float)
+        n = len(self.axes)
+        if a.ndim == 0 or a.shape[-1] != n:
+            raise InputError(f"axes must have shape (..., {n}) ordered {self.axes}, got shape {a.shape}")
+        bad = ~np.isfinite(a)
+        if bad.any():
+            idx = tuple(int(i) for i in np.argwhere(bad)[0])
+            raise InputError(f"axes contain NaN/inf at index {idx} (axis {self.axes[idx[-1]]})")
+        for k, (name, lim) in enumerate(zip(self.axes, self.limits)):
+            if lim is None:
+                continue
+            col = a[..., k]
+            out = (col < lim[0]) | (col > lim[1])
+            if out.any():
+                idx = tuple(int(i) for i in np.argwhere(out)[0]) if col.ndim else ()
+                val = float(col[idx]) if col.ndim else float(col)
+                raise InputError(f"{name} = {val:g} {'deg' if self.axis_kinds[k] == 'rotary' else 'mm'} at index "
+                                 f"{idx} is outside its range [{lim[0]:g}, {lim[1]:g}]")
+        return a
+
+    def error_vector(self, errors: Mapping[str, float | np.ndarray] | np.ndarray | None, lead=()) -> np.ndarray:
+        """Errors by ISO name (missing names are zero) -> (..., n_errors) array; unknown names are errors."""
+        n = len(self.error_names)
+        if errors is None:
+            return np.zeros(tuple(lead) + (n,))
+        if isinstance(errors, Mapping):
+            unknown = sorted(set(errors) - set(self._err_index))
+            if unknown:
+                raise InputError(f"unknown error names {unknown} for machine {self.name}; "
+                                 f"known: {', '.join(self.error_names)}")
+            vals = {k: np.asarray(v, dtype=float) for k, v in errors.items()}
+            shape = np.broadcast_shapes(tuple(lead), *(v.shape for v in vals.values()))
+            e = np.zeros(shape + (n,))
+            for k, v in vals.items():
+                e[..., self._err_index[k]] = v
+        else:
+            e = np.asarray(errors, dtype=float)
+            if e.ndim == 0 or e.shape[-1] != n:
+                raise InputError(f"error vector must have shape (..., {n}) ordered as Machine.error_names, got {e.shape}")
+        if not np.isfinite(e).all():
+            raise InputError("error values contain NaN/inf")
+        return e
+
+    # ------------------------------------------------------------------ kinematics
+    def forward(self, axes, errors=None, tool_length: float = 0.0) -> np.ndarray:
+        """Pose (..., 6) = [x, y, z (mm), i, j, k] in the workpiece frame; exact error-inclusive when ``errors``."""
+        a = self.check_axes(axes)
+        if errors is None:
+            return self._np.forward(a, tool_length)
+        return self._np.forward_errors(a, self.error_vector(errors, a.shape[:-1]), tool_length)
+
+    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0) -> np.ndarray:
+        """Pose deviation (..., 6) caused by the errors: first order (order=1) or exact (order=None)."""
+        a = self.check_axes(axes)
+        e = self.error_vector(errors, a.shape[:-1])
+        if order == 1:
+            return self._np.deviation_first_order(a, e, tool_length)
+        if order is None:
+            return self._np.forward_errors(a, e, tool_length) - self._np.forward(a, tool_length)
+        raise InputError(f"order must be 1 (first order) or None (exact), got {order!r}")
+
+    def jacobian_axes(self, axes, errors=None, tool_length: float = 0.0) -> np.ndarray:
+        """d pose / d axes (..., 6, n_axes): per mm and per degree; at the given errors (held fixed) if any."""
+        a = self.check_axes(axes)
+        if errors is None:
+            return self._np.jacobian_axes(a, tool_length)
+        return self.forward_with_jacobian(a, errors, tool_length)[1]
+
+    def forward_with_jacobian(self, axes, errors=None, tool_length: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """(pose (..., 6), d pose / d axes (..., 6, n_axes)) of the exact error-inclusive model in one pass."""
+        a = self.check_axes(axes)
+        out = self._np.forward_errors_with_jacobian(a, self.error_vector(errors, a.shape[:-1]), tool_length)
+        return out[..., 0], out[..., 1:]
+
+    def jacobian_errors(self, axes, tool_length: float = 0.0) -> np.ndarray:
+        """d pose / d errors at zero error (..., 6, n_errors), columns ordered as ``error_names``."""
+        return self._np.jacobian_errors(self.check_axes(axes), tool_length)
+
+    # ------------------------------------------------------------------ inverse kinematics
+    def inverse(self, pose, hint=None, singular_tol: float = 1e-9) -> np.ndarray:
+        """Axes (..., 5) that reach pose (..., 6) = [x, y, z, i, j, k] nominally.
+
+        Branch: the tilt angle inside its limits (the spec's preferred branch, else the other, else the one
+        closer to ``hint``); the rotary angle is the 360-degree multiple closest to the hint's rotary angle
+        (hint default: all zero).  At the singularity (tool axis parallel to the rotary axis, |u_xy| <
+        ``singular_tol``) the rotary angle is taken from the hint.  The tool axis must be a unit vector within
+        1e-3 (it is then normalised); k outside the reachable range is an error.
+        """
+        p = np.asarray(pose, dtype=float)
+        if p.ndim == 0 or p.shape[-1] != 6:
+            raise InputError(f"pose must have shape (..., 6) = [x, y, z, i, j, k], got {p.shape}")
+        if not np.isfinite(p).all():
+            raise InputError(f"pose contains NaN/inf at index {tuple(np.argwhere(~np.isfinite(p))[0])}")
+        n = p[..., 3:]
+        norm = np.linalg.norm(n, axis=-1)
+        if np.any(np.abs(norm - 1) > 1e-3):
+            idx = tuple(int(i) for i in np.argwhere(np.abs(norm - 1) > 1e-3)[0])
+            raise InputError(f"tool axis at index {idx} has length {norm[idx]:.6g}, expected a unit vector")
+        n = n / norm[..., None]
+        info = self.ik_info
+        ti, ri = self.axes.index(info["tilt_axis"]), self.axes.index(info["rotary_axis"])
+        h = np.zeros(len(self.axes)) if hint is None else np.asarray(hint, dtype=float)
+        h = np.broadcast_to(h, p.shape[:-1] + (len(self.axes),))
+        k = n[..., 2]
+        lo, hi = info["k_range"]
+        if np.any((k < lo - 1e-12) | (k > hi + 1e-12)):
+            idx = tuple(int(i) for i in np.argwhere((k < lo - 1e-12) | (k > hi + 1e-12))[0])
+            raise InputError(f"tool axis k = {k[idx]:.9g} at index {idx} is unreachable: "
+                             f"{self.name} reaches k in [{lo:g}, {hi:g}]")
+        n = np.concatenate([n[..., :2], np.clip(k, lo, hi)[..., None]], axis=-1)  # only rounding (<= 1e-12)
+        cand = self._np.ik_tilt(n)  # (..., 2): [phi + t, phi - t]
+        if info["preferred_branch"] < 0:
+            cand = cand[..., ::-1]
+        lim = self.limits[ti] or (-np.inf, np.inf)
+        ok = (cand >= lim[0] - 1e-9) & (cand <= lim[1] + 1e-9)
+        if not ok.any(axis=-1).all():
+            idx = tuple(int(i) for i in np.argwhere(~ok.any(axis=-1))[0])
+            raise InputError(f"no {info['tilt_axis']} within {lim} reaches the tool axis at index {idx} "
+                             f"(candidates {cand[idx]})")
+        closer = np.abs(cand[..., 1] - h[..., ti]) < np.abs(cand[..., 0] - h[..., ti])
+        pick_second = ~ok[..., 0] | (ok[..., 1] & closer & (hint is not None))
+        tilt = np.clip(np.where(pick_second, cand[..., 1], cand[..., 0]), *lim)
+        rc = self._np.ik_rotary(tilt, n[..., :2])
+        rot, sing = rc[..., 0], rc[..., 1] < singular_tol
+        rot = np.where(sing, h[..., ri], rot + 360.0 * np.round((h[..., ri] - rot) / 360.0))
+        lin = self._np.ik_linear(np.stack([tilt, rot], axis=-1), p[..., :3])
+        out = np.empty(p.shape[:-1] + (len(self.axes),))
+        li = [i for i, kd in enumerate(self.axis_kinds) if kd == "linear"]
+        out[..., li] = lin
+        out[..., ti], out[..., ri] = tilt, rot
+        return out
+
+
+def _generated_dir() -> Path:
+    import mtcal.generated as g
+    return Path(g.__file__).parent
+
+
+def available_machines() -> list[str]:
+    """Machines whose kinematics are in generated/ (one per spec in derive/machines/)."""
+    return sorted(p.name[: -len("_numpy.py")] for p in _generated_dir().glob("*_numpy.py")
+                  if _is_machine(p.name[: -len("_numpy.py")]))
+
+
+def _is_machine(name: str) -> bool:
+    try:
+        manifest = json.loads((_generated_dir() / "manifest.json").read_text())
+        return "spec" in manifest["targets"].get(name, {})
+    except (OSError, KeyError, ValueError):
+        return False
+
+
+_CACHE: dict[str, Machine] = {}
+
+
+def load_machine(name: str = "dmu50") -> Machine:
+    """The kinematic model of a machine generated from derive/machines/<name>.toml (default: the DMU 50)."""
+    if name not in _CACHE:
+        _check_stale()
+        _CACHE[name] = Machine(name)
+    return _CACHE[name]

@@ -1,0 +1,183 @@
+"""Laser-tracker recordings: the tidy CSV of design.md, read with checks that name file, row and problem.
+
+Columns: axis,round,position,point,x,y,z (required) and time_s,direction,temperature_c (optional).
+axis in {X, Y, Z, B, C}; position in mm (linear) or degrees (rotary); x, y, z in mm in the machine frame.
+Row numbers in messages are 1-based file lines (the header is line 1).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from mtcal.errors import InputError
+from mtcal.io import atomic_write_text
+
+REQUIRED = ("axis", "round", "position", "point", "x", "y", "z")
+OPTIONAL = ("time_s", "direction", "temperature_c")
+LINEAR, ROTARY = ("X", "Y", "Z"), ("A", "B", "C")
+
+
+@dataclass
+class Recording:
+    """Columns as arrays (one entry per measured point); ``line`` is the file line of each row."""
+
+    axis: np.ndarray  # str
+    round: np.ndarray  # int
+    position: np.ndarray  # float, mm or deg
+    point: np.ndarray  # str
+    xyz: np.ndarray  # (n, 3) mm
+    time_s: np.ndarray  # float, NaN when absent
+    direction: np.ndarray  # int, +1/-1, 0 when absent
+    temperature_c: np.ndarray  # float, NaN when absent
+    line: np.ndarray  # int
+    source: str = "<memory>"
+
+    def __len__(self) -> int:
+        return len(self.axis)
+
+    def select(self, mask: np.ndarray) -> "Recording":
+        return Recording(*(getattr(self, f)[mask] for f in _FIELDS), source=self.source)
+
+    def axes(self) -> list[str]:
+        return [a for a in ("X", "Y", "Z", "A", "B", "C") if a in set(self.axis.tolist())]
+
+    def where(self, i: int) -> str:
+        return f"{self.source}, line {int(self.line[i])}"
+
+
+_FIELDS = ("axis", "round", "position", "point", "xyz", "time_s", "direction", "temperature_c", "line")
+
+
+def _float(text: str, col: str, where: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise InputError(f"{where}: column {col!r} is not a number: {text!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{where}: column {col!r} is {text!r} (NaN/inf is not a measurement)")
+    return v
+
+
+def read_recording(path: str | Path) -> Recording:
+    """Read and check a recording CSV (header required; units mm and degrees)."""
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except FileNotFoundError:
+        raise FileNotFoundError(f"recording file not found: {p}") from None
+    return parse_recording(text, str(p))
+
+
+def parse_recording(text: str, source: str = "<memory>") -> Recording:
+    rows = list(csv.reader(io.StringIO(text)))
+    rows = [(i + 1, r) for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")]
+    if not rows:
+        raise InputError(f"{source}: empty file, expected header {','.join(REQUIRED)}")
+    hline, header = rows[0]
+    header = [h.strip().lower() for h in header]
+    missing = [c for c in REQUIRED if c not in header]
+    if missing:
+        raise InputError(f"{source}, line {hline}: missing column(s) {missing}; header must contain "
+                         f"{','.join(REQUIRED)} (optional {','.join(OPTIONAL)})")
+    unknown = [c for c in header if c not in REQUIRED + OPTIONAL]
+    if unknown:
+        raise InputError(f"{source}, line {hline}: unknown column(s) {unknown}; allowed: {REQUIRED + OPTIONAL}")
+    col = {c: header.index(c) for c in header}
+    out = {f: [] for f in _FIELDS}
+    seen: dict[tuple, int] = {}
+    for line, r in rows[1:]:
+        where = f"{source}, line {line}"
+        if len(r) != len(header):
+            raise InputError(f"{where}: {len(r)} fields, header has {len(header)}")
+        ax = r[col["axis"]].strip().upper()
+        if ax not in LINEAR + ROTARY:
+            raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of X, Y, Z, A, B, C")
+        rnd_f = _float(r[col["round"]], "round", where)
+        if rnd_f != int(rnd_f):
+            raise InputError(f"{where}: round must be an integer, got {r[col['round']]!r}")
+        pos = _float(r[col["position"]], "position", where)
+        pt = r[col["point"]].strip()
+        if not pt:
+            raise InputError(f"{where}: empty point label")
+        xyz = [_float(r[col[c]], c, where) for c in "xyz"]
+        t = _float(r[col["time_s"]], "time_s", where) if "time_s" in col and r[col["time_s"]].strip() else math.nan
+        d = 0
+        if "direction" in col and r[col["direction"]].strip():
+            d = _float(r[col["direction"]], "direction", where)
+            if d not in (1.0, -1.0):
+                raise InputError(f"{where}: direction must be +1 or -1, got {r[col['direction']]!r}")
+        tc = (_float(r[col["temperature_c"]], "temperature_c", where)
+              if "temperature_c" in col and r[col["temperature_c"]].strip() else math.nan)
+        key = (ax, int(rnd_f), pos, pt, int(d), t)
+        if key in seen:
+            raise InputError(f"{where}: duplicate of line {seen[key]} (axis {ax}, round {int(rnd_f)}, "
+                             f"position {pos:g}, point {pt}); repeated readings need distinct direction or time_s")
+        seen[key] = line
+        for f, v in zip(_FIELDS, (ax, int(rnd_f), pos, pt, xyz, t, int(d), tc, line)):
+            out[f].append(v)
+    if not out["axis"]:
+        raise InputError(f"{source}: header but no data rows")
+    rec = Recording(np.array(out["axis"]), np.array(out["round"], dtype=int), np.array(out["position"], dtype=float),
+                    np.array(out["point"]), np.array(out["xyz"], dtype=float).reshape(-1, 3),
+                    np.array(out["time_s"], dtype=float), np.array(out["direction"], dtype=int),
+                    np.array(out["temperature_c"], dtype=float), np.array(out["line"], dtype=int), source)
+    _check_units(rec)
+    return rec
+
+
+def _check_units(rec: Recording) -> None:
+    """Positions of a linear axis all within +-2 while the points move by metres' worth: metres, not mm."""
+    for ax in LINEAR:
+        m = rec.axis == ax
+        if m.sum() < 2:
+            continue
+        span = np.ptp(rec.position[m])
+        moved = np.ptp(rec.xyz[m], axis=0).max()
+        if 0 < span <= 2.0 and moved > 50 * span:
+            i = int(np.flatnonzero(m)[0])
+            raise InputError(f"{rec.where(i)}: axis {ax} positions span only {span:g} while the points move "
+                             f"{moved:.1f} mm; positions must be in mm (were they written in metres?)")
+
+
+def format_recording(rec: Recording, precision: int = 6) -> str:
+    """CSV text of a recording (optional columns written when any row has them)."""
+    cols = list(REQUIRED)
+    has_t, has_d, has_c = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any(), (~np.isnan(rec.temperature_c)).any()
+    cols += [c for c, h in zip(OPTIONAL, (has_t, has_d, has_c)) if h]
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    f = f"{{:.{precision}f}}"
+    for i in range(len(rec)):
+        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i], *(f.format(v) for v in rec.xyz[i])]
+        if has_t:
+            row.append(f"{rec.time_s[i]:.3f}")
+        if has_d:
+            row.append(int(rec.direction[i]))
+        if has_c:
+            row.append(f"{rec.temperature_c[i]:.3f}")
+        w.writerow(row)
+    return buf.getvalue()
+
+
+def write_recording(rec: Recording, path: str | Path, precision: int = 6) -> None:
+    """Atomic write of the tidy CSV (xyz with ``precision`` decimals of a mm; default 1 nm)."""
+    atomic_write_text(path, format_recording(rec, precision))
+
+
+def make_recording(axis, round_, position, point, xyz, time_s=None, direction=None, temperature_c=None,
+                   source: str = "<simulated>") -> Recording:
+    """Build a Recording from arrays (simulation, tests)."""
+    n = len(axis)
+    nan = np.full(n, np.nan)
+    return Recording(np.asarray(axis), np.asarray(round_, dtype=int), np.asarray(position, dtype=float),
+                     np.asarray(point).astype(str), np.asarray(xyz, dtype=float).reshape(n, 3),
+                     nan.copy() if time_s is None else np.asarray(time_s, dtype=float),
+                     np.zeros(n, dtype=int) if direction is None else np.asarray(direction, dtype=int),
+                     nan.copy() if temperature_c is None else np.asarray(temperature_c, dtype=float),
+                     np.arange(2, n + 2), source)
