@@ -36,6 +36,7 @@ class Recording:
     temperature_c: np.ndarray  # float, NaN when absent
     line: np.ndarray  # int
     source: str = "<memory>"
+    truth: dict | None = None  # planted truth of a simulated campaign (mtcal.simulate), else None
 
     def __len__(self) -> int:
         return len(self.axis)

@@ -1,0 +1,57 @@
+"""Writes the demo's bundled truth model (mtcal/data/demo_truth.json): a DMU 50 with errors of the magnitudes
+Ellingsdalen measured (positioning ~20 um, straightness ~5 um, angular ~20-40 urad, squareness ~10-20 urad,
+rotary location ~10 um).  Invented smooth curves, zero at the reference position, fixed seed; run
+`python -m mtcal.data.make_demo_data` to rewrite it (byte-identical).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from mtcal.model import ErrorFunction, ErrorModel, save_model
+
+HERE = Path(__file__).resolve().parent
+TRAVEL = {"X": (-250.0, 250.0), "Y": (-225.0, 225.0), "Z": (-200.0, 200.0)}
+SIZE_UM = {"pos": 20.0, "str": 5.0}
+SIZE_URAD = {"lin": 25.0, "rot": 15.0}
+
+
+def _curve(rng: np.random.Generator, s: np.ndarray, amp: float) -> np.ndarray:
+    """Smooth cubic through 0 at s = 0 with peak magnitude ~amp on s in [-1, 1]."""
+    c = rng.normal(size=3)
+    v = c[0] * s + c[1] * s**2 + c[2] * s**3
+    return amp * v / max(np.abs(v).max(), 1e-12)
+
+
+def build() -> ErrorModel:
+    rng = np.random.default_rng(20210601)
+    funcs: dict[str, ErrorFunction] = {}
+    for j, (lo, hi) in TRAVEL.items():
+        pos = np.linspace(lo, hi, 21)
+        s = pos / hi
+        for c in "XYZABC":
+            amp = (SIZE_UM["pos"] if c == j else SIZE_UM["str"]) * 1e-3 if c in "XYZ" else SIZE_URAD["lin"] * 1e-6
+            funcs[f"E_{c}{j}"] = ErrorFunction(j, pos, np.round(_curve(rng, s, amp), 9))
+    b = np.arange(0.0, 181.0, 10.0)
+    for c in "XYZABC":
+        amp = 8e-3 if c in "XYZ" else SIZE_URAD["rot"] * 1e-6
+        funcs[f"E_{c}B"] = ErrorFunction("B", b, np.round(_curve(rng, b / 180.0, amp), 9))
+    for c in "XYZABC":  # C: periodic, zero at C = 0: a (1 - cos) + b sin + second harmonic
+        amp = 6e-3 if c in "XYZ" else 12e-6
+        a1, b1, a2, b2 = rng.normal(size=4) * amp / 2
+        fit = {"kind": "harmonic", "period": 360.0, "a0": float(a1 + a2), "cos": [float(-a1), float(-a2)],
+               "sin": [float(b1), float(b2)]}
+        grid = np.arange(0.0, 361.0, 20.0)
+        f = ErrorFunction("C", grid, np.zeros_like(grid), fit)
+        f.values = np.round(f(grid), 12)
+        funcs[f"E_{c}C"] = f
+    consts = {"E_C0Y": 18e-6, "E_B0Z": -11e-6, "E_A0Z": 7e-6,
+              "E_X0B": 0.012, "E_Y0B": -0.007, "E_A0B": 9e-6, "E_B0B": -14e-6,
+              "E_X0C": 0.010, "E_Y0C": -0.006, "E_A0C": 6e-6, "E_B0C": -8e-6}
+    return ErrorModel("dmu50", consts, funcs, {"note": "demo truth: thesis-magnitude errors (invented curves)"})
+
+
+if __name__ == "__main__":
+    save_model(build(), HERE / "demo_truth.json")
+    print(f"wrote {HERE / 'demo_truth.json'}")

@@ -1,0 +1,370 @@
+"""Planted effects for simulated laser-tracker campaigns: documented physical models with known truth.
+
+Each effect is one physical mechanism with named parameters (defaults below), applied by
+``mtcal.simulate`` either to the machine's error vector at every reading (then the exact kinematics carry
+it to the reflectors) or to the tracker readings themselves.  Units: mm and rad for errors, mm or deg for
+axis positions (the axis' own unit), s for time, ppm = 1e-6.
+
+Names (design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
+outlier, second_order, offset, tracker_scale.  API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
+``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
+
+Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s of the reading):
+* thermal_drift  the measured points translate along ``direction`` by amplitude * (1 - exp(-(t - t0_s)/tau_s))
+                 for t > t0_s (exponential warm-up); target "spindle" moves points on the spindle (spindle
+                 growth), "table" points on the table, "tracker" every reading (drift of the tracker stand).
+                 The temperature_c column rises by temperature_rise_c with the same time law.
+* backlash       reversal (lost motion) of one axis: its positioning error (E_XX for X, E_CC for C ...)
+                 gets + d * amount / 2, so the ISO 230-2 reversal value mean(dev up) - mean(dev down) = amount
+                 (mm for linear, rad for rotary axes).
+* periodic       ball-screw / worm-gear periodic positioning error: positioning error + amplitude *
+                 sin(2 pi q / pitch + phase_deg).  Sampling must resolve the pitch (default 200 mm; a 50 mm
+                 step aliases pitches of 100 mm and below).
+* scale          linear scale error of an axis: positioning error + ppm * 1e-6 * q (q in rad for rotary).
+* squareness     a squareness constant (E_C0Y, E_B0Z or E_A0Z, rad, ISO 230-1 right-hand convention).
+* rotary_location  a location constant of a rotary axis (E_X0B, E_Y0B, E_A0B, E_B0B, E_X0C, ..; mm or rad).
+* cross_axis     an error of one axis depends on another axis' position (e.g. sag of X in Z growing with the
+                 Y carriage's overhang): error + coefficient * q_own * q_on.  Invisible when the axis is
+                 measured with ``on`` at zero (the default campaign); a plan with "at" shows it.
+* outlier        a gross reading: one reading (mode "reading") or that reflector for the rest of the round
+                 (mode "bump": a knocked magnet nest) displaced by ``size`` mm along ``direction``.
+* second_order   a quadratic term in an error function: error + coefficient * q^2 (per mm^2 or deg^2).
+* offset         the tracker (stand) is knocked at t_from_s: every later reading is displaced by ``size`` mm
+                 along ``direction`` (the rest of the current round no longer matches its reference reading).
+* tracker_scale  the tracker's distances scale by ppm about the tracker position (refractive index of air
+                 wrong): ppm given directly, else from the air's deviation from the tracker's assumed state,
+                 ppm = -1.0 dt_c + 0.3 dp_hpa - 0.01 drh_pct (thesis Table 2.1 sensitivities, signs from the
+                 refractive index: warmer air -> lower n -> distances read short).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable, Iterable, Mapping
+
+import numpy as np
+
+from mtcal.errors import InputError
+
+LINEAR_AXES, ROTARY_AXES = ("X", "Y", "Z"), ("B", "C")
+SQUARENESS = ("E_C0Y", "E_B0Z", "E_A0Z")
+LOCATIONS = ("E_X0B", "E_Y0B", "E_A0B", "E_B0B", "E_X0C", "E_Y0C", "E_A0C", "E_B0C")
+
+
+def positioning_error(axis: str) -> str:
+    """ISO name of an axis' positioning error: E_XX for X, E_CB for B (rotation about its own axis)."""
+    return f"E_{axis}{axis}" if axis in LINEAR_AXES else f"E_C{axis}"
+
+
+def _axis(v: str) -> str:
+    a = str(v).strip().upper()
+    if a not in LINEAR_AXES + ROTARY_AXES:
+        raise ValueError(f"axis must be one of X, Y, Z, B, C, got {v!r}")
+    return a
+
+
+def _dir(v: str) -> str:
+    a = str(v).strip().upper()
+    if a.lstrip("+-") not in ("X", "Y", "Z"):
+        raise ValueError(f"direction must be X, Y, Z, -X, -Y or -Z, got {v!r}")
+    return a if a[0] in "+-" else "+" + a
+
+
+def _unit(direction: str) -> np.ndarray:
+    u = np.zeros(3)
+    u["XYZ".index(direction[1])] = -1.0 if direction[0] == "-" else 1.0
+    return u
+
+
+def _choice(*options: str) -> Callable[[str], str]:
+    def parse(v: str) -> str:
+        s = str(v).strip().lower()
+        if s not in options:
+            raise ValueError(f"must be one of {', '.join(options)}, got {v!r}")
+        return s
+    return parse
+
+
+def _error_name(v: str) -> str:
+    s = str(v).strip()
+    if not (len(s) in (4, 5) and s.startswith("E_")):
+        raise ValueError(f"not an ISO 230-1 error name: {v!r}")
+    return s.upper().replace("E_", "E_", 1)
+
+
+def _member(options: tuple[str, ...]) -> Callable[[str], str]:
+    def parse(v: str) -> str:
+        s = str(v).strip().upper()
+        if s not in options:
+            raise ValueError(f"must be one of {', '.join(options)}, got {v!r}")
+        return s
+    return parse
+
+
+def _float(v) -> float:
+    x = float(v)
+    if math.isnan(x) and isinstance(v, str):
+        raise ValueError(f"not a number: {v!r}")
+    if math.isinf(x):
+        raise ValueError(f"must be finite, got {v!r}")
+    return x
+
+
+def _int(v) -> int:
+    x = float(v)
+    if x != int(x):
+        raise ValueError(f"must be an integer, got {v!r}")
+    return int(x)
+
+
+# name -> {key: (default, parser, doc)}
+PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
+    "thermal_drift": {"amplitude": (0.010, _float, "mm, final displacement"),
+                      "tau_s": (1800.0, _float, "s, warm-up time constant"),
+                      "direction": ("+Z", _dir, "X, Y, Z or -X, -Y, -Z"),
+                      "target": ("spindle", _choice("spindle", "table", "tracker"), "what drifts"),
+                      "t0_s": (0.0, _float, "s, start of the warm-up"),
+                      "temperature_rise_c": (2.0, _float, "degC, rise of the temperature_c column")},
+    "backlash": {"axis": ("X", _axis, "axis"),
+                 "amount": (0.004, _float, "reversal value, mm (rad for B, C)")},
+    "periodic": {"axis": ("X", _axis, "axis"),
+                 "amplitude": (0.002, _float, "mm (rad for B, C)"),
+                 "pitch": (200.0, _float, "mm (deg for B, C)"),
+                 "phase_deg": (0.0, _float, "deg")},
+    "scale": {"axis": ("X", _axis, "axis"), "ppm": (20.0, _float, "1e-6 of the position")},
+    "squareness": {"error": ("E_C0Y", _member(SQUARENESS), "E_C0Y, E_B0Z or E_A0Z"),
+                   "value": (50e-6, _float, "rad")},
+    "rotary_location": {"error": ("E_X0C", _member(LOCATIONS), "location constant of B or C"),
+                        "value": (0.020, _float, "mm or rad")},
+    "cross_axis": {"error": ("E_ZX", _error_name, "error function of the own axis (last letter)"),
+                   "on": ("Y", _axis, "the other axis"),
+                   "coefficient": (1e-7, _float, "per mm (or deg) of own axis and of the other axis")},
+    "outlier": {"axis": ("X", _axis, "axis"), "round": (1, _int, "round (1-based)"),
+                "position": (math.nan, _float, "mm or deg; default: the middle position of the axis"),
+                "point": ("P", str, "point label"), "size": (0.050, _float, "mm"),
+                "direction": ("+Z", _dir, "X, Y, Z or -X, -Y, -Z"),
+                "mode": ("reading", _choice("reading", "bump"), "one reading, or the rest of the round"),
+                "approach": (1, _int, "which approach direction of that position: +1 or -1")},
+    "second_order": {"error": ("E_XX", _error_name, "error function (its axis is the last letter)"),
+                     "coefficient": (2e-8, _float, "per mm^2 (deg^2 for B, C): 2e-8 -> 5 um at 500 mm")},
+    "offset": {"size": (0.020, _float, "mm"), "direction": ("+X", _dir, "X, Y, Z or -X, -Y, -Z"),
+               "t_from_s": (math.nan, _float, "s; default: half the campaign's duration")},
+    "tracker_scale": {"ppm": (math.nan, _float, "scale of distances, 1e-6; default from dt_c, dp_hpa, drh_pct"),
+                      "dt_c": (2.0, _float, "air temperature minus the tracker's assumed, degC"),
+                      "dp_hpa": (0.0, _float, "air pressure minus assumed, hPa"),
+                      "drh_pct": (0.0, _float, "relative humidity minus assumed, %")},
+}
+NAMES = tuple(PARAMS)
+
+
+@dataclass
+class Rows:
+    """The schedule of a campaign, one entry per reading (see mtcal.simulate)."""
+
+    axis: np.ndarray       # (n,) str, the measured axis
+    round: np.ndarray      # (n,) int, 1-based
+    position: np.ndarray   # (n,) mm or deg
+    point: np.ndarray      # (n,) str
+    direction: np.ndarray  # (n,) +1/-1
+    time_s: np.ndarray     # (n,)
+    axes: np.ndarray       # (n, 5) all axis positions [X, Y, Z, B, C]
+    side: np.ndarray       # (n,) "tool" or "table"
+    local: np.ndarray      # (n, 3) reflector coordinates on its side, mm
+
+    def __len__(self) -> int:
+        return len(self.axis)
+
+
+@dataclass
+class Effect:
+    """One planted effect: ``name`` in NAMES and its parameters (missing keys take the defaults)."""
+
+    name: str
+    params: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        if self.name not in PARAMS:
+            raise InputError(f"unknown effect {self.name!r}; known: {', '.join(NAMES)}")
+        spec = PARAMS[self.name]
+        unknown = sorted(set(self.params) - set(spec))
+        if unknown:
+            raise InputError(f"effect {self.name}: unknown key(s) {unknown}; allowed: "
+                             + ", ".join(f"{k} ({d[2]}, default {d[0]})" for k, d in spec.items()))
+        full = {}
+        for k, (default, parse, doc) in spec.items():
+            v = self.params.get(k, default)
+            try:
+                full[k] = parse(v) if k in self.params else v
+            except (TypeError, ValueError) as exc:
+                raise InputError(f"effect {self.name}: {k}={v!r}: {exc}") from None
+        self.params = full
+        if self.name in ("cross_axis", "second_order"):
+            e = full["error"]
+            if e[-1] not in LINEAR_AXES + ROTARY_AXES or e[2] not in "XYZABC" or "0" in e:
+                raise InputError(f"effect {self.name}: error={e!r} must be an error function such as E_ZX")
+        if self.name == "outlier" and full["approach"] not in (1, -1):
+            raise InputError(f"effect outlier: approach must be +1 or -1, got {full['approach']}")
+
+    # -------------------------------------------------------------- errors (mm, rad) per reading
+    def add_errors(self, rows: Rows, errors: np.ndarray, error_names: tuple[str, ...]) -> None:
+        """Add this effect's error contribution in place to ``errors`` (n, n_errors)."""
+        p, n = self.params, self.name
+        idx = {e: i for i, e in enumerate(error_names)}
+
+        def q_of(axis: str) -> np.ndarray:
+            return rows.axes[:, "XYZBC".index(axis)]
+
+        def q_si(axis: str) -> np.ndarray:  # mm, or rad for rotary
+            q = q_of(axis)
+            return np.deg2rad(q) if axis in ROTARY_AXES else q
+
+        if n == "backlash":
+            on = rows.axis == p["axis"]
+            errors[on, idx[positioning_error(p["axis"])]] += rows.direction[on] * p["amount"] / 2
+        elif n == "periodic":
+            q = q_of(p["axis"])
+            errors[:, idx[positioning_error(p["axis"])]] += p["amplitude"] * np.sin(
+                2 * np.pi * q / p["pitch"] + np.deg2rad(p["phase_deg"]))
+        elif n == "scale":
+            errors[:, idx[positioning_error(p["axis"])]] += p["ppm"] * 1e-6 * q_si(p["axis"])
+        elif n in ("squareness", "rotary_location"):
+            errors[:, idx[p["error"]]] += p["value"]
+        elif n == "cross_axis":
+            own = p["error"][-1]
+            errors[:, self._index(idx, p["error"])] += p["coefficient"] * q_of(own) * q_of(p["on"])
+        elif n == "second_order":
+            errors[:, self._index(idx, p["error"])] += p["coefficient"] * q_of(p["error"][-1]) ** 2
+
+    def _index(self, idx: Mapping[str, int], name: str) -> int:
+        if name not in idx:
+            raise InputError(f"effect {self.name}: {name} is not an error of this machine")
+        return idx[name]
+
+    # -------------------------------------------------------------- readings (mm)
+    def drift(self, t: np.ndarray) -> np.ndarray:
+        """thermal_drift: fraction (0..1) of the final displacement reached at times t (s)."""
+        p = self.params
+        dt = np.maximum(np.asarray(t, dtype=float) - p["t0_s"], 0.0)
+        return 1.0 - np.exp(-dt / p["tau_s"])
+
+    def tracker_ppm(self) -> float:
+        p = self.params
+        if not math.isnan(p["ppm"]):
+            return p["ppm"]
+        return -1.0 * p["dt_c"] + 0.3 * p["dp_hpa"] - 0.01 * p["drh_pct"]
+
+    def outlier_rows(self, rows: Rows) -> np.ndarray:
+        """Indices of the readings the outlier displaces."""
+        p = self.params
+        on = rows.axis == p["axis"]
+        if not on.any():
+            return np.zeros(0, dtype=int)
+        pos = p["position"]
+        if math.isnan(pos):
+            levels = np.unique(rows.position[on])
+            pos = float(levels[len(levels) // 2])
+        sel = on & (rows.round == p["round"]) & (rows.point == p["point"])
+        hit = np.flatnonzero(sel & np.isclose(rows.position, pos) & (rows.direction == p["approach"]))
+        if len(hit) == 0:
+            raise InputError(f"effect outlier: no reading of axis {p['axis']} round {p['round']} point "
+                             f"{p['point']} at position {pos:g} approached {p['approach']:+d}")
+        first = hit[0]
+        if p["mode"] == "reading":
+            return np.array([first])
+        later = np.flatnonzero(sel & (rows.time_s >= rows.time_s[first]))
+        return later
+
+    def apply_readings(self, rows: Rows, xyz: np.ndarray, tracker: np.ndarray) -> None:
+        """Modify the readings (n, 3) in place."""
+        p, n = self.params, self.name
+        if n == "thermal_drift":
+            on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == {"spindle": "tool",
+                                                                                            "table": "table"}[p["target"]]
+            xyz[on] += (p["amplitude"] * self.drift(rows.time_s[on]))[:, None] * _unit(p["direction"])
+        elif n == "outlier":
+            xyz[self.outlier_rows(rows)] += p["size"] * _unit(p["direction"])
+        elif n == "offset":
+            xyz[rows.time_s >= self.offset_time(rows)] += p["size"] * _unit(p["direction"])
+        elif n == "tracker_scale":
+            xyz[:] = tracker + (1.0 + self.tracker_ppm() * 1e-6) * (xyz - tracker)
+
+    def offset_time(self, rows: Rows) -> float:
+        t = self.params["t_from_s"]
+        return float(rows.time_s.max() / 2 if math.isnan(t) else t)
+
+    def temperature_rise(self, t: np.ndarray) -> np.ndarray:
+        if self.name != "thermal_drift":
+            return np.zeros(np.shape(t))
+        return self.params["temperature_rise_c"] * self.drift(t)
+
+    # -------------------------------------------------------------- truth
+    def truth(self, rows: Rows | None = None) -> dict:
+        """The planted truth: parameters, the affected error / axis, and derived values."""
+        p, n = self.params, self.name
+        out: dict[str, Any] = {"name": n, "params": {k: (None if isinstance(v, float) and math.isnan(v) else v)
+                                                      for k, v in p.items()}}
+        if n in ("backlash", "periodic", "scale"):
+            out.update(axis=p["axis"], error=positioning_error(p["axis"]))
+            if n == "backlash":
+                out["reversal"] = p["amount"]
+        elif n in ("squareness", "rotary_location"):
+            out.update(error=p["error"], value=p["value"],
+                       axis=p["error"][-1] if n == "squareness" else p["error"][-1])
+        elif n in ("cross_axis", "second_order"):
+            out.update(error=p["error"], axis=p["error"][-1])
+        elif n == "thermal_drift":
+            out.update(direction=p["direction"], amplitude=p["amplitude"])
+        elif n == "outlier":
+            out.update(axis=p["axis"], direction=p["direction"])
+            if rows is not None:
+                i = self.outlier_rows(rows)
+                out["rows"] = [{"axis": str(rows.axis[k]), "round": int(rows.round[k]),
+                                "position": float(rows.position[k]), "point": str(rows.point[k]),
+                                "direction": int(rows.direction[k])} for k in i]
+        elif n == "tracker_scale":
+            out["ppm"] = self.tracker_ppm()
+        elif n == "offset":
+            out.update(direction=p["direction"], size=p["size"])
+            if rows is not None:
+                t = self.offset_time(rows)
+                i = np.flatnonzero(rows.time_s >= t)
+                out["t_from_s"] = t
+                if len(i):
+                    out["first_row"] = {"axis": str(rows.axis[i[0]]), "round": int(rows.round[i[0]]),
+                                        "position": float(rows.position[i[0]]), "point": str(rows.point[i[0]])}
+        return out
+
+
+def parse_effect(text: str) -> Effect:
+    """'NAME' or 'NAME:key=value,key=value' (CLI --effect) -> Effect."""
+    name, _, rest = str(text).partition(":")
+    name = name.strip()
+    params: dict[str, str] = {}
+    for item in filter(None, (s.strip() for s in rest.split(","))):
+        k, eq, v = item.partition("=")
+        if not eq or not k.strip():
+            raise InputError(f"effect {text!r}: expected key=value, got {item!r}")
+        params[k.strip()] = v.strip()
+    return Effect(name, params)
+
+
+def as_effects(effects: Iterable) -> list[Effect]:
+    """Effects from Effect objects, (name, params) pairs, 'name:key=value' strings or dicts with "name"."""
+    out = []
+    for e in effects or ():
+        if isinstance(e, Effect):
+            out.append(Effect(e.name, dict(e.params)))
+        elif isinstance(e, str):
+            out.append(parse_effect(e))
+        elif isinstance(e, Mapping):
+            d = dict(e)
+            name = d.pop("name", None)
+            params = d.pop("params", d)
+            out.append(Effect(str(name), dict(params)))
+        else:
+            try:
+                name, params = e
+            except (TypeError, ValueError):
+                raise InputError(f"an effect must be Effect, (name, params), 'name:key=value' or a dict, got {e!r}") from None
+            out.append(Effect(str(name), dict(params or {})))
+    return out
