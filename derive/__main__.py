@@ -1,4 +1,4 @@
-"""python -m derive [--check] [--only NAME ...] [--jobs N]: regenerate generated/ or check that it is current."""
+"""python -m derive [--check] [--jobs N] [--out DIR]: regenerate generated/ or check that it is current."""
 from __future__ import annotations
 
 import argparse

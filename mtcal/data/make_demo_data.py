@@ -1,7 +1,13 @@
-"""Writes the demo's bundled truth model (mtcal/data/demo_truth.json): a DMU 50 with errors of the magnitudes
-Ellingsdalen measured (positioning ~20 um, straightness ~5 um, angular ~20-40 urad, squareness ~10-20 urad,
-rotary location ~10 um).  Invented smooth curves, zero at the reference position, fixed seed; run
-`python -m mtcal.data.make_demo_data` to rewrite it (byte-identical).
+"""Writes the demo's bundled data (byte-identical on every run: fixed seeds):
+
+* demo_truth.json: a DMU 50 with errors of the magnitudes Ellingsdalen measured (positioning ~20 um,
+  straightness ~5 um, angular ~20-40 urad, squareness ~10-20 urad, rotary location ~10 um); invented smooth
+  curves, zero at the reference position;
+* demo_campaign.csv (+ demo_campaign.truth.json): a simulated laser-tracker campaign of that machine, travel
+  centred on the C axis, tracker at the thesis' Pos. 1, AT960 noise, and one concealed effect (DEMO_EFFECT)
+  that the truth model does not contain.
+
+Run `python -m mtcal.data.make_demo_data` to rewrite them.
 """
 from __future__ import annotations
 
@@ -52,6 +58,22 @@ def build() -> ErrorModel:
     return ErrorModel("dmu50", consts, funcs, {"note": "demo truth: thesis-magnitude errors (invented curves)"})
 
 
+DEMO_PLAN = {"axes": {"X": {"start": -250, "stop": 250, "count": 11}, "Y": {"start": -225, "stop": 225, "count": 11},
+                      "Z": {"start": -200, "stop": 200, "count": 11}, "B": {"start": 0, "stop": 180, "count": 19},
+                      "C": {"start": 0, "stop": 340, "count": 18}},
+             "tracker": [250.0, -1500.0, 150.0], "rounds": 4}
+DEMO_EFFECT = ("backlash", {"axis": "X", "amount": 0.006})
+DEMO_SEED = 2021
+
+
+def write_all() -> None:
+    from mtcal.simulate import simulate, write_campaign
+    truth = build()
+    save_model(truth, HERE / "demo_truth.json")
+    rec, planted = simulate(truth, plan=DEMO_PLAN, rounds=None, seed=DEMO_SEED, effects=[DEMO_EFFECT])
+    write_campaign(rec, planted, HERE / "demo_campaign.csv")
+    print(f"wrote demo_truth.json and demo_campaign.csv ({len(rec)} readings) to {HERE}")
+
+
 if __name__ == "__main__":
-    save_model(build(), HERE / "demo_truth.json")
-    print(f"wrote {HERE / 'demo_truth.json'}")
+    write_all()

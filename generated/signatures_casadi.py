@@ -1,0 +1,265 @@
+# -----------------------------------------------------------------------------
+# GENERATED FILE - DO NOT EDIT.
+# Generator: python -m derive (signatures); source: derive/signatures.py
+# Target: CasADi SX.  Regenerate with `python -m derive`; CI runs `python -m derive --check`.
+# Inputs (machine spec, SymPy/CasADi versions, hash of derive/) are in manifest.json.
+# -----------------------------------------------------------------------------
+"""Signatures of left-out effects in laser-tracker readings: d(measured point) / d(effect parameters).
+
+CasADi implementation: each function returns a cached casadi.Function."""
+import functools
+
+import casadi as ca
+
+FUNCTIONS = ('backlash_signature', 'scale_signature', 'second_order_signature', 'cross_axis_signature', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_signature', 'outlier_signature')
+
+
+@functools.cache
+def backlash_signature():
+    """backlash: d point / d reversal value b (positioning error + d b / 2), mm per mm or per rad
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    d (...): approach direction, +1 or -1
+    returns (..., 3)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    d = ca.SX.sym('d', 1)
+    d = d[0]
+    _x0 = (1/2)*d
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*c_x
+    _out[1, 0] = _x0*c_y
+    _out[2, 0] = _x0*c_z
+    return ca.Function('signatures_backlash_signature', [column, d], [_out], ['column', 'd'], ['out'])
+
+
+@functools.cache
+def scale_signature():
+    """scale: d point / d ppm (positioning error + 1e-6 ppm q; q in mm, or rad for rotary), mm per ppm
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    returns (..., 3)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    _x0 = (1/1000000)*q
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*c_x
+    _out[1, 0] = _x0*c_y
+    _out[2, 0] = _x0*c_z
+    return ca.Function('signatures_scale_signature', [column, q], [_out], ['column', 'q'], ['out'])
+
+
+@functools.cache
+def second_order_signature():
+    """second_order: d point / d c (error function + c q^2), mm per (unit / q^2)
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    returns (..., 3)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    _x0 = q**2
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*c_x
+    _out[1, 0] = _x0*c_y
+    _out[2, 0] = _x0*c_z
+    return ca.Function('signatures_second_order_signature', [column, q], [_out], ['column', 'q'], ['out'])
+
+
+@functools.cache
+def cross_axis_signature():
+    """cross_axis: d point / d c (error function + c q_own q_on), mm per (unit / (q q_on))
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    q_on (...): position of the other axis, mm or deg
+    returns (..., 3)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    q_on = ca.SX.sym('q_on', 1)
+    q_on = q_on[0]
+    _x0 = q*q_on
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*c_x
+    _out[1, 0] = _x0*c_y
+    _out[2, 0] = _x0*c_z
+    return ca.Function('signatures_cross_axis_signature', [column, q, q_on], [_out], ['column', 'q', 'q_on'], ['out'])
+
+
+@functools.cache
+def periodic_signature():
+    """periodic: d point / d (a_s, a_c), positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch)
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    pitch (...): period of the periodic error, same unit as q
+    returns (..., 3, 2)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    pitch = ca.SX.sym('pitch', 1)
+    pitch = pitch[0]
+    _x0 = 2*ca.pi*q/pitch
+    _x1 = ca.sin(_x0)
+    _x2 = ca.cos(_x0)
+    _out = ca.SX.zeros(3, 2)
+    _out[0, 0] = _x1*c_x
+    _out[0, 1] = _x2*c_x
+    _out[1, 0] = _x1*c_y
+    _out[1, 1] = _x2*c_y
+    _out[2, 0] = _x1*c_z
+    _out[2, 1] = _x2*c_z
+    return ca.Function('signatures_periodic_signature', [column, q, pitch], [_out], ['column', 'q', 'pitch'], ['out'])
+
+
+@functools.cache
+def thermal_drift_displacement():
+    """thermal_drift: displacement A (1 - exp(-dt / tau)) of a drifting point, mm
+
+    amplitude (..., 3): final displacement of the warm-up, mm
+        [A_x, A_y, A_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    amplitude = ca.SX.sym('amplitude', 3)
+    A_x = amplitude[0]
+    A_y = amplitude[1]
+    A_z = amplitude[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _x0 = 1 - ca.exp(-dt/tau)
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = A_x*_x0
+    _out[1, 0] = A_y*_x0
+    _out[2, 0] = A_z*_x0
+    return ca.Function('signatures_thermal_drift_displacement', [amplitude, dt, tau], [_out], ['amplitude', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def thermal_drift_signature():
+    """thermal_drift: d point / d A (3 x 3), 1 (mm per mm)
+
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3, 3)
+    """
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _x0 = 1 - ca.exp(-dt/tau)
+    _out = ca.SX.zeros(3, 3)
+    _out[0, 0] = _x0
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[1, 0] = 0
+    _out[1, 1] = _x0
+    _out[1, 2] = 0
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = _x0
+    return ca.Function('signatures_thermal_drift_signature', [dt, tau], [_out], ['dt', 'tau'], ['out'])
+
+
+@functools.cache
+def thermal_drift_dtau():
+    """thermal_drift: d point / d tau at amplitude A, mm per s
+
+    amplitude (..., 3): final displacement of the warm-up, mm
+        [A_x, A_y, A_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    amplitude = ca.SX.sym('amplitude', 3)
+    A_x = amplitude[0]
+    A_y = amplitude[1]
+    A_z = amplitude[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _x0 = dt*ca.exp(-dt/tau)/tau**2
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = -A_x*_x0
+    _out[1, 0] = -A_y*_x0
+    _out[2, 0] = -A_z*_x0
+    return ca.Function('signatures_thermal_drift_dtau', [amplitude, dt, tau], [_out], ['amplitude', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def tracker_scale_signature():
+    """tracker_scale: d reading / d ppm (radial scaling about the tracker), mm per ppm
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = -1/1000000*tx + (1/1000000)*x
+    _out[1, 0] = -1/1000000*ty + (1/1000000)*y
+    _out[2, 0] = -1/1000000*tz + (1/1000000)*z
+    return ca.Function('signatures_tracker_scale_signature', [xyz, tracker], [_out], ['xyz', 'tracker'], ['out'])
+
+
+@functools.cache
+def outlier_signature():
+    """outlier: d reading / d displacement s (3 x 3) for a displaced reading (on = 1)
+
+    on (...): 1 for the displaced readings, 0 otherwise
+    returns (..., 3, 3)
+    """
+    on = ca.SX.sym('on', 1)
+    on = on[0]
+    _out = ca.SX.zeros(3, 3)
+    _out[0, 0] = on
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[1, 0] = 0
+    _out[1, 1] = on
+    _out[1, 2] = 0
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = on
+    return ca.Function('signatures_outlier_signature', [on], [_out], ['on'], ['out'])

@@ -1,0 +1,255 @@
+# -----------------------------------------------------------------------------
+# GENERATED FILE - DO NOT EDIT.
+# Generator: python -m derive (signatures); source: derive/signatures.py
+# Target: NumPy (vectorised, broadcasting).  Regenerate with `python -m derive`; CI runs `python -m derive --check`.
+# Inputs (machine spec, SymPy/CasADi versions, hash of derive/) are in manifest.json.
+# -----------------------------------------------------------------------------
+"""Signatures of left-out effects in laser-tracker readings: d(measured point) / d(effect parameters).
+
+NumPy implementation."""
+import numpy
+
+from mtcal._gensupport import as_arg, out_array
+
+FUNCTIONS = ('backlash_signature', 'scale_signature', 'second_order_signature', 'cross_axis_signature', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_signature', 'outlier_signature')
+
+
+def backlash_signature(column, d):
+    """backlash: d point / d reversal value b (positioning error + d b / 2), mm per mm or per rad
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    d (...): approach direction, +1 or -1
+    returns (..., 3)
+    """
+    column = as_arg(column, 3, 'column', 'backlash_signature')
+    d = as_arg(d, 0, 'd', 'backlash_signature')
+    c_x = column[..., 0]
+    c_y = column[..., 1]
+    c_z = column[..., 2]
+    d = d
+    _x0 = (1/2)*d
+    _out = out_array((column.shape[:-1], d.shape,), (3,))
+    _out[..., 0] = _x0*c_x
+    _out[..., 1] = _x0*c_y
+    _out[..., 2] = _x0*c_z
+    return _out
+
+
+def scale_signature(column, q):
+    """scale: d point / d ppm (positioning error + 1e-6 ppm q; q in mm, or rad for rotary), mm per ppm
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    returns (..., 3)
+    """
+    column = as_arg(column, 3, 'column', 'scale_signature')
+    q = as_arg(q, 0, 'q', 'scale_signature')
+    c_x = column[..., 0]
+    c_y = column[..., 1]
+    c_z = column[..., 2]
+    q = q
+    _x0 = (1/1000000)*q
+    _out = out_array((column.shape[:-1], q.shape,), (3,))
+    _out[..., 0] = _x0*c_x
+    _out[..., 1] = _x0*c_y
+    _out[..., 2] = _x0*c_z
+    return _out
+
+
+def second_order_signature(column, q):
+    """second_order: d point / d c (error function + c q^2), mm per (unit / q^2)
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    returns (..., 3)
+    """
+    column = as_arg(column, 3, 'column', 'second_order_signature')
+    q = as_arg(q, 0, 'q', 'second_order_signature')
+    c_x = column[..., 0]
+    c_y = column[..., 1]
+    c_z = column[..., 2]
+    q = q
+    _x0 = q**2
+    _out = out_array((column.shape[:-1], q.shape,), (3,))
+    _out[..., 0] = _x0*c_x
+    _out[..., 1] = _x0*c_y
+    _out[..., 2] = _x0*c_z
+    return _out
+
+
+def cross_axis_signature(column, q, q_on):
+    """cross_axis: d point / d c (error function + c q_own q_on), mm per (unit / (q q_on))
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    q_on (...): position of the other axis, mm or deg
+    returns (..., 3)
+    """
+    column = as_arg(column, 3, 'column', 'cross_axis_signature')
+    q = as_arg(q, 0, 'q', 'cross_axis_signature')
+    q_on = as_arg(q_on, 0, 'q_on', 'cross_axis_signature')
+    c_x = column[..., 0]
+    c_y = column[..., 1]
+    c_z = column[..., 2]
+    q = q
+    q_on = q_on
+    _x0 = q*q_on
+    _out = out_array((column.shape[:-1], q.shape, q_on.shape,), (3,))
+    _out[..., 0] = _x0*c_x
+    _out[..., 1] = _x0*c_y
+    _out[..., 2] = _x0*c_z
+    return _out
+
+
+def periodic_signature(column, q, pitch):
+    """periodic: d point / d (a_s, a_c), positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch)
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    pitch (...): period of the periodic error, same unit as q
+    returns (..., 3, 2)
+    """
+    column = as_arg(column, 3, 'column', 'periodic_signature')
+    q = as_arg(q, 0, 'q', 'periodic_signature')
+    pitch = as_arg(pitch, 0, 'pitch', 'periodic_signature')
+    c_x = column[..., 0]
+    c_y = column[..., 1]
+    c_z = column[..., 2]
+    q = q
+    pitch = pitch
+    _x0 = 2*numpy.pi*q/pitch
+    _x1 = numpy.sin(_x0)
+    _x2 = numpy.cos(_x0)
+    _out = out_array((column.shape[:-1], q.shape, pitch.shape,), (3, 2))
+    _out[..., 0, 0] = _x1*c_x
+    _out[..., 0, 1] = _x2*c_x
+    _out[..., 1, 0] = _x1*c_y
+    _out[..., 1, 1] = _x2*c_y
+    _out[..., 2, 0] = _x1*c_z
+    _out[..., 2, 1] = _x2*c_z
+    return _out
+
+
+def thermal_drift_displacement(amplitude, dt, tau):
+    """thermal_drift: displacement A (1 - exp(-dt / tau)) of a drifting point, mm
+
+    amplitude (..., 3): final displacement of the warm-up, mm
+        [A_x, A_y, A_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    amplitude = as_arg(amplitude, 3, 'amplitude', 'thermal_drift_displacement')
+    dt = as_arg(dt, 0, 'dt', 'thermal_drift_displacement')
+    tau = as_arg(tau, 0, 'tau', 'thermal_drift_displacement')
+    A_x = amplitude[..., 0]
+    A_y = amplitude[..., 1]
+    A_z = amplitude[..., 2]
+    dt = dt
+    tau = tau
+    _x0 = 1 - numpy.exp(-dt/tau)
+    _out = out_array((amplitude.shape[:-1], dt.shape, tau.shape,), (3,))
+    _out[..., 0] = A_x*_x0
+    _out[..., 1] = A_y*_x0
+    _out[..., 2] = A_z*_x0
+    return _out
+
+
+def thermal_drift_signature(dt, tau):
+    """thermal_drift: d point / d A (3 x 3), 1 (mm per mm)
+
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3, 3)
+    """
+    dt = as_arg(dt, 0, 'dt', 'thermal_drift_signature')
+    tau = as_arg(tau, 0, 'tau', 'thermal_drift_signature')
+    dt = dt
+    tau = tau
+    _x0 = 1 - numpy.exp(-dt/tau)
+    _out = out_array((dt.shape, tau.shape,), (3, 3))
+    _out[..., 0, 0] = _x0
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = _x0
+    _out[..., 1, 2] = 0
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = 0
+    _out[..., 2, 2] = _x0
+    return _out
+
+
+def thermal_drift_dtau(amplitude, dt, tau):
+    """thermal_drift: d point / d tau at amplitude A, mm per s
+
+    amplitude (..., 3): final displacement of the warm-up, mm
+        [A_x, A_y, A_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    amplitude = as_arg(amplitude, 3, 'amplitude', 'thermal_drift_dtau')
+    dt = as_arg(dt, 0, 'dt', 'thermal_drift_dtau')
+    tau = as_arg(tau, 0, 'tau', 'thermal_drift_dtau')
+    A_x = amplitude[..., 0]
+    A_y = amplitude[..., 1]
+    A_z = amplitude[..., 2]
+    dt = dt
+    tau = tau
+    _x0 = dt*numpy.exp(-dt/tau)/tau**2
+    _out = out_array((amplitude.shape[:-1], dt.shape, tau.shape,), (3,))
+    _out[..., 0] = -A_x*_x0
+    _out[..., 1] = -A_y*_x0
+    _out[..., 2] = -A_z*_x0
+    return _out
+
+
+def tracker_scale_signature(xyz, tracker):
+    """tracker_scale: d reading / d ppm (radial scaling about the tracker), mm per ppm
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'tracker_scale_signature')
+    tracker = as_arg(tracker, 3, 'tracker', 'tracker_scale_signature')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1],), (3,))
+    _out[..., 0] = -1/1000000*tx + (1/1000000)*x
+    _out[..., 1] = -1/1000000*ty + (1/1000000)*y
+    _out[..., 2] = -1/1000000*tz + (1/1000000)*z
+    return _out
+
+
+def outlier_signature(on):
+    """outlier: d reading / d displacement s (3 x 3) for a displaced reading (on = 1)
+
+    on (...): 1 for the displaced readings, 0 otherwise
+    returns (..., 3, 3)
+    """
+    on = as_arg(on, 0, 'on', 'outlier_signature')
+    on = on
+    _out = out_array((on.shape,), (3, 3))
+    _out[..., 0, 0] = on
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = on
+    _out[..., 1, 2] = 0
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = 0
+    _out[..., 2, 2] = on
+    return _out

@@ -1,0 +1,174 @@
+"""From identified errors per position to error functions: ISO 230-1 reference straight lines, squareness,
+and continuous fits whose complexity is chosen by held-out rounds (not by eye).
+
+Units follow the data: positions in mm (linear) or deg (rotary), values in mm or rad.  Slopes of straightness
+lines are mm/mm = rad.  Squareness uses the right-hand convention of design.md (ISO 230-1): the actual Y
+direction is Rz(E_C0Y) y = (-E_C0Y, 1, 0), the actual Z direction is Ry(E_B0Z) Rx(E_A0Z) z = (E_B0Z, -E_A0Z, 1),
+X is the datum.  (The thesis' eq. 3.16 prints +y E_C0Y and +z E_A0Z, i.e. the opposite signs of E_C0Y, E_A0Z.)
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mtcal.errors import InputError
+
+REFERENCE_METHODS = ("least-squares", "end-point", "minimum-zone")
+SQUARENESS_CONVENTION = ("right-hand (ISO 230-1, design.md): actual Y = (-E_C0Y, 1, 0), actual Z = (E_B0Z, -E_A0Z, 1), "
+                         "X is the datum; the thesis' eq. 3.16 prints the opposite signs of E_C0Y and E_A0Z")
+
+
+def reference_line(x, y, method: str = "least-squares") -> tuple[float, float]:
+    """ISO 230-1 reference straight line y ~ a + b x of a straightness record: (intercept a, slope b).
+
+    least-squares: minimum sum of squared deviations; end-point: through the first and last point (by x);
+    minimum-zone: the mean line of the narrowest zone of two parallel lines containing all points (minimax fit).
+    """
+    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    ok = np.isfinite(x) & np.isfinite(y)
+    x, y = x[ok], y[ok]
+    if len(x) < 2 or np.ptp(x) == 0:
+        raise InputError("a reference straight line needs at least two distinct positions")
+    xm, ym = x.mean(), y.mean()
+    xc = x - xm
+    if method == "least-squares":
+        b = float(np.dot(xc, y - ym) / np.dot(xc, xc))
+    elif method == "end-point":
+        i, j = int(np.argmin(x)), int(np.argmax(x))
+        b = float((y[j] - y[i]) / (x[j] - x[i]))
+        return float(y[i] - b * x[i]), b
+    elif method == "minimum-zone":
+        from scipy.optimize import linprog
+        s = np.abs(xc).max()
+        u = xc / s  # scaled for conditioning; unknowns (a', b', t): minimise t, |y - ym - a' - b' u| <= t
+        r = y - ym
+        a_ub = np.block([[-np.ones((len(u), 1)), -u[:, None], -np.ones((len(u), 1))],
+                         [np.ones((len(u), 1)), u[:, None], -np.ones((len(u), 1))]])
+        b_ub = np.concatenate([-r, r])
+        res = linprog([0, 0, 1], A_ub=a_ub, b_ub=b_ub, bounds=[(None, None)] * 3, method="highs")
+        if not res.success:  # pragma: no cover - an LP of this form is always feasible
+            raise InputError(f"minimum-zone line failed: {res.message}")
+        b = float(res.x[1] / s)
+        return float(ym + res.x[0] - b * xm), b
+    else:
+        raise InputError(f"reference line method must be one of {REFERENCE_METHODS}, got {method!r}")
+    return float(ym - b * xm), b
+
+
+def squareness(slopes: dict[str, float]) -> dict[str, float]:
+    """Squareness errors (rad) from the slopes of the straightness reference lines, X as the datum.
+
+    ``slopes[E_IJ]`` is the slope (mm/mm) of the reference line of straightness E_IJ over the travel of J.
+    E_C0Y = -(s_XY + s_YX), E_B0Z = s_XZ + s_ZX, E_A0Z = -(s_YZ + s_ZY); a name is left out when a slope it
+    needs is missing.  A tilt of the measuring frame alone cancels from each sum.
+    """
+    out = {}
+    pairs = {"E_C0Y": (("E_XY", "E_YX"), -1.0), "E_B0Z": (("E_XZ", "E_ZX"), 1.0), "E_A0Z": (("E_YZ", "E_ZY"), -1.0)}
+    for name, ((a, b), sign) in pairs.items():
+        if a in slopes and b in slopes:
+            out[name] = sign * (slopes[a] + slopes[b])
+    return out
+
+
+# ----------------------------------------------------------------------------- continuous functions
+def _poly_design(x: np.ndarray, deg: int, domain: tuple[float, float]) -> np.ndarray:
+    lo, hi = domain
+    u = (2 * x - (lo + hi)) / (hi - lo) if hi > lo else np.zeros_like(x)
+    return np.polynomial.polynomial.polyvander(u, deg)
+
+
+def _harm_design(x: np.ndarray, h: int, period: float) -> np.ndarray:
+    w = 2 * np.pi * x / period
+    cols = [np.ones_like(x)]
+    for k in range(1, h + 1):
+        cols += [np.cos(k * w), np.sin(k * w)]
+    return np.stack(cols, axis=-1)
+
+
+def _lstsq(a: np.ndarray, y: np.ndarray) -> np.ndarray:
+    ok = np.isfinite(y)
+    return np.linalg.lstsq(a[ok], y[ok], rcond=None)[0]
+
+
+def _select(x: np.ndarray, per_round: np.ndarray, sizes: list[int], design) -> tuple[int, list[float], str]:
+    """Index into ``sizes`` chosen by leave-one-round-out prediction error (one-standard-error rule), or by
+    AICc on the mean when there are fewer than two rounds with data.  Returns (index, scores, criterion)."""
+    rounds = [r for r in range(per_round.shape[0]) if np.isfinite(per_round[r]).any()]
+    mean = np.nanmean(per_round, axis=0)
+    n = int(np.isfinite(mean).sum())
+    if len(rounds) >= 2:
+        scores, ses = [], []
+        for k in sizes:
+            a = design(x, k)
+            folds = []
+            for r in rounds:
+                others = np.nanmean(per_round[[o for o in rounds if o != r]], axis=0)
+                if np.isfinite(others).sum() < a.shape[1]:
+                    folds.append(np.inf)
+                    continue
+                pred = a @ _lstsq(a, others)
+                d = per_round[r] - pred
+                folds.append(float(np.nanmean(d**2)))
+            f = np.array(folds)
+            scores.append(float(f.mean()))
+            ses.append(float(f.std(ddof=1) / np.sqrt(len(f))) if np.isfinite(f).all() else np.inf)
+        best = int(np.argmin(scores))
+        limit = scores[best] + ses[best]
+        pick = next(i for i in range(len(sizes)) if scores[i] <= limit)
+        return pick, scores, "held-out rounds (leave one round out, one-standard-error rule)"
+    scores = []
+    for k in sizes:
+        a = design(x, k)
+        p = a.shape[1]
+        if n - p - 1 <= 0:
+            scores.append(np.inf)
+            continue
+        rss = float(np.nansum((mean - a @ _lstsq(a, mean)) ** 2))
+        scores.append(n * np.log(max(rss, 1e-300) / n) + 2 * p + 2 * p * (p + 1) / (n - p - 1))
+    return int(np.argmin(scores)), scores, "AICc on the mean (fewer than two rounds)"
+
+
+def fit_polynomial(x, per_round, max_degree: int = 7) -> dict:
+    """Polynomial fit of the mean over rounds, degree chosen by ``_select`` (0 .. min(max_degree, n - 2)).
+
+    ``per_round`` (n_rounds, n_positions), NaN where a round lacks a position.  Returns the model fit dict
+    {"kind": "polynomial", "coefficients", "domain", "degree", "criterion", "scores", "rms"} (coefficients of
+    numpy.polynomial.Polynomial on ``domain``, as mtcal.model evaluates them).
+    """
+    x = np.asarray(x, dtype=float)
+    per_round = np.atleast_2d(np.asarray(per_round, dtype=float))
+    dom = (float(x.min()), float(x.max()))
+    top = max(0, min(max_degree, len(x) - 2))
+    sizes = list(range(top + 1))
+    pick, scores, how = _select(x, per_round, sizes, lambda xx, d: _poly_design(xx, d, dom))
+    mean = np.nanmean(per_round, axis=0)
+    a = _poly_design(x, sizes[pick], dom)
+    coef = _lstsq(a, mean)
+    rms = float(np.sqrt(np.nanmean((mean - a @ coef) ** 2)))
+    return {"kind": "polynomial", "coefficients": coef.tolist(), "domain": list(dom), "degree": sizes[pick],
+            "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+
+
+def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6) -> dict:
+    """Fourier series a0 + sum a_h cos(h w) + b_h sin(h w), w = 2 pi x / period, number of harmonics chosen by
+    ``_select`` (0 .. min(max_harmonics, (n - 2) // 2)); the model fit dict {"kind": "harmonic", ...}."""
+    x = np.asarray(x, dtype=float)
+    per_round = np.atleast_2d(np.asarray(per_round, dtype=float))
+    top = max(0, min(max_harmonics, (len(x) - 2) // 2))
+    sizes = list(range(top + 1))
+    pick, scores, how = _select(x, per_round, sizes, lambda xx, h: _harm_design(xx, h, period))
+    mean = np.nanmean(per_round, axis=0)
+    h = sizes[pick]
+    a = _harm_design(x, h, period)
+    c = _lstsq(a, mean)
+    rms = float(np.sqrt(np.nanmean((mean - a @ c) ** 2)))
+    return {"kind": "harmonic", "period": float(period), "a0": float(c[0]), "cos": c[1::2].tolist(),
+            "sin": c[2::2].tolist(), "harmonics": h, "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+
+
+def is_periodic(positions, period: float = 360.0) -> bool:
+    """Whether rotary positions cover (nearly) a full turn, so a periodic (harmonic) function fits."""
+    p = np.sort(np.mod(np.asarray(positions, dtype=float), period))
+    if len(p) < 5:
+        return False
+    gaps = np.diff(np.concatenate([p, [p[0] + period]]))
+    return bool(gaps.max() <= 3 * np.median(gaps) and np.ptp(p) >= 0.75 * period)

@@ -1,0 +1,598 @@
+"""Three-point identification of the error motions of each axis from laser-tracker recordings (Zhang & Hu).
+
+For every pass (axis, round, position, direction) the readings of the points P, Q, K (>= 3 non-collinear
+reflectors; on the spindle for X, Y, Z, on the table for B, C) are compared with where the nominal machine
+motion takes each point's reference reading (the round's reading at the position closest to zero, the first
+time it is approached); the differences, expressed in the axis' own frame (derive/threepoint.py: B's stator
+frame is tilted 45 deg), give the six error motions E_XJ, E_YJ, E_ZJ (mm) and E_AJ, E_BJ, E_CJ (rad) by least
+squares over all 3 n equations (weighted by the AT960 covariance when the tracker position is known).  Passes of
+one round at one position are averaged; rounds give the Type A statistics (thesis eqs. 2.45-2.49); reference
+straight lines give squareness (mtcal.fitting); continuous functions make the error model (mtcal.model).
+
+Assumptions: readings are in the machine frame (mm); the axes not measured stand at zero (only matters for the
+rotary axes: B is measured at C = 0, C at B = 0); errors are zero at the reference position.
+"""
+from __future__ import annotations
+
+import sys
+import warnings as _warnings
+from dataclasses import dataclass, field
+from typing import Iterable
+
+import numpy as np
+
+from mtcal import fitting
+from mtcal import tracker as trk
+from mtcal.errors import InputError
+from mtcal.generated import threepoint_numpy as tp
+from mtcal.machine import Machine, load_machine
+from mtcal.model import ErrorFunction, ErrorModel
+from mtcal.recordings import Recording
+
+PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
+MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
+MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
+
+
+def error_names(axis: str) -> tuple[str, ...]:
+    """ISO 230-1 names of the six error motions of an axis, in solution order."""
+    return tuple(f"E_{p}{axis}" for p in PARTS)
+
+
+# ----------------------------------------------------------------------------- one position
+def solve_frame(points, deltas, cov=None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Least-squares three-point solution in the axis frame F, vectorised over leading dimensions.
+
+    points (..., n, 3) mm: nominal reflector positions in F; deltas (..., n, 3) mm: measured minus nominal in F;
+    cov (..., n, 3, 3) mm^2: covariance of each delta (None: unweighted).  Returns (errors (..., 6) as
+    (E_X, E_Y, E_Z mm, E_A, E_B, E_C rad), residuals (..., 3 n) mm (unweighted, measured - fitted),
+    covariance of the errors (..., 6, 6) when ``cov`` is given, else None).  Three points unweighted use the
+    generated centred closed form; otherwise the whitened system from the generated rows is solved by QR.
+    """
+    p = np.asarray(points, dtype=float)
+    d = np.asarray(deltas, dtype=float)
+    n = p.shape[-2]
+    if n < 3:
+        raise InputError(f"three-point identification needs >= 3 points, got {n}")
+    lead = np.broadcast_shapes(p.shape[:-2], d.shape[:-2])
+    if cov is None and n == 3:
+        pf, df = p.reshape(*p.shape[:-2], 9), d.reshape(*d.shape[:-2], 9)
+        return tp.ls_solve(pf, df), tp.ls_residuals(pf, df), None
+    a = tp.point_rows(p)  # (..., n, 3, 6)
+    a = np.broadcast_to(a, lead + a.shape[-3:])
+    d = np.broadcast_to(d, lead + d.shape[-2:])
+    if cov is None:
+        aw, bw = a, d
+    else:
+        chol = np.linalg.cholesky(np.asarray(cov, dtype=float))
+        aw = np.linalg.solve(chol, a)
+        bw = np.linalg.solve(chol, d[..., None])[..., 0]
+    aw = aw.reshape(*lead, 3 * n, 6)
+    bw = bw.reshape(*lead, 3 * n)
+    q, r = np.linalg.qr(aw)
+    e = np.linalg.solve(r, np.einsum("...ki,...k->...i", q, bw)[..., None])[..., 0]
+    resid = (d - np.einsum("...kij,...j->...ki", a, e)).reshape(*lead, 3 * n)
+    ce = None
+    if cov is not None:
+        rinv = np.linalg.inv(r)
+        ce = rinv @ np.swapaxes(rinv, -1, -2)
+    return e, resid, ce
+
+
+def _point_affine(machine: Machine, side: str, axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Nominal point map x = R w + t of the spindle ('tool') or table side at axes (..., n_axes)."""
+    fn = machine._np.tool_point if side == "tool" else machine._np.table_point
+    zero = np.zeros(len(machine.error_names))
+    basis = np.vstack([np.zeros(3), np.eye(3)])  # origin, then unit vectors
+    out = fn(axes[..., None, :], zero, basis)  # (..., 4, 3)
+    t = out[..., 0, :]
+    return np.swapaxes(out[..., 1:, :] - t[..., None, :], -1, -2), t
+
+
+def _axes_vector(machine: Machine, axis: str, position) -> np.ndarray:
+    pos = np.asarray(position, dtype=float)
+    a = np.zeros(pos.shape + (len(machine.axes),))
+    a[..., machine.axes.index(axis)] = pos
+    return a
+
+
+def frame_data(machine: Machine, axis: str, position, reference_position, readings, reference):
+    """Nominal points and deltas in the axis frame F (see ``identify_position``); returns
+    (points_F (..., n, 3), deltas_F (..., n, 3), R_F (..., 3, 3), deltas in the machine frame (..., n, 3),
+    R_rel (..., 3, 3): how the part turned from the reference position, which carries the reference
+    reading's noise into the nominal point)."""
+    key = f"{machine.name}_{axis}"
+    if key not in tp.FRAMES:
+        raise InputError(f"no three-point frame derived for axis {axis} of machine {machine.name}")
+    side = tp.FRAME_SIDES[key]
+    q, q0 = _axes_vector(machine, axis, position), _axes_vector(machine, axis, reference_position)
+    r0, t0 = _point_affine(machine, side, q0)
+    rq, tq = _point_affine(machine, side, q)
+    m = np.asarray(readings, dtype=float)
+    m0 = np.asarray(reference, dtype=float)
+    w = np.einsum("...ji,...nj->...ni", r0, m0 - t0[..., None, :])  # R0^T (m0 - t0): point in its own part
+    nominal = np.einsum("...ij,...nj->...ni", rq, w) + tq[..., None, :]
+    f = getattr(tp, tp.FRAMES[key])(q)  # (..., 3, 4)
+    rf, of = f[..., :3], f[..., 3]
+    d_m = m - nominal
+    pts = np.einsum("...ji,...nj->...ni", rf, nominal - of[..., None, :])
+    dls = np.einsum("...ji,...nj->...ni", rf, d_m)
+    return pts, dls, rf, d_m, rq @ np.swapaxes(r0, -1, -2)
+
+
+def delta_covariance(readings, reference, r_rel, r_f, tracker, parts: bool = False):
+    """Covariance (..., n, 3, 3) mm^2 in F of delta = reading - (R_rel (reference - t0) + t), AT960 model;
+    with ``parts`` the pair (reading's share, reference reading's share)."""
+    c0 = np.einsum("...ij,...njk,...lk->...nil", r_rel, trk.covariance(reference, tracker), r_rel)
+    c1 = trk.covariance(readings, tracker)
+    to_f = lambda c: np.einsum("...ki,...nkl,...lj->...nij", r_f, c, r_f)  # noqa: E731
+    return (to_f(c1), to_f(c0)) if parts else to_f(c1 + c0)
+
+
+@dataclass
+class PositionResult:
+    errors: np.ndarray  # (..., 6) E_X, E_Y, E_Z mm; E_A, E_B, E_C rad
+    residuals: np.ndarray  # (..., 3 n) mm
+    covariance: np.ndarray | None  # (..., 6, 6) with a tracker position
+    names: tuple[str, ...]
+
+    @property
+    def residual_rms(self) -> np.ndarray:
+        return np.sqrt(np.mean(self.residuals**2, axis=-1))
+
+    def as_dict(self) -> dict[str, np.ndarray]:
+        return {n: self.errors[..., i] for i, n in enumerate(self.names)}
+
+
+def identify_position(axis: str, position, readings, reference, reference_position=0.0, tracker=None,
+                      machine: str | Machine = "dmu50") -> PositionResult:
+    """The six error motions of ``axis`` at ``position`` (mm or deg; vectorised over leading dimensions).
+
+    readings (..., n, 3) mm: the n points measured at ``position``; reference (..., n, 3) mm: the same points
+    measured at ``reference_position`` (where the errors are zero by definition); machine frame.  tracker (3,)
+    mm: tracker position in the machine frame; when given, the least squares is weighted by the AT960
+    covariance of reading and reference reading, and the errors' covariance is returned.
+    """
+    m = machine if isinstance(machine, Machine) else load_machine(machine)
+    pts, dls, rf, _, rrel = frame_data(m, axis, position, reference_position, readings, reference)
+    cov = None
+    if tracker is not None:
+        cov = delta_covariance(readings, reference, rrel, rf, np.asarray(tracker, dtype=float).reshape(3))
+    e, r, ce = solve_frame(pts, dls, cov)
+    return PositionResult(e, r, ce, error_names(axis))
+
+
+# ----------------------------------------------------------------------------- a recording
+@dataclass
+class AxisResult:
+    """Identified errors of one axis.  ``per_round`` (n_rounds, n_positions, 6), NaN where a round lacks a
+    position; statistics over rounds (Type A): mean, std (experimental, eq. 2.47), std_mean (eq. 2.49)."""
+
+    axis: str
+    positions: np.ndarray
+    rounds: np.ndarray
+    points: tuple[str, ...]
+    per_round: np.ndarray
+    residual_rms: np.ndarray  # (n_positions,) mm, over all passes
+    sigma_pred: np.ndarray  # (n_positions, 6): predicted std of one round's value (noise model or residuals)
+    names: tuple[str, ...]
+    reference_position: float
+    weighted: bool
+    lines: dict[str, dict] = field(default_factory=dict)  # reference straight lines of straightness errors
+    reversal: np.ndarray | None = None  # (n_positions, 6): mean over rounds of (+ pass) - (- pass), if bidirectional
+    fits: dict[str, dict] = field(default_factory=dict)
+
+    @property
+    def n(self) -> np.ndarray:
+        return np.isfinite(self.per_round[..., 0]).sum(axis=0)
+
+    @property
+    def mean(self) -> np.ndarray:
+        return np.nanmean(self.per_round, axis=0)
+
+    @property
+    def std(self) -> np.ndarray:
+        n = self.n[:, None]
+        dev = np.where(np.isfinite(self.per_round), self.per_round - self.mean, 0.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(n >= 2, np.sqrt((dev**2).sum(axis=0) / (n - 1)), np.nan)
+
+    @property
+    def std_mean(self) -> np.ndarray:
+        return self.std / np.sqrt(self.n[:, None])
+
+    def values(self, name: str, corrected: bool = True) -> np.ndarray:
+        """Mean per position of one error; straightness with its reference-line slope removed if ``corrected``."""
+        v = self.mean[:, self.names.index(name)]
+        if corrected and name in self.lines:
+            v = v - self.lines[name]["slope"] * self.positions
+        return v
+
+    def to_json(self) -> dict:
+        mean, std, sm = self.mean, self.std, self.std_mean
+        return {"positions": self.positions.tolist(), "rounds": self.rounds.tolist(), "points": list(self.points),
+                "reference_position": self.reference_position, "n": self.n.tolist(),
+                "errors": {nm: {"mean": mean[:, i].tolist(), "std": std[:, i].tolist(), "std_mean": sm[:, i].tolist()}
+                           for i, nm in enumerate(self.names)},
+                "residual_rms": self.residual_rms.tolist(),
+                "reference_lines": self.lines, "fits": self.fits,
+                **({} if self.reversal is None else
+                   {"reversal": {nm: self.reversal[:, i].tolist() for i, nm in enumerate(self.names)}})}
+
+
+@dataclass
+class IdentifyResult:
+    axes: dict[str, AxisResult]
+    squareness: dict[str, float]
+    model: ErrorModel
+    warnings: list[str]
+    reference: str
+    weighted: bool
+    source: str
+    squareness_stats: dict = field(default_factory=dict)  # Type A over rounds: {name: {rounds, std, std_mean}}
+
+    def to_json(self) -> dict:
+        return {"source": self.source, "units": {"length": "mm", "angle": "rad", "position": "mm or deg"},
+                "weighted": self.weighted, "reference": self.reference,
+                "axes": {a: r.to_json() for a, r in self.axes.items()},
+                "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
+                "squareness_convention": fitting.SQUARENESS_CONVENTION,
+                "warnings": self.warnings}
+
+
+def _lines(rec: Recording, idx: Iterable[int]) -> str:
+    ls = sorted(int(rec.line[i]) for i in idx)
+    return ", ".join(map(str, ls[:6])) + (" ..." if len(ls) > 6 else "")
+
+
+def _order_points(labels: Iterable[str]) -> tuple[str, ...]:
+    labels = sorted(set(labels))
+    if set(labels) == {"P", "Q", "K"}:
+        return ("P", "Q", "K")
+    return tuple(labels)
+
+
+def _passes(rec: Recording, axis: str):
+    """Group one axis' rows into passes; check completeness.  Returns dict with arrays per pass."""
+    idx = np.flatnonzero(rec.axis == axis)
+    points = _order_points(rec.point[idx])
+    if len(points) < 3:
+        raise InputError(f"{rec.source}: axis {axis} has only {len(points)} point label(s) {list(points)} "
+                         f"(lines {_lines(rec, idx)}); the three-point method needs >= 3 (P, Q, K)")
+    has_time = np.isfinite(rec.time_s[idx]).all()
+    order_key = rec.time_s if has_time else rec.line.astype(float)
+    pos_key = np.round(rec.position[idx], 6)
+    groups: dict[tuple, dict[str, int]] = {}
+    for i, pk in zip(idx, pos_key):
+        key = (int(rec.round[i]), float(pk), int(rec.direction[i]))
+        g = groups.setdefault(key, {})
+        pt = str(rec.point[i])
+        if pt in g:
+            j = g[pt]
+            raise InputError(f"{rec.where(i)}: point {pt} measured again at axis {axis}, round {key[0]}, position "
+                             f"{key[1]:g}, direction {key[2]:+d} (first at line {int(rec.line[j])}); repeated readings "
+                             f"of one pass are not averaged silently: remove one or give it its own round")
+        g[pt] = i
+    rounds = np.array(sorted({k[0] for k in groups}))
+    refs = {}
+    for r in rounds:
+        ri = idx[rec.round[idx] == r]
+        q0 = float(np.round(rec.position[ri][np.argmin(np.abs(rec.position[ri]))], 6))
+        cand = [k for k in groups if k[0] == r and k[1] == q0]
+        first = {}
+        for pt in points:
+            rows = [groups[k][pt] for k in cand if pt in groups[k]]
+            if not rows:
+                raise InputError(f"{rec.source}: axis {axis}, round {r}: point {pt} has no reading at the reference "
+                                 f"position {q0:g} (lines {_lines(rec, ri)})")
+            first[pt] = min(rows, key=lambda i: order_key[i])
+        refs[int(r)] = (q0, first)
+    keys = sorted(groups)
+    for k in keys:
+        g = groups[k]
+        missing = [pt for pt in points if pt not in g]
+        if missing:
+            raise InputError(f"{rec.source}: axis {axis}, round {k[0]}, position {k[1]:g}"
+                             f"{'' if k[2] == 0 else f', direction {k[2]:+d}'}: point(s) {missing} missing "
+                             f"(present: lines {_lines(rec, g.values())}); every pass needs all of {list(points)}")
+    rows = np.array([[groups[k][pt] for pt in points] for k in keys])  # (n_pass, n_pts)
+    ref_rows = np.array([[refs[k[0]][1][pt] for pt in points] for k in keys])
+    return {"points": points, "keys": keys, "rows": rows, "ref_rows": ref_rows, "rounds": rounds,
+            "round": np.array([k[0] for k in keys]), "position": np.array([k[1] for k in keys]),
+            "q0": np.array([refs[k[0]][0] for k in keys])}
+
+
+def identify(rec: Recording, tracker=None, machine: str | Machine = "dmu50", reference: str = "least-squares",
+             outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
+             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None) -> IdentifyResult:
+    """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
+    reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
+    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``."""
+    m = machine if isinstance(machine, Machine) else load_machine(machine)
+    if reference not in fitting.REFERENCE_METHODS:
+        raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
+    t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
+    warnings: list[str] = []
+    results: dict[str, AxisResult] = {}
+    for axis in rec.axes():
+        if axis not in m.axes:
+            raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
+        if progress:
+            progress(f"identifying axis {axis}")
+        results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
+    slopes = {}
+    for axis, ar in results.items():
+        if m.axis_kinds[m.axes.index(axis)] != "linear":
+            continue
+        for nm in ar.names[:3]:
+            if nm[2] == axis:
+                continue  # positioning error: no reference line
+            a, b = fitting.reference_line(ar.positions, ar.mean[:, ar.names.index(nm)], reference)
+            ar.lines[nm] = {"method": reference, "intercept": a, "slope": b}
+            slopes[nm] = b
+    sq = fitting.squareness(slopes)
+    sq_stats = _squareness_type_a(results, m, reference, sq)
+    lin = [a for a, k in zip(m.axes, m.axis_kinds) if k == "linear"]
+    if set(lin) <= set(results) and len(sq) < 3:
+        warnings.append("squareness: some straightness records are missing; only " + ", ".join(sorted(sq)) + " found")
+    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None)
+    model.meta["warnings"] = list(warnings)
+    if sq_stats:
+        model.meta["squareness_type_a"] = sq_stats
+    return IdentifyResult(results, sq, model, warnings, reference, t is not None, rec.source, sq_stats)
+
+
+def _squareness_type_a(results: dict[str, AxisResult], m: Machine, reference: str, sq: dict) -> dict:
+    """Squareness of each round (rounds matched by number across axes) -> {name: {"rounds", "std", "std_mean"}}."""
+    out = {}
+    common = None
+    for axis, ar in results.items():
+        if m.axis_kinds[m.axes.index(axis)] == "linear":
+            common = set(ar.rounds.tolist()) if common is None else common & set(ar.rounds.tolist())
+    if not sq or not common or len(common) < 2:
+        return out
+    per = []
+    for r in sorted(common):
+        slopes = {}
+        for axis, ar in results.items():
+            if m.axis_kinds[m.axes.index(axis)] != "linear":
+                continue
+            k = int(np.flatnonzero(ar.rounds == r)[0])
+            for nm in ar.lines:
+                v = ar.per_round[k, :, ar.names.index(nm)]
+                ok = np.isfinite(v)
+                if ok.sum() >= 2:
+                    slopes[nm] = fitting.reference_line(ar.positions[ok], v[ok], reference)[1]
+        per.append(fitting.squareness(slopes))
+    for name in sq:
+        v = np.array([p[name] for p in per if name in p])
+        if len(v) >= 2:
+            s = float(v.std(ddof=1))
+            out[name] = {"rounds": v.tolist(), "std": s, "std_mean": s / np.sqrt(len(v))}
+    return out
+
+
+def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str], outlier_k: float,
+                   max_dev: float) -> AxisResult:
+    ps = _passes(rec, axis)
+    rows, ref_rows = ps["rows"], ps["ref_rows"]
+    readings, refs = rec.xyz[rows], rec.xyz[ref_rows]
+    pts, dls, rf, d_m, rrel = frame_data(m, axis, ps["position"], ps["q0"], readings, refs)
+    worst = np.unravel_index(int(np.argmax(np.linalg.norm(d_m, axis=-1))), rows.shape)
+    dev = float(np.linalg.norm(d_m[worst]))
+    if not dev <= max_dev:
+        i, j = rows[worst], ref_rows[worst]
+        unit = "mm" if m.axis_kinds[m.axes.index(axis)] == "linear" else "deg"
+        raise InputError(f"{rec.where(i)}: point {rec.point[i]} at {axis} = {rec.position[i]:g} {unit} is {dev:.3g} mm "
+                         f"from where the commanded motion takes its reference reading (line {int(rec.line[j])}); "
+                         f"geometric errors are far smaller: positions must be in {unit} and readings in mm in the "
+                         f"machine frame (positions in metres or radians? another axis moving?)")
+    ref_pts = pts[ps["position"] == ps["q0"]]
+    shape = tp.point_shape(ref_pts.reshape(-1, 9))[..., 0] if pts.shape[-2] == 3 else _shape(ref_pts)
+    if np.any(shape < MIN_SHAPE):
+        k = int(np.flatnonzero(ps["position"] == ps["q0"])[int(np.argmin(shape))])
+        raise InputError(f"{rec.source}, lines {_lines(rec, ref_rows[k])}: the points {list(ps['points'])} of axis "
+                         f"{axis} are (nearly) collinear (shape measure {float(shape.min()):.2e}, 1 = equilateral, "
+                         f"minimum {MIN_SHAPE:g}): the rotation about their line cannot be identified")
+    cov = var_ref = None
+    if t is not None:
+        c_read, c_ref = delta_covariance(readings, refs, rrel, rf, t, parts=True)
+        cov = c_read + c_ref
+    e, resid, ce = solve_frame(pts, dls, cov)
+    at_ref = (rows == ref_rows).all(axis=1)  # the reference passes themselves: zero by construction
+    if ce is None:  # isotropic noise estimated from the residuals of all passes (3 n - 6 dof each)
+        dof = resid.shape[-1] - 6
+        s2 = float(np.sum(resid[~at_ref] ** 2) / max(1, dof * int((~at_ref).sum())))
+        a = tp.point_rows(pts).reshape(len(pts), -1, 6)
+        ce = s2 * np.linalg.inv(np.swapaxes(a, -1, -2) @ a)
+    else:  # the reference reading's share, common to all passes of a round at one position (no averaging down)
+        var_ref = np.diagonal(_propagate(pts, cov, c_ref), axis1=-2, axis2=-1).copy()
+        var_ref[at_ref] = 0.0
+    var = np.diagonal(ce, axis1=-2, axis2=-1).copy()
+    var[at_ref] = 0.0
+    positions = np.unique(ps["position"])
+    rounds = ps["rounds"]
+    per_round = np.full((len(rounds), len(positions), 6), np.nan)
+    var_round = np.full((len(rounds), len(positions), 6), np.nan)
+    rss = np.zeros(len(positions))
+    cnt = np.zeros(len(positions))
+    ri = np.searchsorted(rounds, ps["round"])
+    pi = np.searchsorted(positions, ps["position"])
+    for r in range(len(rounds)):
+        for p in range(len(positions)):
+            sel = (ri == r) & (pi == p)
+            if sel.any():
+                per_round[r, p] = e[sel].mean(axis=0)
+                k = sel.sum()
+                if var_ref is None:
+                    var_round[r, p] = var[sel].sum(axis=0) / k**2
+                else:
+                    vr = var_ref[sel].mean(axis=0)
+                    var_round[r, p] = (var[sel] - var_ref[sel]).sum(axis=0) / k**2 + vr
+    np.add.at(rss, pi, np.sum(resid**2, axis=-1))
+    np.add.at(cnt, pi, resid.shape[-1])
+    direction = np.array([k[2] for k in ps["keys"]])
+    reversal = None
+    if (direction > 0).any() and (direction < 0).any():  # bidirectional: + minus - per (round, position)
+        diffs = np.full((len(rounds), len(positions), 6), np.nan)
+        for r in range(len(rounds)):
+            for p in range(len(positions)):
+                up = (ri == r) & (pi == p) & (direction > 0)
+                dn = (ri == r) & (pi == p) & (direction < 0)
+                if up.any() and dn.any():
+                    diffs[r, p] = e[up].mean(axis=0) - e[dn].mean(axis=0)
+        with _warnings.catch_warnings():  # positions without both directions stay NaN
+            _warnings.simplefilter("ignore", RuntimeWarning)
+            reversal = np.nanmean(diffs, axis=0)
+    q0s = np.unique(ps["q0"])
+    if len(q0s) > 1:
+        warnings.append(f"axis {axis}: rounds use different reference positions {q0s.tolist()}")
+    missing = [(int(rounds[r]), float(positions[p])) for r in range(len(rounds)) for p in range(len(positions))
+               if np.isnan(per_round[r, p, 0])]
+    if missing:
+        warnings.append(f"axis {axis}: {len(missing)} (round, position) pair(s) not measured, e.g. {missing[:4]}; "
+                        f"their statistics use fewer rounds")
+    if len(rounds) < 2:
+        warnings.append(f"axis {axis}: only one round ({int(rounds[0])}): no Type A uncertainty (std is NaN)")
+    if t is None and len(rounds) >= 3:
+        # without a noise model the isotropic residual estimate can miss anisotropic tracker noise: floor each
+        # error's variance at the median (over positions) of its round-to-round variance
+        with _warnings.catch_warnings():  # exact data: no spread at all, then no floor
+            _warnings.simplefilter("ignore", RuntimeWarning)
+            s2 = np.nanvar(per_round, axis=0, ddof=1)
+            floor = np.nanmedian(np.where(s2 > 0, s2, np.nan), axis=0)
+        if np.isfinite(floor).all():
+            var_round = np.where(np.isfinite(var_round), np.maximum(var_round, floor), var_round)
+    names = error_names(axis)
+    if len(rounds) >= 2 and outlier_k > 0:
+        _check_rounds(rec, axis, names, positions, rounds, per_round, var_round, outlier_k, warnings, ps)
+    return AxisResult(axis, positions, rounds, ps["points"], per_round, np.sqrt(rss / np.maximum(cnt, 1)),
+                      np.sqrt(np.nanmean(var_round, axis=0)), names, float(q0s[0]), t is not None,
+                      reversal=reversal)
+
+
+def _propagate(pts: np.ndarray, cov: np.ndarray, part: np.ndarray) -> np.ndarray:
+    """Covariance (..., 6, 6) of the weighted solution due to one part (..., n, 3, 3) of the deltas' covariance
+    (blocks per point, mutually independent): G part G^T with the gain G = (A^T W A)^-1 A^T W."""
+    a = tp.point_rows(pts)  # (..., n, 3, 6)
+    wa = np.linalg.solve(cov, a)  # W_i A_i
+    info = np.einsum("...nki,...nkj->...ij", a, wa)
+    mid = np.einsum("...nki,...nkl,...nlj->...ij", wa, part, wa)
+    inv = np.linalg.inv(info)
+    return inv @ mid @ inv
+
+
+def _shape(pts: np.ndarray) -> np.ndarray:
+    r = pts - pts.mean(axis=-2, keepdims=True)
+    j = np.einsum("...ni,...ni->...", r, r)[..., None, None] * np.eye(3) - np.einsum("...ni,...nj->...ij", r, r)
+    return 32 * np.linalg.det(j) / np.trace(j, axis1=-2, axis2=-1) ** 3
+
+
+def _check_rounds(rec, axis, names, positions, rounds, per_round, var_round, k, warnings, ps) -> None:
+    """Each round against the mean of the others, in units of the predicted sigma of their difference."""
+    for r in range(len(rounds)):
+        others = np.delete(per_round, r, axis=0)
+        n_o = np.isfinite(others[..., 0]).sum(axis=0)[:, None]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mo = np.nanmean(others, axis=0)
+            vo = np.nansum(np.delete(var_round, r, axis=0), axis=0) / n_o**2
+            z = np.abs(per_round[r] - mo) / np.sqrt(var_round[r] + vo)
+        z = np.where(np.isfinite(z), z, 0.0)
+        if z.max() > k:
+            p, i = np.unravel_index(int(np.argmax(z)), z.shape)
+            nbad = int((z > k).any(axis=1).sum())
+            sel = np.flatnonzero((ps["round"] == rounds[r]) & (ps["position"] == positions[p]))
+            msg = (f"axis {axis}, round {int(rounds[r])} disagrees with the other rounds: {names[i]} at "
+                   f"{positions[p]:g} is {z[p, i]:.1f} sigma from their mean ({nbad} of {len(positions)} positions "
+                   f"beyond {k:g} sigma; {rec.source}, lines {_lines(rec, ps['rows'][sel].ravel())}); it is kept in "
+                   f"the mean: check it (thermal drift, a moved reflector, an outlier)")
+            warnings.append(msg)
+
+
+def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max_degree: int, max_harmonics: int,
+           source: str, reference: str, weighted: bool) -> ErrorModel:
+    funcs = {}
+    for axis, ar in results.items():
+        rotary = m.axis_kinds[m.axes.index(axis)] == "rotary"
+        periodic = rotary and fitting.is_periodic(ar.positions)
+        std, sm = ar.std, ar.std_mean
+        for i, nm in enumerate(ar.names):
+            vals = ar.values(nm)
+            pr = ar.per_round[..., i]
+            if nm in ar.lines:
+                pr = pr - ar.lines[nm]["slope"] * ar.positions
+            if len(ar.positions) < 2:
+                continue
+            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics) if periodic
+                   else fitting.fit_polynomial(ar.positions, pr, max_degree))
+            extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "n": ar.n.tolist()}
+            if nm in ar.lines:
+                extra["reference_line"] = ar.lines[nm]
+            funcs[nm] = ErrorFunction(axis, ar.positions.copy(), vals, fit, extra)
+            ar.fits[nm] = fit
+    meta = {"identified_from": source, "method": "three-point (Zhang & Hu), least squares over all equations",
+            "weighted": weighted, "reference_line": reference,
+            "squareness_convention": fitting.SQUARENESS_CONVENTION}
+    return ErrorModel(m.name, dict(sq), funcs, meta)
+
+
+# ----------------------------------------------------------------------------- Inspire export layout
+INSPIRE_ORDER = ("K", "P", "Q")  # thesis appendices C, D: blocks of K, then P, then Q rows
+
+
+def parse_positions(text: str) -> np.ndarray:
+    """'start:stop:count' (inclusive, evenly spaced) or 'a,b,c,...' -> positions (mm or deg)."""
+    try:
+        if ":" in text:
+            a, b, n = text.split(":")
+            return np.linspace(float(a), float(b), int(n))
+        return np.array([float(v) for v in text.split(",")])
+    except ValueError:
+        raise InputError(f"positions must be start:stop:count or a comma list, got {text!r}") from None
+
+
+def read_inspire(paths, axis: str, positions=None) -> Recording:
+    """Recording from Inspire exports as the thesis used them: one CSV per round (file order = round 1, 2, ...),
+    rows 'label, x, y, z' (mm, machine frame), in blocks of K, P, Q readings over the same positions (one
+    direction).  ``positions`` (mm or deg) default to the thesis plan of the axis when the block length matches.
+    A first line that is not numeric is taken as a header; any other bad line is an error naming file and line."""
+    from mtcal.recordings import make_recording
+    from mtcal.simulate import DEFAULT_POSITIONS
+    axis = axis.upper()
+    rows: dict[str, list] = {k: [] for k in ("round", "position", "point", "xyz", "line", "file")}
+    for r, path in enumerate(paths, start=1):
+        text = open(path).read()
+        data = []
+        for ln, line in enumerate(text.splitlines(), start=1):
+            if not line.strip():
+                continue
+            f = [c.strip() for c in line.split(",")]
+            try:
+                if len(f) < 4:
+                    raise ValueError
+                xyz = [float(v) for v in f[1:4]]
+            except ValueError:
+                if not data and ln == 1:
+                    continue  # header
+                raise InputError(f"{path}, line {ln}: expected 'label, x, y, z' in mm, got {line.strip()!r}") from None
+            if not np.isfinite(xyz).all():
+                raise InputError(f"{path}, line {ln}: NaN/inf is not a measurement")
+            data.append((ln, xyz))
+        if len(data) % 3 or not data:
+            raise InputError(f"{path}: {len(data)} readings is not three equal blocks (K, P, Q) of one per position")
+        n = len(data) // 3
+        pos = np.asarray(positions, dtype=float) if positions is not None else DEFAULT_POSITIONS.get(axis)
+        if pos is None or len(pos) != n:
+            raise InputError(f"{path}: blocks of {n} readings; give the {n} positions of axis {axis} "
+                             f"(--positions start:stop:count)")
+        for k, (ln, xyz) in enumerate(data):
+            for key, v in zip(rows, (r, pos[k % n], INSPIRE_ORDER[k // n], xyz, ln, str(path))):
+                rows[key].append(v)
+    rec = make_recording([axis] * len(rows["round"]), rows["round"], rows["position"], rows["point"],
+                         np.array(rows["xyz"]), source=" + ".join(map(str, paths)))
+    rec.line = np.array(rows["line"])
+    return rec
+
+
+def print_progress(msg: str) -> None:
+    print(f"mtcal identify: {msg}", file=sys.stderr, flush=True)
