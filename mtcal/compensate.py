@@ -1,0 +1,659 @@
+"""Compensation of NC data from an error model: corrected axis commands that put the tool where it was meant to be.
+
+Frames and units: axes X Y Z (mm) and B C (deg) as in the NC program (the positions the error model was measured
+at); pose [x, y, z, i, j, k] of the tool tip and tool axis in the workpiece frame; errors in mm and rad.
+
+Method (exact to first order, optionally iterated to the exact solution):
+  target p* = forward(q_nom)  (nominal kinematics: what the program means);
+  q_1 = q_0 - J^+ (p(q_0, e(q_0)) - p*),  e(q) = the model's errors at the commanded axes,
+  first step from the generated first-order deviation and the nominal axis Jacobian, further steps
+  (``iterations`` > 1) from the generated exact error-inclusive pose and Jacobian at the current command.
+scope "position": X Y Z solve the 3x3 position block (the tool tip reaches p* under every modelled error,
+ISO/TR 16907 L-VOL and R-VOL including R-ANG); scope "full": B and C first solve the orientation rows by least
+squares (QR), then X Y Z the position (FOR added).  Near B = 0 the tool axis is parallel to C and the C column
+of the orientation Jacobian vanishes (sin of the tilt): inside a cone of half-angle ``cone`` (deg, between tool
+axis and C axis) only the position is corrected, between ``cone`` and 2 ``cone`` the B/C correction is blended in
+with a smoothstep weight, so C never jumps; the orientation residual left there is reported as uncontrollable.
+The same holds near B = 180 deg (tool axis at the edge of the reachable cone, k = 0), where the B, C Jacobian
+also loses rank: the weight is computed from its smaller singular value (see ``Compensator.weight``).
+"""
+from __future__ import annotations
+
+import itertools
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from mtcal import gcode
+from mtcal.errors import InputError
+from mtcal.machine import Machine, load_machine
+from mtcal.model import ErrorFunction, ErrorModel
+
+SCOPES = ("position", "full")
+BLOCK = 2048  # rows per numeric block: keeps the generated functions' temporaries in cache
+
+# ISO/TR 16907 compensation types and the ISO 230-1 errors they act on (DMU 50: linear X Y Z, rotary B C)
+ISO_TYPES: dict[str, tuple[str, ...]] = {
+    "L-POS": ("E_XX", "E_YY", "E_ZZ"),
+    "L-STR": ("E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"),
+    "L-SQU": ("E_C0Y", "E_B0Z", "E_A0Z"),
+    "L-ANG": ("E_AX", "E_BX", "E_CX", "E_AY", "E_BY", "E_CY", "E_AZ", "E_BZ", "E_CZ"),
+    "R-POS": ("E_CB", "E_CC"),
+    "R-RAX": ("E_XB", "E_YB", "E_ZB", "E_XC", "E_YC", "E_ZC"),
+    "R-POR": ("E_X0B", "E_Y0B", "E_A0B", "E_B0B", "E_X0C", "E_Y0C", "E_A0C", "E_B0C"),
+    "R-ANG": ("E_AB", "E_BB", "E_AC", "E_BC"),
+}
+ORIENTATION_ERRORS = ISO_TYPES["L-ANG"] + ISO_TYPES["R-ANG"] + ("E_CB", "E_CC", "E_A0B", "E_B0B", "E_A0C", "E_B0C")
+
+
+def present_errors(model: ErrorModel) -> set[str]:
+    """ISO names the model gives a non-zero value anywhere."""
+    out = {n for n, v in model.constants.items() if v != 0}
+    for n, f in model.functions.items():
+        fit = f.fit or {}
+        coef = [np.asarray(fit.get(k, []), dtype=float) for k in ("coefficients", "a0", "cos", "sin")]
+        if np.any(f.values != 0) or any(np.any(c != 0) for c in coef):
+            out.add(n)
+    return out
+
+
+def iso_types(model: ErrorModel, scope: str = "position") -> dict[str, list[str]]:
+    """ISO/TR 16907 types covered by compensating ``model`` (composites L-VOL / R-VOL when all parts are there)."""
+    names = present_errors(model)
+    covered = [t for t, members in ISO_TYPES.items() if names & set(members)]
+    if all(t in covered for t in ("L-POS", "L-STR", "L-SQU", "L-ANG")):
+        covered.append("L-VOL")
+    if all(t in covered for t in ("R-POS", "R-RAX", "R-POR", "R-ANG")):
+        covered.append("R-VOL")
+    if scope == "full" and names & set(ORIENTATION_ERRORS):
+        covered.append("FOR")
+    order = ["L-POS", "L-STR", "L-SQU", "L-ANG", "L-VOL", "R-POS", "R-RAX", "R-POR", "R-ANG", "R-VOL", "FOR"]
+    partial = [t for t in ("L-VOL", "R-VOL") if t not in covered and any(p in covered for p in (
+        ("L-POS", "L-STR", "L-SQU", "L-ANG") if t == "L-VOL" else ("R-POS", "R-RAX", "R-POR", "R-ANG")))]
+    return {"covered": [t for t in order if t in covered], "partial": partial}
+
+
+def _smoothstep(x: np.ndarray) -> np.ndarray:
+    x = np.clip(x, 0.0, 1.0)
+    return x * x * (3 - 2 * x)
+
+
+class Stats:
+    """Running max / RMS of a non-negative quantity (streaming)."""
+
+    def __init__(self) -> None:
+        self.n, self.sq, self.max = 0, 0.0, 0.0
+
+    def add(self, v: np.ndarray) -> None:
+        if v.size:
+            self.n += v.size
+            self.sq += float(np.dot(v, v))
+            self.max = max(self.max, float(v.max()))
+
+    def as_dict(self, scale: float, digits: int = 4) -> dict:
+        rms = (self.sq / self.n) ** 0.5 if self.n else 0.0
+        return {"max": round(self.max * scale, digits), "rms": round(rms * scale, digits), "n": self.n}
+
+
+class Compensator:
+    """Corrected axis commands for nominal ones under an error model (see the module docstring)."""
+
+    def __init__(self, model: ErrorModel, machine: Machine | None = None, scope: str = "position",
+                 tool_length: float = 0.0, iterations: int = 1, cone: float = 2.0, outside: str = "hold"):
+        if scope not in SCOPES:
+            raise InputError(f"scope must be one of {SCOPES}, got {scope!r}")
+        if iterations < 1:
+            raise InputError(f"iterations must be >= 1, got {iterations}")
+        if outside not in ("hold", "error"):
+            raise InputError(f"outside must be 'hold' or 'error', got {outside!r}")
+        self.model = model
+        self.machine = machine or load_machine(model.machine)
+        self.scope, self.tool_length, self.iterations = scope, float(tool_length), int(iterations)
+        self.cone, self.outside = float(cone), outside
+        self.np = self.machine._np
+        m = self.machine
+        unknown = sorted(set(model.names()) - set(m.error_names))
+        if unknown:
+            raise InputError(f"error model has names unknown to machine {m.name}: {unknown}")
+        self._const = np.zeros(len(m.error_names))
+        for n, v in model.constants.items():
+            self._const[m.error_names.index(n)] = v
+        self._funcs: list[tuple[str, int, int, ErrorFunction, float, float]] = []
+        for n, f in model.functions.items():
+            if f.axis not in m.axes:
+                raise InputError(f"error function {n} refers to axis {f.axis!r}, not an axis of {m.name}")
+            periodic = (f.fit or {}).get("kind") == "harmonic"
+            lo, hi = (-np.inf, np.inf) if periodic else (float(f.positions.min()), float(f.positions.max()))
+            self._funcs.append((n, m.error_names.index(n), m.axes.index(f.axis), f, lo, hi))
+        self.outside_counts: dict[str, int] = {}
+        self.zero = not present_errors(model)
+        self.clipped_b = 0
+
+    # ------------------------------------------------------------------ errors
+    def errors(self, q: np.ndarray) -> np.ndarray:
+        """Error vector (n, 41) at commanded axes (n, 5), functions as stored; outside their range: held / error."""
+        e = np.empty((len(q), len(self._const)))
+        e[:] = self._const
+        checked: dict[tuple[int, float, float], int] = {}
+        for name, ei, ai, f, lo, hi in self._funcs:
+            x = q[:, ai]
+            key = (ai, lo, hi)
+            if key not in checked:  # one range check per axis and table range
+                checked[key] = int(np.count_nonzero((x < lo - 1e-9) | (x > hi + 1e-9))) if np.isfinite(lo) else 0
+            nout = checked[key]
+            if nout:
+                if self.outside == "error":
+                    bad = x[(x < lo - 1e-9) | (x > hi + 1e-9)][0]
+                    raise InputError(f"{self.machine.axes[ai]} = {float(bad):g} is outside the measured range "
+                                     f"[{lo:g}, {hi:g}] of {name}")
+                self.outside_counts[name] = self.outside_counts.get(name, 0) + nout
+            if f.fit is None or f.fit.get("kind") in (None, "table"):
+                e[:, ei] += np.interp(x, f.positions, f.values)  # piecewise linear, end values held
+            else:
+                e[:, ei] += f(x, "hold")
+        return e
+
+    # ------------------------------------------------------------------ correction
+    def weight(self, q_nom: np.ndarray) -> np.ndarray:
+        """Orientation-correction weight in [0, 1]: smoothstep of sigma_min / sin(cone) - 1, where sigma_min is the
+        smaller singular value of d(tool axis)/d(B, C) per degree over pi/180.  Near B = 0 sigma_min is the sine of
+        the angle between tool axis and C axis (the cone); near B = 180 (tool axis at the edge of the reachable
+        cone, k = 0) it vanishes as well.  0: position only, 1: full correction."""
+        if self.cone <= 0:
+            return np.ones(len(q_nom))
+        J = self.np.jacobian_axes(q_nom, self.tool_length)[:, 3:, 3:5]
+        smin = np.linalg.svd(J, compute_uv=False)[:, -1] / (np.pi / 180)
+        sc = np.sin(np.radians(self.cone))
+        return _smoothstep((smin - sc) / sc)
+
+    def correct(self, q_nom, return_initial: bool = False):
+        """Corrected commands (n, 5) for nominal axes (n, 5); with ``return_initial`` also the uncorrected
+        pose deviation (n, 6) (first order; exact when iterations > 1)."""
+        q_nom = np.asarray(q_nom, dtype=float)
+        single = q_nom.ndim == 1
+        q_nom = np.atleast_2d(q_nom)
+        out = np.empty_like(q_nom)
+        dev0 = np.empty((len(q_nom), 6))
+        e0 = None if self.zero else self.errors(q_nom)  # once for all blocks (fewer interpolation calls)
+        for s in range(0, len(q_nom), BLOCK):
+            out[s: s + BLOCK], dev0[s: s + BLOCK] = self._correct_block(
+                q_nom[s: s + BLOCK], None if e0 is None else e0[s: s + BLOCK])
+        if single:
+            out, dev0 = out[0], dev0[0]
+        return (out, dev0) if return_initial else out
+
+    def _correct_block(self, q0: np.ndarray, e0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        tl = self.tool_length
+        if self.zero:
+            return q0.copy(), np.zeros((len(q0), 6))
+        q = q0.copy()
+        w = self.weight(q0) if self.scope == "full" else None
+        target = None
+        dev0 = None
+        for it in range(self.iterations):
+            if it == 0:  # first order: generated deviation and nominal Jacobian at the nominal command
+                r = self.np.deviation_first_order(q0, e0, tl)
+                J = self.np.jacobian_axes(q0, tl)
+                dev0 = r
+            else:  # exact pose and Jacobian with the errors at the current command
+                if target is None:
+                    target = self.np.forward(q0, tl)
+                fj = self.np.forward_errors_with_jacobian(q, self.errors(q), tl)
+                r = fj[..., 0] - target
+                J = fj[..., 1:]
+            if self.scope == "full":
+                # B, C first (first order; the blend weight on the first step, later steps only where w = 1);
+                # then X, Y, Z from the exact pose at the new B, C: a C step of up to ~1e-3 rad swings a point
+                # 300 mm off the C axis by ~0.1 um to second order
+                q = q + self._step(q, J, r, w if it == 0 else (w >= 1).astype(float), position=False)
+                r = self._exact(q, q0)
+                J = self.np.jacobian_axes(q, tl)
+            q = q + self._step(q, J, r, None)
+        return q, dev0
+
+    def _exact(self, q: np.ndarray, q0: np.ndarray) -> np.ndarray:
+        """Exact pose residual (n, 6) of commands q against the nominal pose of q0."""
+        return self.np.forward_errors(q, self.errors(q), self.tool_length) - self.np.forward(q0, self.tool_length)
+
+    def _step(self, q: np.ndarray, J: np.ndarray, r: np.ndarray, w: np.ndarray | None,
+              position: bool = True) -> np.ndarray:
+        """Axis step that cancels the pose residual r (n, 6) to first order (J (n, 6, 5)): B, C from the
+        orientation rows when w (orientation weights) is given, X, Y, Z from the position rows if ``position``."""
+        d = np.zeros_like(q)
+        rp = r[:, :3]
+        if w is not None:
+            Jo = J[:, 3:, 3:5]  # d(i, j, k) / d(B, C): two columns, both orthogonal to the tool axis
+            Q, R = np.linalg.qr(Jo)  # least squares: R dBC = Q^T (-r_o)
+            rhs = -np.einsum("nij,ni->nj", Q, r[:, 3:])
+            ok = w > 0
+            dbc = np.zeros((len(q), 2))
+            if ok.any():
+                dbc[ok] = np.linalg.solve(R[ok], rhs[ok][..., None])[..., 0] * w[ok, None]
+            lo, hi = self.machine.limits[3]
+            nb = np.clip(q[:, 3] + dbc[:, 0], lo, hi)
+            clipped = nb != q[:, 3] + dbc[:, 0]
+            if clipped.any():
+                self.clipped_b += int(clipped.sum())
+                dbc[:, 0] = nb - q[:, 3]
+            d[:, 3:5] = dbc
+            rp = rp + np.einsum("nij,nj->ni", J[:, :3, 3:5], dbc)
+        if not position:
+            return d
+        d[:, :3] = np.linalg.solve(J[:, :3, :3], -rp[..., None])[..., 0]  # 3x3 block, a rotation: cond = 1
+        return d
+
+    def _slopes(self) -> np.ndarray:
+        """Per axis (5,): bound on d|correction|/d(axis) from the model's error slopes (mm per mm or per deg)."""
+        if hasattr(self, "_slope_cache"):
+            return self._slope_cache
+        lever = 800.0 + abs(self.tool_length)  # mm: largest distance of the tool tip from an angular error's origin
+        out = np.zeros(5)
+        for name, ei, ai, f, lo, hi in self._funcs:
+            a, b = (0.0, 360.0) if not np.isfinite(lo) else (lo, hi)
+            x = np.union1d(np.linspace(a, b, 4001), f.positions[(f.positions >= a) & (f.positions <= b)])
+            s = np.abs(np.diff(f(x, "hold")) / np.diff(x)).max()
+            out[ai] += s * (1.0 if name[2] in "XYZ" else lever)
+        self._slope_cache = out
+        return out
+
+    def mid_bound(self, qa: np.ndarray, qb: np.ndarray) -> np.ndarray:
+        """Upper bound (mm) of the mid-segment tool-tip error of a linearly interpolated move whose end points are
+        corrected: 1/2 sum_a slope_a |dq_a| (Lipschitz bound of the error functions, kinks of tables included;
+        angular errors times an 800 mm lever) plus |deviation| (1 - cos(dphi/2)) <= 0.2 mm dphi^2 / 8 for the
+        deviation vector turned by the rotary step dphi (rad).  Moves under the tolerance by this bound skip
+        the exact mid-segment evaluation."""
+        dq = np.abs(qb - qa)
+        rot = np.radians(dq[:, 3] + dq[:, 4])
+        return 0.5 * dq @ self._slopes() + 0.2 * rot * rot / 8
+
+    def residual(self, q_cmd: np.ndarray, q_nom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Exact error-inclusive residual of commands: tool-tip error (n, 3) mm and tool-axis angle (n,) rad."""
+        q_cmd, q_nom = np.atleast_2d(q_cmd), np.atleast_2d(q_nom)
+        dp = np.empty((len(q_cmd), 3))
+        ang = np.empty(len(q_cmd))
+        e = self.errors(q_cmd)
+        for s in range(0, len(q_cmd), BLOCK):
+            a, b = q_cmd[s: s + BLOCK], q_nom[s: s + BLOCK]
+            p = self.np.forward_errors(a, e[s: s + BLOCK], self.tool_length)
+            t = self.np.forward(b, self.tool_length)
+            dp[s: s + BLOCK] = p[:, :3] - t[:, :3]
+            ang[s: s + BLOCK] = 2 * np.arcsin(np.clip(np.linalg.norm(p[:, 3:] - t[:, 3:], axis=1) / 2, 0, 1))
+        return dp, ang
+
+
+def thesis_model(model: ErrorModel) -> ErrorModel:
+    """The thesis' compensation model (sec. 3.5): the angular errors of the linear axes neglected."""
+    drop = set(ISO_TYPES["L-ANG"])
+    return ErrorModel(model.machine, {k: v for k, v in model.constants.items() if k not in drop},
+                      {k: f for k, f in model.functions.items() if k not in drop}, dict(model.meta))
+
+
+def example_model(machine: Machine | None = None, seed: int = 6) -> ErrorModel:
+    """A synthetic error model of the thesis' magnitudes (tens of um, tens of urad) for demos, tests, benchmarks.
+
+    Linear axes: tables over [-400, 400] mm every 25 mm (smooth random curves, zero at 0); B: table over
+    [0, 180] deg every 15 deg; C: harmonic fits (periodic); squareness and location constants.
+    """
+    m = machine or load_machine("dmu50")
+    rng = np.random.default_rng(seed)
+    funcs, consts = {}, {}
+
+    def curve(x, amp, period):
+        ph = rng.uniform(0, 2 * np.pi, 3)
+        y = sum(a * np.sin(2 * np.pi * x / (period / (h + 1)) + p) for h, (a, p) in
+                enumerate(zip(amp * rng.uniform(0.3, 1.0, 3) / np.arange(1, 4), ph)))
+        y = y + amp * rng.uniform(-1, 1) * x / x.max()
+        return y - np.interp(0.0, x, y)
+
+    xl = np.arange(-400.0, 400.0 + 1e-9, 25.0)
+    for ax in "XYZ":
+        for c in "XYZ":
+            funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 0.015 if c == ax else 0.008, 900.0))
+        for c in "ABC":
+            funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 30e-6, 900.0))
+    xb = np.arange(0.0, 180.0 + 1e-9, 15.0)
+    for c, amp in zip("XYZABC", (0.012, 0.012, 0.008, 30e-6, 30e-6, 40e-6)):
+        funcs[f"E_{c}B"] = ErrorFunction("B", xb, curve(xb, amp, 360.0))
+    xc = np.arange(0.0, 360.0 + 1e-9, 15.0)
+    for c, amp in zip("XYZABC", (0.010, 0.010, 0.006, 25e-6, 25e-6, 35e-6)):
+        a0 = float(rng.normal(0, amp / 3))
+        cos, sin = (amp * rng.uniform(-0.5, 0.5, 3)).tolist(), (amp * rng.uniform(-0.5, 0.5, 3)).tolist()
+        fit = {"kind": "harmonic", "period": 360.0, "a0": a0, "cos": cos, "sin": sin}
+        f = ErrorFunction("C", xc, np.zeros_like(xc), fit)
+        f.values = f(xc)
+        funcs[f"E_{c}C"] = f
+    consts.update({"E_C0Y": 25e-6, "E_B0Z": -18e-6, "E_A0Z": 12e-6, "E_X0B": 0.008, "E_Y0B": -0.006,
+                   "E_A0B": 20e-6, "E_B0B": -15e-6, "E_X0C": 0.010, "E_Y0C": 0.007, "E_A0C": -12e-6, "E_B0C": 18e-6})
+    return ErrorModel(m.name, consts, funcs, {"source": f"mtcal.compensate.example_model(seed={seed})"})
+
+
+# ---------------------------------------------------------------------------------------------- NC programs
+@dataclass
+class Report:
+    """What a compensation run did and the predicted (model) accuracy of the written commands."""
+
+    lines: int = 0
+    moves: int = 0
+    lines_changed: int = 0
+    lines_inserted: int = 0
+    subdivided_moves: int = 0
+    uncompensated_rapids: list[int] = field(default_factory=list)
+    position: Stats = field(default_factory=Stats)       # |tool-tip residual|, mm
+    orientation: Stats = field(default_factory=Stats)    # tool-axis residual, rad (controllable points)
+    orientation_all: Stats = field(default_factory=Stats)
+    before_position: Stats = field(default_factory=Stats)
+    before_orientation: Stats = field(default_factory=Stats)
+    mid_position: Stats = field(default_factory=Stats)   # mid-segment residual of feed moves (after subdivision)
+    mid_bounded: int = 0  # feed moves whose mid-segment error is below the tolerance by the Lipschitz bound
+    in_cone: int = 0
+    blended: int = 0
+    max_c_correction: float = 0.0
+
+
+class ProgramCompensator:
+    """Streams an NC program (G-code or CL data) through a Compensator, chunk by chunk (memory stays flat)."""
+
+    def __init__(self, comp: Compensator, tolerance: float = 0.001, precision: int | None = None,
+                 chunk_lines: int = 20000, max_subdivisions: int = 256,
+                 progress: Callable[[int, int], None] | None = None):
+        self.comp = comp
+        self.tolerance = float(tolerance)
+        p = 4 if precision is None else int(precision)
+        self.min_decimals = (p, p + 1, p)  # mm, inch, deg
+        self.chunk_lines = int(chunk_lines)
+        self.max_sub = int(max_subdivisions)
+        self.progress = progress
+        self.report = Report()
+
+    # ---------------------------------------------------------------- driver
+    def run(self, src: str | os.PathLike, dst: str | os.PathLike, kind: str = "auto") -> Report:
+        src, dst = Path(src), Path(dst)
+        if kind == "auto":
+            kind = "cl" if src.suffix.lower() in (".cl", ".cls", ".apt") else "gcode"
+        if kind not in ("gcode", "cl"):
+            raise InputError(f"input kind must be gcode or cl, got {kind!r}")
+        total = src.stat().st_size
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{dst.name}.", dir=dst.parent)
+        try:
+            with open(src, encoding=gcode.ENCODING, newline="") as fin, \
+                    os.fdopen(fd, "w", encoding=gcode.ENCODING, newline="") as fout:
+                self._state = gcode.ModalState()
+                self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
+                self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
+                self._src, self._done = str(src), 0
+                if kind == "cl":
+                    fout.write(f"%\n(mtcal compensate: CL data {src.name}, scope {self.comp.scope})\nG90 G21\n")
+                    self._first_cl = True
+                first = 1
+                while True:
+                    lines = list(itertools.islice(fin, self.chunk_lines))
+                    if not lines:
+                        break
+                    out = self._gcode_chunk(lines, first) if kind == "gcode" else self._cl_chunk(lines, first)
+                    fout.write(out)
+                    first += len(lines)
+                    self.report.lines += len(lines)
+                    self._done += sum(map(len, lines))
+                    if self.progress:
+                        self.progress(self._done, total)
+                if kind == "cl":
+                    fout.write("M30\n%\n")
+            os.replace(tmp, dst)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        return self.report
+
+    # ---------------------------------------------------------------- G-code
+    def _gcode_chunk(self, lines: list[str], first: int, exact: np.ndarray | None = None) -> str:
+        comp, rep = self.comp, self.report
+        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, comp.machine.name)
+        m = len(ch.rows)
+        if m == 0:
+            return "".join(lines)
+        if exact is not None:  # CL data: the nominal axes from the inverse kinematics, unrounded
+            ch.axes[:] = exact
+        rep.moves += m
+        q_nom = ch.axes
+        lim = comp.machine.limits[3]
+        bad = (q_nom[:, 3] < lim[0]) | (q_nom[:, 3] > lim[1])
+        if bad.any():
+            r = int(np.flatnonzero(bad)[0])
+            raise InputError(f"{self._src}, line {first + ch.rows[r]}: B = {q_nom[r, 3]:g} deg is outside its range "
+                             f"[{lim[0]:g}, {lim[1]:g}]")
+        unknown = np.isnan(q_nom).any(axis=1)
+        if unknown.any():
+            feed = unknown & (ch.motion == 1)
+            if feed.any():
+                r = int(np.flatnonzero(feed)[0])
+                miss = "".join(a for a, u in zip(gcode.AXES, np.isnan(q_nom[r])) if u)
+                raise InputError(f"{self._src}, line {first + ch.rows[r]}: feed move while {miss} is not known yet "
+                                 "(program every linear axis before the first G1)")
+            rep.uncompensated_rapids.extend((first + ch.rows[unknown]).tolist())
+        known = ~unknown
+        scale = np.where(ch.inch[:, None] & gcode.LINEAR, gcode.INCH, 1.0)
+        f = 10.0 ** ch.decimals
+        # corrected commands, rounded as written (program units), back in mm/deg
+        q_cmd = q_nom.copy()
+        if known.any():
+            q_cmd[known], dev0 = comp.correct(q_nom[known], return_initial=True)
+            rep.before_position.add(np.linalg.norm(dev0[:, :3], axis=1))
+            rep.before_orientation.add(np.linalg.norm(dev0[:, 3:], axis=1))
+        units = np.round(q_cmd / scale * f) / f + 0.0
+        units[unknown] = q_nom[unknown] / scale[unknown]  # passed through as programmed
+        q_w = units * scale
+        # a word missing from a block is only added when the correction moves that axis by half a digit or more
+        # from what the machine holds; otherwise the held value stays (also across G20/G21 rounding)
+        prev = np.vstack([self._prev_mm[None], q_w[:-1]])
+        hold = ~ch.present & known[:, None] & (np.abs(q_cmd - prev) <= 0.5 / f * scale)
+        if hold.any():
+            q_w[hold] = np.nan
+            filled = np.vstack([self._prev_mm[None], q_w])
+            ix = np.where(np.isnan(filled), 0, np.arange(m + 1)[:, None])
+            np.maximum.accumulate(ix, axis=0, out=ix)
+            q_w = np.where(hold, filled[ix, np.arange(5)][1:], q_w)
+            units = np.where(hold, q_w / scale, units)
+        self._hold = hold
+        # subdivision of feed moves whose mid-segment error exceeds the tolerance
+        subs = self._subdivide(ch, q_nom, q_w, known, scale, f)
+        # residual of everything written
+        pts_w = [q_w[known]] + [s[1] for s in subs.values()]
+        pts_n = [q_nom[known]] + [s[0] for s in subs.values()]
+        qw, qn = np.concatenate(pts_w), np.concatenate(pts_n)
+        if len(qw):
+            dp, ang = comp.residual(qw, qn)
+            rep.position.add(np.linalg.norm(dp, axis=1))
+            rep.orientation_all.add(ang)
+            if comp.scope == "full":
+                w = comp.weight(qn)
+                rep.orientation.add(ang[w >= 1])
+                rep.in_cone += int((w <= 0).sum())
+                rep.blended += int(((w > 0) & (w < 1)).sum())
+                rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw[:, 4] - qn[:, 4]).max()))
+        return self._render(ch, units, q_w, known, subs, scale, f)
+
+    def _subdivide(self, ch, q_nom, q_w, known, scale, f) -> dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """{row: (nominal (n, 5), written mm (n, 5), written units (n, 5))} for feed moves split into n pieces
+        (the last piece ends at the row's own point)."""
+        comp, rep = self.comp, self.report
+        m = len(q_nom)
+        prev_n = np.vstack([self._prev[0][None] if self._prev else np.full((1, 5), np.nan), q_nom[:-1]])
+        prev_w = np.vstack([self._prev[1][None] if self._prev else np.full((1, 5), np.nan), q_w[:-1]])
+        self._prev = (q_nom[-1].copy(), q_w[-1].copy(), None)
+        cand = (ch.motion == 1) & known & ~np.isnan(prev_n).any(axis=1)
+        subs: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
+        if comp.zero or not cand.any():
+            return subs
+        idx = np.flatnonzero(cand)
+        bound = comp.mid_bound(prev_n[idx], q_nom[idx])
+        skip = bound <= self.tolerance
+        rep.mid_bounded += int(skip.sum())
+        idx = idx[~skip]
+        if not len(idx):
+            return subs
+        dp, _ = comp.residual((prev_w[idx] + q_w[idx]) / 2, (prev_n[idx] + q_nom[idx]) / 2)
+        err = np.linalg.norm(dp, axis=1)
+        over = err > self.tolerance
+        rep.mid_position.add(err[~over])
+        for r, e in zip(idx[over].tolist(), err[over].tolist()):
+            n = int(min(self.max_sub, max(2, np.ceil(np.sqrt(e / self.tolerance)) + 1)))
+            for _ in range(6):
+                t = (np.arange(1, n + 1) / n)[:, None]
+                sn = prev_n[r] + t * (q_nom[r] - prev_n[r])
+                sc = comp.correct(sn)
+                su = np.round(sc / scale[r] * f[r]) / f[r] + 0.0
+                su[-1] = q_w[r] / scale[r]  # the row's own point, as already rounded
+                sw = su * scale[r]
+                an = np.vstack([prev_n[r], sn[:-1]])
+                aw = np.vstack([prev_w[r], sw[:-1]])
+                dpm, _ = comp.residual((aw + sw) / 2, (an + sn) / 2)
+                em = np.linalg.norm(dpm, axis=1)
+                if em.max() <= self.tolerance or n >= self.max_sub:
+                    break
+                n = min(self.max_sub, 2 * n)
+            rep.mid_position.add(em)
+            rep.subdivided_moves += 1
+            subs[r] = (sn[:-1], sw[:-1], su)
+        return subs
+
+    def _render(self, ch, units, q_w, known, subs, scale, f) -> str:
+        """Output text of a chunk: changed numbers replaced, missing words added, continuation lines inserted."""
+        rep = self.report
+        prev_mm = np.vstack([self._prev_mm[None], q_w[:-1]])  # what the machine holds before each row, mm/deg
+        given_r = np.round(ch.given * f) / f
+        changed = ch.present & (units != given_r) & known[:, None]
+        added = ~ch.present & known[:, None] & ~self._hold & ~np.isnan(q_w)
+        need = changed.any(axis=1) | added.any(axis=1)
+        slow = ~ch.absolute
+        if subs:
+            slow[list(subs)] = True
+        pieces, numidx = ch.pieces, ch.numidx
+        # common case (absolute, not subdivided): vectorised choice of cells, one format per changed number
+        cells = changed & ~slow[:, None]
+        if cells.any():
+            r_, a_ = np.nonzero(cells)
+            dec, val, idx = ch.decimals[r_, a_], units[r_, a_], numidx[r_, a_]
+            for d in np.unique(dec).tolist():  # one %-format call per number of decimals (C loop)
+                sel = dec == d
+                strs = ((f"%.{d}f\n" * int(sel.sum())) % tuple(val[sel].tolist()))[:-1].split("\n")
+                for j, s in zip(idx[sel].tolist(), strs):
+                    pieces[j] = s
+        rows_added = np.flatnonzero(added.any(axis=1) & ~slow).tolist()
+        rows_slow = np.flatnonzero(slow).tolist()
+        U = units.tolist() if rows_added or rows_slow else []
+        D = ch.decimals.tolist() if rows_added or rows_slow else []
+        for r in rows_added:
+            d, u = D[r], U[r]
+            line = ch.lines[int(ch.rows[r])]
+            gcode.edit(ch, r, {}, [(a, "%.*f" % (d[a], u[a])) for a in np.flatnonzero(added[r]).tolist()],
+                       " " if " " in line else "")
+        rep.lines_changed += int((need & ~slow).sum())
+        # incremental rows and subdivided moves: row by row
+        Pm = prev_mm.tolist() if rows_slow else []
+        HOLD = self._hold.tolist() if rows_slow else []
+        F = gcode.fmt
+        for r in rows_slow:
+            line = ch.lines[int(ch.rows[r])]
+            sep = " " if " " in line else ""
+            pts = [U[r]] if r not in subs else subs[r][2].tolist()
+            dec, absolute = D[r], bool(ch.absolute[r])
+            sc = scale[r].tolist()
+            ref = [v / s for v, s in zip(Pm[r], sc)]  # previous written point in this row's units
+            first_pt = pts[0]
+            new, add = {}, []
+            pres, g = ch.present[r].tolist(), ch.given[r].tolist()
+            for a in range(5):
+                v = first_pt[a] if absolute else first_pt[a] - ref[a]
+                if v != v:  # NaN: axis not known (uncompensated rapid)
+                    continue
+                v = round(v, dec[a]) + 0.0
+                if pres[a]:
+                    if abs(v - round(g[a], dec[a])) > 0.5 * 10.0 ** -dec[a]:
+                        new[a] = F(v, dec[a])
+                elif r in subs:  # the first piece of a split move: add what differs from the held value
+                    if abs(first_pt[a] - ref[a]) > 0.5 * 10.0 ** -dec[a]:
+                        add.append((a, F(v, dec[a])))
+                elif not HOLD[r][a] and (absolute or v != 0):
+                    add.append((a, F(v, dec[a])))
+            cont, last = [], first_pt
+            for p in pts[1:]:
+                words = []
+                for a in range(5):
+                    if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
+                        v = p[a] if absolute else p[a] - last[a]
+                        words.append(f"{gcode.AXES[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
+                last = p
+                if words:
+                    cont.append((sep or " ").join(words))
+            if new or add or cont:
+                gcode.edit(ch, r, new, add, sep, cont)
+                rep.lines_changed += 1
+                rep.lines_inserted += len(cont)
+        self._prev_mm = q_w[-1].copy()
+        return "".join(pieces)
+
+    # ---------------------------------------------------------------- CL data
+    def _cl_chunk(self, lines: list[str], first: int) -> str:
+        comp, rep = self.comp, self.report
+        poses, nos = gcode.parse_cl(lines, first, self._src)
+        if len(poses) == 0:
+            return ""
+        m = comp.machine
+        try:
+            q0 = m.inverse(poses)
+        except InputError as exc:
+            raise InputError(f"{self._src}: {exc}") from None
+        # C continuity: at the singularity take the previous C, elsewhere the 360-deg multiple nearest the previous
+        sing = np.hypot(poses[:, 3], poses[:, 4]) < 1e-9
+        c = q0[:, 4].copy()
+        prev_c = self._prev[0][4] if self._prev else 0.0
+        seq = np.concatenate([[prev_c], c])
+        for i in np.flatnonzero(sing):
+            seq[i + 1] = seq[i]
+        seq = np.unwrap(seq, period=360.0)
+        hint = q0.copy()
+        hint[:, 4] = seq[1:]
+        q_nom = m.inverse(poses, hint=hint)
+        # render as G-code, all five words a block, and compensate it with the unrounded nominal axes
+        p = self.min_decimals[0]
+        text = []
+        for q in q_nom.tolist():
+            words = " ".join(f"{a}{gcode.fmt(v, p)}" for a, v in zip(gcode.AXES, q))
+            text.append(("G1 " if self._first_cl else "") + words + "\n")
+            self._first_cl = False
+        return self._gcode_chunk(text, first, exact=q_nom)
+
+
+# ---------------------------------------------------------------------------------------------- tables
+def write_tables(model: ErrorModel, machine: Machine, folder: str | os.PathLike) -> list[str]:
+    """Per-axis compensation tables for controllers that take them: the error tables with reversed sign.
+
+    One CSV per axis, ``comp_<AXIS>.csv``: ``position`` (mm or deg) and one column per error function of that
+    axis, ``comp_<NAME>_mm`` or ``comp_<NAME>_rad`` = -error, at the union of the functions' table positions
+    (functions evaluated as stored, end values held); constants (squareness, axis location) in ``constants.csv``.
+    """
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    for ax in machine.axes:
+        names = sorted(n for n, f in model.functions.items() if f.axis == ax)
+        if not names:
+            continue
+        pos = np.unique(np.concatenate([model.functions[n].positions for n in names]))
+        cols = [-model.functions[n](pos, "hold") for n in names]
+        head = "position," + ",".join(f"comp_{n}_{'mm' if n[2] in 'XYZ' else 'rad'}" for n in names)
+        rows = [",".join([f"{p:.6g}"] + [f"{c[i]:.9g}" for c in cols]) for i, p in enumerate(pos)]
+        path = out / f"comp_{ax}.csv"
+        path.write_text("\n".join([head] + rows) + "\n")
+        written.append(str(path))
+    if model.constants:
+        path = out / "constants.csv"
+        path.write_text("name,compensation,unit\n" + "".join(
+            f"{n},{-v:.9g},{'mm' if n[2] in 'XYZ' else 'rad'}\n" for n, v in sorted(model.constants.items())))
+        written.append(str(path))
+    return written

@@ -1,0 +1,98 @@
+"""G-code / CL parsing and writing (issue 6): byte-exact round trip, modal values, refusals naming the line."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mtcal import gcode
+from mtcal.errors import InputError
+
+PROGRAM = [
+    "%\n",
+    "O1234 (PART 7; ROUGH)\r\n",
+    "N10 G90 G21 G17 ; set up\n",
+    "N20 G0 X10. Y-2.5 Z50 B0 C0 (approach)\n",
+    "N30 g1 z1.25 f300\n",
+    "N40X12.5Y-3.0001\n",
+    "N50 (only a comment with X99 in it) M8\n",
+    "/N60 Y  4.0 F1200 M3 S8000\n",
+    "N70 B12.5 C-30\n",
+]
+
+
+def parse(lines, state=None, **kw):
+    return gcode.parse_chunk(lines, state or gcode.ModalState(), 1, "prog.nc", **kw)
+
+
+def test_round_trip_is_byte_exact_and_only_coordinates_change():
+    ch = parse(PROGRAM)
+    assert ch.rows.tolist() == [3, 4, 5, 7, 8]  # comment-only and set-up lines are not moves
+    # no changes: the pieces join to the original, byte for byte (CRLF, comments, '/', N, F, lower case)
+    assert "".join(ch.pieces) == "".join(PROGRAM)
+    gcode.edit(ch, 2, {0: "12.5013", 1: "-3.0002"}, [(2, "1.2504")], "")  # N40X12.5Y-3.0001: no blanks
+    gcode.edit(ch, 3, {1: "4.0007"}, [(0, "12.5001")], " ", cont=["X12.6 Y4.1", "X12.7"])
+    out = "".join(ch.pieces).splitlines(keepends=True)
+    assert out[5] == "N40X12.5013Y-3.0002Z1.2504\n"
+    assert out[7:10] == ["/N60 Y  4.0007 X12.5001 F1200 M3 S8000\n", "X12.6 Y4.1\n", "X12.7\n"]  # blanks kept
+    assert out[:5] + out[6:7] + out[10:] == PROGRAM[:5] + PROGRAM[6:7] + PROGRAM[8:]
+
+
+def test_modal_values_are_carried_and_decimals_follow_the_input():
+    ch = parse(PROGRAM)
+    np.testing.assert_allclose(ch.axes, [[10, -2.5, 50, 0, 0], [10, -2.5, 1.25, 0, 0], [12.5, -3.0001, 1.25, 0, 0],
+                                         [12.5, 4.0, 1.25, 0, 0], [12.5, 4.0, 1.25, 12.5, -30]])
+    assert ch.motion.tolist() == [0, 1, 1, 1, 1]
+    assert ch.decimals[2].tolist() == [4, 4, 4, 4, 4]  # at least 4 (0.1 um, 0.0001 deg)
+    ch = parse(["G1 X1.123456 Y2\n", "X2\n"], min_decimals=(3, 4, 3))
+    assert ch.decimals.tolist() == [[6, 3, 3, 3, 3], [6, 3, 3, 3, 3]]  # running maximum per axis
+
+
+def test_state_carries_across_chunks_incremental_and_inch():
+    st = gcode.ModalState()
+    parse(["G90 G0 X10 Y20 Z30\n"], st)
+    ch = gcode.parse_chunk(["G91 G1 X1.5\n", "Y-2 Z0.5\n", "G90 G20 X1\n", "G21 Z3\n"], st, 2, "p.nc")
+    np.testing.assert_allclose(ch.axes, [[11.5, 20, 30, 0, 0], [11.5, 18, 30.5, 0, 0], [25.4, 18, 30.5, 0, 0],
+                                         [25.4, 18, 3, 0, 0]])
+    assert ch.absolute.tolist() == [False, False, True, True] and ch.inch.tolist() == [False, False, True, False]
+    assert ch.decimals[2, 0] == 5  # inch words: one decimal more
+
+
+@pytest.mark.parametrize("line, words", [
+    ("N30 G2 X10 Y10 I5 J0\n", ["line 3", "G2", "arc"]),
+    ("N30 G1 X10 I5\n", ["line 3", "'I5'"]),
+    ("N30 G1 X10 A5\n", ["line 3", "'A5'", "no such axis"]),
+    ("N30 G1 X#1\n", ["line 3", "parameters"]),
+    ("N30 G68 X0 Y0 R45\n", ["line 3"]),
+    ("N30 G1 X1 X2\n", ["line 3", "twice"]),
+    ("N30 CYCLE800(1)\n", ["line 3", "CYCLE800"]),
+    ("N30 G28 X0\n", ["line 3", "G28"]),
+    ("N30 G81 X0 Y0 Z-5\n", ["line 3", "G81"]),
+])
+def test_what_cannot_be_compensated_is_refused_naming_the_line(line, words):
+    with pytest.raises(InputError) as exc:
+        parse(["G90\n", "G0 X0 Y0 Z0\n", line])
+    for w in words:
+        assert w in str(exc.value)
+    assert "prog.nc" in str(exc.value)
+
+
+def test_incremental_before_known_position_is_refused():
+    with pytest.raises(InputError, match="line 2: incremental move"):
+        parse(["G91\n", "G1 X1\n"])
+
+
+def test_dwell_and_comments_are_not_coordinates():
+    ch = parse(["G0 X1 Y1 Z1\n", "G4 X2.5\n", "(X5 Y5)\n", "M3 ; B90\n"])
+    assert ch.rows.tolist() == [0]
+
+
+def test_fmt_never_writes_negative_zero():
+    assert gcode.fmt(-0.0, 3) == "0.000" and gcode.fmt(-0.00004, 4) == "0.0000" and gcode.fmt(-1.23456, 4) == "-1.2346"
+
+
+def test_parse_cl():
+    poses, nos = gcode.parse_cl(["# header\n", "1 2 3 0 0 1\n", "GOTO/4,5,6,0.6,0,0.8\n", "\n"], 1, "a.cl")
+    np.testing.assert_allclose(poses, [[1, 2, 3, 0, 0, 1], [4, 5, 6, 0.6, 0, 0.8]])
+    assert nos.tolist() == [2, 3]
+    with pytest.raises(InputError, match="a.cl, line 1: CL data needs 6 numbers"):
+        gcode.parse_cl(["1 2 3\n"], 1, "a.cl")
