@@ -28,6 +28,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--level", type=float, default=0.01,
                    help="family-wise level of the outlier test (Bonferroni), default 0.01")
     p.add_argument("--plot", metavar="PNG", help="write a plot of the plate with magnified residual vectors")
+    p.add_argument("--diagnose", action="store_true", help="name the effect the fitted model leaves out "
+                   "(scale, squareness, offset held at 0; outlying points): adds \"diagnosis\" as in mtcal diagnose")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -45,10 +47,16 @@ def run(args: argparse.Namespace) -> int:
     out = fit.to_dict()
     if args.plot:
         out["plot"] = {"file": args.plot, "magnification": plot_plate(fit, args.plot)}
+    if args.diagnose:
+        from mtcal.diagnose import diagnose_plate
+        out["diagnosis"] = diagnose_plate(fit, level=args.level)
     if args.json:
         print(dumps(out))
         return 0
     print(_text(out))
+    if args.diagnose:
+        from mtcal.diagnose import format_plate_diagnosis
+        print(format_plate_diagnosis(out["diagnosis"]))
     return 0
 
 

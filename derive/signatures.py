@@ -1,0 +1,106 @@
+"""Signatures of left-out effects in laser-tracker readings: d(measured point) / d(effect parameters).
+
+The diagnosis (mtcal.diagnose) tests each candidate effect against the fitted base model through the columns
+it adds to the design.  Each effect is written here once as a physical model of how it moves a measured point
+(machine frame, mm), and its signature is the exact derivative of that model with respect to the effect's
+parameters at zero effect (all models below are linear in their amplitudes, so the signature is exact, not
+just first order).  Where an effect acts through an error function of the machine, its model takes ``column``:
+the generated point Jacobian column of that error (dmu50 ``tool_point_jacobian_errors`` /
+``table_point_jacobian_errors``, mm per mm or mm per rad), so the kinematics stays in derive/kinematics.py.
+
+Effects (names of design.md; q = axis position, d = approach direction +-1, dt = time since the warm-up
+started, s):
+* backlash       positioning error + d * b / 2 (b = reversal value, ISO 230-2)         -> column * d / 2
+* scale          positioning error + 1e-6 * ppm * q (q in mm, or rad for rotary)       -> column * q * 1e-6
+* second_order   error function + c * q**2                                             -> column * q**2
+* cross_axis     error function + c * q_own * q_on                                     -> column * q_own * q_on
+* periodic       positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch)
+                 (amplitude = hypot(a_s, a_c), phase = atan2(a_c, a_s))                -> column * [sin, cos]
+* thermal_drift  point + A (1 - exp(-dt / tau)), A a 3-vector (mm)                     -> I3 (1 - exp(-dt / tau))
+                 and d/d tau (for refining the time constant by Gauss-Newton)
+* tracker_scale  tracker + (1 + 1e-6 ppm) (point - tracker): radial scaling about the tracker
+                                                                                       -> 1e-6 (point - tracker)
+* outlier        point + s (one reading, or the rest of a round for a bumped nest)    -> I3
+* squareness, rotary_location: constants of the machine model; their signature is the generated point
+  Jacobian column of that constant itself (no extra derivation), so they are not emitted here.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from .codegen import Arg, Function, Module, symbols
+
+PPM = sp.Rational(1, 10**6)
+
+
+def _col() -> tuple[Arg, sp.Matrix]:
+    c = symbols(["c_x", "c_y", "c_z"])
+    return Arg("column", c, "point Jacobian column of the affected error, mm per error unit (mm or rad)"), sp.Matrix(c)
+
+
+def _scalar(name: str, doc: str) -> tuple[Arg, sp.Symbol]:
+    (s,) = symbols([name])
+    return Arg(name, (s,), doc, vector=False), s
+
+
+def _signature(displacement: sp.Matrix, params: list[sp.Symbol]) -> sp.Matrix:
+    """d displacement / d params at params = 0 (3 x k)."""
+    jac = displacement.jacobian(sp.Matrix(params)).subs({p: 0 for p in params})
+    return jac.applyfunc(sp.simplify)
+
+
+def build(progress=lambda m: None) -> Module:
+    col_arg, col = _col()
+    q_arg, q = _scalar("q", "axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise")
+    d_arg, d = _scalar("d", "approach direction, +1 or -1")
+    qo_arg, qo = _scalar("q_on", "position of the other axis, mm or deg")
+    pitch_arg, pitch = _scalar("pitch", "period of the periodic error, same unit as q")
+    dt_arg, dt = _scalar("dt", "time since the start of the warm-up, s (0 before it)")
+    tau_arg, tau = _scalar("tau", "warm-up time constant, s")
+    b, ppm, c2, cx, a_s, a_c = symbols(["b", "ppm", "c2", "cx", "a_s", "a_c"])
+    amp = sp.Matrix(symbols(["A_x", "A_y", "A_z"]))
+    amp_arg = Arg("amplitude", tuple(amp), "final displacement of the warm-up, mm")
+    pt = sp.Matrix(symbols(["x", "y", "z"]))
+    pt_arg = Arg("xyz", tuple(pt), "measured point, machine frame, mm")
+    tr = sp.Matrix(symbols(["tx", "ty", "tz"]))
+    tr_arg = Arg("tracker", tuple(tr), "tracker position, machine frame, mm")
+
+    fns: list[Function] = []
+    progress("error-function effects")
+    models = {
+        "backlash": ((col_arg, d_arg), col * (d * b / 2), [b],
+                     "backlash: d point / d reversal value b (positioning error + d b / 2), mm per mm or per rad"),
+        "scale": ((col_arg, q_arg), col * (PPM * ppm * q), [ppm],
+                  "scale: d point / d ppm (positioning error + 1e-6 ppm q; q in mm, or rad for rotary), mm per ppm"),
+        "second_order": ((col_arg, q_arg), col * (c2 * q**2), [c2],
+                         "second_order: d point / d c (error function + c q^2), mm per (unit / q^2)"),
+        "cross_axis": ((col_arg, q_arg, qo_arg), col * (cx * q * qo), [cx],
+                       "cross_axis: d point / d c (error function + c q_own q_on), mm per (unit / (q q_on))"),
+        "periodic": ((col_arg, q_arg, pitch_arg),
+                     col * (a_s * sp.sin(2 * sp.pi * q / pitch) + a_c * sp.cos(2 * sp.pi * q / pitch)), [a_s, a_c],
+                     "periodic: d point / d (a_s, a_c), positioning error + a_s sin(2 pi q / pitch) + "
+                     "a_c cos(2 pi q / pitch)"),
+    }
+    for name, (args, disp, params, doc) in models.items():
+        sig = _signature(disp, params)
+        fns.append(Function(f"{name}_signature", args, sig if sig.shape[1] > 1 else sig,
+                            doc, vector_output=sig.shape[1] == 1))
+
+    progress("reading effects")
+    warm = 1 - sp.exp(-dt / tau)
+    drift = amp * warm
+    fns.append(Function("thermal_drift_displacement", (amp_arg, dt_arg, tau_arg), drift,
+                        "thermal_drift: displacement A (1 - exp(-dt / tau)) of a drifting point, mm", vector_output=True))
+    fns.append(Function("thermal_drift_signature", (dt_arg, tau_arg), _signature(amp * warm, list(amp)),
+                        "thermal_drift: d point / d A (3 x 3), 1 (mm per mm)"))
+    fns.append(Function("thermal_drift_dtau", (amp_arg, dt_arg, tau_arg), drift.diff(tau).applyfunc(sp.simplify),
+                        "thermal_drift: d point / d tau at amplitude A, mm per s", vector_output=True))
+    scaled = tr + (1 + PPM * ppm) * (pt - tr)
+    fns.append(Function("tracker_scale_signature", (pt_arg, tr_arg), _signature(scaled - pt, [ppm]),
+                        "tracker_scale: d reading / d ppm (radial scaling about the tracker), mm per ppm",
+                        vector_output=True))
+    sv = sp.Matrix(symbols(["s_x", "s_y", "s_z"]))
+    ind_arg, ind = _scalar("on", "1 for the displaced readings, 0 otherwise")
+    fns.append(Function("outlier_signature", (ind_arg,), _signature((pt + ind * sv) - pt, list(sv)),
+                        "outlier: d reading / d displacement s (3 x 3) for a displaced reading (on = 1)"))
+    return Module("signatures", "signatures.py", __doc__.split("\n\n")[0], fns)

@@ -1,0 +1,173 @@
+"""The candidate effects of the diagnosis: their design columns in the measured coordinates.
+
+Each candidate is one effect at one place (an axis, an error function, a warm-up time constant, a pitch) with
+its columns G (n readings, 3 coordinates, k parameters) = d(measured point, machine frame, mm) / d(parameters),
+taken from the generated signatures (generated/signatures_numpy.py, derived in derive/signatures.py) and the
+generated point Jacobians of the machine (columns of the 41 ISO errors).  Parameter units: backlash mm (rad for
+B, C) reversal value; scale ppm; second_order per mm^2 or deg^2; periodic mm (rad) amplitudes of sin and cos;
+thermal_drift mm (3-vector final displacement); tracker_scale ppm; squareness / rotary_location mm or rad.
+
+Effect names and vocabulary follow design.md; ``QUASI_STATIC`` are the effects that are themselves smooth
+functions of the measured axis' position (part of the fitted base model's family when no model is given).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from mtcal.generated import signatures_numpy as S
+
+LINEAR, ROTARY = ("X", "Y", "Z"), ("B", "C")
+VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
+              "cross_axis", "second_order", "tracker_scale", "offset")
+QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
+TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
+SQUARENESS = {"E_C0Y": "Y", "E_B0Z": "Z", "E_A0Z": "Z"}  # constant -> the axis whose motion shows it
+LOCATIONS = {"E_X0B": "B", "E_Y0B": "B", "E_A0B": "B", "E_B0B": "B",
+             "E_X0C": "C", "E_Y0C": "C", "E_A0C": "C", "E_B0C": "C"}
+
+
+def positioning_error(axis: str) -> str:
+    """ISO name of the positioning error of an axis: E_XX for X, E_CB / E_CC for the rotary axes."""
+    return f"E_{axis}{axis}" if axis in LINEAR else f"E_C{axis}"
+
+
+def axis_errors(axis: str) -> list[str]:
+    """The six error motions of an axis (ISO 230-1)."""
+    return [f"E_{c}{axis}" for c in "XYZABC"]
+
+
+@dataclass
+class Candidate:
+    """One candidate effect: ``G`` (n, 3, k) in mm per parameter unit, zero on readings it does not touch."""
+
+    name: str
+    axis: str | None
+    label: str                  # e.g. "E_XX", "tau=1800 s", "pitch=200 mm"
+    G: np.ndarray
+    params: list[str]           # parameter names, with units
+    direction: str | None = None
+    family: str = ""            # candidates sharing a family compete (multiplicity counted over the family)
+    extra: dict = field(default_factory=dict)
+    refine: Callable[[float], "Candidate"] | None = None  # continuous parameter (tau, pitch) -> candidate
+    refine_range: tuple[float, float] | None = None
+    refine_value: float | None = None
+
+
+@dataclass
+class Geometry:
+    """What the candidates need from the prepared recording (see mtcal.diagnose.prepare)."""
+
+    axis: np.ndarray        # (n,) str
+    position: np.ndarray    # (n,) mm or deg
+    direction: np.ndarray   # (n,) +1 / -1 / 0
+    time_s: np.ndarray      # (n,) s, NaN when absent
+    side: np.ndarray        # (n,) "tool" / "table"
+    xyz: np.ndarray         # (n, 3) mm
+    J: np.ndarray           # (n, 3, 41) point Jacobian of the errors at zero error
+    error_names: tuple[str, ...]
+    tracker: np.ndarray | None
+
+    def col(self, name: str) -> np.ndarray:
+        return self.J[:, :, self.error_names.index(name)]
+
+
+def _on(g: Geometry, axis: str) -> np.ndarray:
+    return (g.axis == axis)[:, None]
+
+
+def backlash(g: Geometry, axis: str) -> Candidate:
+    e = positioning_error(axis)
+    G = S.backlash_signature(g.col(e), g.direction.astype(float)) * _on(g, axis)
+    unit = "mm" if axis in LINEAR else "rad"
+    return Candidate("backlash", axis, e, G[:, :, None], [f"reversal value ({unit})"], family=f"backlash {axis}",
+                     extra={"error": e})
+
+
+def scale(g: Geometry, axis: str) -> Candidate:
+    e = positioning_error(axis)
+    q = np.deg2rad(g.position) if axis in ROTARY else g.position
+    G = S.scale_signature(g.col(e), q) * _on(g, axis)
+    return Candidate("scale", axis, e, G[:, :, None], ["ppm"], family=f"scale {axis}", extra={"error": e})
+
+
+def second_order(g: Geometry, axis: str, error: str) -> Candidate:
+    G = S.second_order_signature(g.col(error), g.position) * _on(g, axis)
+    unit = ("mm" if error[2] in "XYZ" else "rad") + "/" + ("mm^2" if axis in LINEAR else "deg^2")
+    return Candidate("second_order", axis, error, G[:, :, None], [f"coefficient ({unit})"],
+                     family=f"second_order {axis}", extra={"error": error})
+
+
+def constant(g: Geometry, name: str, error: str) -> Candidate:
+    axis = SQUARENESS.get(error) or LOCATIONS.get(error)
+    G = g.col(error) * _on(g, axis)
+    unit = "mm" if error[2] in "XY" and name == "rotary_location" else "rad"
+    return Candidate(name, axis, error, G[:, :, None], [f"{error} ({unit})"], family=name, extra={"error": error})
+
+
+def periodic(g: Geometry, axis: str, pitch: float, span: tuple[float, float]) -> Candidate:
+    e = positioning_error(axis)
+    G = S.periodic_signature(g.col(e), g.position, float(pitch)) * _on(g, axis)[:, :, None]
+    unit = "mm" if axis in LINEAR else "deg"
+    c = Candidate("periodic", axis, f"pitch={pitch:.4g} {unit}", G,
+                  [f"sin amplitude ({'mm' if axis in LINEAR else 'rad'})", "cos amplitude"],
+                  family=f"periodic {axis}", extra={"error": e, "pitch": float(pitch), "pitch_unit": unit})
+    c.refine = lambda p: periodic(g, axis, p, span)
+    c.refine_range, c.refine_value = span, float(pitch)
+    return c
+
+
+def pitch_grid(positions: np.ndarray, axis: str, max_harmonic: int) -> tuple[np.ndarray, tuple[float, float]]:
+    """Pitches that the sampling resolves (>= 2.2 position steps) and that are not a low harmonic of the travel."""
+    u = np.unique(positions)
+    if len(u) < 5:
+        return np.zeros(0), (0.0, 0.0)
+    step = float(np.min(np.diff(u)))
+    travel = float(u[-1] - u[0])
+    lo = 2.2 * step
+    hi = travel / 1.2 if axis in LINEAR else 360.0 / (max_harmonic + 0.5)
+    if hi <= lo:
+        return np.zeros(0), (0.0, 0.0)
+    n = int(np.ceil(np.log(hi / lo) / np.log(1.08))) + 1
+    return np.geomspace(lo, hi, n), (lo, hi)
+
+
+def thermal_drift(g: Geometry, target: str, tau: float, t0: float) -> Candidate:
+    on = {"spindle": g.side == "tool", "table": g.side == "table", "tracker": np.ones(len(g.axis), bool)}[target]
+    dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
+    G = S.thermal_drift_signature(dt, float(tau)) * on[:, None, None]
+    c = Candidate("thermal_drift", None, f"{target}, tau={tau:.0f} s", G,
+                  ["A_x (mm)", "A_y (mm)", "A_z (mm)"], family="thermal_drift",
+                  extra={"target": target, "tau_s": float(tau), "t0_s": float(t0)})
+    c.refine = lambda t: thermal_drift(g, target, t, t0)
+    c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
+    return c
+
+
+def tracker_scale(g: Geometry) -> Candidate:
+    G = S.tracker_scale_signature(g.xyz, g.tracker)
+    return Candidate("tracker_scale", None, "about the tracker", G[:, :, None], ["ppm"], family="tracker_scale",
+                     extra={"tracker": [float(v) for v in g.tracker]})
+
+
+def outlier(g: Geometry, rows: np.ndarray, mode: str, where: dict) -> Candidate:
+    on = np.zeros(len(g.axis))
+    on[rows] = 1.0
+    G = S.outlier_signature(on)
+    label = (f"{mode}: round {where['round']} point {where['point']} at {where['position']:g} "
+             f"({where['approach']:+d}), {where['readings']} reading(s)")
+    return Candidate("outlier", str(g.axis[rows[0]]), label, G,
+                     ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="outlier",
+                     extra={"mode": mode, "rows": [int(r) for r in rows], **where})
+
+
+def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
+    """A shift of every reading of one (axis, round, reflector) sequence: a reflector re-seated in its nest, or
+    the whole round displaced (mm, machine frame)."""
+    on = np.zeros(len(g.axis))
+    on[rows] = 1.0
+    G = S.outlier_signature(on)
+    return Candidate("offset", str(g.axis[rows[0]]), f"round {where['round']} point {where['point']}", G,
+                     ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family=f"offset {g.axis[rows[0]]}", extra=dict(where))
