@@ -70,22 +70,35 @@ def squareness(slopes: dict[str, float]) -> dict[str, float]:
 
 
 # ----------------------------------------------------------------------------- continuous functions
-def _poly_design(x: np.ndarray, deg: int, domain: tuple[float, float]) -> np.ndarray:
+def _poly_design(x: np.ndarray, deg: int, domain: tuple[float, float], x_ref: float | None = None) -> np.ndarray:
+    """Columns u^k on the domain mapped to [-1, 1]; with ``x_ref``, u^k - u_ref^k for k >= 1 (zero at x_ref)."""
     lo, hi = domain
-    u = (2 * x - (lo + hi)) / (hi - lo) if hi > lo else np.zeros_like(x)
-    return np.polynomial.polynomial.polyvander(u, deg)
+
+    def u(v):
+        return (2 * v - (lo + hi)) / (hi - lo) if hi > lo else np.zeros_like(v)
+    a = np.polynomial.polynomial.polyvander(u(x), deg)
+    if x_ref is None:
+        return a
+    return a[:, 1:] - np.polynomial.polynomial.polyvander(u(np.array([x_ref], dtype=float)), deg)[:, 1:]
 
 
-def _harm_design(x: np.ndarray, h: int, period: float) -> np.ndarray:
+def _harm_design(x: np.ndarray, h: int, period: float, x_ref: float | None = None) -> np.ndarray:
+    """Columns 1, cos(k w), sin(k w); with ``x_ref``, the same minus their value at x_ref, without the constant."""
     w = 2 * np.pi * x / period
-    cols = [np.ones_like(x)]
+    cols = [] if x_ref is not None else [np.ones_like(x)]
+    w0 = 2 * np.pi * (x_ref or 0.0) / period
     for k in range(1, h + 1):
-        cols += [np.cos(k * w), np.sin(k * w)]
-    return np.stack(cols, axis=-1)
+        if x_ref is None:
+            cols += [np.cos(k * w), np.sin(k * w)]
+        else:
+            cols += [np.cos(k * w) - np.cos(k * w0), np.sin(k * w) - np.sin(k * w0)]
+    return np.stack(cols, axis=-1) if cols else np.zeros((len(x), 0))
 
 
 def _lstsq(a: np.ndarray, y: np.ndarray) -> np.ndarray:
     ok = np.isfinite(y)
+    if a.shape[1] == 0:
+        return np.zeros(0)
     return np.linalg.lstsq(a[ok], y[ok], rcond=None)[0]
 
 
@@ -127,8 +140,11 @@ def _select(x: np.ndarray, per_round: np.ndarray, sizes: list[int], design) -> t
     return int(np.argmin(scores)), scores, "AICc on the mean (fewer than two rounds)"
 
 
-def fit_polynomial(x, per_round, max_degree: int = 7) -> dict:
+def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None) -> dict:
     """Polynomial fit of the mean over rounds, degree chosen by ``_select`` (0 .. min(max_degree, n - 2)).
+
+    With ``x_ref`` (the reference position) the function is constrained to 0 there, as the errors are
+    measured relative to the reference reading; degree 0 is then the zero function.
 
     ``per_round`` (n_rounds, n_positions), NaN where a round lacks a position.  Returns the model fit dict
     {"kind": "polynomial", "coefficients", "domain", "degree", "criterion", "scores", "rms"} (coefficients of
@@ -139,28 +155,35 @@ def fit_polynomial(x, per_round, max_degree: int = 7) -> dict:
     dom = (float(x.min()), float(x.max()))
     top = max(0, min(max_degree, len(x) - 2))
     sizes = list(range(top + 1))
-    pick, scores, how = _select(x, per_round, sizes, lambda xx, d: _poly_design(xx, d, dom))
+    pick, scores, how = _select(x, per_round, sizes, lambda xx, d: _poly_design(xx, d, dom, x_ref))
     mean = np.nanmean(per_round, axis=0)
-    a = _poly_design(x, sizes[pick], dom)
+    a = _poly_design(x, sizes[pick], dom, x_ref)
     coef = _lstsq(a, mean)
     rms = float(np.sqrt(np.nanmean((mean - a @ coef) ** 2)))
+    if x_ref is not None:  # back to plain coefficients on the domain: c0 = -sum_k c_k u_ref^k
+        u_ref = (2 * x_ref - sum(dom)) / (dom[1] - dom[0]) if dom[1] > dom[0] else 0.0
+        coef = np.concatenate([[-float(u_ref ** np.arange(1, len(coef) + 1) @ coef)], coef])
     return {"kind": "polynomial", "coefficients": coef.tolist(), "domain": list(dom), "degree": sizes[pick],
             "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
 
 
-def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6) -> dict:
+def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6, x_ref: float | None = None) -> dict:
     """Fourier series a0 + sum a_h cos(h w) + b_h sin(h w), w = 2 pi x / period, number of harmonics chosen by
-    ``_select`` (0 .. min(max_harmonics, (n - 2) // 2)); the model fit dict {"kind": "harmonic", ...}."""
+    ``_select`` (0 .. min(max_harmonics, (n - 2) // 2)); the model fit dict {"kind": "harmonic", ...}.
+    With ``x_ref`` the series is constrained to 0 at the reference position (a0 follows from the others)."""
     x = np.asarray(x, dtype=float)
     per_round = np.atleast_2d(np.asarray(per_round, dtype=float))
     top = max(0, min(max_harmonics, (len(x) - 2) // 2))
     sizes = list(range(top + 1))
-    pick, scores, how = _select(x, per_round, sizes, lambda xx, h: _harm_design(xx, h, period))
+    pick, scores, how = _select(x, per_round, sizes, lambda xx, h: _harm_design(xx, h, period, x_ref))
     mean = np.nanmean(per_round, axis=0)
     h = sizes[pick]
-    a = _harm_design(x, h, period)
+    a = _harm_design(x, h, period, x_ref)
     c = _lstsq(a, mean)
     rms = float(np.sqrt(np.nanmean((mean - a @ c) ** 2)))
+    if x_ref is not None:  # a0 = -sum_h (a_h cos(h w_ref) + b_h sin(h w_ref))
+        w0 = 2 * np.pi * x_ref / period * np.arange(1, h + 1)
+        c = np.concatenate([[-float(c[0::2] @ np.cos(w0) + c[1::2] @ np.sin(w0))], c])
     return {"kind": "harmonic", "period": float(period), "a0": float(c[0]), "cos": c[1::2].tolist(),
             "sin": c[2::2].tolist(), "harmonics": h, "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
 

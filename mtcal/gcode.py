@@ -356,3 +356,18 @@ def line_number(line: str) -> str | None:
     """The N word of a line, if any (for messages)."""
     m = _NWORD.match(line)
     return m.group(1) if m else None
+
+
+def read_moves(path, chunk_lines: int = 20000) -> np.ndarray:
+    """Absolute nominal axes (n, 5) in mm and deg of every motion block of a G-code file whose X, Y, Z are known
+    (blocks before the first full position are skipped), in file order."""
+    out, state, first = [], ModalState(), 1
+    with open(path, encoding=ENCODING, newline="") as fh:
+        while True:
+            lines = [ln for _, ln in zip(range(chunk_lines), fh)]
+            if not lines:
+                break
+            ch = parse_chunk(lines, state, first, str(path))
+            out.append(ch.axes[np.isfinite(ch.axes).all(axis=1)])
+            first += len(lines)
+    return np.concatenate(out) if out else np.zeros((0, 5))

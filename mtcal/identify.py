@@ -523,8 +523,8 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
                 pr = pr - ar.lines[nm]["slope"] * ar.positions
             if len(ar.positions) < 2:
                 continue
-            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics) if periodic
-                   else fitting.fit_polynomial(ar.positions, pr, max_degree))
+            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics, ar.reference_position) if periodic
+                   else fitting.fit_polynomial(ar.positions, pr, max_degree, ar.reference_position))
             extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "n": ar.n.tolist()}
             if nm in ar.lines:
                 extra["reference_line"] = ar.lines[nm]

@@ -1,0 +1,65 @@
+"""The main job: `mtcal demo` end to end on the bundled data, and the bundled data reproducible."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from mtcal.cli import main
+from mtcal.data import make_demo_data as mk
+from mtcal.demo import data_path
+from mtcal.io import dumps
+from mtcal.recordings import format_recording
+from mtcal.simulate import simulate
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory) -> tuple[Path, dict]:
+    out = tmp_path_factory.mktemp("demo") / "out"
+    assert main(["demo", "--out", str(out), "--quiet"]) == 0
+    return out, json.loads((out / "summary.json").read_text())
+
+
+def test_demo_writes_report_plots_and_outputs(demo):
+    out, _ = demo
+    report = (out / "report.md").read_text()
+    for png in ("plan_map.png", "compensation_before_after.png", "plate_table1.png", "identify_X.png",
+                "residuals_before.png", "residuals_after.png"):
+        assert (out / "plots" / png).stat().st_size > 10_000, png
+        assert png in report or png.startswith("residuals") or png == "identify_X.png"
+    assert (out / "model.json").exists() and (out / "sample_5axis_compensated.nc").exists()
+
+
+def test_demo_compensation_helps_on_the_true_machine(demo):
+    """The identified model (not the truth) corrects the sample program: checked with the truth's exact kinematics."""
+    c = demo[1]["compensate"]
+    assert c["true_error_before_max_um"] > 15
+    assert c["true_error_after_rms_um"] < 0.5 * c["true_error_before_rms_um"]
+
+
+def test_demo_diagnosis_finds_the_concealed_effect(demo):
+    """demo_campaign.truth.json: backlash on X, 6 um reversal, hidden in the campaign."""
+    d = demo[1]["diagnose"]
+    first = d["effects"][0]
+    assert (first["name"], first["axis"]) == ("backlash", "X")
+    assert first["estimate"] == pytest.approx(mk.DEMO_EFFECT[1]["amount"], rel=0.2)
+
+
+def test_demo_identification_and_plate_numbers(demo):
+    s = demo[1]
+    i = s["identify"]
+    for k, v in i["squareness_urad"].items():  # within 3 std of the mean of the truth's ISO squareness
+        assert abs(v - i["squareness_true_urad"][k]) < 3 * i["squareness_std_mean_urad"][k], k
+    p = s["plate"]  # NBSIR 79-1752 Table 1, ALBE3 column: alpha 4.81, beta -131.24, gamma 13.69 (x 1e-6)
+    assert p["alpha"] == pytest.approx(4.81e-6, abs=0.01e-6)
+    assert p["beta"] == pytest.approx(-131.24e-6, abs=0.01e-6)
+    assert p["gamma"] == pytest.approx(13.69e-6, abs=0.01e-6)
+    assert p["without_scale"]["sigma"] == pytest.approx(75e-6, rel=0.02)
+    assert p["without_scale"]["diagnosis"]["effects"][0]["name"] == "scale"
+
+
+def test_bundled_demo_data_are_what_the_script_makes():
+    assert data_path("demo_truth.json").read_text() == dumps(mk.build().to_dict()) + "\n"
+    rec, _ = simulate(mk.build(), plan=mk.DEMO_PLAN, rounds=None, seed=mk.DEMO_SEED, effects=[mk.DEMO_EFFECT])
+    assert data_path("demo_campaign.csv").read_text() == format_recording(rec)
