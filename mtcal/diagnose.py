@@ -7,7 +7,8 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
   each round's reading at the position closest to zero);
 * the error motions are smooth functions that vanish at the reference position: polynomials in (q - q_ref) for
   X, Y, Z and harmonics (cos k q - cos k q_ref, sin k q - sin k q_ref) for B and C, the degree chosen per axis by
-  BIC (1..3); the same in every round, direction and time;
+  BIC (1..3) with the selected effects in the fit (an unmodelled backlash inflates the residual and would make
+  BIC choose too low a degree); the same in every round, direction and time;
 * the reference reading is itself noisy (Hocken & Borchardt 1979: normalising to one reading biases every
   deviation of the round): the reference readings only start the fit; each reflector's position (three
   parameters per axis and reflector) is estimated from all its readings in all rounds, so no single reading is
@@ -17,9 +18,15 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
 * with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets.
 
 Diagnosis: studentized residuals grouped by axis x (direction, round, time, position, point) locate the misfit;
-candidate effects (mtcal.diagnose_effects, signatures derived in derive/signatures.py) are tested against the
-base by an F test on the projected (Frisch-Waugh) columns, with a separability (aliasing) check, Bonferroni
-control over families x members, forward selection and held-out-round cross-validation.
+candidate effects (mtcal.diagnose_effects, signatures derived in derive/signatures.py) are tested by an F test on
+the projected (Frisch-Waugh) columns, with a separability (aliasing) check, Bonferroni control over families x
+members, forward selection, backward elimination and held-out-round cross-validation.  The null hypothesis of
+every test is the quasi-static family itself (every axis at the largest degree, plus the effects selected
+before), not the BIC-selected base: BIC may choose a degree below the truth's (a cubic error function fitted
+as a quadratic), and a smooth candidate (a periodic error whose pitch is near the travel) would then be
+"found" in the cubic misfit.  An effect is reported only if no error function of the family explains it; the
+reported base (degrees, sigma before and after, estimates, cross-validation) is the BIC base with the selected
+effects.  With ``model`` given the null is that model (plus offsets), as before.
 """
 from __future__ import annotations
 
@@ -292,7 +299,7 @@ class Engine:
         dof = self.dof - k
         rss1 = max(self.rss - delta, 1e-300)
         F = (delta / k) / (rss1 / max(dof, 1))
-        return {"separable": True, "sep": sep, "k": k, "delta": delta, "F": F,
+        return {"separable": True, "sep": sep, "k": k, "dof": max(dof, 1), "delta": delta, "F": F,
                 "logp": float(stats.f.logsf(F, k, max(dof, 1)))}
 
     def add(self, G: np.ndarray) -> None:
@@ -503,20 +510,29 @@ def _raw_sigma(prep: Prepared, r_w: np.ndarray, dof: int) -> float:
     return math.sqrt(float(np.sum(raw**2)) / max(dof, 1))
 
 
-def _select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, progress) -> dict[str, int]:
-    """Per axis, the degree (1..max) with the least BIC of the axis' own whitened fit."""
+def _select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, progress,
+                    effects: Sequence[np.ndarray] = ()) -> dict[str, int]:
+    """Per axis, the degree (1..max) with the least BIC of the axis' own whitened fit, with the whitened
+    columns ``effects`` (N, k) of the selected effects in the fit (restricted to the axis' readings): an
+    unmodelled effect (backlash) inflates the residual and would make BIC choose too low a degree."""
     out = {}
     for a in prep.axes:
         on = prep.rec.axis == a
+        G = None
+        if len(effects):
+            G = np.hstack(effects)[np.repeat(on, 3)]
+            G = G[:, np.any(G != 0, axis=0)]
         best = None
         for d in range(1, max_degree + 1):
             e = engine_for(prep, base_design(prep, {a: d}, [a]), wy, on)
+            if G is not None and G.shape[1]:
+                e.add(G)
             na = e.N
             bic = na * math.log(e.rss / na) + e.p * math.log(na)
             if best is None or bic < best[0]:
                 best = (bic, d)
         out[a] = best[1]
-        progress(f"axis {a}: degree {best[1]} by BIC")
+        progress(f"axis {a}: degree {best[1]} by BIC" + (" (with the selected effects)" if G is not None else ""))
     return out
 
 
@@ -610,23 +626,21 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
     prep = prepare(rec, machine, model, tracker)
     _PREP = prep
     wy = whiten(prep.W, prep.y)
-    degrees = {a: 0 for a in prep.axes} if prep.given_model else _select_degrees(prep, wy, max_degree, say)
-    base = base_design(prep, degrees)
-    eng = engine_for(prep, base, wy)
-    base_sigma = _raw_sigma(prep, eng.r, eng.dof)
-    base_ratio = eng.sigma
-    say(f"base model: {eng.p} parameters, sigma {base_sigma * 1e3:.3f} um (ratio {base_ratio:.3f})")
-    located, _ = locate(prep, eng, level)
-    r_before = eng.r.copy()
+    # the null hypothesis of every test: the quasi-static family itself (every axis at the largest degree), not
+    # the BIC-selected base: an effect is reported only if no smooth error function of the family explains it
+    # (a cubic misfit of a degree-2 base is not a long-pitch periodic error); BIC picks the reported base after
+    test_degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
+    eng = engine_for(prep, base_design(prep, test_degrees), wy)
+    say(f"null model of the tests: {eng.p} parameters (quasi-static family"
+        f"{', given model' if prep.given_model else f' at degree {max_degree}'}), sigma ratio {eng.sigma:.3f}")
 
     cands, notes = candidates(prep, max_degree)
     effects_out: list[dict] = []
     if not prep.given_model:  # quasi-static effects against the base family at its largest degree: aliased?
-        fam = engine_for(prep, base_design(prep, {a: max_degree for a in prep.axes}), wy)
         keep, seen = [], set()
         for c in cands:
             if c.name in fx.QUASI_STATIC or c.name == "tracker_scale":
-                sc = fam.score(_w(c))
+                sc = eng.score(_w(c))
                 if not sc["separable"] or (c.name == "tracker_scale" and sc["sep"] < WEAK_TOL):
                     if (c.name, c.axis) not in seen:
                         seen.add((c.name, c.axis))
@@ -698,6 +712,22 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
         for o, _, _ in selected:
             eng.add(_w(o))
 
+    null_model = ("the given model" if prep.given_model else
+                  f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
+    # the reported base model: degrees by BIC with the selected effects in the fit (an unmodelled effect would
+    # bias BIC low), then the base alone (sigma before, located) and with the effects (estimates, sigma after)
+    degrees = (dict(test_degrees) if prep.given_model
+               else _select_degrees(prep, wy, max_degree, say, [_w(c) for c, _, _ in selected]))
+    base = base_design(prep, degrees)
+    eng = engine_for(prep, base, wy)
+    base_sigma = _raw_sigma(prep, eng.r, eng.dof)
+    base_ratio = eng.sigma
+    say(f"base model: {eng.p} parameters, sigma {base_sigma * 1e3:.3f} um (ratio {base_ratio:.3f})")
+    located, _ = locate(prep, eng, level)
+    r_before = eng.r.copy()
+    for c, _, _ in selected:
+        eng.add(_w(c))
+
     # final joint estimates, cumulative sigma and held-out-round cross-validation
     theta_all, cov_all = (eng.estimate([_w(c) for c, _, _ in selected]) if selected
                           else (np.zeros(0), np.zeros((0, 0))))
@@ -717,10 +747,10 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
         gain = 1.0 - with_ / prev_cv if prev_cv and prev_cv > 0 else float("nan")
         prev_cv = with_
         h = _headline(c, th, cv)
-        ev = {"test": "F", "F": sc["F"], "dof": [sc["k"], cum.dof], "p_value": math.exp(sc["logp"]),
+        ev = {"test": "F", "F": sc["F"], "dof": [sc["k"], sc["dof"]], "p_value": math.exp(sc["logp"]),
               "p_adjusted": min(1.0, math.exp(lp)), "log10_p_adjusted": lp / math.log(10),
               "cv_gain": gain, "cv": "held-out rounds", "separability": sc["sep"],
-              "multiplicity": "Bonferroni over families x members"}
+              "multiplicity": "Bonferroni over families x members", "null": null_model}
         item = {"name": c.name, "axis": c.axis, "direction": h.pop("direction"), "significant": True,
                 "estimate": h.pop("estimate"), "uncertainty": h.pop("uncertainty"), "unit": h.pop("unit"),
                 "sigma_after": _raw_sigma(prep, cum.r, cum.dof), "sigma_ratio_after": cum.sigma,
@@ -749,6 +779,9 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
                             **({"separability": nt["separability"]} if "separability" in nt else {})})
     base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static",
                  "degrees": degrees, "parameters": int(cum.copy_base().p), "readings": len(rec),
+                 "tests_against": null_model if prep.given_model else
+                 f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
+                 f"selected effects in the fit)",
                  "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for X, Y, Z; harmonics for B, C; per-(round, point) offsets"}
     return Diagnosis(base_sigma, base_ratio, _raw_sigma(prep, eng.r, eng.dof), eng.sigma, effects_out, located,
