@@ -11,20 +11,11 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from . import codegen
+from .provenance import ROOT, derive_hash, sha256
 from .targets import TARGETS
 
-ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "generated"
 INIT = '"""Generated code (do not edit): see manifest.json and derive/ for how it was made."""\n'
-
-
-def derive_hash() -> str:
-    """sha256 over every source file of derive/ (paths and bytes), the input the manifest records."""
-    h = []
-    for p in sorted((ROOT / "derive").rglob("*")):
-        if p.is_file() and p.suffix in (".py", ".toml"):
-            h.append(f"{p.relative_to(ROOT).as_posix()}\0{codegen.sha256(p.read_bytes())}")
-    return codegen.sha256("\n".join(h))
 
 
 def _build(name: str) -> tuple[str, dict[str, str], dict, float]:
@@ -40,7 +31,7 @@ def _build(name: str) -> tuple[str, dict[str, str], dict, float]:
     spec = mod.metadata.get("MACHINE")
     if spec:
         info["spec"] = f"derive/machines/{spec}.toml"
-        info["spec_sha256"] = codegen.sha256((ROOT / info["spec"]).read_bytes())
+        info["spec_sha256"] = sha256((ROOT / info["spec"]).read_bytes())
     return name, files, info, time.perf_counter() - t0
 
 
@@ -54,7 +45,7 @@ def generate(names: list[str], jobs: int) -> dict[str, str]:
         for name, fs, info, secs in pool.map(_build, names):
             print(f"derived {name} in {secs:.1f} s", file=sys.stderr, flush=True)
             files.update(fs)
-            info["files"] = {k: codegen.sha256(v) for k, v in sorted(fs.items())}
+            info["files"] = {k: sha256(v) for k, v in sorted(fs.items())}
             manifest["targets"][name] = info
     files["manifest.json"] = json.dumps(manifest, indent=2, sort_keys=True) + "\n"
     return files

@@ -11,7 +11,6 @@ Everything printed is a pure function of the expressions, so the bytes are ident
 """
 from __future__ import annotations
 
-import hashlib
 import keyword
 import pprint
 from dataclasses import dataclass, field
@@ -190,11 +189,6 @@ def emit_casadi(mod: Module, target: str) -> str:
         out.append(f"    return ca.Function({(mod.name + '_' + f.name)!r}, [{', '.join(a.name for a in f.args)}], "
                    f"[_out], [{names}], ['out'])\n")
     return "".join(out)
-
-
-def sha256(text: str | bytes) -> str:
-    data = text.encode() if isinstance(text, str) else text
-    return hashlib.sha256(data).hexdigest()
 
 
 def symbols(names: Sequence[str]) -> tuple[sp.Symbol, ...]:

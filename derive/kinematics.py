@@ -204,6 +204,47 @@ def _ik(ch: Chain, nominal_t0w: sp.Matrix) -> tuple[list[Function], dict]:
         "k_range": [float(k_range[0]), float(k_range[1])], "preferred_branch": int(ik.get("preferred_branch", 1))}
 
 
+def _trig_reduce(ch: Chain, expr: sp.Expr) -> sp.Expr:
+    """Canonical form of an expression polynomial in cos and sin of the rotary axes: with c, s symbols for
+    cos(q DEG), sin(q DEG), the remainder modulo s^2 + c^2 - 1 (a Groebner basis: one pair per axis), back in
+    cos and sin.  Cancels what a frame change leaves (cos^2 + sin^2) in seconds, where simplify takes minutes."""
+    sub, back, rels, gens = {}, {}, [], []
+    for a in ch.spec.axes:
+        if a.kind == "rotary":
+            q = ch.qs[a.name]
+            c, s = sp.Symbol(f"_c_{a.name}"), sp.Symbol(f"_s_{a.name}")
+            sub.update({sp.cos(q * DEG): c, sp.sin(q * DEG): s})
+            back.update({c: sp.cos(q * DEG), s: sp.sin(q * DEG)})
+            rels.append(s**2 + c**2 - 1)
+            gens += [s, c]
+    p = sp.expand(sp.expand_trig(expr).subs(sub))
+    left = [f for f in p.atoms(sp.sin, sp.cos) if f.free_symbols & set(ch.q)]
+    assert not left, f"trigonometric terms not in cos/sin(axis DEG): {left}"
+    if p == 0 or not (p.free_symbols & set(gens)):
+        return p
+    _, r = sp.reduced(p, rels, *gens)
+    return sp.factor_terms(sp.collect(sp.expand(r), gens)).subs(back)
+
+
+def _correction_first_order(ch: Chain, jq_nom: sp.Matrix, je: sp.Matrix) -> sp.Matrix:
+    """[linear-axis step (3), tool-axis deviation (3)], first order: the step -J_lin^-1 dev[:3] (J_lin = d tip /
+    d linear axes, nominal) that cancels the tool-tip deviation dev = jacobian_errors @ errors, and dev[3:] turned
+    into the machine (base) frame by the nominal table rotation (norm kept).  In the machine frame the coefficients
+    reduce to lever arms and a few sines and cosines: about half the operations of deviation_first_order."""
+    lin = [i for i, a in enumerate(ch.spec.axes) if a.kind == "linear"]
+    red = lambda x: _trig_reduce(ch, x)  # noqa: E731
+    jl = jq_nom[:3, lin].applyfunc(red)
+    if (jl.T * jl).applyfunc(red) == sp.eye(3):
+        jl_inv = jl.T  # orthonormal linear axes (a rotation): the inverse is the transpose
+    else:
+        jl_inv = jl.inv().applyfunc(sp.simplify)
+    rot = ch.chain("table_chain", {})[:3, :3].applyfunc(red)  # workpiece -> base
+    step = (-jl_inv * je[:3, :].applyfunc(red)).applyfunc(red)
+    dev_o = (rot * je[3:, :].applyfunc(red)).applyfunc(red)
+    e = sp.Matrix(ch.e)
+    return sp.Matrix.vstack(step * e, dev_o * e)
+
+
 def derive_machine(spec: Spec, progress=lambda msg: None) -> Module:
     ch = Chain(spec)
     ax_arg = Arg("axes", ch.q, "axis positions: linear mm, rotary deg")
@@ -221,6 +262,8 @@ def derive_machine(spec: Spec, progress=lambda msg: None) -> Module:
     je = _error_jacobian(ch)
     assert je.free_symbols <= set(ch.q) | {TOOL_LENGTH}
     dev1 = je * sp.Matrix(ch.e)
+    progress("first-order correction of the linear axes (machine frame)")
+    corr1 = _correction_first_order(ch, jq_nom, je)
     progress("inverse kinematics")
     ik_funcs, ik_meta = _ik(ch, ch.chain("table_chain", {}))
 
@@ -252,6 +295,11 @@ def derive_machine(spec: Spec, progress=lambda msg: None) -> Module:
                  "d pose / d errors at zero error (exact first-order sensitivity; per mm and per rad)."),
         Function("deviation_first_order", (ax_arg, err_arg, tl_arg), dev1,
                  "First-order pose deviation jacobian_errors(axes) @ errors.", vector_output=True),
+        Function("correction_first_order", (ax_arg, err_arg, tl_arg), corr1,
+                 "First order, for compensation: rows 0-2 the linear-axis step (mm) -J_lin^-1 dev[:3] that cancels "
+                 "the tool-tip deviation dev = deviation_first_order (J_lin = d tip / d linear axes, nominal, so "
+                 "|dev[:3]| = |J_lin step|); rows 3-5 the tool-axis deviation dev[3:] turned into the machine "
+                 "(base) frame by the nominal table rotation (same norm).", vector_output=True),
     ] + _point_functions(ch) + ik_funcs
     return Module(spec.name, "kinematics.py", f"{spec.title}: kinematics generated from derive/machines/"
                   f"{spec.path.name}.", fns, meta)

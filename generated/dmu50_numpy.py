@@ -28,7 +28,7 @@ ERROR_GROUPS = {'linear': ['E_XX', 'E_YX', 'E_ZX', 'E_AX', 'E_BX', 'E_CX', 'E_XY
 PARAMETERS = {'d': '38749/250', 'tilt': '45'}
 IK = {'k_range': [0.0, 1.0], 'preferred_branch': 1, 'rotary_axis': 'C', 'rotary_sign': -1, 'tilt_axis': 'B'}
 POSE = ('x', 'y', 'z', 'i', 'j', 'k')
-FUNCTIONS = ('forward', 'jacobian_axes', 'forward_errors', 'forward_errors_with_jacobian', 'jacobian_errors', 'deviation_first_order', 'tool_point', 'tool_point_jacobian_errors', 'table_point', 'table_point_jacobian_errors', 'ik_tilt', 'ik_rotary', 'ik_linear')
+FUNCTIONS = ('forward', 'jacobian_axes', 'forward_errors', 'forward_errors_with_jacobian', 'jacobian_errors', 'deviation_first_order', 'correction_first_order', 'tool_point', 'tool_point_jacobian_errors', 'table_point', 'table_point_jacobian_errors', 'ik_tilt', 'ik_rotary', 'ik_linear')
 
 
 def forward(axes, tool_length):
@@ -1537,6 +1537,151 @@ def deviation_first_order(axes, errors, tool_length):
     _out[..., 3] = E_A0B*_x21 - E_A0C*_x18 + E_AB*_x24 - E_AC*_x18 + E_AX*_x23 + E_AY*_x23 + E_AZ*_x23 + E_B0B*_x91 + E_B0C*_x59 + E_BB*_x96 - E_BC*_x45 + E_CB*_x95 + E_CC*_x74 + _x14 + _x30 + _x31
     _out[..., 4] = E_A0B*_x10 + E_A0C*_x115 + E_AB*_x73 + E_AC*_x45 + E_AX*_x78 + E_AY*_x78 + E_AZ*_x78 + E_B0B*_x120 - E_B0C*_x18 + E_BB*_x121 - E_BC*_x18 + E_CB*_x123 + E_CC*_x27 + _x104 + _x106 + _x107
     _out[..., 5] = E_A0B*_x51 + E_A0C*_x148 + E_AB*_x25 + E_AC*_x85 + E_AX*_x85 + E_AY*_x85 + E_AZ*_x85 + E_B0C*_x64 + E_BB*_x140 + E_BC*_x62 - E_CB*_x140 - _x127 - _x132 - _x133
+    return _out
+
+
+def correction_first_order(axes, errors, tool_length):
+    """First order, for compensation: rows 0-2 the linear-axis step (mm) -J_lin^-1 dev[:3] that cancels the tool-tip deviation dev = deviation_first_order (J_lin = d tip / d linear axes, nominal, so |dev[:3]| = |J_lin step|); rows 3-5 the tool-axis deviation dev[3:] turned into the machine (base) frame by the nominal table rotation (same norm).
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    errors (..., 41): error parameters, mm and rad (ISO 230-1 names)
+        [E_XX, E_YX, E_ZX, E_AX, E_BX, E_CX, E_XY, E_YY, E_ZY, E_AY, E_BY, E_CY, E_XZ, E_YZ, E_ZZ, E_AZ, E_BZ, E_CZ, E_C0Y, E_B0Z, E_A0Z, E_XB, E_YB, E_ZB, E_AB, E_BB, E_CB, E_XC, E_YC, E_ZC, E_AC, E_BC, E_CC, E_X0B, E_Y0B, E_A0B, E_B0B, E_X0C, E_Y0C, E_A0C, E_B0C]
+    tool_length (...): tool length below the error reference point, mm
+    returns (..., 6)
+    """
+    axes = as_arg(axes, 5, 'axes', 'correction_first_order')
+    errors = as_arg(errors, 41, 'errors', 'correction_first_order')
+    tool_length = as_arg(tool_length, 0, 'tool_length', 'correction_first_order')
+    X = axes[..., 0]
+    Y = axes[..., 1]
+    Z = axes[..., 2]
+    B = axes[..., 3]
+    C = axes[..., 4]
+    E_XX = errors[..., 0]
+    E_YX = errors[..., 1]
+    E_ZX = errors[..., 2]
+    E_AX = errors[..., 3]
+    E_BX = errors[..., 4]
+    E_CX = errors[..., 5]
+    E_XY = errors[..., 6]
+    E_YY = errors[..., 7]
+    E_ZY = errors[..., 8]
+    E_AY = errors[..., 9]
+    E_BY = errors[..., 10]
+    E_XZ = errors[..., 12]
+    E_YZ = errors[..., 13]
+    E_ZZ = errors[..., 14]
+    E_AZ = errors[..., 15]
+    E_BZ = errors[..., 16]
+    E_C0Y = errors[..., 18]
+    E_B0Z = errors[..., 19]
+    E_A0Z = errors[..., 20]
+    E_XB = errors[..., 21]
+    E_YB = errors[..., 22]
+    E_ZB = errors[..., 23]
+    E_AB = errors[..., 24]
+    E_BB = errors[..., 25]
+    E_CB = errors[..., 26]
+    E_XC = errors[..., 27]
+    E_YC = errors[..., 28]
+    E_ZC = errors[..., 29]
+    E_AC = errors[..., 30]
+    E_BC = errors[..., 31]
+    E_CC = errors[..., 32]
+    E_X0B = errors[..., 33]
+    E_Y0B = errors[..., 34]
+    E_A0B = errors[..., 35]
+    E_B0B = errors[..., 36]
+    E_X0C = errors[..., 37]
+    E_Y0C = errors[..., 38]
+    E_A0C = errors[..., 39]
+    E_B0C = errors[..., 40]
+    tool_length = tool_length
+    _x0 = Z - tool_length
+    _x1 = -_x0
+    _x2 = (1/180)*numpy.pi
+    _x3 = B*_x2
+    _x4 = numpy.cos(_x3)
+    _x5 = numpy.sin(_x3)
+    _x6 = _x4 - 1
+    _x7 = -_x6
+    _x8 = numpy.sqrt(2)
+    _x9 = (1/2)*_x8
+    _x10 = _x5*_x9
+    _x11 = 250*Y
+    _x12 = 250*Z
+    _x13 = _x11 - _x12 + 38749
+    _x14 = -_x13
+    _x15 = (1/500)*_x8
+    _x16 = _x12 - 38749
+    _x17 = _x11 + _x16
+    _x18 = -1/500*_x17
+    _x19 = -Z
+    _x20 = Y + _x19
+    _x21 = E_AC*_x10
+    _x22 = _x5*_x8
+    _x23 = (1/500)*_x22
+    _x24 = 38749 - _x11
+    _x25 = _x12 + _x24
+    _x26 = (1/500)*_x4
+    _x27 = (1/2)*Y
+    _x28 = (1/2)*Z
+    _x29 = _x27 + _x28 - 38749/500
+    _x30 = C*_x2
+    _x31 = numpy.sin(_x30)
+    _x32 = _x31*_x4
+    _x33 = numpy.cos(_x30)
+    _x34 = _x33 - 1
+    _x35 = _x10*_x34 - _x32
+    _x36 = -_x34
+    _x37 = _x36*_x4
+    _x38 = (1/2)*_x31
+    _x39 = _x22*_x38
+    _x40 = -_x39
+    _x41 = _x37 + _x40
+    _x42 = Y*_x33
+    _x43 = Z*_x33
+    _x44 = -38749*_x33
+    _x45 = _x11*_x33
+    _x46 = (1/2)*X
+    _x47 = _x46*_x8
+    _x48 = _x47*_x5
+    _x49 = Z - 38749/250
+    _x50 = (38749/500)*_x33
+    _x51 = -_x31*_x46
+    _x52 = X*_x33
+    _x53 = 500*Z
+    _x54 = 250*X
+    _x55 = _x31*_x54 + _x44
+    _x56 = _x55 + 38749
+    _x57 = _x4*_x47
+    _x58 = (38749/500)*_x31
+    _x59 = 38749*_x31 + 250*_x52 - _x54
+    _x60 = -_x46
+    _x61 = (1/2)*_x52 + _x60
+    _x62 = _x4*_x46
+    _x63 = _x60 + _x62
+    _x64 = _x46 + _x62
+    _x65 = (1/2)*_x32
+    _x66 = _x10*_x36 + _x65
+    _x67 = (1/2)*_x33
+    _x68 = (1/2)*_x37 + _x40
+    _x69 = (1/2)*_x4
+    _x70 = _x69 + 1/2
+    _x71 = _x69 - 1/2
+    _x72 = E_ZB*_x9
+    _x73 = E_BB*_x47
+    _x74 = E_CB*_x47 - E_X0B*_x10 + E_XC*_x10 + E_Y0B*_x7*_x9 + E_YB*_x9
+    _x75 = 500*Y
+    _x76 = _x67 - 1/2
+    _out = out_array((axes.shape[:-1], errors.shape[:-1], tool_length.shape,), (6,))
+    _out[..., 0] = E_A0B*_x13*_x23 + E_A0C*(_x10*(-Y + Z + _x42 - _x43) + (1/500)*_x17*_x31 + (1/500)*_x25*_x32) + E_B0B*_x15*(_x13*_x4 - _x13) + E_B0C*(_x18*_x33 + _x20*_x39 + _x26*(-_x12*_x33 + _x25 + _x44 + _x45) + _x29) - E_B0Z*Z + E_BB*_x14*_x15 + E_BC*(_x25*_x26 + _x29) + E_BX*_x1 + E_BY*_x1 + E_BZ*tool_length + E_C0Y*Y + E_CB*_x18*_x8 + E_CC*((1/500)*_x14*_x4 - _x29) + E_CX*Y + E_X0B*_x7 + E_X0C*_x41 + E_XB + E_XC*_x4 - E_XX - E_XY - E_XZ + E_Y0B*_x5 + E_Y0C*_x35 - E_YC*_x10 - E_ZC*_x10 - _x20*_x21
+    _out[..., 1] = E_A0B*((1/250)*_x16*_x4 - _x48 - _x49) + E_A0C*(_x10*(X + Z*_x31 - _x52) + _x26*(500*_x43 - _x53 + _x56) + _x50 + _x51 - 38749/500) + E_A0Z*Z - E_AB*_x49 + E_AC*(_x26*(38749 - _x53) + _x48 - 38749/500) + E_AX*_x0 + E_AY*_x0 - E_AZ*tool_length + E_B0B*(-1/250*_x16*_x5 + _x47 - _x57) + E_B0C*(_x10*(-X*_x31 - _x19 - _x43) + _x26*(500*Z*_x31 - _x59) + _x58 + _x61) + E_BC*(_x22*_x28 + _x63) + E_CC*(_x16*_x23 + _x64) + E_X0C*(_x38 + _x66) + E_Y0C*(-_x67 + _x68 + 1/2) + E_YC*_x70 - E_YX - E_YY - E_YZ + E_ZC*_x71 - _x72 + _x73 + _x74
+    _out[..., 2] = E_A0B*(-Y*_x4 + Y + _x48) + E_A0C*(_x23*(-_x11*_x31 + _x59) + _x26*(500*Y - 500*_x42 - _x56) - _x50 + _x51 + 38749/500) + E_AB*Y + E_AC*(_x26*(_x75 - 38749) - _x48 + 38749/500) - E_AX*Y + E_B0B*(Y*_x5 - _x47 + _x57) + E_B0C*(_x23*(_x24 + _x45 + _x55) + _x26*(-_x31*_x75 + _x59) - _x58 + _x61) + E_BC*((1/500)*_x5*_x8*(38749 - _x11) - _x64) + E_CC*(-_x22*_x27 - _x63) + E_X0C*(-_x38 + _x66) + E_Y0C*(_x68 + _x76) + E_YC*_x71 + E_ZC*_x70 - E_ZX - E_ZY - E_ZZ + _x72 - _x73 + _x74
+    _out[..., 3] = E_A0B*_x10 + E_A0C*((1/2)*_x34*_x5*_x8 - _x38 - _x65) + E_B0B*_x6*_x9 + E_B0C*(_x34*_x69 + _x39 + _x76) - E_BB*_x9 - E_BC*_x70 + E_BX + E_BY + E_BZ + E_CB*_x9 - E_CC*_x71 - _x21
+    _out[..., 4] = E_A0B*_x7 + E_A0C*_x41 + E_AB + E_AC*_x4 - E_AX - E_AY - E_AZ + E_B0B*_x5 + E_B0C*_x35 - E_BC*_x10 - E_CC*_x10
+    _out[..., 5] = 0
     return _out
 
 

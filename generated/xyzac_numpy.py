@@ -28,7 +28,7 @@ ERROR_GROUPS = {'linear': ['E_XX', 'E_YX', 'E_ZX', 'E_AX', 'E_BX', 'E_CX', 'E_XY
 PARAMETERS = {'h': '120'}
 IK = {'k_range': [-1.0, 1.0], 'preferred_branch': 1, 'rotary_axis': 'C', 'rotary_sign': -1, 'tilt_axis': 'A'}
 POSE = ('x', 'y', 'z', 'i', 'j', 'k')
-FUNCTIONS = ('forward', 'jacobian_axes', 'forward_errors', 'forward_errors_with_jacobian', 'jacobian_errors', 'deviation_first_order', 'tool_point', 'tool_point_jacobian_errors', 'table_point', 'table_point_jacobian_errors', 'ik_tilt', 'ik_rotary', 'ik_linear')
+FUNCTIONS = ('forward', 'jacobian_axes', 'forward_errors', 'forward_errors_with_jacobian', 'jacobian_errors', 'deviation_first_order', 'correction_first_order', 'tool_point', 'tool_point_jacobian_errors', 'table_point', 'table_point_jacobian_errors', 'ik_tilt', 'ik_rotary', 'ik_linear')
 
 
 def forward(axes, tool_length):
@@ -1318,6 +1318,103 @@ def deviation_first_order(axes, errors, tool_length):
     _out[..., 3] = -E_A0A*_x55 - E_A0C*_x14 - E_AC*_x14 + E_AX*_x14 + E_AY*_x14 + E_B0C*_x50 - E_BA*_x2 - E_BC*_x54 - E_CA*_x14 - E_CC*_x55 + _x17 + _x2*_x69 + _x4 + _x7 + _x8
     _out[..., 4] = -E_A0A*_x12 + E_A0C*_x13*_x30 + E_AC*_x13*_x2 - E_AX*_x54 - E_AY*_x54 + E_B0A*_x27*_x9 - E_B0C*_x14 - E_BA*_x9 - E_BC*_x14 + E_BX*_x9 + E_BY*_x9 + E_BZ*_x9 + E_CA*_x13*_x2 - E_CC*_x12 - _x56
     _out[..., 5] = -E_A0C*_x11*_x30 + E_AC*_x11 - E_AX*_x11 - E_AY*_x11 - E_B0C*_x12 + E_CA*_x11 - _x67
+    return _out
+
+
+def correction_first_order(axes, errors, tool_length):
+    """First order, for compensation: rows 0-2 the linear-axis step (mm) -J_lin^-1 dev[:3] that cancels the tool-tip deviation dev = deviation_first_order (J_lin = d tip / d linear axes, nominal, so |dev[:3]| = |J_lin step|); rows 3-5 the tool-axis deviation dev[3:] turned into the machine (base) frame by the nominal table rotation (same norm).
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, A, C]
+    errors (..., 41): error parameters, mm and rad (ISO 230-1 names)
+        [E_XX, E_YX, E_ZX, E_AX, E_BX, E_CX, E_XY, E_YY, E_ZY, E_AY, E_BY, E_CY, E_XZ, E_YZ, E_ZZ, E_AZ, E_BZ, E_CZ, E_C0Y, E_B0Z, E_A0Z, E_XA, E_YA, E_ZA, E_AA, E_BA, E_CA, E_XC, E_YC, E_ZC, E_AC, E_BC, E_CC, E_X0A, E_Y0A, E_A0A, E_B0A, E_X0C, E_Y0C, E_A0C, E_B0C]
+    tool_length (...): tool length below the error reference point, mm
+    returns (..., 6)
+    """
+    axes = as_arg(axes, 5, 'axes', 'correction_first_order')
+    errors = as_arg(errors, 41, 'errors', 'correction_first_order')
+    tool_length = as_arg(tool_length, 0, 'tool_length', 'correction_first_order')
+    X = axes[..., 0]
+    Y = axes[..., 1]
+    Z = axes[..., 2]
+    A = axes[..., 3]
+    C = axes[..., 4]
+    E_XX = errors[..., 0]
+    E_YX = errors[..., 1]
+    E_ZX = errors[..., 2]
+    E_AX = errors[..., 3]
+    E_BX = errors[..., 4]
+    E_CX = errors[..., 5]
+    E_XY = errors[..., 6]
+    E_YY = errors[..., 7]
+    E_ZY = errors[..., 8]
+    E_AY = errors[..., 9]
+    E_BY = errors[..., 10]
+    E_XZ = errors[..., 12]
+    E_YZ = errors[..., 13]
+    E_ZZ = errors[..., 14]
+    E_AZ = errors[..., 15]
+    E_BZ = errors[..., 16]
+    E_C0Y = errors[..., 18]
+    E_B0Z = errors[..., 19]
+    E_A0Z = errors[..., 20]
+    E_XA = errors[..., 21]
+    E_YA = errors[..., 22]
+    E_ZA = errors[..., 23]
+    E_AA = errors[..., 24]
+    E_BA = errors[..., 25]
+    E_CA = errors[..., 26]
+    E_XC = errors[..., 27]
+    E_YC = errors[..., 28]
+    E_ZC = errors[..., 29]
+    E_AC = errors[..., 30]
+    E_BC = errors[..., 31]
+    E_CC = errors[..., 32]
+    E_X0A = errors[..., 33]
+    E_Y0A = errors[..., 34]
+    E_A0A = errors[..., 35]
+    E_B0A = errors[..., 36]
+    E_X0C = errors[..., 37]
+    E_Y0C = errors[..., 38]
+    E_A0C = errors[..., 39]
+    E_B0C = errors[..., 40]
+    tool_length = tool_length
+    _x0 = Z - 120
+    _x1 = Z - tool_length
+    _x2 = -_x1
+    _x3 = (1/180)*numpy.pi
+    _x4 = C*_x3
+    _x5 = numpy.sin(_x4)
+    _x6 = numpy.cos(_x4)
+    _x7 = _x6 - 1
+    _x8 = -_x7
+    _x9 = A*_x3
+    _x10 = numpy.cos(_x9)
+    _x11 = numpy.sin(_x9)
+    _x12 = Y*_x11
+    _x13 = _x12 + 120
+    _x14 = _x0*_x10 + _x13
+    _x15 = Y*_x10
+    _x16 = -Z
+    _x17 = -_x0
+    _x18 = E_A0C*_x5
+    _x19 = 120 - 120*_x6
+    _x20 = X*_x11
+    _x21 = X*_x10
+    _x22 = _x10 - 1
+    _x23 = E_X0C*_x5
+    _x24 = 120*_x10
+    _x25 = E_A0A*_x11
+    _x26 = E_BC*_x10
+    _x27 = E_CC*_x11
+    _x28 = 120*_x11
+    _out = out_array((axes.shape[:-1], errors.shape[:-1], tool_length.shape,), (6,))
+    _out[..., 0] = E_A0A*(Y + _x0*_x11 - _x15) + E_AA*Y + E_B0A*(_x10*_x17 - _x13 - _x16) + E_B0C*(_x10*(-Z*_x6 - _x16 - _x19) + _x12*_x8 + _x19) - E_B0Z*Z + E_BA*_x0 + E_BC*_x14 + E_BX*_x2 + E_BY*_x2 + E_BZ*tool_length + E_C0Y*Y + E_CC*(_x0*_x11 - _x15) + E_CX*Y + E_X0C*_x8 + E_XC - E_XX - E_XY - E_XZ - E_Y0C*_x5 + E_ZA + _x14*_x18
+    _out[..., 1] = E_A0A*X*_x22 + E_A0C*(_x0*_x6 + _x16 - _x20*_x5 + _x24*_x7 + 120) + E_A0Z*Z - E_AA*X + E_AC*(-_x0 - _x24) + E_AX*_x1 + E_AY*_x1 - E_AZ*tool_length + E_B0A*_x20 + E_B0C*(_x0*_x5 + _x20*_x7 + _x24*_x5) - E_BC*_x20 + E_CA*_x17 + E_CC*_x21 + E_X0A*_x11 - E_Y0A*_x22 + E_Y0C*_x10*_x8 + E_YA + E_YC*_x10 - E_YX - E_YY - E_YZ + E_ZC*_x11 + _x10*_x23
+    _out[..., 2] = E_A0C*(-Y*_x6 + Y + 120*_x11*_x8 - _x21*_x5) + E_AC*(Y + _x28) - E_AX*Y + E_B0A*X*_x22 + E_B0C*(X*_x10*_x7 - Y*_x5 - _x28*_x5) - E_BA*X + E_CA*Y + E_X0A*_x22 - E_XA + E_Y0A*_x11 + E_Y0C*_x11*_x7 - E_YC*_x11 + E_ZC*_x10 - E_ZX - E_ZY - E_ZZ - X*_x25 - X*_x26 - X*_x27 - _x11*_x23
+    _out[..., 3] = E_B0A*_x22 + E_B0C*_x10*_x7 - E_BA + E_BX + E_BY + E_BZ - _x10*_x18 - _x25 - _x26 - _x27
+    _out[..., 4] = E_A0C*_x8 + E_AC - E_AX - E_AY - E_AZ - E_B0C*_x5 + E_CA
+    _out[..., 5] = 0
     return _out
 
 

@@ -19,6 +19,7 @@ also loses rank: the weight is computed from its smaller singular value (see ``C
 """
 from __future__ import annotations
 
+import io
 import itertools
 import os
 import tempfile
@@ -34,7 +35,9 @@ from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorFunction, ErrorModel
 
 SCOPES = ("position", "full")
-BLOCK = 2048  # rows per numeric block: keeps the generated functions' temporaries in cache
+BLOCK = 4096  # rows per numeric block: keeps the generated functions' temporaries in cache
+_P10 = 10.0 ** np.arange(23)
+RESIDUAL_EVERY = 20  # default: the exact residual of every 20th move (and of every inserted point)
 
 # ISO/TR 16907 compensation types and the ISO 230-1 errors they act on (DMU 50: linear X Y Z, rotary B C)
 ISO_TYPES: dict[str, tuple[str, ...]] = {
@@ -129,33 +132,115 @@ class Compensator:
             periodic = (f.fit or {}).get("kind") == "harmonic"
             lo, hi = (-np.inf, np.inf) if periodic else (float(f.positions.min()), float(f.positions.max()))
             self._funcs.append((n, m.error_names.index(n), m.axes.index(f.axis), f, lo, hi))
+        self._plan = self._evaluation_plan()
         self.outside_counts: dict[str, int] = {}
         self.zero = not present_errors(model)
         self.clipped_b = 0
+        # scope position, first order: one generated pass gives the linear-axis step and both deviations
+        self._fused = (scope == "position" and self.iterations == 1
+                       and hasattr(self.np, "correction_first_order"))
+        self._lin = [i for i, k in enumerate(m.axis_kinds) if k == "linear"]
+        if self._fused:  # |tool-tip deviation| = |J_lin step|: = |step| where the linear axes are orthonormal
+            qs = np.random.default_rng(0).uniform(-300, 300, (16, len(m.axes)))
+            for i, lim in enumerate(m.limits):
+                if lim is not None:
+                    qs[:, i] = np.random.default_rng(i).uniform(lim[0], lim[1], 16)
+            jl = self.np.jacobian_axes(qs, self.tool_length)[:, :3, self._lin]
+            self._lin_orthonormal = bool(np.abs(np.einsum("nki,nkj->nij", jl, jl) - np.eye(3)).max() < 1e-12)
+
+    def _evaluation_plan(self) -> list[tuple]:
+        """Error functions grouped for evaluation: tables of one axis on the same positions share one search
+        (values gathered as a block), harmonic fits of one axis and period share their sines and cosines;
+        anything else is evaluated function by function.  Constants of the same names are folded in."""
+        tables: dict[tuple, list] = {}
+        harm: dict[tuple, list] = {}
+        plan: list[tuple] = []
+        for name, ei, ai, f, lo, hi in self._funcs:
+            fit = f.fit or {}
+            kind = fit.get("kind")
+            if kind in (None, "table") and len(f.positions) >= 2 and np.all(np.diff(f.positions) > 0):
+                tables.setdefault((ai, f.positions.tobytes()), []).append((name, ei, f))
+            elif kind == "harmonic":
+                harm.setdefault((ai, float(fit.get("period", 360.0))), []).append((name, ei, f))
+            else:
+                plan.append(("single", ai, [name], np.array([ei]), f, lo, hi))
+        for (ai, _), members in tables.items():
+            xp = members[0][2].positions.astype(float)
+            fp = np.array([f.values for _, _, f in members], dtype=float)  # (k, npts)
+            cols = np.array([ei for _, ei, _ in members])
+            slopes = np.diff(fp, axis=1) / np.diff(xp)
+            fp = fp + self._const[cols, None]
+            # per segment j: value = a_j + s_j x (rows a then s, one gather for both)
+            coef = np.vstack([fp[:, :-1] - slopes * xp[:-1], slopes])
+            dx = np.diff(xp)
+            step = float(dx[0]) if np.all(np.abs(dx - dx[0]) <= 1e-12 * abs(dx[0])) else 0.0  # uniform grid
+            plan.append(("table", ai, [n for n, _, _ in members], cols, xp, step, coef))
+        for (ai, period), members in harm.items():
+            nh = max(min(len(f.fit.get("cos", [])), len(f.fit.get("sin", []))) for _, _, f in members)
+            a0 = np.array([float(f.fit.get("a0", 0.0)) for _, _, f in members])
+            ca, sa = np.zeros((len(members), nh)), np.zeros((len(members), nh))
+            for r, (_, _, f) in enumerate(members):
+                h = min(len(f.fit.get("cos", [])), len(f.fit.get("sin", [])))
+                ca[r, :h], sa[r, :h] = f.fit["cos"][:h], f.fit["sin"][:h]
+            cols = np.array([ei for _, ei, _ in members])
+            plan.append(("harmonic", ai, [n for n, _, _ in members], cols, period, a0 + self._const[cols], ca, sa))
+        return plan
 
     # ------------------------------------------------------------------ errors
     def errors(self, q: np.ndarray) -> np.ndarray:
-        """Error vector (n, 41) at commanded axes (n, 5), functions as stored; outside their range: held / error."""
-        e = np.empty((len(q), len(self._const)))
-        e[:] = self._const
+        """Error vector (n, 41) at commanded axes (n, 5), functions as stored; outside their range: held / error.
+        The result is a Fortran-ordered (column-contiguous) array: the generated functions read it by column."""
+        q = np.asarray(q, dtype=float)
+        n = len(q)
+        et = np.empty((len(self._const), n))  # (41, n): rows contiguous
+        et[:] = self._const[:, None]
+        self._check_ranges(q)
+        for item in self._plan:
+            kind, ai, x = item[0], item[1], q[:, item[1]]
+            if kind == "table":  # piecewise linear, end values held (as np.interp)
+                _, _, _, cols, xp, step, coef = item
+                xc = np.clip(x, xp[0], xp[-1])
+                if step:
+                    j = ((xc - xp[0]) * (1.0 / step)).astype(np.intp)
+                else:
+                    j = np.searchsorted(xp, xc, "right") - 1
+                np.clip(j, 0, len(xp) - 2, out=j)
+                c = coef[:, j]
+                k = len(cols)
+                et[cols] = c[:k] + c[k:] * xc
+            elif kind == "harmonic":  # a0 + sum a_h cos(h w) + b_h sin(h w), multiples by recurrence
+                _, _, _, cols, period, a0, ca, sa = item
+                w = (2 * np.pi / period) * x
+                c1, s1 = np.cos(w), np.sin(w)
+                acc = a0[:, None] + (ca[:, :1] * c1 + sa[:, :1] * s1 if ca.shape[1] else 0.0)
+                ch, sh = c1, s1
+                for h in range(1, ca.shape[1]):
+                    ch, sh = ch * c1 - sh * s1, sh * c1 + ch * s1
+                    acc += ca[:, h: h + 1] * ch + sa[:, h: h + 1] * sh
+                et[cols] = acc
+            else:
+                _, _, _, cols, f, lo, hi = item
+                et[cols[0]] += f(x, "hold")
+        return et.T
+
+    def _check_ranges(self, q: np.ndarray) -> None:
+        """Counts (or refuses) axis positions outside each error function's range (one check per axis and range)."""
         checked: dict[tuple[int, float, float], int] = {}
         for name, ei, ai, f, lo, hi in self._funcs:
-            x = q[:, ai]
+            if not np.isfinite(lo):
+                continue
             key = (ai, lo, hi)
-            if key not in checked:  # one range check per axis and table range
-                checked[key] = int(np.count_nonzero((x < lo - 1e-9) | (x > hi + 1e-9))) if np.isfinite(lo) else 0
+            if key not in checked:
+                x = q[:, ai]
+                checked[key] = int(np.count_nonzero((x < lo - 1e-9) | (x > hi + 1e-9)))
             nout = checked[key]
             if nout:
                 if self.outside == "error":
+                    x = q[:, ai]
                     bad = x[(x < lo - 1e-9) | (x > hi + 1e-9)][0]
                     raise InputError(f"{self.machine.axes[ai]} = {float(bad):g} is outside the measured range "
                                      f"[{lo:g}, {hi:g}] of {name}")
                 self.outside_counts[name] = self.outside_counts.get(name, 0) + nout
-            if f.fit is None or f.fit.get("kind") in (None, "table"):
-                e[:, ei] += np.interp(x, f.positions, f.values)  # piecewise linear, end values held
-            else:
-                e[:, ei] += f(x, "hold")
-        return e
 
     # ------------------------------------------------------------------ correction
     def weight(self, q_nom: np.ndarray) -> np.ndarray:
@@ -171,17 +256,34 @@ class Compensator:
         return _smoothstep((smin - sc) / sc)
 
     def correct(self, q_nom, return_initial: bool = False):
-        """Corrected commands (n, 5) for nominal axes (n, 5); with ``return_initial`` also the uncorrected
-        pose deviation (n, 6) (first order; exact when iterations > 1)."""
+        """Corrected commands (n, 5) for nominal axes (n, 5); with ``return_initial`` also the size of the
+        uncorrected deviation (n, 2): |tool-tip deviation| (mm) and |tool-axis deviation| (rad), first order
+        (exact when iterations > 1)."""
         q_nom = np.asarray(q_nom, dtype=float)
         single = q_nom.ndim == 1
         q_nom = np.atleast_2d(q_nom)
         out = np.empty_like(q_nom)
-        dev0 = np.empty((len(q_nom), 6))
+        dev0 = np.empty((len(q_nom), 2))
         e0 = None if self.zero else self.errors(q_nom)  # once for all blocks (fewer interpolation calls)
-        for s in range(0, len(q_nom), BLOCK):
-            out[s: s + BLOCK], dev0[s: s + BLOCK] = self._correct_block(
-                q_nom[s: s + BLOCK], None if e0 is None else e0[s: s + BLOCK])
+        if self._fused and not self.zero:
+            qf = np.asfortranarray(q_nom)  # the generated code reads columns
+            out[:] = q_nom
+            for s in range(0, len(q_nom), BLOCK):
+                qb = qf[s: s + BLOCK]
+                r = self.np.correction_first_order(qb, e0[s: s + BLOCK], self.tool_length)
+                step = r[:, :3]
+                out[s: s + BLOCK, self._lin] += step
+                if not self._lin_orthonormal:
+                    step = np.einsum("nij,nj->ni", self.np.jacobian_axes(qb, self.tool_length)[:, :3, self._lin],
+                                     step)
+                dev0[s: s + BLOCK, 0] = np.sqrt(np.einsum("ij,ij->i", step, step))
+                dev0[s: s + BLOCK, 1] = np.sqrt(np.einsum("ij,ij->i", r[:, 3:], r[:, 3:]))
+        else:
+            for s in range(0, len(q_nom), BLOCK):
+                out[s: s + BLOCK], d = self._correct_block(
+                    q_nom[s: s + BLOCK], None if e0 is None else e0[s: s + BLOCK])
+                dev0[s: s + BLOCK, 0] = np.linalg.norm(d[:, :3], axis=1)
+                dev0[s: s + BLOCK, 1] = np.linalg.norm(d[:, 3:], axis=1)
         if single:
             out, dev0 = out[0], dev0[0]
         return (out, dev0) if return_initial else out
@@ -332,6 +434,17 @@ def example_model(machine: Machine | None = None, seed: int = 6) -> ErrorModel:
 
 
 # ---------------------------------------------------------------------------------------------- NC programs
+def _read_blocks(fin, size: int):
+    """("text", block, lines, characters) for blocks of whole lines of about ``size`` characters."""
+    while True:
+        text = fin.read(size)
+        if not text:
+            return
+        if text[-1] != "\n":  # complete the last line (also a CR LF cut after the CR)
+            text += fin.readline()
+        yield "text", text, gcode.count_lines(text), len(text)
+
+
 @dataclass
 class Report:
     """What a compensation run did and the predicted (model) accuracy of the written commands."""
@@ -342,32 +455,49 @@ class Report:
     lines_inserted: int = 0
     subdivided_moves: int = 0
     uncompensated_rapids: list[int] = field(default_factory=list)
-    position: Stats = field(default_factory=Stats)       # |tool-tip residual|, mm
+    position: Stats = field(default_factory=Stats)       # |tool-tip residual|, mm (exact model, evaluated points)
     orientation: Stats = field(default_factory=Stats)    # tool-axis residual, rad (controllable points)
     orientation_all: Stats = field(default_factory=Stats)
-    before_position: Stats = field(default_factory=Stats)
+    before_position: Stats = field(default_factory=Stats)     # first order, every move
     before_orientation: Stats = field(default_factory=Stats)
     mid_position: Stats = field(default_factory=Stats)   # mid-segment residual of feed moves (after subdivision)
     mid_bounded: int = 0  # feed moves whose mid-segment error is below the tolerance by the Lipschitz bound
     in_cone: int = 0
     blended: int = 0
     max_c_correction: float = 0.0
+    residual_every: int = 1  # the exact residual is evaluated on every k-th move (and every inserted point)
+
+    def residual_evaluated_on(self) -> str:
+        if self.residual_every <= 1:
+            return "all moves"
+        return f"every {self.residual_every}th move (and every point of a subdivided move)"
 
 
 class ProgramCompensator:
-    """Streams an NC program (G-code or CL data) through a Compensator, chunk by chunk (memory stays flat)."""
+    """Streams an NC program (G-code or CL data) through a Compensator, block by block (memory stays flat).
+
+    G-code blocks of whole lines take a vectorised byte-level path (``gcode.scan_block`` / ``render_block``) when
+    their meaning is plain (absolute mm coordinates, G0/G1, comments, other words passed through), else the general
+    line-piece path (``gcode.parse_chunk``); both write the same bytes.  The exact error-inclusive residual of what is
+    written is evaluated on every ``residual_every``-th move (counted through the whole program, so the sample does
+    not depend on the block size) and on every point of a subdivided move; the uncompensated deviation (first order)
+    on every move."""
 
     def __init__(self, comp: Compensator, tolerance: float = 0.001, precision: int | None = None,
                  chunk_lines: int = 20000, max_subdivisions: int = 256,
-                 progress: Callable[[int, int], None] | None = None):
+                 progress: Callable[[int, int], None] | None = None, residual_every: int = RESIDUAL_EVERY):
         self.comp = comp
         self.tolerance = float(tolerance)
         p = 4 if precision is None else int(precision)
         self.min_decimals = (p, p + 1, p)  # mm, inch, deg
         self.chunk_lines = int(chunk_lines)
+        self.chunk_chars = max(1024, 48 * self.chunk_lines)  # G-code blocks: about chunk_lines lines
         self.max_sub = int(max_subdivisions)
         self.progress = progress
-        self.report = Report()
+        if int(residual_every) < 1:
+            raise InputError(f"residual_every must be >= 1, got {residual_every}")
+        self.report = Report(residual_every=int(residual_every))
+        self.fast = True  # byte-level path for plain blocks (False: every block through parse_chunk)
 
     # ---------------------------------------------------------------- driver
     def run(self, src: str | os.PathLike, dst: str | os.PathLike, kind: str = "auto") -> Report:
@@ -379,30 +509,37 @@ class ProgramCompensator:
         total = src.stat().st_size
         dst.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{dst.name}.", dir=dst.parent)
+        enc = gcode.ENCODING
         try:
-            with open(src, encoding=gcode.ENCODING, newline="") as fin, \
-                    os.fdopen(fd, "w", encoding=gcode.ENCODING, newline="") as fout:
+            with open(src, encoding=enc, newline="") as fin, os.fdopen(fd, "wb") as fout:
                 self._state = gcode.ModalState()
                 self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
                 self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
-                self._src, self._done = str(src), 0
-                if kind == "cl":
-                    fout.write(f"%\n(mtcal compensate: CL data {src.name}, scope {self.comp.scope})\nG90 G21\n")
-                    self._first_cl = True
+                self._src, self._done, self._moves_seen = str(src), 0, 0
                 first = 1
-                while True:
-                    lines = list(itertools.islice(fin, self.chunk_lines))
-                    if not lines:
-                        break
-                    out = self._gcode_chunk(lines, first) if kind == "gcode" else self._cl_chunk(lines, first)
-                    fout.write(out)
-                    first += len(lines)
-                    self.report.lines += len(lines)
-                    self._done += sum(map(len, lines))
-                    if self.progress:
-                        self.progress(self._done, total)
                 if kind == "cl":
-                    fout.write("M30\n%\n")
+                    fout.write(f"%\n(mtcal compensate: CL data {src.name}, scope {self.comp.scope})\nG90 G21\n"
+                               .encode(enc))
+                    self._first_cl = True
+                    while True:
+                        lines = list(itertools.islice(fin, self.chunk_lines))
+                        if not lines:
+                            break
+                        fout.write(self._cl_chunk(lines, first).encode(enc))
+                        first += len(lines)
+                        self.report.lines += len(lines)
+                        self._done += sum(map(len, lines))
+                        if self.progress:
+                            self.progress(self._done, total)
+                    fout.write(b"M30\n%\n")
+                else:
+                    for _, text, n, size in _read_blocks(fin, self.chunk_chars):
+                        fout.write(self._gcode_block(text, first))
+                        first += n
+                        self.report.lines += n
+                        self._done += size
+                        if self.progress:
+                            self.progress(self._done, total)
             os.replace(tmp, dst)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
@@ -410,12 +547,30 @@ class ProgramCompensator:
         return self.report
 
     # ---------------------------------------------------------------- G-code
+    def _gcode_block(self, text: str, first: int) -> bytes:
+        """Output bytes of a block of whole lines: the byte-level path when the block is plain, else by lines."""
+        blk = gcode.scan_block(text, self._state, first, self.min_decimals) if self.fast else None
+        if blk is None:
+            return self._gcode_chunk(io.StringIO(text, newline="").readlines(), first).encode(gcode.ENCODING)
+        out = self._compensate_rows(blk, first)
+        if out is None:
+            return blk.buf.tobytes()
+        return self._render_fast(blk, *out)
+
     def _gcode_chunk(self, lines: list[str], first: int, exact: np.ndarray | None = None) -> str:
+        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, self.comp.machine.name)
+        out = self._compensate_rows(ch, first, exact)
+        if out is None:
+            return "".join(lines)
+        return self._render(ch, *out)
+
+    def _compensate_rows(self, ch, first: int, exact: np.ndarray | None = None):
+        """Corrected, rounded commands of the motion rows of a parsed chunk or block, the subdivisions and the
+        report figures: (units, written mm, known, subdivisions, scale, 10**decimals), None without rows."""
         comp, rep = self.comp, self.report
-        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, comp.machine.name)
         m = len(ch.rows)
         if m == 0:
-            return "".join(lines)
+            return None
         if exact is not None:  # CL data: the nominal axes from the inverse kinematics, unrounded
             ch.axes[:] = exact
         rep.moves += m
@@ -436,21 +591,31 @@ class ProgramCompensator:
                                  "(program every linear axis before the first G1)")
             rep.uncompensated_rapids.extend((first + ch.rows[unknown]).tolist())
         known = ~unknown
-        scale = np.where(ch.inch[:, None] & gcode.LINEAR, gcode.INCH, 1.0)
-        f = 10.0 ** ch.decimals
+        all_known = bool(known.all())
+        if ch.inch.any():
+            scale = np.where(ch.inch[:, None] & gcode.LINEAR, gcode.INCH, 1.0)
+        else:
+            scale = np.ones((m, 5))
+        f = _P10[ch.decimals] if ch.decimals.max() < len(_P10) else 10.0 ** ch.decimals
         # corrected commands, rounded as written (program units), back in mm/deg
-        q_cmd = q_nom.copy()
-        if known.any():
-            q_cmd[known], dev0 = comp.correct(q_nom[known], return_initial=True)
-            rep.before_position.add(np.linalg.norm(dev0[:, :3], axis=1))
-            rep.before_orientation.add(np.linalg.norm(dev0[:, 3:], axis=1))
-        units = np.round(q_cmd / scale * f) / f + 0.0
-        units[unknown] = q_nom[unknown] / scale[unknown]  # passed through as programmed
-        q_w = units * scale
+        if all_known:
+            q_cmd, dev0 = comp.correct(q_nom, return_initial=True)
+        else:
+            q_cmd = q_nom.copy()
+            dev0 = np.zeros((0, 2))
+            if known.any():
+                q_cmd[known], dev0 = comp.correct(q_nom[known], return_initial=True)
+        rep.before_position.add(dev0[:, 0])
+        rep.before_orientation.add(dev0[:, 1])
+        mm = not ch.inch.any()  # scale 1: the same numbers without the divisions
+        units = (np.round(q_cmd * f) if mm else np.round(q_cmd / scale * f)) / f + 0.0
+        if not all_known:
+            units[unknown] = q_nom[unknown] / scale[unknown]  # passed through as programmed
+        q_w = units.copy() if mm else units * scale
         # a word missing from a block is only added when the correction moves that axis by half a digit or more
         # from what the machine holds; otherwise the held value stays (also across G20/G21 rounding)
         prev = np.vstack([self._prev_mm[None], q_w[:-1]])
-        hold = ~ch.present & known[:, None] & (np.abs(q_cmd - prev) <= 0.5 / f * scale)
+        hold = ~ch.present & known[:, None] & (np.abs(q_cmd - prev) <= (0.5 / f if mm else 0.5 / f * scale))
         if hold.any():
             q_w[hold] = np.nan
             filled = np.vstack([self._prev_mm[None], q_w])
@@ -461,21 +626,28 @@ class ProgramCompensator:
         self._hold = hold
         # subdivision of feed moves whose mid-segment error exceeds the tolerance
         subs = self._subdivide(ch, q_nom, q_w, known, scale, f)
-        # residual of everything written
-        pts_w = [q_w[known]] + [s[1] for s in subs.values()]
-        pts_n = [q_nom[known]] + [s[0] for s in subs.values()]
-        qw, qn = np.concatenate(pts_w), np.concatenate(pts_n)
+        # residual of what is written: every k-th move (global count) and every inserted point
+        k = rep.residual_every
+        kn = np.flatnonzero(known)
+        ev = kn if k == 1 else kn[(self._moves_seen + np.arange(len(kn))) % k == 0]
+        self._moves_seen += len(kn)
+        qw = np.concatenate([q_w[ev]] + [s[1] for s in subs.values()])
+        qn = np.concatenate([q_nom[ev]] + [s[0] for s in subs.values()])
         if len(qw):
             dp, ang = comp.residual(qw, qn)
-            rep.position.add(np.linalg.norm(dp, axis=1))
+            rep.position.add(np.sqrt(np.einsum("ij,ij->i", dp, dp)))
             rep.orientation_all.add(ang)
-            if comp.scope == "full":
-                w = comp.weight(qn)
+        if comp.scope == "full" and (len(kn) or subs):
+            qw_all = np.concatenate([q_w[kn]] + [s[1] for s in subs.values()])
+            qn_all = np.concatenate([q_nom[kn]] + [s[0] for s in subs.values()])
+            w_all = comp.weight(qn_all)
+            rep.in_cone += int((w_all <= 0).sum())
+            rep.blended += int(((w_all > 0) & (w_all < 1)).sum())
+            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, 4] - qn_all[:, 4]).max()))
+            if len(qw):
+                w = w_all if k == 1 else comp.weight(qn)
                 rep.orientation.add(ang[w >= 1])
-                rep.in_cone += int((w <= 0).sum())
-                rep.blended += int(((w > 0) & (w < 1)).sum())
-                rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw[:, 4] - qn[:, 4]).max()))
-        return self._render(ch, units, q_w, known, subs, scale, f)
+        return units, q_w, known, subs, scale, f
 
     def _subdivide(self, ch, q_nom, q_w, known, scale, f) -> dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """{row: (nominal (n, 5), written mm (n, 5), written units (n, 5))} for feed moves split into n pieces
@@ -500,22 +672,40 @@ class ProgramCompensator:
         err = np.linalg.norm(dp, axis=1)
         over = err > self.tolerance
         rep.mid_position.add(err[~over])
-        for r, e in zip(idx[over].tolist(), err[over].tolist()):
-            n = int(min(self.max_sub, max(2, np.ceil(np.sqrt(e / self.tolerance)) + 1)))
-            for _ in range(6):
-                t = (np.arange(1, n + 1) / n)[:, None]
-                sn = prev_n[r] + t * (q_nom[r] - prev_n[r])
-                sc = comp.correct(sn)
-                su = np.round(sc / scale[r] * f[r]) / f[r] + 0.0
-                su[-1] = q_w[r] / scale[r]  # the row's own point, as already rounded
-                sw = su * scale[r]
-                an = np.vstack([prev_n[r], sn[:-1]])
-                aw = np.vstack([prev_w[r], sw[:-1]])
-                dpm, _ = comp.residual((aw + sw) / 2, (an + sn) / 2)
-                em = np.linalg.norm(dpm, axis=1)
-                if em.max() <= self.tolerance or n >= self.max_sub:
-                    break
-                n = min(self.max_sub, 2 * n)
+        # split moves: all moves of a round evaluated together; a move is done when its mid-segment errors are
+        # within the tolerance, at max_subdivisions or after 6 rounds (then n doubles)
+        rows = idx[over]
+        ns = np.minimum(self.max_sub, np.maximum(2, np.ceil(np.sqrt(err[over] / self.tolerance)) + 1)).astype(np.int64)
+        done: dict[int, tuple] = {}
+        for round_ in range(6):
+            if not len(rows):
+                break
+            mi = np.repeat(np.arange(len(rows)), ns)  # move of each piece
+            first = np.cumsum(ns) - ns
+            k = np.arange(len(mi)) - first[mi] + 1
+            t = (k / ns[mi])[:, None]
+            a, b = prev_n[rows][mi], q_nom[rows][mi]
+            sn = a + t * (b - a)
+            sc = comp.correct(sn)
+            sc_scale, sc_f = scale[rows][mi], f[rows][mi]
+            su = np.round(sc / sc_scale * sc_f) / sc_f + 0.0
+            last = first + ns - 1
+            su[last] = q_w[rows] / scale[rows]  # the row's own point, as already rounded
+            sw = su * sc_scale
+            an = np.empty_like(sn)
+            aw = np.empty_like(sw)
+            an[1:], aw[1:] = sn[:-1], sw[:-1]
+            an[first], aw[first] = prev_n[rows], prev_w[rows]
+            dpm, _ = comp.residual((aw + sw) / 2, (an + sn) / 2)
+            em = np.sqrt(np.einsum("ij,ij->i", dpm, dpm))
+            emax = np.maximum.reduceat(em, first)
+            fin = (emax <= self.tolerance) | (ns >= self.max_sub) | (round_ == 5)
+            for j in np.flatnonzero(fin).tolist():
+                sl = slice(int(first[j]), int(first[j] + ns[j]))
+                done[int(rows[j])] = (em[sl], sn[sl], sw[sl], su[sl])
+            rows, ns = rows[~fin], np.minimum(self.max_sub, 2 * ns[~fin])
+        for r in sorted(done):
+            em, sn, sw, su = done[r]
             rep.mid_position.add(em)
             rep.subdivided_moves += 1
             subs[r] = (sn[:-1], sw[:-1], su)
@@ -556,46 +746,106 @@ class ProgramCompensator:
         # incremental rows and subdivided moves: row by row
         Pm = prev_mm.tolist() if rows_slow else []
         HOLD = self._hold.tolist() if rows_slow else []
-        F = gcode.fmt
         for r in rows_slow:
             line = ch.lines[int(ch.rows[r])]
-            sep = " " if " " in line else ""
-            pts = [U[r]] if r not in subs else subs[r][2].tolist()
-            dec, absolute = D[r], bool(ch.absolute[r])
-            sc = scale[r].tolist()
-            ref = [v / s for v, s in zip(Pm[r], sc)]  # previous written point in this row's units
-            first_pt = pts[0]
-            new, add = {}, []
-            pres, g = ch.present[r].tolist(), ch.given[r].tolist()
-            for a in range(5):
-                v = first_pt[a] if absolute else first_pt[a] - ref[a]
-                if v != v:  # NaN: axis not known (uncompensated rapid)
-                    continue
-                v = round(v, dec[a]) + 0.0
-                if pres[a]:
-                    if abs(v - round(g[a], dec[a])) > 0.5 * 10.0 ** -dec[a]:
-                        new[a] = F(v, dec[a])
-                elif r in subs:  # the first piece of a split move: add what differs from the held value
-                    if abs(first_pt[a] - ref[a]) > 0.5 * 10.0 ** -dec[a]:
-                        add.append((a, F(v, dec[a])))
-                elif not HOLD[r][a] and (absolute or v != 0):
-                    add.append((a, F(v, dec[a])))
-            cont, last = [], first_pt
-            for p in pts[1:]:
-                words = []
-                for a in range(5):
-                    if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
-                        v = p[a] if absolute else p[a] - last[a]
-                        words.append(f"{gcode.AXES[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
-                last = p
-                if words:
-                    cont.append((sep or " ").join(words))
+            new, add, cont, sep = self._slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs)
             if new or add or cont:
                 gcode.edit(ch, r, new, add, sep, cont)
                 rep.lines_changed += 1
                 rep.lines_inserted += len(cont)
         self._prev_mm = q_w[-1].copy()
         return "".join(pieces)
+
+    @staticmethod
+    def _slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs):
+        """Words of an incremental row or a subdivided move, row by row: (new numbers {axis: text}, added words,
+        continuation lines, separator)."""
+        F = gcode.fmt
+        sep = " " if " " in line else ""
+        pts = [U[r]] if r not in subs else subs[r][2].tolist()
+        dec, absolute = D[r], bool(ch.absolute[r])
+        sc = scale[r].tolist()
+        ref = [v / s for v, s in zip(Pm[r], sc)]  # previous written point in this row's units
+        first_pt = pts[0]
+        new, add = {}, []
+        pres, g = ch.present[r].tolist(), ch.given[r].tolist()
+        for a in range(5):
+            v = first_pt[a] if absolute else first_pt[a] - ref[a]
+            if v != v:  # NaN: axis not known (uncompensated rapid)
+                continue
+            v = round(v, dec[a]) + 0.0
+            if pres[a]:
+                if abs(v - round(g[a], dec[a])) > 0.5 * 10.0 ** -dec[a]:
+                    new[a] = F(v, dec[a])
+            elif r in subs:  # the first piece of a split move: add what differs from the held value
+                if abs(first_pt[a] - ref[a]) > 0.5 * 10.0 ** -dec[a]:
+                    add.append((a, F(v, dec[a])))
+            elif not HOLD[r][a] and (absolute or v != 0):
+                add.append((a, F(v, dec[a])))
+        cont, last = [], first_pt
+        for p in pts[1:]:
+            words = []
+            for a in range(5):
+                if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
+                    v = p[a] if absolute else p[a] - last[a]
+                    words.append(f"{gcode.AXES[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
+            last = p
+            if words:
+                cont.append((sep or " ").join(words))
+        return new, add, cont, sep
+
+    def _render_fast(self, blk, units, q_w, known, subs, scale, f) -> bytes:
+        """Output bytes of a block (byte-level path): the same edits as ``_render``, changed numbers written from
+        integer digits in one go, lines with added words or inserted pieces rewritten as text."""
+        rep = self.report
+        given_r = np.round(blk.given * f) / f
+        kn = known[:, None]
+        changed = blk.present & (units != given_r) & kn
+        added = ~blk.present & kn & ~self._hold & ~np.isnan(q_w)
+        add_rows = added.any(axis=1)
+        need = changed.any(axis=1) | add_rows
+        sub_rows = np.zeros(len(units), dtype=bool)
+        if subs:
+            sub_rows[list(subs)] = True
+        special = add_rows | sub_rows
+        rep.lines_changed += int((need & ~sub_rows).sum())
+        num_text = []
+        cells = changed
+        if special.any():
+            cells = changed & ~special[:, None]
+        flat = np.flatnonzero(cells.ravel())
+        if len(flat):
+            dec, idx = blk.decimals.ravel()[flat], blk.numidx.ravel()[flat]
+            kval = np.rint(units.ravel()[flat] * f.ravel()[flat]).astype(np.int64)  # the digits '%.{d}f' writes
+            d0, d1 = int(dec.min()), int(dec.max())
+            for d in range(d0, d1 + 1):
+                sel = slice(None) if d0 == d1 else dec == d
+                if d0 == d1 or sel.any():
+                    txt, ln = gcode.format_fixed(kval[sel], d)
+                    num_text.append((idx[sel], txt, ln))
+        line_text: dict[int, str] = {}
+        rows_special = np.flatnonzero(special).tolist()
+        if rows_special:
+            U, D = units.tolist(), blk.decimals.tolist()
+            prev_mm = np.vstack([self._prev_mm[None], q_w[:-1]])
+            Pm, HOLD = prev_mm.tolist(), self._hold.tolist()
+            for r in rows_special:
+                li = int(blk.rows[r])
+                line = blk.line(li)
+                if r in subs:
+                    new, add, cont, sep = self._slow_row(blk, r, line, U, D, Pm, HOLD, scale, subs)
+                    if not (new or add or cont):
+                        continue
+                    rep.lines_changed += 1
+                    rep.lines_inserted += len(cont)
+                else:
+                    d, u = D[r], U[r]
+                    new = {a: "%.*f" % (d[a], u[a]) for a in np.flatnonzero(changed[r]).tolist()}
+                    add = [(a, "%.*f" % (d[a], u[a])) for a in np.flatnonzero(added[r]).tolist()]
+                    cont, sep = None, " " if " " in line else ""
+                line_text[li] = gcode.edit_line(line, blk.code_line(li), new, add, sep, cont)
+        self._prev_mm = q_w[-1].copy()
+        return gcode.render_block(blk, num_text, line_text)
 
     # ---------------------------------------------------------------- CL data
     def _cl_chunk(self, lines: list[str], first: int) -> str:

@@ -371,3 +371,418 @@ def read_moves(path, chunk_lines: int = 20000) -> np.ndarray:
             out.append(ch.axes[np.isfinite(ch.axes).all(axis=1)])
             first += len(lines)
     return np.concatenate(out) if out else np.zeros((0, 5))
+
+
+# ---------------------------------------------------------------------------------------------- fast path
+# A block of whole lines is scanned at the byte level with NumPy: letters, the numbers after them and the line of
+# each are found with a few vectorised passes, numbers are converted from their digits (exactly: an integer
+# mantissa of <= 15 digits over a power of ten is the correctly rounded value, as float() gives), and the output is
+# assembled from the input bytes and the new numbers with one gather.  Only blocks whose meaning is plain take this
+# path: absolute mm coordinates (G90/G21 as the state already is), G0/G1 and the G codes that do not change how
+# coordinates are read, comments, any other words.  Everything else (G91, G20, G28, G4, arcs, unsupported words,
+# lone CR line ends, numbers of more than 15 digits, ...) makes ``scan_block`` return None and the block goes
+# through ``parse_chunk`` (which also raises the errors), so both paths give the same result.
+# byte codes: 0-9 digit value, 10 dot, 11 minus, 22 plus, 12 blank, 13-17 axis letter X Y Z B C (either case), 18 G,
+# 19 other letter, 20 a character that cannot be compensated (parse_chunk names it), 23 line feed, 21 anything else
+_V = np.full(256, 21, dtype=np.uint8)
+for _c in range(256):
+    _ch = chr(_c)
+    if "0" <= _ch <= "9":
+        _V[_c] = _c - 48
+    elif _ch == ".":
+        _V[_c] = 10
+    elif _ch == "-":
+        _V[_c] = 11
+    elif _ch == "+":
+        _V[_c] = 22
+    elif _ch in " \t":
+        _V[_c] = 12
+    elif _ch.upper() in AXES and _ch.isascii():
+        _V[_c] = 13 + AXES.index(_ch.upper())
+    elif _ch in "Gg":
+        _V[_c] = 18
+    elif _ch in _SUSPECT:
+        _V[_c] = 20
+    elif _ch.isascii() and _ch.isalpha():
+        _V[_c] = 19
+    elif _ch == "\n":
+        _V[_c] = 23
+_V_TABLE = bytes(_V.tolist())
+_P10 = 10.0 ** np.arange(23)
+_PASS_G_ARR = np.array(sorted(_PASS_G))
+_PAD = 48  # bytes after a block: two 8-byte words past any letter and its blanks
+_PAD_BYTES = bytes([21]) * _PAD  # codes past the end: "anything else"
+
+
+@dataclass
+class Block:
+    """A block of whole lines parsed by ``scan_block``: the attributes of ``Chunk`` used for the numerics (rows,
+    axes, present, given, decimals, motion, absolute, inch) and what ``render_block`` needs to write it."""
+
+    buf: np.ndarray                      # the block's bytes (latin-1)
+    code: np.ndarray                     # the same with comments blanked
+    first_line: int
+    line_start: np.ndarray               # (n_lines + 1,) byte offset of each line, then len(buf)
+    num_start: np.ndarray                # (k,) byte span of each axis number (sign included, blanks before not)
+    num_end: np.ndarray
+    numidx: np.ndarray                   # (m, 5) index into num_start/num_end, -1 if the word is absent
+    rows: np.ndarray                     # (m,) line index of each motion row
+    axes: np.ndarray
+    present: np.ndarray
+    given: np.ndarray
+    decimals: np.ndarray
+    motion: np.ndarray
+    absolute: np.ndarray
+    inch: np.ndarray
+
+    @property
+    def n_lines(self) -> int:
+        return len(self.line_start) - 1
+
+    def line(self, i: int) -> str:
+        return self.buf[int(self.line_start[i]): int(self.line_start[i + 1])].tobytes().decode(ENCODING)
+
+    def code_line(self, i: int) -> str:
+        return self.code[int(self.line_start[i]): int(self.line_start[i + 1])].tobytes().decode(ENCODING)
+
+
+def count_lines(text: str) -> int:
+    """Lines of a text as a file object with newline='' splits it (LF, CRLF and lone CR end a line)."""
+    if not text:
+        return 0
+    n = text.count("\n") + text.count("\r") - text.count("\r\n")
+    return n + (text[-1] not in "\r\n")
+
+
+def _comment_spans(text: str) -> list[tuple[int, int]]:
+    """Spans of the comments ``_COMMENT`` matches, found with str.find (the regex scan costs ~6 ns a character)."""
+    spans: list[tuple[int, int]] = []
+    n, i = len(text), 0
+    find = text.find
+    a, b = find("("), find(";")
+    while a >= 0 or b >= 0:
+        if b < 0 or 0 <= a < b:  # ( ... ) or ( ... to the line end
+            e = find("\n", a)
+            e = n if e < 0 else e
+            c = find(")", a, e)
+            end = c + 1 if c >= 0 else e
+            spans.append((a, end))
+        else:  # ; ... to the line end
+            e = find("\n", b)
+            end = n if e < 0 else e
+            spans.append((b, end))
+        i = end
+        if a >= 0 and a < i:
+            a = find("(", i)
+        if b >= 0 and b < i:
+            b = find(";", i)
+    return spans
+
+
+_U1, _U7, _U8, _U16, _U32 = (np.uint64(k) for k in (1, 7, 8, 16, 32))
+_M80 = np.uint64(0x8080808080808080)
+_M01 = np.uint64(0x0101010101010101)
+_M0A = np.uint64(0x0A0A0A0A0A0A0A0A)
+_M75 = np.uint64(0x7575757575757575)
+_LO8 = np.uint64(0x00FF00FF00FF00FF)
+_LO16 = np.uint64(0x0000FFFF0000FFFF)
+_LO32 = np.uint64(0x00000000FFFFFFFF)
+_KEEP = np.array([(1 << (8 * r)) - 1 for r in range(9)], dtype=np.uint64)  # the low r bytes
+_P10I = 10 ** np.arange(20, dtype=np.uint64)
+
+
+def _word(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Eight byte codes at a time (uint64, byte 0 first): (run, ndot, dotpos, xn) with run the leading number
+    bytes (digits and points; 8 = all eight), ndot the points among them, dotpos the first one's index (8 if none)
+    and xn the number's bytes, later bytes 0 (SWAR: a few integer operations for all eight bytes)."""
+    nonnum = (x + _M75) & _M80  # high bit of each byte > 10
+    run = np.bitwise_count((nonnum & (~nonnum + _U1)) - _U1) >> 3
+    xn = x & _KEEP[run]
+    y = xn ^ _M0A
+    dotf = (y - _M01) & ~y & _M80  # exact: the point is the only 0 byte of y and no byte of y is 1
+    ndot = np.bitwise_count(dotf)
+    dotpos = np.bitwise_count((dotf & (~dotf + _U1)) - _U1) >> 3
+    return run, ndot, dotpos, xn
+
+
+def _horner8(x: np.ndarray) -> np.ndarray:
+    """sum of byte c times 10**(7 - c) (bytes 0-9)."""
+    x = (x & _LO8) * np.uint64(10) + ((x >> _U8) & _LO8)
+    x = (x & _LO16) * np.uint64(100) + ((x >> _U16) & _LO16)
+    return (x & _LO32) * np.uint64(10000) + (x >> _U32)
+
+
+def _numbers(v: np.ndarray, words: np.ndarray, start: np.ndarray, signed: bool) -> tuple | None:
+    """Numbers starting at byte offsets ``start`` (``v``: byte codes, padded; ``words``: the same as unaligned
+    uint64, element i = bytes i..i+7): (value, decimals, end), or None when one is not a plain decimal of <= 15
+    characters (a sign only if ``signed``).
+
+    Exact: with the point taken out, the digits read as an integer h = mantissa * 10**(8 - digits) < 2**53, so
+    h / 10**(8 - digits + decimals) is the correctly rounded value, as float() gives."""
+    vs = v[start]
+    neg = vs == 11
+    sign = neg | (vs == 22)
+    if not signed and sign.any():
+        return None
+    body = start + sign
+    n = len(start)
+    run, ndot, dotpos, xn = _word(words[body])
+    keep = _KEEP[dotpos]  # take the point out: the bytes after it move down one
+    xn = (xn & keep) | ((xn >> _U8) & ~keep)
+    h = _horner8(xn).astype(np.float64)
+    expo = np.full(n, 8, dtype=np.int64)
+    over = np.flatnonzero(run == 8)
+    if len(over):  # eight number bytes and more: the next word too (exact in integers)
+        r0, d0, p0 = run[over], ndot[over], dotpos[over]
+        r1, d1, p1, x1 = _word(words[body[over] + 8])
+        x0 = words[body[over]]
+        x0 = x0 & _KEEP[np.minimum(r0, 8)]
+        in0 = d0 > 0
+        k0 = _KEEP[p0]
+        x0p = np.where(in0, (x0 & k0) | ((x0 >> _U8) & ~k0) | (x1 << np.uint64(56)), x0)
+        k1 = _KEEP[p1]
+        x1p = np.where(in0, x1 >> _U8, (x1 & k1) | ((x1 >> _U8) & ~k1))
+        hi = _horner8(x0p) * np.uint64(10**8) + _horner8(x1p)  # mantissa * 10**(16 - digits)
+        run[over] = r0 + r1
+        ndot[over] = d0 + d1
+        dotpos[over] = np.where(in0, p0, 8 + p1)
+        dig = (r0 + r1).astype(np.int64) - (d0 + d1)
+        if (dig < 1).any() or (dig > 15).any():
+            return None
+        h[over] = (hi // _P10I[16 - dig]).astype(np.float64)
+        expo[over] = dig  # h is the mantissa there
+    run = run.astype(np.int64)
+    ndot = ndot.astype(np.int64)
+    if n and (ndot.max() > 1 or run.max() > 15 or (run - ndot).min() < 1):
+        return None
+    dec = np.where(ndot > 0, run - dotpos.astype(np.int64) - 1, 0)
+    val = h / _P10[expo - (run - ndot) + dec]
+    if neg.any():
+        val = np.where(neg, -val, val)
+    return val, dec, body + run
+
+
+def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tuple[int, int, int] = (4, 5, 4)
+               ) -> Block | None:
+    """Parse a block of whole lines on the fast path, or None if it needs ``parse_chunk`` (see above).  ``state``
+    is advanced only when a Block is returned."""
+    if not state.absolute or state.inch or not text:
+        return None
+    if "\r" in text and text.count("\r") != text.count("\r\n"):
+        return None  # lone CR line ends
+    raw = text.encode(ENCODING)
+    L = len(raw)
+    buf = np.frombuffer(raw, dtype=np.uint8)
+    if "(" in text or ";" in text:
+        spans = np.array(_comment_spans(text), dtype=np.int64).reshape(-1, 2)
+        mark = np.zeros(L + 1, dtype=np.int8)
+        mark[spans[:, 0]] += 1
+        mark[spans[:, 1]] -= 1
+        code_b = buf.copy()
+        code_b[np.cumsum(mark[:-1], dtype=np.int8) > 0] = 32
+        craw = code_b.tobytes()
+    else:
+        code_b, craw = buf, raw
+    vraw = craw.translate(_V_TABLE)
+    if b"\x14" in vraw:
+        return None  # words that cannot be compensated: parse_chunk names them
+    vpad = vraw + _PAD_BYTES
+    v = np.frombuffer(vpad, dtype=np.uint8)
+    words = np.ndarray((len(vpad) - 7,), dtype="<u8", buffer=vpad, strides=(1,))
+    vl = v[:L]
+    sel = np.flatnonzero(((vl - np.uint8(13)) <= 6) | (vl == 23))  # letters and line feeds
+    isnl = v[sel] == 23
+    line_no = np.cumsum(isnl)  # of a letter: its line
+    nl = sel[isnl]
+    line_start = np.empty(len(nl) + 1 + (raw[-1] != 10), dtype=np.int64)
+    line_start[0] = 0
+    line_start[1: len(nl) + 1] = nl + 1
+    line_start[-1] = L
+    isl = ~isnl
+    pos = sel[isl]
+    line_no = line_no[isl]
+    nxt = pos + 1
+    vn = v[nxt]
+    blank = vn == 12
+    while blank.any():  # blanks between a letter and its number
+        nxt += blank
+        vn = v[nxt]
+        blank = vn == 12
+    if ((vn - np.uint8(13)) <= 7).any():
+        return None  # two letters in a row: an unsupported word
+    lc = v[pos]
+    # G words
+    gsel = lc == 18
+    motion_line = None
+    if gsel.any():
+        g = _numbers(v, words, nxt[gsel], False)
+        if g is None:
+            return None
+        gv = g[0]
+        is_motion = (gv == 0) | (gv == 1)
+        # G90 / G21: the state already; G4 (dwell: its X is a time) goes the general way
+        ok = (is_motion | np.isin(gv, _PASS_G_ARR) | (gv == 90) | (gv == 21)) & (gv != 4)
+        if not ok.all():
+            return None
+        if is_motion.any():
+            motion_line = line_no[gsel][is_motion]
+            motion_val = gv[is_motion].astype(np.int64)
+    asel = lc <= 17
+    apos = pos[asel]
+    nstart = nxt[asel]
+    nums = _numbers(v, words, nstart, True)
+    if nums is None:
+        return None
+    vals, decs, nend = nums
+    axi = lc[asel] - np.uint8(13)
+    line_of = line_no[asel]
+    k = len(apos)
+    newrow = np.empty(k, dtype=bool)
+    newrow[:1] = True
+    np.not_equal(line_of[1:], line_of[:-1], out=newrow[1:])
+    rows = line_of[newrow]
+    m = len(rows)
+    cell = (np.cumsum(newrow) - 1) * 5 + axi
+    present = np.zeros(m * 5, dtype=bool)
+    present[cell] = True
+    if np.count_nonzero(present) != k:
+        return None  # an axis twice on one line: parse_chunk refuses it
+    present = present.reshape(m, 5)
+    given = np.full(m * 5, np.nan)
+    given[cell] = vals
+    given = given.reshape(m, 5)
+    wdec = np.full(m * 5, -1, dtype=np.int64)
+    wdec[cell] = decs
+    wdec = wdec.reshape(m, 5)
+    numidx = np.full(m * 5, -1, dtype=np.int64)
+    numidx[cell] = np.arange(k)
+    numidx = numidx.reshape(m, 5)
+    # modal values: forward fill from the state (as parse_chunk's simple case)
+    if k == 5 * m:  # every row has every word
+        axes = given.copy()
+    else:
+        filled = np.vstack([state.position[None, :], given])
+        idx = np.where(np.isnan(filled), 0, np.arange(m + 1)[:, None])
+        np.maximum.accumulate(idx, axis=0, out=idx)
+        axes = np.take_along_axis(filled, idx, axis=0)[1:]
+    dfill = np.vstack([state.decimals[None, :], wdec])
+    np.maximum.accumulate(dfill, axis=0, out=dfill)
+    decimals = np.maximum(dfill[1:], np.where(LINEAR, min_decimals[0], min_decimals[2]))
+    if motion_line is not None:
+        j = np.searchsorted(motion_line, rows, "right") - 1
+        motion = np.where(j >= 0, motion_val[np.maximum(j, 0)], state.motion)
+        state.motion = int(motion_val[-1])
+    else:
+        motion = np.full(m, state.motion, dtype=np.int64)
+    if m:
+        state.position = axes[-1].copy()
+        state.decimals = dfill[-1].copy()
+    return Block(buf, code_b, first_line, line_start, nstart, nend, numidx, rows, axes, present, given,
+                 decimals, motion, np.ones(m, dtype=bool), np.zeros(m, dtype=bool))
+
+
+def edit_line(line: str, code_line: str, new: dict[int, str], added: list[tuple[int, str]], sep: str,
+              cont: list[str] | None = None) -> str:
+    """``edit`` for one line of its own (``code_line``: the line with comments blanked)."""
+    pieces = _SPLIT.split(code_line)
+    if line != code_line:
+        o = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).tolist()
+        pieces = [line[o[j]: o[j + 1]] for j in range(len(pieces))]
+    nn = (len(pieces) - 1) // 3
+    numidx = np.full((1, 5), -1, dtype=np.int64)
+    for t in range(nn):
+        numidx[0, AXES.index(code_line[sum(len(p) for p in pieces[: 3 * t + 1]) - 1].upper())] = 3 * t + 2
+    ch = Chunk([line], 0, pieces, numidx, np.array([3 * nn], dtype=np.int64), np.zeros(1, dtype=np.int64),
+               np.zeros((1, 5)), numidx >= 0, np.zeros((1, 5)), np.zeros((1, 5), dtype=np.int64),
+               np.zeros(1, dtype=np.int64), np.ones(1, dtype=bool), np.zeros(1, dtype=bool))
+    edit(ch, 0, new, added, sep, cont)
+    return "".join(ch.pieces)
+
+
+def format_fixed(k: np.ndarray, d: int) -> tuple[np.ndarray, np.ndarray]:
+    """Fixed-point text of the integers ``k`` (value k / 10**d) with d decimals, as '%.{d}f' % (k / 10**d) writes
+    it: (bytes (n, w) right aligned, lengths (n,))."""
+    n = len(k)
+    neg = k < 0
+    a = np.abs(k)
+    top = int(a.max()) if n else 0
+    if top < 2**31 - 1:
+        a = a.astype(np.int32)  # integer division by a constant is several times faster on 32 bits
+    nd = np.full(n, d + 1, dtype=np.int64)  # digits: at least one before the point
+    p = 10 ** (d + 1)
+    while p <= top:
+        nd += a >= p
+        p *= 10
+    length = nd + (d > 0) + neg
+    w = int(length.max()) if n else 1
+    out = np.empty((n, w), dtype=np.uint8)
+    ten = a.dtype.type(10)
+    for c in range(w):  # from the right; columns left of a number's length are not used
+        j = w - 1 - c
+        if d and c == d:
+            out[:, j] = 46
+        else:
+            q = a // ten
+            out[:, j] = a - q * ten
+            out[:, j] += 48
+            a = q
+    if neg.any():
+        r = np.flatnonzero(neg)
+        out[r, w - length[r]] = 45
+    return out, length
+
+
+def render_block(blk: Block, num_text: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
+                 line_text: dict[int, str]) -> bytes:
+    """The block's bytes with numbers replaced and whole lines rewritten: ``num_text`` is a list of (number index
+    (n,), text (n, w) right aligned, lengths (n,)); ``line_text`` {line index: new text of the whole line}."""
+    L = len(blk.buf)
+    starts, ends, src, lens = [], [], [], []
+    parts = [blk.buf]
+    base = L
+    for idx, txt, ln in num_text:
+        if not len(idx):
+            continue
+        w = txt.shape[1]
+        starts.append(blk.num_start[idx])
+        ends.append(blk.num_end[idx])
+        src.append(base + np.arange(len(idx), dtype=np.int64) * w + (w - ln))
+        lens.append(ln)
+        parts.append(txt.ravel())
+        base += txt.size
+    if line_text:
+        ls = sorted(line_text)
+        enc = [line_text[i].encode(ENCODING) for i in ls]
+        li = np.array(ls, dtype=np.int64)
+        starts.append(blk.line_start[li])
+        ends.append(blk.line_start[li + 1])
+        el = np.array([len(e) for e in enc], dtype=np.int64)
+        src.append(base + np.concatenate([[0], np.cumsum(el)[:-1]]))
+        lens.append(el)
+        parts.append(np.frombuffer(b"".join(enc), dtype=np.uint8))
+    if not starts:
+        return blk.buf.tobytes()
+    s, e, sr, ln = (np.concatenate(x) for x in (starts, ends, src, lens))
+    if len(starts) > 1:
+        o = np.argsort(s, kind="stable")
+        s, e, sr, ln = s[o], e[o], sr[o], ln[o]
+    n = len(s)
+    seg_src = np.empty(2 * n + 1, dtype=np.int64)
+    seg_len = np.empty(2 * n + 1, dtype=np.int64)
+    seg_src[0] = 0
+    seg_src[2::2] = e
+    seg_len[0:-1:2] = s - seg_src[0:-1:2]
+    seg_len[-1] = L - e[-1]
+    seg_src[1::2] = sr
+    seg_len[1::2] = ln
+    nz = seg_len > 0
+    if not nz.all():
+        seg_src, seg_len = seg_src[nz], seg_len[nz]
+    end = np.cumsum(seg_len)
+    total = int(end[-1])
+    # source index of every output byte: +1 inside a segment, a jump where the next one starts (one cumsum)
+    step = np.ones(total, dtype=np.int64)
+    step[0] = seg_src[0]
+    step[end[:-1]] = seg_src[1:] - (seg_src[:-1] + seg_len[:-1]) + 1
+    np.cumsum(step, out=step)
+    return np.concatenate(parts).take(step).tobytes()

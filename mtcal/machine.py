@@ -26,7 +26,7 @@ def _check_stale() -> None:
     try:
         import mtcal.generated as g
         manifest = json.loads((Path(g.__file__).with_name("manifest.json")).read_text())
-        from derive.__main__ import derive_hash  # only present in a source checkout
+        from derive.provenance import derive_hash  # only present in a source checkout
     except Exception:  # installed without derive/: nothing to compare against
         return
     if manifest.get("derive_sha256") != derive_hash():

@@ -302,3 +302,96 @@ def test_memory_is_flat_on_a_long_program(tmp_path):
         growth[n] = int(r.stdout.split()[-1])  # kB
     assert growth[100_000] < growth[10_000] + 8_000  # kB: 10x the lines, < 8 MB more
     assert growth[100_000] < 60_000
+
+
+def _mixed_program(path, rng, n=1500, nl="\n"):
+    """Plain blocks (comments, CR LF, lower case, missing words, G0/G1) and blocks for the general path (G91, G4,
+    G20/G21 switches) in one file; long feed moves to subdivide."""
+    t = np.arange(n)
+    q = np.column_stack([150 * np.sin(t / 300), 100 * np.cos(t / 400), 20 + 30 * np.sin(t / 200),
+                         45 + 40 * np.sin(t / 500), (t * 0.3) % 720 - 360])
+    out = ["%" + nl, "O1 (MIXED; X1)" + nl, "N1 G90 G21 G17" + nl, "G0 X0 Y0 Z50 B0 C0" + nl, "G1 F1000" + nl]
+    for k in range(n):
+        pres = rng.random(5) < 0.8
+        pres[k % 5] = True
+        words = [f"{'XYZBC'[a] if k % 13 else 'xyzbc'[a]}{q[k, a]:.3f}" for a in range(5) if pres[a]]
+        line = f"N{k + 10} " + ("G0 " if k % 97 == 0 else "") + " ".join(words) + (" (c)" if k % 53 == 0 else "")
+        out.append(line + nl)
+        if k % 400 == 100:
+            out += ["G91" + nl, "X0.5 Y-0.25" + nl, "G90" + nl]
+        if k % 400 == 300:
+            out += ["G4 X1.5" + nl]
+        if k % 700 == 350:
+            out += ["G1 X-200 Y-150 Z-100 B20 C0" + nl, "X200 Y150 Z100 B60 C90" + nl]  # long: subdivided
+        if k % 900 == 450:
+            out += ["G20" + nl, "X1 Y2" + nl, "G21" + nl]
+    out += ["M30" + nl, "%"]
+    path.write_text("".join(out), encoding="latin-1", newline="")
+
+
+@pytest.mark.parametrize("scope, nl", [("position", "\n"), ("full", "\r\n")])
+def test_byte_level_path_writes_what_the_line_path_writes(tmp_path, scope, nl):
+    """The vectorised byte-level path (plain blocks) and the line-piece path give the same bytes and figures."""
+    prog = tmp_path / "mixed.nc"
+    _program_kw = dict(tolerance=0.0005, chunk_lines=200, residual_every=1)
+    _mixed_program(prog, np.random.default_rng(4), nl=nl)
+    reps, outs = [], []
+    for fast in (True, False):
+        pc = ProgramCompensator(Compensator(MODEL, M, scope, iterations=1), **_program_kw)
+        pc.fast = fast
+        out = tmp_path / f"o_{fast}.nc"
+        reps.append(pc.run(prog, out))
+        outs.append(out.read_bytes())
+    assert outs[0] == outs[1]
+    a, b = reps
+    assert (a.lines, a.moves, a.lines_changed, a.lines_inserted, a.subdivided_moves) == \
+           (b.lines, b.moves, b.lines_changed, b.lines_inserted, b.subdivided_moves)
+    assert a.subdivided_moves >= 2 and a.lines_inserted > 4 and a.position.as_dict(1e3) == b.position.as_dict(1e3)
+    q_nom, _ = read_moves(prog)
+    assert len(read_moves(tmp_path / "o_True.nc")[0]) == len(q_nom) + a.lines_inserted
+
+
+def test_fused_first_order_equals_deviation_and_jacobian():
+    """Scope position, first order: the generated machine-frame step equals -J_xyz^-1 (jacobian_errors @ e)[:3]."""
+    for name in ("dmu50", "xyzac"):
+        m = mtcal.load_machine(name)
+        rng = np.random.default_rng(9)
+        q = rng.uniform(-200, 200, (500, 5))
+        q[:, 3] = rng.uniform(1, 119, 500)
+        e = rng.normal(size=(500, len(m.error_names))) * np.where([n[2] in "XYZ" for n in m.error_names], 0.02, 5e-5)
+        r = m._np.correction_first_order(q, e, 80.0)
+        dev = m._np.deviation_first_order(q, e, 80.0)
+        J = m._np.jacobian_axes(q, 80.0)
+        step = -np.linalg.solve(J[:, :3, :3], dev[:, :3, None])[..., 0]
+        np.testing.assert_allclose(r[:, :3], step, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(np.linalg.norm(r[:, 3:], axis=1), np.linalg.norm(dev[:, 3:], axis=1), atol=1e-16)
+    q = random_axes(2000, np.random.default_rng(10))
+    fused = Compensator(MODEL, M, "position")
+    plain = Compensator(MODEL, M, "position")
+    plain._fused = False  # the generic path: deviation_first_order, jacobian_axes, solve
+    a, da = fused.correct(q, return_initial=True)
+    b, db = plain.correct(q, return_initial=True)
+    np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(da, db, rtol=1e-12, atol=1e-18)
+
+
+def test_error_evaluation_equals_the_model_functions():
+    q = random_axes(3000, np.random.default_rng(11))
+    q[:10, 0] = np.linspace(-500, 500, 10)  # outside the tables: end values held
+    e = Compensator(MODEL, M).errors(q)
+    ref = MODEL.errors_at(M, q, extrapolate="hold")
+    np.testing.assert_allclose(e, ref, rtol=0, atol=1e-15)
+
+
+def test_residual_sample_is_labelled(tmp_path, capsys):
+    model = tmp_path / "model.json"
+    save_model(MODEL, model)
+    for k, label in ((None, "every 20th move"), (1, "all moves")):
+        out = tmp_path / f"o{k}.nc"
+        args = ["compensate", str(SAMPLE), "--model", str(model), "-o", str(out), "--json"]
+        assert main(args + ([] if k is None else ["--residual-every", str(k)])) == 0
+        res = json.loads(capsys.readouterr().out)
+        assert res["residual"]["evaluated_on"].startswith(label)
+        n = res["residual"]["position_um"]["n"]
+        assert n == (274 if k == 1 else 14)  # 274 known moves; every 20th counted through the program
+        assert res["uncompensated"]["position_um"]["n"] == 274

@@ -96,3 +96,64 @@ def test_parse_cl():
     assert nos.tolist() == [2, 3]
     with pytest.raises(InputError, match="a.cl, line 1: CL data needs 6 numbers"):
         gcode.parse_cl(["1 2 3\n"], 1, "a.cl")
+
+
+def _varied_program(rng, n=400, nl="\n"):
+    """Plain lines of every kind the byte-level path takes: comments, lower case, blanks after letters, signs,
+    missing words, G0/G1/G01/G90/G21/G17, N/F/M/S/T words, no digits before or after the point."""
+    lines = ["%" + nl, "O0007 (BENCH; X1 Y2)" + nl, "N1 G90 G21 G17 ; set up B90" + nl, "N2 G0 X0 Y0 Z50 B0 C0" + nl]
+    for k in range(n):
+        words = []
+        for a, name in enumerate("XYZBC"):
+            if rng.random() < 0.8:
+                v = rng.uniform(-300, 300) if a < 3 else rng.uniform(0, 180) if a == 3 else rng.uniform(-360, 360)
+                s = f"{v:.{int(rng.integers(0, 6))}f}"
+                if k % 17 == 0:
+                    s = s.rstrip("0") or "0"
+                if k % 19 == 0 and v > 0:
+                    s = "+" + s
+                if k % 23 == 0 and s.startswith("0."):
+                    s = s[1:]
+                words.append((name.lower() if k % 13 == 0 else name) + ("  " if k % 11 == 0 else "") + s)
+        head = [f"N{k + 10}"] + (["G0"] if k % 29 == 0 else ["G01"] if k % 29 == 1 else [])
+        line = " ".join(head + words) + (" F800" if k % 31 == 0 else "") + (" (X5)" if k % 37 == 0 else "")
+        lines.append(line + (" ; c" if k % 41 == 0 else "") + nl)
+        if k % 97 == 50:
+            lines.append("M8 S8000 T1" + nl)
+    lines += ["M30" + nl, "%"]
+    return lines
+
+
+@pytest.mark.parametrize("nl", ["\n", "\r\n"])
+def test_byte_level_scan_equals_parse_chunk(nl):
+    rng = np.random.default_rng(8)
+    lines = _varied_program(rng, nl=nl)
+    ref = parse(lines, min_decimals=(4, 5, 4))
+    st = gcode.ModalState()
+    blk = gcode.scan_block("".join(lines), st, 1, (4, 5, 4))
+    assert blk is not None and blk.n_lines == len(lines) == gcode.count_lines("".join(lines))
+    for name in ("rows", "axes", "present", "given", "decimals", "motion"):
+        np.testing.assert_array_equal(getattr(blk, name), getattr(ref, name), err_msg=name)
+    # numbers exactly as float() reads them, spans as the line-piece split has them
+    num = [p for p in ref.pieces[2::3]]
+    text = "".join(lines)
+    assert [text[a:b] for a, b in zip(blk.num_start.tolist(), blk.num_end.tolist())] == num
+    # nothing to change: the block is written back byte for byte
+    assert gcode.render_block(blk, [], {}) == text.encode("latin-1")
+
+
+@pytest.mark.parametrize("text", ["G91\nX1\n", "G20 X1\n", "G4 X2\nX1\n", "G2 X1 Y1 I1\n", "X1 X2\n", "X1 A2\n",
+                                  "X1.2.3\n", "X12345678901234567\n", "G28 X0\n", "a\rb\n", "CYCLE800\n", "G-1 X1\n"])
+def test_byte_level_scan_leaves_the_rest_to_parse_chunk(text):
+    st = gcode.ModalState()
+    assert gcode.scan_block(text, st, 1) is None
+    assert st.position[0] != st.position[0] and st.motion == 1  # state untouched (NaN X)
+
+
+def test_format_fixed_writes_what_percent_f_writes():
+    rng = np.random.default_rng(3)
+    for d in (0, 1, 3, 4, 7):
+        k = np.concatenate([rng.integers(-10**9, 10**9, 3000), np.arange(-150, 150), [10**d, -10**d, 10**d - 1]])
+        txt, ln = gcode.format_fixed(k, d)
+        got = [bytes(txt[i, txt.shape[1] - ln[i]:]).decode() for i in range(len(k))]
+        assert got == ["%.*f" % (d, int(x) / 10**d) for x in k]

@@ -140,7 +140,8 @@ def test_numpy_and_casadi_agree(name):
     L, p = np.full(8, 120.0), np.tile([30.0, -40.0, 85.0], (8, 1))  # one row per evaluation
     args = {"forward": (ax, L), "jacobian_axes": (ax, L), "forward_errors": (ax, e, L),
             "forward_errors_with_jacobian": (ax, e, L), "jacobian_errors": (ax, L),
-            "deviation_first_order": (ax, e, L), "tool_point": (ax, e, p), "table_point": (ax, e, p),
+            "deviation_first_order": (ax, e, L), "correction_first_order": (ax, e, L),
+            "tool_point": (ax, e, p), "table_point": (ax, e, p),
             "tool_point_jacobian_errors": (ax, p), "table_point_jacobian_errors": (ax, p),
             "ik_tilt": (m.forward(ax)[:, 3:],),
             "ik_rotary": (ax[:, 3], rng.normal(size=(8, 2))),

@@ -5,7 +5,7 @@ import argparse
 import sys
 import time
 
-from mtcal.compensate import Compensator, ProgramCompensator, iso_types, write_tables
+from mtcal.compensate import RESIDUAL_EVERY, Compensator, ProgramCompensator, iso_types, write_tables
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
 
@@ -38,6 +38,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--outside", choices=("hold", "error"), default="hold",
                    help="axis positions outside an error table: hold the end values and count them, or stop")
     p.add_argument("--tables", metavar="DIR", help="also write per-axis compensation tables (CSV) to DIR")
+    p.add_argument("--residual-every", type=int, default=RESIDUAL_EVERY, metavar="K",
+                   help="evaluate the exact error-inclusive residual of what is written on every K-th move (and on "
+                        f"every inserted point); 1: on all moves (default {RESIDUAL_EVERY}; the JSON says which)")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -56,7 +59,8 @@ def run(args: argparse.Namespace) -> int:
             last[0] = now
             print(f"mtcal compensate: {done / total:6.1%} of {args.program}", file=sys.stderr)
 
-    pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress)
+    pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress,
+                            residual_every=args.residual_every)
     rep = pc.run(args.program, args.output, args.input)
     dt = time.perf_counter() - t0
     tables = write_tables(model, comp.machine, args.tables) if args.tables else []
@@ -67,11 +71,13 @@ def run(args: argparse.Namespace) -> int:
         "iso_16907": iso_types(model, args.scope),
         "lines": rep.lines, "moves": rep.moves, "lines_changed": rep.lines_changed,
         "lines_inserted": rep.lines_inserted, "subdivided_moves": rep.subdivided_moves,
-        "residual": {"position_um": rep.position.as_dict(1e3),
+        "residual": {"evaluated_on": rep.residual_evaluated_on(),
+                     "position_um": rep.position.as_dict(1e3),
                      "orientation_urad": (rep.orientation if full else rep.orientation_all).as_dict(1e6),
                      "orientation_all_urad": rep.orientation_all.as_dict(1e6),
                      "mid_segment_um": rep.mid_position.as_dict(1e3)},
-        "uncompensated": {"position_um": rep.before_position.as_dict(1e3),
+        "uncompensated": {"evaluated_on": "all moves (first order)",
+                          "position_um": rep.before_position.as_dict(1e3),
                           "orientation_urad": rep.before_orientation.as_dict(1e6)},
         "singularity": {"cone_deg": args.cone, "moves_in_cone": rep.in_cone, "moves_blended": rep.blended,
                         "max_c_correction_deg": round(rep.max_c_correction, 6), "b_clipped": comp.clipped_b},
@@ -86,7 +92,8 @@ def run(args: argparse.Namespace) -> int:
           f"{rep.lines_inserted} inserted ({rep.subdivided_moves} moves subdivided), scope {args.scope}")
     print(f"ISO/TR 16907: {', '.join(res['iso_16907']['covered']) or 'none (zero model)'}")
     print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um -> predicted residual "
-          f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written)")
+          f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written; exact model on "
+          f"{r['evaluated_on']})")
     lab = "controllable" if full else "not corrected (scope position)"
     print(f"tool axis : uncompensated max {res['uncompensated']['orientation_urad']['max']:.2f} urad -> residual "
           f"max {r['orientation_urad']['max']:.3f} urad, RMS {r['orientation_urad']['rms']:.3f} urad ({lab})")
