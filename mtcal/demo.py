@@ -134,8 +134,7 @@ def run_demo(out: Path, quiet: bool = False) -> dict:
                            "effects": [e for e in diag["effects"] if e.get("significant")],
                            "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
                            "located": diag.get("located", [])[:5],
-                           "planted": [{k: e.get(k) for k in ("name", "axis", "amount", "parameters") if k in e}
-                                       for e in planted.get("effects", [])]}
+                           "planted": [{"name": e["name"], **e.get("params", {})} for e in planted.get("effects", [])]}
     prog.step("diagnose: what the quasi-static model leaves out, where, and how much")
 
     # 6. plate -------------------------------------------------------------------------------------------
@@ -229,7 +228,8 @@ def report(s: dict, out: Path) -> str:
         lines.append(f"| {k} | {e['name']} | {e.get('axis') or ''} | {e.get('significant')} | {_estimate(e)} | "
                      f"{e['sigma_after'] * 1e3:.3f} um | {evs} |")
     lines += ["", f"{d['not_significant']} further candidate effects tested and not significant.", "",
-              f"Planted (hidden from the analysis): {d['planted']}", ""]
+              "Planted in the campaign (hidden from the analysis): " + "; ".join(_planted(e) for e in d["planted"]) +
+              ".", ""]
     for png in sorted((out / "plots").glob("diagnose*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
     lines += ["", "## Plate reversal: NBS Table 1 (Hocken & Borchardt 1979)", "",
@@ -240,6 +240,10 @@ def report(s: dict, out: Path) -> str:
               f"diagnosis: {_plate_diag(p['without_scale']['diagnosis'])}.", "",
               "![plate](plots/plate_table1.png)", "", f"Run time: {s['seconds']:.1f} s.", ""]
     return "\n".join(lines)
+
+
+def _planted(e: dict) -> str:
+    return f"{e['name']} " + ", ".join(f"{k}={v}" for k, v in e.items() if k != "name")
 
 
 def _estimate(e: dict) -> str:
@@ -272,7 +276,7 @@ def print_summary(s: dict) -> None:
     top = d["effects"][0] if d["effects"] else None
     print(f"  diagnose : base sigma {d['base_sigma'] * 1e3:.2f} um; "
           + ("; ".join(f"{e['name']} {e.get('axis') or ''} {_estimate(e)}" for e in d["effects"]) or
-             "nothing significant") + f"  (planted: {d['planted']})")
+             "nothing significant") + "  (planted: " + "; ".join(_planted(e) for e in d["planted"]) + ")")
     print(f"  plate    : NBS Table 1 alpha {p['alpha'] * 1e6:.2f}, beta {p['beta'] * 1e6:.2f}, gamma "
           f"{p['gamma'] * 1e6:.2f} (x1e-6), sigma {p['sigma'] * 1e6:.2f} uin; without scale sigma "
           f"{p['without_scale']['sigma'] * 1e6:.1f} uin -> {_plate_diag(p['without_scale']['diagnosis'])}")
