@@ -196,7 +196,7 @@ class Compensator:
         et[:] = self._const[:, None]
         self._check_ranges(q)
         for item in self._plan:
-            kind, ai, x = item[0], item[1], q[:, item[1]]
+            kind, x = item[0], q[:, item[1]]
             if kind == "table":  # piecewise linear, end values held (as np.interp)
                 _, _, _, cols, xp, step, coef = item
                 xc = np.clip(x, xp[0], xp[-1])
@@ -653,7 +653,6 @@ class ProgramCompensator:
         """{row: (nominal (n, 5), written mm (n, 5), written units (n, 5))} for feed moves split into n pieces
         (the last piece ends at the row's own point)."""
         comp, rep = self.comp, self.report
-        m = len(q_nom)
         prev_n = np.vstack([self._prev[0][None] if self._prev else np.full((1, 5), np.nan), q_nom[:-1]])
         prev_w = np.vstack([self._prev[1][None] if self._prev else np.full((1, 5), np.nan), q_w[:-1]])
         self._prev = (q_nom[-1].copy(), q_w[-1].copy(), None)
@@ -849,7 +848,7 @@ class ProgramCompensator:
 
     # ---------------------------------------------------------------- CL data
     def _cl_chunk(self, lines: list[str], first: int) -> str:
-        comp, rep = self.comp, self.report
+        comp = self.comp
         poses, nos = gcode.parse_cl(lines, first, self._src)
         if len(poses) == 0:
             return ""

@@ -273,7 +273,6 @@ def print_summary(s: dict) -> None:
     print(f"  compensate: tool tip on the true machine max {c['true_error_before_max_um']:.1f} -> "
           f"{c['true_error_after_max_um']:.1f} um, RMS {c['true_error_before_rms_um']:.1f} -> "
           f"{c['true_error_after_rms_um']:.1f} um ({', '.join(c['iso_16907'].get('covered', []))})")
-    top = d["effects"][0] if d["effects"] else None
     print(f"  diagnose : base sigma {d['base_sigma'] * 1e3:.2f} um; "
           + ("; ".join(f"{e['name']} {e.get('axis') or ''} {_estimate(e)}" for e in d["effects"]) or
              "nothing significant") + "  (planted: " + "; ".join(_planted(e) for e in d["planted"]) + ")")

@@ -12,7 +12,9 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
 * the reference reading is itself noisy (Hocken & Borchardt 1979: normalising to one reading biases every
   deviation of the round): the reference readings only start the fit; each reflector's position (three
   parameters per axis and reflector) is estimated from all its readings in all rounds, so no single reading is
-  trusted.  A shift of one (round, reflector) sequence (a re-seated nest) is the candidate effect "offset";
+  trusted.  A shift of one (round, reflector) sequence (a re-seated nest) is the candidate effect "offset",
+  and so is a tracker knock (effects.py "offset": every reading from t0 on shifted by one vector; t0 scanned
+  over the gaps between reading times, counted in the multiplicity);
 * weights: the AT960 covariance (mtcal.tracker) of every reading when the tracker position is known (whitened
   least squares; sigma ratio 1 = the tracker's specification), else unweighted with sigma from the residuals;
 * with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets.
@@ -473,6 +475,52 @@ def _outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
     return best, count
 
 
+def _knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
+    """Change point of a tracker knock: every reading from t0 on (all axes, all reflectors) shifted by one
+    vector.  t0 is scanned over the gaps between distinct reading times; each step column (whitened W_i on the
+    readings after t0) is scored by running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across
+    the base blocks.  Returns (best {"delta", "t0", "rows"}, number of separable change points scanned)."""
+    rec = prep.rec
+    n = len(rec)
+    if n < 3 or not np.isfinite(rec.time_s).all():
+        return None, 0
+    W = prep.W
+    r = eng.r.reshape(n, 3)
+    # per reading, its three rows of the full Q (every block at its own columns, then E)
+    widths = [q.shape[1] for _, q in eng.blocks]
+    P = sum(widths) + eng.E.shape[1]
+    Qf = np.zeros((3 * n, P))
+    off = 0
+    for (idx, q), w in zip(eng.blocks, widths):
+        Qf[idx, off:off + w] = q
+        off += w
+    Qf[:, off:] = eng.E
+    Qf = Qf.reshape(n, 3, P)
+    o = np.argsort(prep.order)
+    t = rec.time_s[o]
+    Wo = W[o]
+    A = np.cumsum((Wo.transpose(0, 2, 1) @ Wo)[::-1], axis=0)[::-1]                  # G^T G
+    B = np.cumsum(np.einsum("nkp,nkj->npj", Qf[o], Wo)[::-1], axis=0)[::-1]          # Q^T G
+    b = np.cumsum(np.einsum("nki,nk->ni", Wo, r[o])[::-1], axis=0)[::-1]             # G^T r
+    j = np.flatnonzero(np.diff(t) > 0) + 1       # the step starts at reading j (distinct times only)
+    if len(j) == 0:
+        return None, 0
+    M = A[j] - np.einsum("npi,npj->nij", B[j], B[j])
+    # separability as in Engine.score: sin^2 of the angles between G and the base, relative to G^T G
+    L = np.linalg.cholesky(A[j])
+    Li = np.linalg.inv(L)
+    mu = np.linalg.eigvalsh(Li @ M @ Li.transpose(0, 2, 1))
+    ok = mu[:, 0] > ALIAS_TOL**2
+    if not ok.any():
+        return None, 0
+    delta = np.full(len(j), -np.inf)
+    delta[ok] = np.einsum("ni,ni->n", b[j][ok], np.linalg.solve(M[ok], b[j][ok][..., None])[..., 0])
+    k = int(np.argmax(delta))
+    jj = int(j[k])
+    return {"delta": float(delta[k]), "t0": 0.5 * float(t[jj - 1] + t[jj]), "rows": o[jj:],
+            "before_s": float(t[jj - 1]), "after_s": float(t[jj])}, int(ok.sum())
+
+
 def _where(prep: Prepared, rows: np.ndarray) -> dict:
     rec = prep.rec
     i = rows[np.argmin(prep.order[rows])]
@@ -547,6 +595,14 @@ def _headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
         params["phase_deg"] = float(np.degrees(np.arctan2(theta[1], theta[0])))
         return {"estimate": amp, "uncertainty": u, "unit": "mm" if c.axis in fx.LINEAR else "rad",
                 "parameters": params, "direction": None}
+    if c.extra.get("variant") == "tracker knock":  # the step: its size (mm) along its direction, from t0 on
+        size = float(np.linalg.norm(theta))
+        g = theta / size if size > 0 else np.zeros(3)
+        k = int(np.argmax(np.abs(theta)))
+        return {"estimate": size, "uncertainty": float(math.sqrt(max(g @ cov @ g, 0.0))), "unit": "mm",
+                "parameters": params, "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
+                "unit_vector": [float(v) for v in g], "t0_s": c.extra["t0_s"],
+                "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
     if c.name in ("thermal_drift", "outlier", "offset"):
         k = int(np.argmax(np.abs(theta) / np.maximum(sd, 1e-300)))  # the best-determined component
         return {"estimate": float(abs(theta[k])), "uncertainty": float(sd[k]), "unit": "mm", "parameters": params,
@@ -660,7 +716,8 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
             if sc["separable"]:
                 fams.setdefault(c.family, []).append((c, sc))
         oscan, ocount = _outlier_scan(prep, eng)
-        n_fam = len(fams) + (1 if ocount else 0)
+        kscan, kcount = _knock_scan(prep, eng)
+        n_fam = len(fams) + (1 if ocount else 0) + (1 if kcount else 0)
         best = None
         last_scores = {}
         for fam_name, members in fams.items():
@@ -678,18 +735,35 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
                 last_scores["outlier"] = (oc, sc, logp_adj)
                 if best is None or logp_adj < best[2]:
                     best = (oc, sc, logp_adj)
+        if kcount:  # tracker knock: the change point t0 scanned over the reading times (kcount members)
+            first = kscan["rows"][np.argmin(prep.order[kscan["rows"]])]
+            where = {"from_axis": str(prep.rec.axis[first]), **_where(prep, kscan["rows"]),
+                     "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
+            kc = fx.tracker_knock(prep.geometry, kscan["t0"], where)
+            sc = eng.score(_w(kc))
+            if sc["separable"]:
+                logp_adj = sc["logp"] + math.log(kcount * n_fam)
+                last_scores["offset"] = (kc, sc, logp_adj)
+                if best is None or logp_adj < best[2]:
+                    best = (kc, sc, logp_adj)
         if best is None or best[2] >= math.log(level):
             break
         # among the significant candidates, the strongest evidence (raw p) names the effect: the multiplicity
         # penalty decides significance, not which of two correlated explanations wins
+        # exact ties (a knock just after a reflector's first sequence is the same column space as that nest's
+        # offset) go to the smaller family: the adjusted p breaks them
         sig_c = [v for v in last_scores.values() if v[2] < math.log(level)]
-        c, sc, lp = min(sig_c, key=lambda v: v[1]["logp"])
+        top_lp = min(v[1]["logp"] for v in sig_c)
+        tol = 1e-9 * max(1.0, abs(top_lp)) if math.isfinite(top_lp) else 0.0
+        tied = [v for v in sig_c if v[1]["logp"] <= top_lp + tol]
+        c, sc, lp = min(tied, key=lambda v: v[2])
         sig_before = eng.sigma
         eng.add(_w(c))
         say(f"step {step + 1}: {c.name} {c.axis or ''} {c.label}: F = {sc['F']:.1f}, "
             f"sigma ratio {sig_before:.3f} -> {eng.sigma:.3f}")
         selected.append((c, sc, lp))
-        if c.name != "outlier":  # one member per family (a second periodic pitch would be a new family step)
+        if c.family not in ("outlier", "offset"):  # one member per family (a second periodic pitch: a new step;
+            # outliers and tracker knocks are scanned afresh every step)
             cands = [x for x in cands if x.family != c.family]
 
     # backward elimination: drop a selected effect that the others have made insignificant
@@ -751,10 +825,11 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
               "p_adjusted": min(1.0, math.exp(lp)), "log10_p_adjusted": lp / math.log(10),
               "cv_gain": gain, "cv": "held-out rounds", "separability": sc["sep"],
               "multiplicity": "Bonferroni over families x members", "null": null_model}
-        item = {"name": c.name, "axis": c.axis, "direction": h.pop("direction"), "significant": True,
+        item_dir = h.pop("direction")
+        item = {"name": c.name, "axis": c.axis, "direction": item_dir, "significant": True,
                 "estimate": h.pop("estimate"), "uncertainty": h.pop("uncertainty"), "unit": h.pop("unit"),
                 "sigma_after": _raw_sigma(prep, cum.r, cum.dof), "sigma_ratio_after": cum.sigma,
-                "evidence": ev, "where": c.label,
+                "evidence": ev, "where": (f"step along {item_dir}, {c.label}" if "t0_s" in h else c.label),
                 **{k2: v for k2, v in c.extra.items() if not k2.startswith("_") and k2 != "rows"}, **h}
         if sc["sep"] < WEAK_TOL:
             item["note"] = "weakly separable from the base model: the estimate is correlated with the fitted errors"

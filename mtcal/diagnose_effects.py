@@ -5,7 +5,8 @@ its columns G (n readings, 3 coordinates, k parameters) = d(measured point, mach
 taken from the generated signatures (generated/signatures_numpy.py, derived in derive/signatures.py) and the
 generated point Jacobians of the machine (columns of the 41 ISO errors).  Parameter units: backlash mm (rad for
 B, C) reversal value; scale ppm; second_order per mm^2 or deg^2; periodic mm (rad) amplitudes of sin and cos;
-thermal_drift mm (3-vector final displacement); tracker_scale ppm; squareness / rotary_location mm or rad.
+thermal_drift mm (3-vector final displacement); offset and outlier mm (3-vector shift); tracker_scale ppm;
+squareness / rotary_location mm or rad.
 
 Effect names and vocabulary follow design.md; ``QUASI_STATIC`` are the effects that are themselves smooth
 functions of the measured axis' position (part of the fitted base model's family when no model is given).
@@ -170,4 +171,17 @@ def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
     on[rows] = 1.0
     G = S.outlier_signature(on)
     return Candidate("offset", str(g.axis[rows[0]]), f"round {where['round']} point {where['point']}", G,
-                     ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family=f"offset {g.axis[rows[0]]}", extra=dict(where))
+                     ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family=f"offset {g.axis[rows[0]]}",
+                     extra={"variant": "re-seated nest", **where})
+
+
+def tracker_knock(g: Geometry, t0: float, where: dict) -> Candidate:
+    """The tracker (stand) knocked at ``t0`` (s): every reading from t0 on, of every axis and reflector, displaced
+    by one constant vector (mm, machine frame) -- the planted effect ``offset`` of mtcal.effects.  The change
+    point t0 is scanned over the gaps between reading times (mtcal.diagnose._knock_scan)."""
+    on = (np.isfinite(g.time_s) & (g.time_s >= t0)).astype(float)
+    G = S.outlier_signature(on)
+    label = (f"tracker knocked at t0 = {t0:.6g} s (from axis {where['from_axis']} round {where['round']} point "
+             f"{where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
+    return Candidate("offset", None, label, G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="offset",
+                     extra={"variant": "tracker knock", "t0_s": float(t0), **where})

@@ -37,6 +37,18 @@ def atomic_write_text(path: str | os.PathLike, text: str) -> None:
         raise
 
 
+def read_json(path: str | os.PathLike, what: str) -> Any:
+    """Parsed JSON of an input file; a missing file or bad JSON is an error naming the file (``what``: e.g. "model")."""
+    from mtcal.errors import InputError
+    p = Path(path)
+    try:
+        return json.loads(p.read_text())
+    except FileNotFoundError:
+        raise FileNotFoundError(f"{what} file not found: {p}") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{p}: not valid JSON ({exc})") from None
+
+
 def _default(o: Any):
     if isinstance(o, np.ndarray):
         return o.tolist()

@@ -13,7 +13,6 @@ Missing names are zero.
 """
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -21,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.io import atomic_write_text, dumps
+from mtcal.io import atomic_write_text, dumps, read_json
 
 LENGTH_UNITS = {"mm": 1.0, "um": 1e-3, "m": 1e3}
 ANGLE_UNITS = {"rad": 1.0, "urad": 1e-6, "mrad": 1e-3, "deg": np.pi / 180, "arcsec": np.pi / 180 / 3600}
@@ -114,14 +113,7 @@ def _scale(name: str, units: dict) -> float:
 
 def load_model(path: str | Path) -> ErrorModel:
     """Read an error model JSON; values are converted to mm and rad from its "units"."""
-    p = Path(path)
-    try:
-        raw = json.loads(p.read_text())
-    except FileNotFoundError:
-        raise FileNotFoundError(f"model file not found: {p}") from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{p}: not valid JSON ({exc})") from None
-    return model_from_dict(raw, str(p))
+    return model_from_dict(read_json(path, "model"), str(path))
 
 
 def model_from_dict(raw: dict, source: str = "<model>") -> ErrorModel:

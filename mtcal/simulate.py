@@ -30,7 +30,6 @@ PLAN.json (all keys optional; values replace the defaults):
 """
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -39,9 +38,9 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from mtcal import tracker as trk
-from mtcal.effects import Effect, Rows, as_effects
+from mtcal.effects import Rows, as_effects
 from mtcal.errors import InputError
-from mtcal.io import atomic_write_text, dumps
+from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorModel
 from mtcal.recordings import Recording, make_recording, write_recording
@@ -212,14 +211,7 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
 
 
 def load_plan(path: str | Path) -> Plan:
-    p = Path(path)
-    try:
-        raw = json.loads(p.read_text())
-    except FileNotFoundError:
-        raise FileNotFoundError(f"plan file not found: {p}") from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{p}: not valid JSON ({exc})") from None
-    return plan_from_dict(raw, str(p))
+    return plan_from_dict(read_json(path, "plan"), str(path))
 
 
 def as_plan(plan: Plan | Mapping | str | Path | None) -> Plan:

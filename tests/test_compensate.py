@@ -265,7 +265,6 @@ def test_cli_json_and_errors(tmp_path, capsys):
 
 
 def _program(path, n):
-    rng = np.random.default_rng(0)
     with open(path, "w") as f:
         f.write("G90 G21\nG0 X0 Y0 Z50 B0 C0\nG1 F1000\n")
         t = np.arange(n)

@@ -62,6 +62,25 @@ def test_concealed_effect_found_ranked_first_and_estimated(name, params, axes, m
     assert sum(e["significant"] for e in d.effects) == 1, [e["name"] for e in d.effects if e["significant"]]
 
 
+def test_tracker_knock_is_one_offset_step_of_every_later_reading():
+    # mtcal.effects "offset": the tracker (stand) knocked at t_from_s, every later reading (all axes, all
+    # reflectors) displaced by one vector; diagnosed as ONE step with its change point t0 scanned over the
+    # reading times, not as a re-seated nest plus a string of outlier bumps
+    rec = simulate_campaign(seed=0, effects=[("offset", {"size": 0.03, "t_from_s": 3000.0})])
+    d = diagnose(rec, tracker=T)
+    top = d.effects[0]
+    assert top["name"] == "offset" and top["significant"] and top["variant"] == "tracker knock", [
+        (e["name"], e.get("where")) for e in d.effects[:3]]
+    assert abs(top["estimate"] - 0.03) <= 0.2 * 0.03, (top["estimate"], top["uncertainty"])
+    assert top["direction"] == "+X" and top["unit"] == "mm"
+    t = np.sort(rec.time_s)
+    before, after = t[t < 3000.0].max(), t[t >= 3000.0].min()
+    assert before < top["t0_s"] <= after, (top["t0_s"], before, after)
+    assert d.sigma_ratio_after < 1.05
+    assert [e["name"] for e in d.effects if e["significant"]] == ["offset"], [
+        (e["name"], e.get("where")) for e in d.effects if e["significant"]]
+
+
 def test_clean_campaign_default_contract_and_nothing_added():
     rec = simulate_campaign(seed=5, plan=plan("XYZBC", rounds=2))
     d = diagnose(rec, tracker=T)
