@@ -2,18 +2,9 @@
 thesis plan: 11 positions per linear axis, B 0-180 step 10, C 0-340 step 20; 1680 readings).  Target < 1 s."""
 from __future__ import annotations
 
-import time
 
 import numpy as np
-
-
-def _best(fn, repeat: int = 5) -> float:
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
+from timing import best_of
 
 
 def run() -> dict:
@@ -26,10 +17,10 @@ def run() -> dict:
     rng = np.random.default_rng(0)
     pts, dls = rng.uniform(-200, 200, (100_000, 9)), rng.normal(0, 0.01, (100_000, 9))
     return {
-        "identify_campaign_unweighted_s": _best(lambda: identify(rec)),
-        "identify_campaign_weighted_s": _best(lambda: identify(rec, tracker=DEFAULT_TRACKER)),
+        "identify_campaign_unweighted_s": best_of(lambda: identify(rec), 5),
+        "identify_campaign_weighted_s": best_of(lambda: identify(rec, tracker=DEFAULT_TRACKER), 5),
         "readings": len(rec),
-        "ls_solve_per_position_us": _best(lambda: tp.ls_solve(pts, dls)) / 1e5 * 1e6,
+        "ls_solve_per_position_us": best_of(lambda: tp.ls_solve(pts, dls), 5) / 1e5 * 1e6,
     }
 
 

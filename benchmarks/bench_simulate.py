@@ -5,15 +5,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
-
-
-def _best(f, repeat: int = 3) -> float:
-    best = np.inf
-    for _ in range(repeat):
-        t = time.perf_counter()
-        f()
-        best = min(best, time.perf_counter() - t)
-    return best
+from timing import best_of
 
 
 def run() -> dict:
@@ -28,18 +20,18 @@ def run() -> dict:
     first = time.perf_counter() - t0
     effects = [("backlash", {}), ("thermal_drift", {}), ("outlier", {}), ("tracker_scale", {}), ("periodic", {})]
     out = {
-        "simulate_default_campaign_s": _best(lambda: simulate_campaign(seed=1)),
+        "simulate_default_campaign_s": best_of(lambda: simulate_campaign(seed=1)),
         "simulate_default_campaign_first_call_s": first,
         "simulate_campaign_rows": len(rec),
-        "simulate_campaign_5_effects_s": _best(lambda: simulate_campaign(seed=1, effects=effects)),
-        "simulate_100_rounds_s": _best(lambda: simulate_campaign(rounds=100), repeat=1),
-        "linear_propagation_all_axes_s": _best(
+        "simulate_campaign_5_effects_s": best_of(lambda: simulate_campaign(seed=1, effects=effects)),
+        "simulate_100_rounds_s": best_of(lambda: simulate_campaign(rounds=100), repeat=1),
+        "linear_propagation_all_axes_s": best_of(
             lambda: [linear_covariance(m, pl, a, pl.positions[a], pl.tracker) for a in pl.positions]),
-        "monte_carlo_1e4_rounds_X_11_positions_s": _best(
+        "monte_carlo_1e4_rounds_X_11_positions_s": best_of(
             lambda: monte_carlo(m, pl, "X", pl.positions["X"], pl.tracker, 10_000), repeat=1),
-        "monte_carlo_1e4_rounds_X_mid_travel_identify_2_passes_s": _best(
+        "monte_carlo_1e4_rounds_X_mid_travel_identify_2_passes_s": best_of(
             lambda: monte_carlo(m, pl, "X", [250.0], pl.tracker, 10_000, solver="auto", approaches=2), repeat=1),
-        "monte_carlo_1e4_rounds_C_18_positions_s": _best(
+        "monte_carlo_1e4_rounds_C_18_positions_s": best_of(
             lambda: monte_carlo(m, pl, "C", pl.positions["C"], pl.tracker, 10_000), repeat=1),
     }
     xs = ys = np.arange(-2500.0, 3001.0, 250.0)

@@ -718,35 +718,25 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tr
         oscan, ocount = _outlier_scan(prep, eng)
         kscan, kcount = _knock_scan(prep, eng)
         n_fam = len(fams) + (1 if ocount else 0) + (1 if kcount else 0)
-        best = None
         last_scores = {}
         for fam_name, members in fams.items():
             c, sc = min(members, key=lambda cs: cs[1]["logp"])
             c, sc = _refine(c, eng, sc)
-            logp_adj = sc["logp"] + math.log(len(members) * n_fam)
-            last_scores[fam_name] = (c, sc, logp_adj)
-            if best is None or logp_adj < best[2]:
-                best = (c, sc, logp_adj)
+            last_scores[fam_name] = (c, sc, sc["logp"] + math.log(len(members) * n_fam))
+        scanned = []  # (family, best member, members scanned): penalised for the whole scan
         if ocount:
-            oc = fx.outlier(prep.geometry, oscan["rows"], oscan["mode"], _where(prep, oscan["rows"]))
-            sc = eng.score(_w(oc))
-            if sc["separable"]:
-                logp_adj = sc["logp"] + math.log(ocount * n_fam)
-                last_scores["outlier"] = (oc, sc, logp_adj)
-                if best is None or logp_adj < best[2]:
-                    best = (oc, sc, logp_adj)
+            scanned.append(("outlier", fx.outlier(prep.geometry, oscan["rows"], oscan["mode"],
+                                                  _where(prep, oscan["rows"])), ocount))
         if kcount:  # tracker knock: the change point t0 scanned over the reading times (kcount members)
             first = kscan["rows"][np.argmin(prep.order[kscan["rows"]])]
             where = {"from_axis": str(prep.rec.axis[first]), **_where(prep, kscan["rows"]),
                      "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
-            kc = fx.tracker_knock(prep.geometry, kscan["t0"], where)
-            sc = eng.score(_w(kc))
+            scanned.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where), kcount))
+        for fam_name, cand, count in scanned:
+            sc = eng.score(_w(cand))
             if sc["separable"]:
-                logp_adj = sc["logp"] + math.log(kcount * n_fam)
-                last_scores["offset"] = (kc, sc, logp_adj)
-                if best is None or logp_adj < best[2]:
-                    best = (kc, sc, logp_adj)
-        if best is None or best[2] >= math.log(level):
+                last_scores[fam_name] = (cand, sc, sc["logp"] + math.log(count * n_fam))
+        if not last_scores or min(v[2] for v in last_scores.values()) >= math.log(level):
             break
         # among the significant candidates, the strongest evidence (raw p) names the effect: the multiplicity
         # penalty decides significance, not which of two correlated explanations wins
