@@ -22,7 +22,6 @@ from __future__ import annotations
 import io
 import itertools
 import os
-import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -31,6 +30,7 @@ import numpy as np
 
 from mtcal import gcode
 from mtcal.errors import InputError
+from mtcal.io import atomic_open, atomic_write_text
 from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorFunction, ErrorModel
 
@@ -507,43 +507,36 @@ class ProgramCompensator:
         if kind not in ("gcode", "cl"):
             raise InputError(f"input kind must be gcode or cl, got {kind!r}")
         total = src.stat().st_size
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{dst.name}.", dir=dst.parent)
         enc = gcode.ENCODING
-        try:
-            with open(src, encoding=enc, newline="") as fin, os.fdopen(fd, "wb") as fout:
-                self._state = gcode.ModalState()
-                self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
-                self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
-                self._src, self._done, self._moves_seen = str(src), 0, 0
-                first = 1
-                if kind == "cl":
-                    fout.write(f"%\n(mtcal compensate: CL data {src.name}, scope {self.comp.scope})\nG90 G21\n"
-                               .encode(enc))
-                    self._first_cl = True
-                    while True:
-                        lines = list(itertools.islice(fin, self.chunk_lines))
-                        if not lines:
-                            break
-                        fout.write(self._cl_chunk(lines, first).encode(enc))
-                        first += len(lines)
-                        self.report.lines += len(lines)
-                        self._done += sum(map(len, lines))
-                        if self.progress:
-                            self.progress(self._done, total)
-                    fout.write(b"M30\n%\n")
-                else:
-                    for _, text, n, size in _read_blocks(fin, self.chunk_chars):
-                        fout.write(self._gcode_block(text, first))
-                        first += n
-                        self.report.lines += n
-                        self._done += size
-                        if self.progress:
-                            self.progress(self._done, total)
-            os.replace(tmp, dst)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        with open(src, encoding=enc, newline="") as fin, atomic_open(dst, "wb") as fout:
+            self._state = gcode.ModalState()
+            self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
+            self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
+            self._src, self._done, self._moves_seen = str(src), 0, 0
+            first = 1
+            if kind == "cl":
+                fout.write(f"%\n(mtcal compensate: CL data {src.name}, scope {self.comp.scope})\nG90 G21\n"
+                           .encode(enc))
+                self._first_cl = True
+                while True:
+                    lines = list(itertools.islice(fin, self.chunk_lines))
+                    if not lines:
+                        break
+                    fout.write(self._cl_chunk(lines, first).encode(enc))
+                    first += len(lines)
+                    self.report.lines += len(lines)
+                    self._done += sum(map(len, lines))
+                    if self.progress:
+                        self.progress(self._done, total)
+                fout.write(b"M30\n%\n")
+            else:
+                for _, text, n, size in _read_blocks(fin, self.chunk_chars):
+                    fout.write(self._gcode_block(text, first))
+                    first += n
+                    self.report.lines += n
+                    self._done += size
+                    if self.progress:
+                        self.progress(self._done, total)
         return self.report
 
     # ---------------------------------------------------------------- G-code
@@ -898,11 +891,11 @@ def write_tables(model: ErrorModel, machine: Machine, folder: str | os.PathLike)
         head = "position," + ",".join(f"comp_{n}_{'mm' if n[2] in 'XYZ' else 'rad'}" for n in names)
         rows = [",".join([f"{p:.6g}"] + [f"{c[i]:.9g}" for c in cols]) for i, p in enumerate(pos)]
         path = out / f"comp_{ax}.csv"
-        path.write_text("\n".join([head] + rows) + "\n")
+        atomic_write_text(path, "\n".join([head] + rows) + "\n")
         written.append(str(path))
     if model.constants:
         path = out / "constants.csv"
-        path.write_text("name,compensation,unit\n" + "".join(
+        atomic_write_text(path, "name,compensation,unit\n" + "".join(
             f"{n},{-v:.9g},{'mm' if n[2] in 'XYZ' else 'rad'}\n" for n, v in sorted(model.constants.items())))
         written.append(str(path))
     return written
