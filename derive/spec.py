@@ -120,7 +120,8 @@ def _xyz(v, where: str) -> list[float]:
 def _campaign(raw: dict, axes: list[Axis], where: str) -> dict:
     """Default measurement campaign of the machine (mtcal simulate / plan): axis order and positions
     ([start, stop, count], mm or deg), reflector nests per side (mm; tool: relative to the spindle gauge point,
-    table: workpiece coordinates), named tracker stations (mm, machine frame; the first is the default), rounds."""
+    table: workpiece coordinates), named tracker stations (mm, machine frame; the first is the default), rounds.
+    Named entries are [name, value] lists so that their order survives (the generated metadata sorts dicts)."""
     names = [a.name for a in axes]
     pos = raw.get("positions", {})
     if sorted(pos) != sorted(names):
@@ -130,18 +131,18 @@ def _campaign(raw: dict, axes: list[Axis], where: str) -> dict:
         v = pos[a]
         if not (isinstance(v, list) and len(v) == 3 and int(v[2]) == v[2] and v[2] >= 2 and v[0] != v[1]):
             raise ValueError(f"{where}: campaign.positions.{a} must be [start, stop, count >= 2], got {v!r}")
-        positions[a] = [float(v[0]), float(v[1]), int(v[2])]
+        positions[a] = [a, float(v[0]), float(v[1]), int(v[2])]
     refl = raw.get("reflectors", {})
     reflectors = {}
     for side in ("tool", "table"):
         pts = refl.get(side, {})
         if len(pts) < 3:
             raise ValueError(f"{where}: [campaign.reflectors.{side}] needs >= 3 labelled points")
-        reflectors[side] = {k: _xyz(v, f"{where}: campaign.reflectors.{side}.{k}") for k, v in pts.items()}
-    trackers = {k: _xyz(v, f"{where}: campaign.trackers.{k}") for k, v in raw.get("trackers", {}).items()}
+        reflectors[side] = [[k, _xyz(v, f"{where}: campaign.reflectors.{side}.{k}")] for k, v in pts.items()]
+    trackers = [[k, _xyz(v, f"{where}: campaign.trackers.{k}")] for k, v in raw.get("trackers", {}).items()]
     if not trackers:
         raise ValueError(f"{where}: [campaign.trackers] needs at least one named tracker station")
-    return {"positions": positions, "reflectors": reflectors, "trackers": trackers,
+    return {"positions": list(positions.values()), "reflectors": reflectors, "trackers": trackers,
             "rounds": int(raw.get("rounds", 4))}
 
 

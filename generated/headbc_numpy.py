@@ -28,15 +28,13 @@ ERROR_GROUPS = {'linear': ['E_XX', 'E_YX', 'E_ZX', 'E_AX', 'E_BX', 'E_CX', 'E_XY
 PARAMETERS = {'pivot': '150'}
 AXIS_SIDES = {'B': 'tool', 'C': 'table', 'X': 'tool', 'Y': 'tool', 'Z': 'tool'}
 POSITIONING_ERRORS = {'B': 'E_CB', 'C': 'E_CC', 'X': 'E_XX', 'Y': 'E_YY', 'Z': 'E_ZZ'}
-CAMPAIGN = {'positions': {'B': [-90.0, 90.0, 19],
-               'C': [0.0, 340.0, 18],
-               'X': [0.0, 500.0, 11],
-               'Y': [0.0, 400.0, 11],
-               'Z': [0.0, 400.0, 11]},
- 'reflectors': {'table': {'K': [-75.0, -130.0, 120.0], 'P': [150.0, 0.0, 40.0], 'Q': [-75.0, 130.0, 80.0]},
-                'tool': {'K': [-35.0, -60.0, 70.0], 'P': [70.0, 0.0, 10.0], 'Q': [-35.0, 60.0, 40.0]}},
+CAMPAIGN = {'positions': [['X', 0.0, 500.0, 11], ['Y', 0.0, 400.0, 11], ['Z', 0.0, 400.0, 11], ['B', -90.0, 90.0, 19],
+               ['C', 0.0, 340.0, 18]],
+ 'reflectors': {'table': [['P', [150.0, 0.0, 40.0]], ['Q', [-75.0, 130.0, 80.0]],
+                          ['K', [-75.0, -130.0, 120.0]]],
+                'tool': [['P', [70.0, 0.0, 10.0]], ['Q', [-35.0, 60.0, 40.0]], ['K', [-35.0, -60.0, 70.0]]]},
  'rounds': 4,
- 'trackers': {'front': [250.0, -1500.0, 150.0], 'side': [-1500.0, 200.0, 150.0]}}
+ 'trackers': [['front', [250.0, -1500.0, 150.0]], ['side', [-1500.0, 200.0, 150.0]]]}
 IK = {'branches': 'B = phi + t (branch +1) or phi - t (branch -1), cos t = (k - a)/rho; singular at k = 1 (tool '
              'axis parallel to C, which is then free)',
  'k_range': [-1.0, 1.0],

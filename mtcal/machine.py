@@ -302,10 +302,11 @@ def _is_machine(name: str) -> bool:
 
 
 _CACHE: dict[str, Machine] = {}
+DEFAULT_MACHINE = "dmu50"  # the thesis' machine: what every command uses unless --machine says otherwise
 
 
-def load_machine(name: str = "dmu50") -> Machine:
-    """The kinematic model of a machine generated from derive/machines/<name>.toml (default: the DMU 50)."""
+def load_machine(name: str = DEFAULT_MACHINE) -> Machine:
+    """The kinematic model of a machine generated from derive/machines/<name>.toml (default: DEFAULT_MACHINE)."""
     if name not in _CACHE:
         _check_stale()
         _CACHE[name] = Machine(name)

@@ -15,9 +15,10 @@ import pytest
 
 from mtcal.diagnose import diagnose, diagnose_plate
 from mtcal.model import ErrorModel
-from mtcal.simulate import DEFAULT_POSITIONS, DEFAULT_TRACKER, simulate_campaign
+from mtcal.simulate import Plan, simulate_campaign
 
-T = DEFAULT_TRACKER
+DEFAULT_POSITIONS = Plan().positions
+T = Plan().tracker
 
 
 def plan(axes, rounds=3, step=1):

@@ -23,12 +23,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
-    p.add_argument("--machine", default=None, help="machine (default: the model's, else dmu50)")
+    p.add_argument("--machine", default=None, help="machine (default: the model's, else dmu50); "
+                   "one of the specs in derive/machines/")
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="recording to write (+ REC.truth.json)")
 
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.model import load_model
+    from mtcal.machine import DEFAULT_MACHINE
     from mtcal.simulate import load_plan, simulate, truth_path, write_campaign
 
     refuse_overwrite(args.output, args.model, args.plan)
@@ -36,8 +38,8 @@ def run(args: argparse.Namespace) -> int:
     tracker = parse_xyz(args.tracker) if args.tracker is not None else None
     effects = [fx.parse_effect(e) for e in args.effect]
     model = load_model(args.model) if args.model else None
-    plan = load_plan(args.plan) if args.plan else None
-    machine = args.machine or (model.machine if model is not None else "dmu50")
+    machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
+    plan = load_plan(args.plan, machine) if args.plan else None
     if args.rounds is not None and args.rounds < 1:
         raise ValueError(f"--rounds must be a positive integer, got {args.rounds}")
     rec, truth = simulate(model, machine=machine, tracker=tracker, rounds=args.rounds, seed=args.seed,
