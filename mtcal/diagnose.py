@@ -45,7 +45,6 @@ from mtcal.machine import Machine, load_machine
 from mtcal.recordings import Recording
 from mtcal.tracker import covariance
 
-AXIS_ORDER = ("X", "Y", "Z", "B", "C")
 MAX_DEGREE = 3
 ALIAS_TOL = 1e-4       # sin of the smallest angle between a candidate and the base below this: not separable
 WEAK_TOL = 0.05        # ... below this: separable only weakly (estimate strongly correlated with the base)
@@ -89,11 +88,12 @@ class Prepared:
     Aoff: np.ndarray         # (n, 3, 3) d nominal / d point position (rigid motion of the reflector)
 
 
-def _affine(fn, axes: np.ndarray, errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """b (n, 3), A (n, 3, 3) of the exact affine point map p -> fn(axes, errors, p) (rigid motion of p)."""
+def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """b (n, 3), A (n, 3, 3) of the exact affine point map p -> m.points(side, axes, p, errors) (the rigid
+    motion of a reflector on that side, with the errors)."""
     n = len(axes)
-    b = fn(axes, errors, np.zeros((n, 3)))
-    A = np.stack([fn(axes, errors, np.broadcast_to(e, (n, 3))) - b for e in np.eye(3)], axis=-1)
+    b = m.points(side, axes, np.zeros((n, 3)), errors)
+    A = np.stack([m.points(side, axes, np.broadcast_to(e, (n, 3)), errors) - b for e in np.eye(3)], axis=-1)
     return b, A
 
 
@@ -103,22 +103,22 @@ def prepare(rec: Recording, machine: Machine | str = "dmu50", model=None, tracke
     n = len(rec)
     if n == 0:
         raise InputError(f"{rec.source}: no readings")
-    axes = [a for a in AXIS_ORDER if a in set(rec.axis.tolist())]
-    unknown = sorted(set(rec.axis.tolist()) - set(AXIS_ORDER))
+    axes = [a for a in m.axes if a in set(rec.axis.tolist())]
+    unknown = sorted(set(rec.axis.tolist()) - set(m.axes))
     if unknown:
-        raise InputError(f"{rec.source}: axis {unknown[0]!r} is not an axis of {m.name} (X, Y, Z, B, C)")
+        raise InputError(f"{rec.source}: axis {unknown[0]!r} is not an axis of {m.name} ({', '.join(m.axes)})")
     order = np.lexsort((rec.line, np.where(np.isfinite(rec.time_s), rec.time_s, 0.0)))
     rank = np.empty(n, int)
     rank[order] = np.arange(n)
-    av = np.zeros((n, 5))
+    av = np.zeros((n, len(m.axes)))
     for a in axes:
-        av[rec.axis == a, AXIS_ORDER.index(a)] = rec.position[rec.axis == a]
-    side = np.where(np.isin(rec.axis, fx.LINEAR), "tool", "table")
+        av[rec.axis == a, m.index(a)] = rec.position[rec.axis == a]
+    side = np.array([m.side(a) for a in rec.axis.tolist()])
     errors = model.errors_at(m, av, extrapolate="clamp") if model is not None else np.zeros((n, len(m.error_names)))
 
     local = np.zeros((n, 3))
     keys = list(zip(rec.axis.tolist(), rec.round.tolist(), rec.point.tolist()))
-    seq_keys = sorted(set(keys), key=lambda k: (AXIS_ORDER.index(k[0]), k[1], k[2]))
+    seq_keys = sorted(set(keys), key=lambda k: (m.index(k[0]), k[1], k[2]))
     seq_index = {k: i for i, k in enumerate(seq_keys)}
     seq = np.array([seq_index[k] for k in keys])
     q_ref: dict[str, float] = {}
@@ -137,20 +137,18 @@ def prepare(rec: Recording, machine: Machine | str = "dmu50", model=None, tracke
                                      f"reference position {q_ref[a]:g}")
                 refs.append(at[np.argmin(rank[at])])
             refs = np.array(refs)
-            fn = m._np.tool_point if a in fx.LINEAR else m._np.table_point
-            b, A = _affine(fn, av[refs], errors[refs])
+            b, A = _affine(m, m.side(a), av[refs], errors[refs])
             p = np.linalg.solve(A, (rec.xyz[refs] - b)[..., None])[..., 0]
             local[sel] = p.mean(axis=0)
-    tool = side == "tool"
     nominal = np.empty((n, 3))
     Aoff = np.empty((n, 3, 3))
     J = np.empty((n, 3, len(m.error_names)))
-    for mask, fn, jac in ((tool, m._np.tool_point, m._np.tool_point_jacobian_errors),
-                          (~tool, m._np.table_point, m._np.table_point_jacobian_errors)):
+    for s in ("tool", "table"):
+        mask = side == s
         if mask.any():
-            nominal[mask] = fn(av[mask], errors[mask], local[mask])
-            Aoff[mask] = _affine(fn, av[mask], np.zeros((int(mask.sum()), len(m.error_names))))[1]
-            J[mask] = jac(av[mask], local[mask])
+            nominal[mask] = m.points(s, av[mask], local[mask], errors[mask])
+            Aoff[mask] = m.rigid_motion(s, av[mask])[1]
+            J[mask] = m.point_jacobian_errors(s, av[mask], local[mask])
     y = rec.xyz - nominal
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
     if t is not None:
@@ -158,16 +156,16 @@ def prepare(rec: Recording, machine: Machine | str = "dmu50", model=None, tracke
         W = np.linalg.inv(L)
     else:
         W = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
-    g = fx.Geometry(rec.axis, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m.error_names, t)
+    g = fx.Geometry(rec.axis, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t)
     return Prepared(rec, m, g, y, W, t is not None, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff)
 
 
 # ---------------------------------------------------------------------------------------------- base design
-def _basis(axis: str, q: np.ndarray, q_ref: float, degree: int, span: float) -> np.ndarray:
+def _basis(linear: bool, q: np.ndarray, q_ref: float, degree: int, span: float) -> np.ndarray:
     """(n, k) smooth functions of the position vanishing at the reference position."""
     if degree == 0:
         return np.zeros((len(q), 0))
-    if axis in fx.LINEAR:
+    if linear:
         s = (q - q_ref) / max(span, 1e-9)
         return np.stack([s**k for k in range(1, degree + 1)], axis=1)
     th, t0 = np.deg2rad(q), np.deg2rad(q_ref)
@@ -191,9 +189,9 @@ def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | N
         on = rec.axis == a
         pos = rec.position[on]
         span = float(np.ptp(pos)) or 1.0
-        B = _basis(a, rec.position[on], prep.q_ref[a], degrees.get(a, 0), span)
+        B = _basis(prep.machine.kind(a) == "linear", rec.position[on], prep.q_ref[a], degrees.get(a, 0), span)
         cols = []
-        for e in fx.axis_errors(a):
+        for e in prep.machine.error_motions(a):
             c = g.col(e)[on]
             cols += [c * B[:, k:k + 1] for k in range(B.shape[1])]
         # point positions: d nominal / d point = the rigid motion of the point (identity tool side, R(q) table
@@ -411,16 +409,16 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
             out.append(fx.backlash(g, a))
         else:
             notes.append({"name": "backlash", "axis": a, "not_separable": NOT_SEPARABLE["backlash"]})
-        grid, span = fx.pitch_grid(rec.position[on], a, max_degree)
+        grid, span = fx.pitch_grid(rec.position[on], g.linear(a), max_degree)
         for pitch in grid:
             out.append(fx.periodic(g, a, pitch, span))
         out.append(fx.scale(g, a))
-        for e in fx.axis_errors(a):
+        for e in prep.machine.error_motions(a):
             out.append(fx.second_order(g, a, e))
         notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})
-    for e, a in {**fx.SQUARENESS, **fx.LOCATIONS}.items():
+    for e, (name, a) in fx.constants(prep.machine).items():
         if a in prep.axes:
-            out.append(fx.constant(g, "squareness" if e in fx.SQUARENESS else "rotary_location", e))
+            out.append(fx.constant(g, name, e))
     if np.isfinite(rec.time_s).all():
         t0 = float(np.min(rec.time_s))
         sides = set(g.side.tolist())
@@ -593,7 +591,7 @@ def _headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
         g = theta / amp if amp > 0 else np.zeros(2)
         u = float(math.sqrt(max(g @ cov @ g, 0.0)))
         params["phase_deg"] = float(np.degrees(np.arctan2(theta[1], theta[0])))
-        return {"estimate": amp, "uncertainty": u, "unit": "mm" if c.axis in fx.LINEAR else "rad",
+        return {"estimate": amp, "uncertainty": u, "unit": c.extra["amplitude_unit"],
                 "parameters": params, "direction": None}
     if c.extra.get("variant") == "tracker knock":  # the step: its size (mm) along its direction, from t0 on
         size = float(np.linalg.norm(theta))

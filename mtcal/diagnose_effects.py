@@ -19,25 +19,20 @@ from typing import Callable
 import numpy as np
 
 from mtcal.generated import signatures_numpy as S
+from mtcal.machine import Machine
 
-LINEAR, ROTARY = ("X", "Y", "Z"), ("B", "C")
 VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
               "cross_axis", "second_order", "tracker_scale", "offset")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
-SQUARENESS = {"E_C0Y": "Y", "E_B0Z": "Z", "E_A0Z": "Z"}  # constant -> the axis whose motion shows it
-LOCATIONS = {"E_X0B": "B", "E_Y0B": "B", "E_A0B": "B", "E_B0B": "B",
-             "E_X0C": "C", "E_Y0C": "C", "E_A0C": "C", "E_B0C": "C"}
 
 
-def positioning_error(axis: str) -> str:
-    """ISO name of the positioning error of an axis: E_XX for X, E_CB / E_CC for the rotary axes."""
-    return f"E_{axis}{axis}" if axis in LINEAR else f"E_C{axis}"
-
-
-def axis_errors(axis: str) -> list[str]:
-    """The six error motions of an axis (ISO 230-1)."""
-    return [f"E_{c}{axis}" for c in "XYZABC"]
+def constants(machine: Machine) -> dict[str, tuple[str, str]]:
+    """Squareness and location constants of the machine -> (effect name, the axis whose motion shows it: the
+    last letter of the ISO name, e.g. E_C0Y -> Y, E_X0C -> C)."""
+    g = machine.error_groups
+    return {**{e: ("squareness", e[-1]) for e in g["squareness"]},
+            **{e: ("rotary_location", e[-1]) for e in g["location"]}}
 
 
 @dataclass
@@ -67,12 +62,15 @@ class Geometry:
     time_s: np.ndarray      # (n,) s, NaN when absent
     side: np.ndarray        # (n,) "tool" / "table"
     xyz: np.ndarray         # (n, 3) mm
-    J: np.ndarray           # (n, 3, 41) point Jacobian of the errors at zero error
-    error_names: tuple[str, ...]
+    J: np.ndarray           # (n, 3, n_errors) point Jacobian of the errors at zero error
+    machine: Machine
     tracker: np.ndarray | None
 
     def col(self, name: str) -> np.ndarray:
-        return self.J[:, :, self.error_names.index(name)]
+        return self.J[:, :, self.machine.error_names.index(name)]
+
+    def linear(self, axis: str) -> bool:
+        return self.machine.kind(axis) == "linear"
 
 
 def _on(g: Geometry, axis: str) -> np.ndarray:
@@ -80,47 +78,47 @@ def _on(g: Geometry, axis: str) -> np.ndarray:
 
 
 def backlash(g: Geometry, axis: str) -> Candidate:
-    e = positioning_error(axis)
+    e = g.machine.positioning_errors[axis]
     G = S.backlash_signature(g.col(e), g.direction.astype(float)) * _on(g, axis)
-    unit = "mm" if axis in LINEAR else "rad"
+    unit = "mm" if g.linear(axis) else "rad"
     return Candidate("backlash", axis, e, G[:, :, None], [f"reversal value ({unit})"], family=f"backlash {axis}",
                      extra={"error": e})
 
 
 def scale(g: Geometry, axis: str) -> Candidate:
-    e = positioning_error(axis)
-    q = np.deg2rad(g.position) if axis in ROTARY else g.position
+    e = g.machine.positioning_errors[axis]
+    q = g.position if g.linear(axis) else np.deg2rad(g.position)
     G = S.scale_signature(g.col(e), q) * _on(g, axis)
     return Candidate("scale", axis, e, G[:, :, None], ["ppm"], family=f"scale {axis}", extra={"error": e})
 
 
 def second_order(g: Geometry, axis: str, error: str) -> Candidate:
     G = S.second_order_signature(g.col(error), g.position) * _on(g, axis)
-    unit = ("mm" if error[2] in "XYZ" else "rad") + "/" + ("mm^2" if axis in LINEAR else "deg^2")
+    unit = ("mm" if error[2] in "XYZ" else "rad") + "/" + ("mm^2" if g.linear(axis) else "deg^2")
     return Candidate("second_order", axis, error, G[:, :, None], [f"coefficient ({unit})"],
                      family=f"second_order {axis}", extra={"error": error})
 
 
 def constant(g: Geometry, name: str, error: str) -> Candidate:
-    axis = SQUARENESS.get(error) or LOCATIONS.get(error)
+    axis = constants(g.machine)[error][1]
     G = g.col(error) * _on(g, axis)
     unit = "mm" if error[2] in "XY" and name == "rotary_location" else "rad"
     return Candidate(name, axis, error, G[:, :, None], [f"{error} ({unit})"], family=name, extra={"error": error})
 
 
 def periodic(g: Geometry, axis: str, pitch: float, span: tuple[float, float]) -> Candidate:
-    e = positioning_error(axis)
+    e = g.machine.positioning_errors[axis]
     G = S.periodic_signature(g.col(e), g.position, float(pitch)) * _on(g, axis)[:, :, None]
-    unit = "mm" if axis in LINEAR else "deg"
-    c = Candidate("periodic", axis, f"pitch={pitch:.4g} {unit}", G,
-                  [f"sin amplitude ({'mm' if axis in LINEAR else 'rad'})", "cos amplitude"],
-                  family=f"periodic {axis}", extra={"error": e, "pitch": float(pitch), "pitch_unit": unit})
+    unit, amp_unit = g.machine.unit(axis), "mm" if g.linear(axis) else "rad"
+    c = Candidate("periodic", axis, f"pitch={pitch:.4g} {unit}", G, [f"sin amplitude ({amp_unit})", "cos amplitude"],
+                  family=f"periodic {axis}", extra={"error": e, "pitch": float(pitch), "pitch_unit": unit,
+                                                    "amplitude_unit": amp_unit})
     c.refine = lambda p: periodic(g, axis, p, span)
     c.refine_range, c.refine_value = span, float(pitch)
     return c
 
 
-def pitch_grid(positions: np.ndarray, axis: str, max_harmonic: int) -> tuple[np.ndarray, tuple[float, float]]:
+def pitch_grid(positions: np.ndarray, linear: bool, max_harmonic: int) -> tuple[np.ndarray, tuple[float, float]]:
     """Pitches that the sampling resolves (>= 2.2 position steps) and that are not a low harmonic of the travel."""
     u = np.unique(positions)
     if len(u) < 5:
@@ -128,7 +126,7 @@ def pitch_grid(positions: np.ndarray, axis: str, max_harmonic: int) -> tuple[np.
     step = float(np.min(np.diff(u)))
     travel = float(u[-1] - u[0])
     lo = 2.2 * step
-    hi = travel / 1.2 if axis in LINEAR else 360.0 / (max_harmonic + 0.5)
+    hi = travel / 1.2 if linear else 360.0 / (max_harmonic + 0.5)
     if hi <= lo:
         return np.zeros(0), (0.0, 0.0)
     n = int(np.ceil(np.log(hi / lo) / np.log(1.08))) + 1
