@@ -545,7 +545,7 @@ class Diagnosis:
         return {"base_sigma": self.base_sigma, "base_sigma_ratio": self.base_sigma_ratio,
                 "sigma_after": self.sigma_after, "sigma_ratio_after": self.sigma_ratio_after,
                 "effects": self.effects, "located": self.located, "base_model": self.base,
-                "units": {"length": "mm", "angle": "rad", "position": "mm (X, Y, Z) or deg (B, C)",
+                "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)",
                           "sigma_ratio": "1 = the tracker's specification (AT960) when --tracker is given"},
                 "notes": self.notes}
 
