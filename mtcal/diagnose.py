@@ -2,7 +2,7 @@
 
 Base model (frames: machine frame = tracker frame, mm; positions mm or deg; errors mm and rad):
 * every reflector reading of axis J is its nominal position plus the first-order effect of J's six error
-  motions through the generated point Jacobian (dmu50 ``tool_point_jacobian_errors`` / ``table_point_...``):
+  motions through the generated point Jacobian (Machine.point_jacobian_errors):
   d = J_point(q) e(q); the nominal position uses the point's position from the reference readings (design.md:
   each round's reading at the position closest to zero);
 * the error motions are smooth functions that vanish at the reference position: polynomials in (q - q_ref) for
@@ -41,7 +41,7 @@ from scipy import optimize, stats
 
 from mtcal import diagnose_effects as fx
 from mtcal.errors import InputError
-from mtcal.machine import Machine, load_machine
+from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.recordings import Recording
 from mtcal.tracker import covariance
 
@@ -97,7 +97,7 @@ def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tupl
     return b, A
 
 
-def prepare(rec: Recording, machine: Machine | str = "dmu50", model=None, tracker=None) -> Prepared:
+def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None) -> Prepared:
     """Nominal positions, point Jacobians and weights of every reading (see module docstring)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
@@ -670,7 +670,7 @@ def _cv(prep: Prepared, base: Base, wy: np.ndarray, Gs: list[np.ndarray]) -> tup
     return with_, without
 
 
-def diagnose(rec: Recording, model=None, *, machine: Machine | str = "dmu50", tracker=None, level: float = 0.01,
+def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None, level: float = 0.01,
              max_degree: int = MAX_DEGREE, max_effects: int = 8, progress=None) -> Diagnosis:
     """Diagnose a recording (see module docstring).  ``level``: family-wise significance level."""
     global _PREP

@@ -50,6 +50,7 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from mtcal.errors import InputError
+from mtcal.generated import signatures_numpy as S
 
 
 
@@ -245,27 +246,24 @@ class Effect:
             q = q_of(axis)
             return np.deg2rad(q) if machine.kind(axis) == "rotary" else q
 
+        # the increments of the error functions are the generated models of derive/signatures.py (whose
+        # derivatives are the diagnosis' signatures): each effect is written once
         if n == "backlash":
             on = rows.axis == p["axis"]
-            errors[on, idx[machine.positioning_errors[p["axis"]]]] += rows.direction[on] * p["amount"] / 2
+            errors[on, idx[self.error]] += S.backlash_model(rows.direction[on].astype(float), [p["amount"]])[:, 0]
         elif n == "periodic":
-            q = q_of(p["axis"])
-            errors[:, idx[machine.positioning_errors[p["axis"]]]] += p["amplitude"] * np.sin(
-                2 * np.pi * q / p["pitch"] + np.deg2rad(p["phase_deg"]))
+            ph = np.deg2rad(p["phase_deg"])
+            amp = [p["amplitude"] * np.cos(ph), p["amplitude"] * np.sin(ph)]  # a sin(x + ph) = a_s sin x + a_c cos x
+            errors[:, idx[self.error]] += S.periodic_model(q_of(p["axis"]), float(p["pitch"]), amp)[:, 0]
         elif n == "scale":
-            errors[:, idx[machine.positioning_errors[p["axis"]]]] += p["ppm"] * 1e-6 * q_si(p["axis"])
+            errors[:, idx[self.error]] += S.scale_model(q_si(p["axis"]), [p["ppm"]])[:, 0]
         elif n in ("squareness", "rotary_location"):
             errors[:, idx[p["error"]]] += p["value"]
         elif n == "cross_axis":
             own = p["error"][-1]
-            errors[:, self._index(idx, p["error"])] += p["coefficient"] * q_of(own) * q_of(p["on"])
+            errors[:, idx[p["error"]]] += S.cross_axis_model(q_of(own), q_of(p["on"]), [p["coefficient"]])[:, 0]
         elif n == "second_order":
-            errors[:, self._index(idx, p["error"])] += p["coefficient"] * q_of(p["error"][-1]) ** 2
-
-    def _index(self, idx: Mapping[str, int], name: str) -> int:
-        if name not in idx:
-            raise InputError(f"effect {self.name}: {name} is not an error of this machine")
-        return idx[name]
+            errors[:, idx[p["error"]]] += S.second_order_model(q_of(p["error"][-1]), [p["coefficient"]])[:, 0]
 
     # -------------------------------------------------------------- readings (mm)
     def drift(self, t: np.ndarray) -> np.ndarray:
@@ -307,13 +305,14 @@ class Effect:
         if n == "thermal_drift":
             on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == {"spindle": "tool",
                                                                                             "table": "table"}[p["target"]]
-            xyz[on] += (p["amplitude"] * self.drift(rows.time_s[on]))[:, None] * _unit(p["direction"])
+            dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
+            xyz[on] += S.thermal_drift_displacement(p["amplitude"] * _unit(p["direction"]), dt, p["tau_s"])
         elif n == "outlier":
             xyz[self.outlier_rows(rows)] += p["size"] * _unit(p["direction"])
         elif n == "offset":
             xyz[rows.time_s >= self.offset_time(rows)] += p["size"] * _unit(p["direction"])
         elif n == "tracker_scale":
-            xyz[:] = tracker + (1.0 + self.tracker_ppm() * 1e-6) * (xyz - tracker)
+            xyz[:] = S.tracker_scale_reading(xyz, tracker, self.tracker_ppm())
 
     def offset_time(self, rows: Rows) -> float:
         t = self.params["t_from_s"]

@@ -25,7 +25,7 @@ from mtcal import fitting
 from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
-from mtcal.machine import Machine, load_machine
+from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
 
@@ -141,7 +141,7 @@ class PositionResult:
 
 
 def identify_position(axis: str, position, readings, reference, reference_position=0.0, tracker=None,
-                      machine: str | Machine = "dmu50") -> PositionResult:
+                      machine: str | Machine = DEFAULT_MACHINE) -> PositionResult:
     """The six error motions of ``axis`` at ``position`` (mm or deg; vectorised over leading dimensions).
 
     readings (..., n, 3) mm: the n points measured at ``position``; reference (..., n, 3) mm: the same points
@@ -295,7 +295,7 @@ def _passes(rec: Recording, axis: str):
             "q0": np.array([refs[k[0]][0] for k in keys])}
 
 
-def identify(rec: Recording, tracker=None, machine: str | Machine = "dmu50", reference: str = "least-squares",
+def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
              max_deviation_mm: float = MAX_DEVIATION_MM, progress=None) -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);

@@ -30,13 +30,14 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_residuals
     from mtcal.io import dumps
     from mtcal.model import load_model
+    from mtcal.machine import DEFAULT_MACHINE
     from mtcal.recordings import read_recording
     from mtcal.tracker import parse_xyz
 
     rec = read_recording(args.recording)
     model = load_model(args.model) if args.model else None
     tracker = parse_xyz(args.tracker) if args.tracker else None
-    machine = args.machine or (model.machine if model is not None else "dmu50")
+    machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     d = diagnose(rec, model, machine=machine, tracker=tracker, level=args.level,
                  progress=lambda m: print(f"diagnose: {m}", file=sys.stderr, flush=True))
     out = d.to_dict()
