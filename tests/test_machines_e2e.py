@@ -94,12 +94,12 @@ def test_compensation_checked_with_the_exact_kinematics_of_the_true_machine(iden
 
 @pytest.mark.parametrize("name", SPECS)
 def test_diagnose_finds_a_planted_backlash_and_keeps_a_clean_campaign_clean(name):
-    """The physical simulator plants a 10 um (or 50 urad) reversal on the machine's last axis; diagnosis names
-    it on that axis within 3 sigma; the same campaign without it reports nothing."""
+    """The physical simulator plants a 50 urad reversal on the machine's tilt axis (on the head for headbc);
+    diagnosis names it on that axis within 3 sigma; the same campaign without it reports nothing."""
     m = mtcal.load_machine(name)
     pl = short_plan(m, rounds=3, step=2)
-    axis = m.axes[-1]
-    amount = 0.010 if m.kind(axis) == "linear" else 50e-6
+    axis = m.ik_info["tilt_axis"]
+    amount = 50e-6
     clean, _ = simulate(None, plan=pl, seed=11)
     planted, _ = simulate(None, plan=pl, seed=12, effects=[("backlash", {"axis": axis, "amount": amount})])
     d0 = diagnose(clean, machine=m, tracker=pl.tracker).to_dict()
