@@ -258,11 +258,12 @@ def deviations(rec: Recording, axis: str, machine: Machine, point: str | None = 
         dev = (d_m @ u).mean(axis=-1) * 1e3
         unit = "um"
         if alpha is not None:
-            temp = np.nanmean(rec.temperature_c[rows], axis=-1)
-            if np.isnan(temp).any():
-                i = int(rows[int(np.flatnonzero(np.isnan(temp))[0]), 0])
-                raise InputError(f"{rec.where(i)}: no temperature_c for this pass; temperature normalisation "
-                                 f"needs it on every reading of axis {axis}")
+            temps = rec.temperature_c[rows]
+            if np.isnan(temps).any():
+                i = int(rows[np.isnan(temps)][0])
+                raise InputError(f"{rec.where(i)}: no temperature_c; temperature normalisation needs it on every "
+                                 f"reading of axis {axis}")
+            temp = temps.mean(axis=-1)
             dev = dev - alpha * (temp - 20.0) * (pos - q0) * 1e3
     else:
         if angle_unit not in ANGLE_UNITS:
