@@ -84,7 +84,10 @@ def _write(res, folder: Path, source: str) -> list[str]:
 
 
 def _num(v: float, digits: int = 2) -> str:
-    return "" if v is None or (isinstance(v, float) and math.isnan(v)) else f"{v:.{digits}f}"
+    if v is None or math.isnan(v):
+        return ""
+    text = f"{v:.{digits}f}"
+    return text.lstrip("-") if float(text) == 0 else text  # no "-0.00"
 
 
 def targets_csv(ev) -> str:
