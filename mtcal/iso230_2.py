@@ -1,8 +1,8 @@
 """ISO 230-2:2014 evaluation of the positioning accuracy and repeatability of one axis from a tidy recording.
 
-Positional deviation x_ij = actual - target position of the measured axis at target i, run j (ISO 230-2:2014,
-3.1), taken from the laser-tracker readings against each round's reference reading (design.md: the round's
-reading at the position closest to zero, the first time it is approached):
+Positional deviation x_ij = actual - target position of the measured axis at target i, run j (ISO 230-2:2014
+terms and definitions), from the laser-tracker readings against each round's reference reading (design.md:
+the round's reading at the position closest to zero, the first time it is approached):
 
 * linear axis (um): every reflector's reading minus where the nominal motion takes its reference reading,
   projected on the unit direction in which the axis moves the reflector (from the machine's nominal kinematics),
@@ -14,18 +14,18 @@ reading at the position closest to zero, the first time it is approached):
   so that + means turned further in the axis' positive sense.  In-plane translations (radial error motions,
   location errors) and tilts are solved for separately, so they do not leak into the angle; >= 3 points.
 
-Temperature normalisation to 20 C (linear axes, ISO 230-2 clause 5.3 "nominal differential expansion"): with the
+Temperature normalisation to 20 C (linear axes, as the standard's nominal differential expansion): with the
 expansion coefficient alpha (1/K) of the axis' scale / the part it stands for and the pass' temperature T
 (mean temperature_c of its readings), x_ij <- x_ij - alpha (T - 20 C) (P_i - P_0), with P_0 the reference
 position: the deviation the axis would show at 20 C.
 
-Statistics (ISO 230-2:2014, 3.2-3.3, computed per target over the runs that exist, so unequal numbers of runs
-per target and direction are fine): x_mean_up/down (mean unidirectional positional deviation), x_mean_i =
+Statistics (ISO 230-2:2014 terms and definitions, computed per target over the runs that exist, so unequal
+numbers of runs per target and direction are fine): x_mean_up/down (mean unidirectional positional deviation), x_mean_i =
 (up + down)/2, B_i = up - down (reversal value), s_up/down (unidirectional standard uncertainty estimate, n - 1),
 R_up/down_i = 4 s, R_i = max(2 s_up + 2 s_down + |B_i|, R_up_i, R_down_i); axis: B = max |B_i|, B_mean = mean B_i,
 E_up/down = max - min of the unidirectional means, E = max - min over both, M = max - min of x_mean_i,
 R_up/down/R = max over targets, A_up = max(x_up + 2 s_up) - min(x_up - 2 s_up), A_down alike, A = over both.
-The standard asks for 5 runs in each direction (clause 4.3): fewer give a warning, not a refusal.
+The standard test cycle has 5 runs in each direction: fewer give a warning, not a refusal.
 """
 from __future__ import annotations
 
@@ -39,11 +39,11 @@ from mtcal.identify import MAX_DEVIATION_MM, frame_data, solve_frame
 from mtcal.machine import Machine, load_machine
 from mtcal.recordings import Recording
 
-RUNS = 5  # ISO 230-2:2014, 4.3: five runs in each direction at every target
+RUNS = 5  # ISO 230-2:2014 standard test cycle: five runs in each direction at every target
 ANGLE_UNITS = {"arcsec": 180.0 / math.pi * 3600.0, "urad": 1e6, "deg": 180.0 / math.pi}  # per rad
 TARGET_FIELDS = ("n_up", "n_down", "mean_up", "mean_down", "mean", "reversal", "s_up", "s_down",
                  "R_up", "R_down", "R")
-PARAMETERS = {  # name -> meaning (ISO 230-2:2014, 3.3)
+PARAMETERS = {  # name -> meaning (ISO 230-2:2014 terms and definitions)
     "B": "reversal value of the axis, max |B_i|", "B_mean": "mean reversal value, mean of B_i",
     "E_up": "unidirectional systematic positional deviation (up), max - min of mean_up",
     "E_down": "unidirectional systematic positional deviation (down)",
@@ -272,6 +272,9 @@ def deviations(rec: Recording, axis: str, machine: Machine, point: str | None = 
         sense = float(np.sign(turn[0, 1, 0]))
         if not abs(abs(turn[0, 1, 0]) - math.sin(math.radians(1.0))) < 1e-9:
             raise RuntimeError(f"axis {axis}: its stator frame's z is not the rotation axis (generated frames)")
+        if len(ps["points"]) < 3:
+            raise InputError(f"{rec.source}: the angle of rotary axis {axis} needs >= 3 reflectors on the table, "
+                             f"got {ps['points']}")
         e, _, _ = solve_frame(pts, dls)
         dev = sense * e[:, 5] * ANGLE_UNITS[angle_unit]
         unit = angle_unit
@@ -302,12 +305,13 @@ def _select_targets(runs: Runs, targets, axis: str, notes: list[str]) -> Runs:
 def _warn_design(t: dict[str, np.ndarray], positions: np.ndarray, axis: str, notes: list[str]) -> None:
     few = [f"{p:g}" for p, nu, nd in zip(positions, t["n_up"], t["n_down"]) if min(nu, nd) < RUNS]
     if few:
-        notes.append(f"axis {axis}: fewer than {RUNS} runs in a direction at {len(few)} target(s) ({', '.join(few[:6])}"
-                     f"{' ...' if len(few) > 6 else ''}); ISO 230-2 (4.3) asks for {RUNS} each way")
+        notes.append(f"axis {axis}: fewer than {RUNS} runs in a direction at {len(few)} target(s) "
+                     f"({', '.join(few[:6])}{' ...' if len(few) > 6 else ''}); ISO 230-2's standard test cycle has "
+                     f"{RUNS} each way")
     if (t["n_down"] == 0).all() or (t["n_up"] == 0).all():
         notes.append(f"axis {axis}: unidirectional runs only: reversal and bidirectional values are undefined (NaN)")
     if len(positions) < 5:
-        notes.append(f"axis {axis}: {len(positions)} target positions; ISO 230-2 (4.3) asks for at least 5")
+        notes.append(f"axis {axis}: {len(positions)} target positions; ISO 230-2 asks for at least 5")
 
 
 def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = "dmu50", targets=None,

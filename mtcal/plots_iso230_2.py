@@ -1,4 +1,4 @@
-"""Plot of an ISO 230-2 evaluation in the layout of the standard's figures (ISO 230-2:2014, figs. 1-2): the
+"""Plot of an ISO 230-2 evaluation in the layout of the standard's figures: the
 mean unidirectional positional deviations up and down over the target positions with their +-2 s bands and the
 individual runs; PNG via matplotlib's Agg backend."""
 from __future__ import annotations

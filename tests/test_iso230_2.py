@@ -1,5 +1,5 @@
 """ISO 230-2:2014 evaluation: recordings built here with a known run structure and planted deviations; the
-expected values are computed in this file by a plain loop over the standard's definitions (3.1-3.3), not by
+expected values are computed in this file by a plain loop over the standard's definitions, not by
 mtcal.iso230_2; plus end-to-end through `mtcal simulate` with planted scale and backlash."""
 from __future__ import annotations
 
@@ -173,6 +173,8 @@ def test_rotary_c_axis_angular_deviation_from_the_plane_geometry():
     assert ev.unit == "arcsec" and ev.kind == "rotary"
     _check(ev, _relative(passes, dev), 2e-3)  # first order in a 1e-4 rad motion: 1e-4 arcsec level
     assert ev.parameters["B_mean"] == pytest.approx(4.0, abs=1.5)
+    with pytest.raises(InputError, match=r"built\.csv: the angle of rotary axis C needs >= 3 reflectors"):
+        evaluate(_build("C", passes, dev, place), axis="C", point="P")
     in_urad = evaluate(_build("C", passes, dev, place), axis="C", angle_unit="urad").axes["C"]
     assert in_urad.parameters["E"] == pytest.approx(ev.parameters["E"] / ARCSEC * 1e6, rel=1e-9)
 

@@ -16,8 +16,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("export", metavar="EXPORT.txt", help="SpatialAnalyzer ASCII export (space, comma or tab separated)")
     how = p.add_mutually_exclusive_group(required=True)
     how.add_argument("--mapping", metavar="MAP.csv", help="CSV target,axis,round,position,point[,direction]")
-    how.add_argument("--pattern", metavar="REGEX", help="regular expression with named groups axis, round, position, "
-                     r"point [, direction], e.g. '(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+)'")
+    how.add_argument("--pattern", metavar="REGEX", help="regular expression with named groups axis, round, "
+                     r"position, point [, direction], e.g. '(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+)'")
     p.add_argument("--units", choices=("mm", "in", "m"), default="mm", help="length unit of the export (default mm)")
     p.add_argument("--skip-unmatched", action="store_true",
                    help="leave out targets that match no mapping (default: an error listing them)")
