@@ -186,6 +186,9 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
                 if not 1 <= k <= 3:
                     raise InputError(f"{where}: expected 1-3 name fields (Collection Group Target) before x y z, "
                                      f"found {k}; numeric target names need name_fields (--name-fields)")
+                if k < 3 and "::" not in fields[0]:
+                    notes.append(f"{source}, line {n}: {k} name field(s) before x y z taken from the first "
+                                 f"non-number; numbered targets need --name-fields 3")
             p = _positional(fields, k, where)
         p.line = n
         points.append(p)
@@ -299,8 +302,9 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
         keys.append(_keys(found, where))
     if skipped and not skip_unmatched:
         shown = "; ".join(f"{n} (line {ln})" for n, ln in skipped[:10])
+        hint = "".join(f"; {n}" for n in notes if "name field(s)" in n)
         raise InputError(f"{source}: {len(skipped)} target(s) match no {'mapping row' if mapping else 'pattern'}: "
-                         f"{shown}{' ...' if len(skipped) > 10 else ''} (--skip-unmatched leaves them out)")
+                         f"{shown}{' ...' if len(skipped) > 10 else ''} (--skip-unmatched leaves them out){hint}")
     if not keep:
         raise InputError(f"{source}: no target matched")
     if skipped:

@@ -126,3 +126,23 @@ def test_bad_mapping_and_pattern(tmp_path):
     m.write_text("target,axis,round,position\nT1,X,1,0\n")
     with pytest.raises(InputError, match=r"map\.csv, line 1: header must be"):
         read_mapping(m)
+
+
+def test_numeric_target_names_need_the_name_field_count(tmp_path):
+    """SA targets are often numbered: 'Coll Grp 12 x y z' has no non-numeric target field to find."""
+    m = tmp_path / "map.csv"
+    m.write_text("target,axis,round,position,point,direction\n12,X,1,0,P,+\n13,X,1,50,P,+\n")
+    from mtcal.import_sa import read_mapping
+    text = "Coll Grp 12 70.0 0.0 10.0\nColl Grp 13 120.0 0.0 10.0\n"
+    with pytest.raises(InputError, match=r"match no mapping row: Coll::Grp \(line 1\).*numbered targets need "
+                                         r"--name-fields 3"):
+        import_sa(text, "e.txt", mapping=read_mapping(m))
+    res = import_sa(text, "e.txt", mapping=read_mapping(m), name_fields=3)
+    np.testing.assert_array_equal(res.recording.xyz, [[70, 0, 10], [120, 0, 10]])
+    assert res.recording.position.tolist() == [0, 50] and res.recording.direction.tolist() == [1, 1]
+
+
+def test_header_columns_not_used_are_named():
+    text = "Collection,Group,Target,X,Y,Z,RMS\nA,B,X_r1_0_P_up,1,2,3,0.004\n"
+    res = import_sa(text, "h.csv", pattern=PATTERN)
+    assert res.recording.xyz.tolist() == [[1, 2, 3]] and res.notes == ["h.csv, line 1: column(s) ['RMS'] not used"]
