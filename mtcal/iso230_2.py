@@ -131,7 +131,7 @@ def statistics(position, direction, deviation) -> tuple[np.ndarray, dict[str, np
     t["mean"] = (t["mean_up"] + t["mean_down"]) / 2
     t["reversal"] = t["mean_up"] - t["mean_down"]
     t["R_up"], t["R_down"] = 4 * t["s_up"], 4 * t["s_down"]
-    t["R"] = np.fmax(2 * t["s_up"] + 2 * t["s_down"] + np.abs(t["reversal"]), np.fmax(t["R_up"], t["R_down"]))
+    t["R"] = np.maximum(2 * t["s_up"] + 2 * t["s_down"] + np.abs(t["reversal"]), np.maximum(t["R_up"], t["R_down"]))
     return targets, t, _axis_parameters(t)
 
 
@@ -239,45 +239,52 @@ def _check_size(rec: Recording, d_m: np.ndarray, rows: np.ndarray, unit: str) ->
                          f"machine frame (another axis moving? wrong --axis?)")
 
 
+def _linear(rec: Recording, axis: str, d_m, d1, rows, pos, q0, alpha: float | None) -> np.ndarray:
+    """um along the axis' direction of motion, mean over the pass' reflectors; optionally normalised to 20 C."""
+    u = -d1[0, 0] / np.linalg.norm(d1[0, 0])  # reading - nominal of an unmoved point = -(motion of 1 mm)
+    dev = (d_m @ u).mean(axis=-1) * 1e3
+    if alpha is None:
+        return dev
+    temps = rec.temperature_c[rows]
+    if np.isnan(temps).any():
+        i = int(rows[np.isnan(temps)][0])
+        raise InputError(f"{rec.where(i)}: no temperature_c; temperature normalisation needs it on every "
+                         f"reading of axis {axis}")
+    return dev - alpha * (temps.mean(axis=-1) - 20.0) * (pos - q0) * 1e3
+
+
+def _rotary(rec: Recording, axis: str, pts, dls, rf1, rrel1, points, angle_unit: str) -> np.ndarray:
+    """Turn about the axis beyond the commanded angle in ``angle_unit``, + in the axis' positive sense."""
+    if angle_unit not in ANGLE_UNITS:
+        raise InputError(f"angle unit must be one of {', '.join(ANGLE_UNITS)}, got {angle_unit!r}")
+    turn = np.swapaxes(rf1, -1, -2) @ rrel1 @ rf1  # nominal rotation by +1 deg, in F
+    if not abs(abs(turn[0, 1, 0]) - math.sin(math.radians(1.0))) < 1e-9:
+        raise RuntimeError(f"axis {axis}: its stator frame's z is not the rotation axis (generated frames)")
+    if len(points) < 3:
+        raise InputError(f"{rec.source}: the angle of rotary axis {axis} needs >= 3 reflectors on the table, "
+                         f"got {points}")
+    e, _, _ = solve_frame(pts, dls)
+    return float(np.sign(turn[0, 1, 0])) * e[:, 5] * ANGLE_UNITS[angle_unit]
+
+
 def deviations(rec: Recording, axis: str, machine: Machine, point: str | None = None, angle_unit: str = "arcsec",
                alpha: float | None = None, notes: list[str] | None = None) -> Runs:
     """Positional deviation of every pass of ``axis`` (see the module docstring): um for a linear axis,
     ``angle_unit`` for a rotary one; ``alpha`` (1/K) normalises linear deviations to 20 C."""
     notes = [] if notes is None else notes
-    kind = machine.axis_kinds[machine.axes.index(axis)]
+    linear = machine.axis_kinds[machine.axes.index(axis)] == "linear"
     ps = _passes(rec, axis, point, notes)
-    rows, ref_rows, q0 = ps["rows"], ps["ref_rows"], ps["q0"]
+    rows, q0 = ps["rows"], ps["q0"]
     pos = np.array([k[1] for k in ps["keys"]])
-    readings, refs = rec.xyz[rows], rec.xyz[ref_rows]
-    pts, dls, _, d_m, _ = frame_data(machine, axis, pos, q0, readings, refs)
-    _check_size(rec, d_m, rows, "mm" if kind == "linear" else "deg")
+    refs = rec.xyz[ps["ref_rows"]]
+    pts, dls, _, d_m, _ = frame_data(machine, axis, pos, q0, rec.xyz[rows], refs)
+    _check_size(rec, d_m, rows, "mm" if linear else "deg")
     # the nominal motion by one unit from the reference: direction (linear) or sense of rotation in F (rotary)
     _, _, rf1, d1, rrel1 = frame_data(machine, axis, q0[:1] + 1.0, q0[:1], refs[:1], refs[:1])
-    if kind == "linear":
-        u = -d1[0, 0] / np.linalg.norm(d1[0, 0])  # reading - nominal of an unmoved point = -(motion of 1 mm)
-        dev = (d_m @ u).mean(axis=-1) * 1e3
-        unit = "um"
-        if alpha is not None:
-            temps = rec.temperature_c[rows]
-            if np.isnan(temps).any():
-                i = int(rows[np.isnan(temps)][0])
-                raise InputError(f"{rec.where(i)}: no temperature_c; temperature normalisation needs it on every "
-                                 f"reading of axis {axis}")
-            temp = temps.mean(axis=-1)
-            dev = dev - alpha * (temp - 20.0) * (pos - q0) * 1e3
+    if linear:
+        dev, unit = _linear(rec, axis, d_m, d1, rows, pos, q0, alpha), "um"
     else:
-        if angle_unit not in ANGLE_UNITS:
-            raise InputError(f"angle unit must be one of {', '.join(ANGLE_UNITS)}, got {angle_unit!r}")
-        turn = np.swapaxes(rf1, -1, -2) @ rrel1 @ rf1  # nominal rotation by +1 deg, in F
-        sense = float(np.sign(turn[0, 1, 0]))
-        if not abs(abs(turn[0, 1, 0]) - math.sin(math.radians(1.0))) < 1e-9:
-            raise RuntimeError(f"axis {axis}: its stator frame's z is not the rotation axis (generated frames)")
-        if len(ps["points"]) < 3:
-            raise InputError(f"{rec.source}: the angle of rotary axis {axis} needs >= 3 reflectors on the table, "
-                             f"got {ps['points']}")
-        e, _, _ = solve_frame(pts, dls)
-        dev = sense * e[:, 5] * ANGLE_UNITS[angle_unit]
-        unit = angle_unit
+        dev, unit = _rotary(rec, axis, pts, dls, rf1, rrel1, ps["points"], angle_unit), angle_unit
         if alpha is not None:
             notes.append(f"temperature normalisation applies to linear axes; rotary axis {axis} left as measured")
     return Runs(pos, np.array([k[2] for k in ps["keys"]]), np.array([k[0] for k in ps["keys"]]), dev,
