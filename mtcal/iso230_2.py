@@ -149,13 +149,15 @@ def _finite(f, v: np.ndarray) -> float:
 def _axis_parameters(t: dict[str, np.ndarray]) -> dict[str, float]:
     up_hi, up_lo = t["mean_up"] + 2 * t["s_up"], t["mean_up"] - 2 * t["s_up"]
     dn_hi, dn_lo = t["mean_down"] + 2 * t["s_down"], t["mean_down"] - 2 * t["s_down"]
+    both = 1.0 if np.isfinite(t["reversal"]).any() else math.nan  # bidirectional values need both directions
     return {"B": _finite(np.max, np.abs(t["reversal"])), "B_mean": _finite(np.mean, t["reversal"]),
             "E_up": _span(t["mean_up"]), "E_down": _span(t["mean_down"]),
-            "E": _span(t["mean_up"], t["mean_down"]), "M": _span(t["mean"]),
+            "E": both * _span(t["mean_up"], t["mean_down"]), "M": _span(t["mean"]),
             "R_up": _finite(np.max, t["R_up"]), "R_down": _finite(np.max, t["R_down"]), "R": _finite(np.max, t["R"]),
             "A_up": _finite(np.max, up_hi) - _finite(np.min, up_lo),
             "A_down": _finite(np.max, dn_hi) - _finite(np.min, dn_lo),
-            "A": _finite(np.max, np.concatenate([up_hi, dn_hi])) - _finite(np.min, np.concatenate([up_lo, dn_lo]))}
+            "A": both * (_finite(np.max, np.concatenate([up_hi, dn_hi]))
+                         - _finite(np.min, np.concatenate([up_lo, dn_lo])))}
 
 
 # ----------------------------------------------------------------------------- deviations from readings

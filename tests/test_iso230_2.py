@@ -214,6 +214,19 @@ def test_temperature_normalisation_to_20_c():
         evaluate(no_temp, axis="X", alpha=alpha)
 
 
+def test_unidirectional_runs_leave_bidirectional_values_undefined():
+    rng = np.random.default_rng(9)
+    targets = [0.0, 100.0, 200.0, 300.0, 400.0]
+    passes = [(r, p, 1) for r in range(1, 6) for p in targets]
+    dev = _planted(passes, rng)
+    ev = evaluate(_build("X", passes, dev, _linear_x), axis="X").axes["X"]
+    runs = _relative(passes, dev)
+    means = [sum(x for (t, _, x) in runs if t == p) / 5 for p in targets]
+    assert ev.parameters["E_up"] == pytest.approx(max(means) - min(means), abs=1e-5)
+    assert all(math.isnan(ev.parameters[k]) for k in ("B", "B_mean", "E", "E_down", "M", "R", "A", "A_down", "R_down"))
+    assert any("unidirectional runs only" in n for n in ev.notes)
+
+
 def test_target_points_select_and_unknown_target_fails():
     rng = np.random.default_rng(7)
     targets = [0.0, 100.0, 200.0, 300.0, 400.0, 500.0]
