@@ -214,6 +214,25 @@ def test_temperature_normalisation_to_20_c():
         evaluate(no_temp, axis="X", alpha=alpha)
 
 
+def test_one_reflector_or_the_centroid():
+    """A yaw of X (E_CX) moves Q and K along X by -y E_CX (Abbe), P (y = 0) not: --point P sees the planted
+    deviation alone, the default (centroid of P, Q, K, at y = 0) as well; Q alone sees the Abbe term too."""
+    rng = np.random.default_rng(10)
+    targets = [0.0, 100.0, 200.0, 300.0, 400.0]
+    passes = _passes(targets, 5)
+    dev = _planted(passes, rng)
+    yaw = 2e-6  # rad per mm of travel
+
+    def place(pt, q, d_um):
+        return _linear_x(pt, q, d_um) + [-SPINDLE[pt][1] * yaw * q, 0.0, 0.0]
+
+    rec = _build("X", passes, dev, place)
+    for point in ("P", None):
+        _check(evaluate(rec, axis="X", point=point).axes["X"], _relative(passes, dev), 1e-5)
+    abbe = {k: dev[k] - SPINDLE["Q"][1] * yaw * k[1] * 1e3 for k in passes}
+    _check(evaluate(rec, axis="X", point="Q").axes["X"], _relative(passes, abbe), 1e-5)
+
+
 def test_unidirectional_runs_leave_bidirectional_values_undefined():
     rng = np.random.default_rng(9)
     targets = [0.0, 100.0, 200.0, 300.0, 400.0]
