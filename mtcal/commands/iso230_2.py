@@ -13,8 +13,8 @@ from mtcal.io import atomic_write_text, dumps, refuse_overwrite
 NAME = "iso230-2"
 HELP = ("ISO 230-2:2014 evaluation of an axis from a recording: per target mean deviations up/down, reversal, "
         "repeatability; axis A, E, M, R, B (linear: um; rotary: arcsec)")
-COLUMNS = (("n_up", "n↑"), ("n_down", "n↓"), ("mean_up", "x̄↑"), ("mean_down", "x̄↓"),
-           ("mean", "x̄"), ("reversal", "B_i"), ("s_up", "s↑"), ("s_down", "s↓"), ("R_up", "R↑"), ("R_down", "R↓"), ("R", "R_i"))
+COLUMNS = (("n_up", "n↑"), ("n_down", "n↓"), ("mean_up", "x̄↑"), ("mean_down", "x̄↓"), ("mean", "x̄"),
+           ("reversal", "B_i"), ("s_up", "s↑"), ("s_down", "s↓"), ("R_up", "R↑"), ("R_down", "R↓"), ("R", "R_i"))
 ORDER = ("A", "A_up", "A_down", "E", "E_up", "E_down", "M", "R", "R_up", "R_down", "B", "B_mean")
 
 
