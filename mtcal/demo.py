@@ -269,8 +269,9 @@ def report(s: dict, out: Path) -> str:
             obs = v["observed_std_over_rounds"]
             lines.append(f"| {ax} | {v['position']:g} | {n} | {v['predicted'] * scale:.2f} {unit} | "
                          f"{'' if obs is None else f'{obs * scale:.2f} {unit}'} |")
-    lines += ["", "![plan map](plots/plan_map.png)", "", "## Compensation of the sample five-axis program" if s.get("machine", BUNDLED) == BUNDLED else
-              "## Compensation of a five-axis tool path (through the inverse kinematics)", "",
+    what = ("the sample five-axis program" if s.get("machine", BUNDLED) == BUNDLED
+            else "a five-axis tool path (through the inverse kinematics)")
+    lines += ["", "![plan map](plots/plan_map.png)", "", f"## Compensation of {what}", "",
               f"ISO/TR 16907 types covered: {', '.join(c['iso_16907'].get('covered', []))}; partial: "
               f"{', '.join(c['iso_16907'].get('partial', [])) or 'none'}. Lines changed: {c['lines_changed']}.", "",
               "| tool-tip error on the true machine | max | RMS |", "|---|---|---|",
