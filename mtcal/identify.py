@@ -14,7 +14,7 @@ rotary axes: B is measured at C = 0, C at B = 0); errors are zero at the referen
 """
 from __future__ import annotations
 
-import sys
+import logging
 import warnings as _warnings
 from dataclasses import dataclass, field
 from typing import Iterable
@@ -30,6 +30,7 @@ from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
+log = logging.getLogger(__name__)
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
 MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
 
@@ -297,7 +298,7 @@ def _passes(rec: Recording, axis: str):
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None) -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM) -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``."""
@@ -310,8 +311,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
-        if progress:
-            progress(f"identifying axis {axis}")
+        log.info("identifying axis %s", axis)
         results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
     slopes = {}
     for axis, ar in results.items():
@@ -587,6 +587,3 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
     rec.line = np.array(rows["line"])
     return rec
 
-
-def print_progress(msg: str) -> None:
-    print(f"mtcal identify: {msg}", file=sys.stderr, flush=True)
