@@ -27,7 +27,7 @@ SIGN = ("each value is the measured error (actual - nominal, joint-equivalent; =
 
 
 def _fmt(v: float) -> str:
-    return f"{v:.7f}".rstrip("0").rstrip(".") if v != 0 else "0"
+    return f"{v:.9f}".rstrip("0").rstrip(".") if v != 0 else "0"
 
 
 def _ax(machine, axis: str) -> str:
