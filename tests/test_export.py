@@ -20,7 +20,7 @@ import pytest
 from mtcal.cli import main
 from mtcal.errors import InputError
 from mtcal.export import export_model
-from mtcal.machine import load_machine
+from mtcal.machine import available_machines, load_machine
 from mtcal.model import ErrorFunction, ErrorModel, model_from_dict
 
 M = load_machine("dmu50")
@@ -77,13 +77,13 @@ def tol_lin(coeffs, step, offset=0.0):
 DEG = math.pi / 180
 
 
-def pose_residual(model: ErrorModel, nominal: np.ndarray, physical: np.ndarray, add=None) -> np.ndarray:
+def pose_residual(model: ErrorModel, nominal: np.ndarray, physical: np.ndarray, add=None, mach=M) -> np.ndarray:
     """|reached - programmed| of the tool tip (mm): errors of ``model`` at the physical joints (+ ``add``)."""
-    e = model.errors_at(M, physical, "hold")
+    e = model.errors_at(mach, physical, "hold")
     if add is not None:
         e = e + add
-    reached = M.forward(physical, e)[..., :3]
-    target = M.forward(nominal)[..., :3]
+    reached = mach.forward(physical, e)[..., :3]
+    target = mach.forward(nominal)[..., :3]
     return np.linalg.norm(reached - target, axis=-1)
 
 
@@ -380,6 +380,7 @@ def test_refuses_what_a_format_cannot_hold(tmp_path):
     assert {"E_AX", "E_YX", "E_C0Y", "E_X0C"} <= set(res.not_held)
 
 
+@pytest.mark.filterwarnings("ignore:overflow")
 def test_refuses_non_finite_and_never_overwrites_the_model(tmp_path, capsys):
     bad = raw_model(E_XX=poly("X", [0.0, 1e308, 0.0, 1e308]))
     p = tmp_path / "bad.json"
@@ -402,3 +403,52 @@ def test_cli_json(tmp_path, capsys):
     assert x["step"] == 5 and x["points"] == 81 and x["from"] == -200 and x["to"] == 200
     assert "E_YX" in out["not_held"] and "E_C0Y" in out["not_held"]
     assert "COMP_FILE_TYPE" not in out["sign"] and "usrmotLoadComp" in out["sign"]
+
+
+@pytest.mark.parametrize("machine", available_machines())
+def test_linuxcnc_every_joint_of_every_machine(tmp_path, machine):
+    """Machines are data: each joint's positioning error (linear E_JJ; rotary E_CJ, the rotation about the axis'
+    own stator z, design.md) is cancelled by its exported trim at random configurations, whatever the chain's
+    joint signs (xyzac: A and C turn with sign -1); negated trims double the error."""
+    m = load_machine(machine)
+    funcs, shape, spans, rng = {}, {}, {}, np.random.default_rng(3)
+    for ax, kind, lim in zip(m.axes, m.axis_kinds, m.limits):
+        lo, hi = (-200.0, 200.0) if kind == "linear" else (lim or (0.0, 360.0))
+        amp = 5e-3 if kind == "linear" else 20e-6      # mm or rad: E = amp (t + t^2 / 2), t in [-1, 1]
+        name = f"E_{ax}{ax}" if kind == "linear" else f"E_C{ax}"
+        funcs[name] = {"axis": ax, "positions": [lo, hi], "values": [0.0, 0.0],
+                       "fit": {"kind": "polynomial", "coefficients": [0.0, amp, amp / 2], "domain": [lo, hi]}}
+        spans[ax], shape[ax] = (lo, hi), (kind, amp, (hi - lo) / 2)
+    model = model_from_dict({"machine": machine, "units": {"length": "mm", "angle": "rad"}, "functions": funcs})
+    export_model(model, m, "linuxcnc", tmp_path, file_type=1)
+    cfg = np.column_stack([rng.uniform(*spans[a], 300) for a in m.axes])
+    phys, wrong, tol = cfg.copy(), cfg.copy(), 2e-9
+    for k, ax in enumerate(m.axes):
+        nom, fwd, _ = linuxcnc_trims(read_linuxcnc(tmp_path / f"joint{k}_{ax}.comp"), 1)
+        kind, amp, half = shape[ax]
+        interp, shift = (nom[1] - nom[0])**2 / 8 * amp / half**2, (2 * amp / half) * 1.5 * amp
+        tol += interp + shift if kind == "linear" else 600.0 * (interp + shift * 180 / math.pi)  # 600 mm lever
+        phys[:, k] += interp_hold(cfg[:, k], nom, fwd)
+        wrong[:, k] -= interp_hold(cfg[:, k], nom, fwd)
+    lo, hi = [s[0] for s in spans.values()], [s[1] for s in spans.values()]
+    assert pose_residual(model, cfg, np.clip(phys, lo, hi), mach=m).max() < tol
+    assert pose_residual(model, cfg, np.clip(wrong, lo, hi), mach=m).max() > 1e-3
+
+
+def test_heidenhain_kinematics_comp_columns(tmp_path):
+    """KC_X.COM: C1..C6 = E_XX, E_YX, E_ZX (mm), E_AX, E_BX, E_CX (deg) at AXISPOS (iTNC 530 recommendation)."""
+    model = model_from_dict(FULL_MODEL)
+    res = export_model(model, M, "heidenhain", tmp_path, kinematics_comp=True, require=["E_AX"])
+    rows = read_tnc_table(tmp_path / "KC_X.COM")
+    x = np.array([float(r["AXISPOS"]) for r in rows])
+    t = x / LIN
+    assert np.allclose([float(r["C1"]) for r in rows], sum(c * t**k for k, c in enumerate(EXX)), atol=1e-9)
+    assert np.allclose([float(r["C4"]) for r in rows], np.degrees(1e-5 * t + 1e-5 * t**2), atol=1e-9)
+    assert np.allclose([float(r["C6"]) for r in rows], 0.0) and "E_AX" in res.held
+
+
+def test_siemens_modulo_only_for_a_full_turn_of_an_unlimited_rotary_axis(tmp_path):
+    model = model_from_dict(raw_model(E_CC=HARM, E_CB=QUAD_B))
+    export_model(model, M, "siemens", tmp_path / "c.mpf")
+    text = (tmp_path / "c.mpf").read_text()
+    assert "$AA_ENC_COMP_IS_MODULO[0,AX5]=1" in text and "$AA_ENC_COMP_IS_MODULO[0,AX4]=0" in text

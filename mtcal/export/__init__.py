@@ -70,9 +70,10 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         elif fmt == "siemens":
             files, sign = siemens.render(tables, machine, model_path, ""), siemens.SIGN
         else:
-            files, sign = heidenhain.render(tables, machine, model, model_path, kinematics_comp), heidenhain.SIGN
+            files = heidenhain.render(tables, machine, model, model_path, kinematics_comp, step, mp)
+            sign = heidenhain.SIGN
             if kinematics_comp:
-                held |= {n for n in model.functions if model.functions[n].axis in {t.axis for t in tables}}
+                held |= heidenhain.kc_held(model)
     missing = sorted(set(require or []) - held)
     if missing:
         raise InputError(f"format {fmt} cannot hold {', '.join(missing)} (it holds: {', '.join(sorted(held)) or 'nothing'})")

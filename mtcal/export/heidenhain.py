@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mtcal.export import isg
 from mtcal.export.sampling import AxisTable
 from mtcal.model import ErrorModel
 
@@ -59,28 +60,30 @@ def cma_file(tables: list[AxisTable], machine) -> str:
     return _table("CONFIG.CMA", "", ["ACTIVE"] + axes, [row])
 
 
-def kc_files(model: ErrorModel, machine, tables: list[AxisTable]) -> dict[str, str]:
-    """KinematicsComp COM per axis: C1..C6 = E_X?, E_Y?, E_Z? (mm), E_A?, E_B?, E_C? (deg, assumed)."""
+def kc_files(model: ErrorModel, machine, step: float | None, max_points: int) -> dict[str, str]:
+    """KinematicsComp COM per axis with error functions: C1..C6 = E_X?, E_Y?, E_Z? (mm), E_A?, E_B?, E_C? (deg,
+    assumed), sampled on the axis' grid."""
     files = {}
-    for t in tables:
-        names = [f"E_{c}{t.axis}" for c in "XYZABC"]
-        if not any(n in model.functions for n in names):
-            continue
-        vals = [model.functions[n](t.positions, "hold") if n in model.functions else np.zeros(len(t.positions))
-                for n in names]
-        vals[3:] = [np.degrees(v) for v in vals[3:]]
-        rows = [[_v(p)] + [f"{v[i]:+.9f}" for v in vals] for i, p in enumerate(t.positions)]
-        name = f"KC_{t.axis}.COM"
+    for ax, (q, vals, _) in isg.samples(model, machine, step, max_points).items():
+        cols = [vals.get(f"E_{c}{ax}", np.zeros(len(q))) for c in "XYZABC"]
+        cols[3:] = [np.degrees(v) for v in cols[3:]]
+        rows = [[_v(p)] + [f"{v[i]:+.9f}" for v in cols] for i, p in enumerate(q)]
+        name = f"KC_{ax}.COM"
         files[name] = _table(name, "MM", ["AXISPOS", "C1", "C2", "C3", "C4", "C5", "C6"], rows)
     return files
 
 
+def kc_held(model: ErrorModel) -> set[str]:
+    """Names the KinematicsComp tables hold: the component errors (functions) of every axis."""
+    return {n for n in model.functions if n[3] != "0"}
+
+
 def render(tables: list[AxisTable], machine, model: ErrorModel, model_path: str,
-           kinematics_comp: bool) -> dict[str, str]:
+           kinematics_comp: bool, step: float | None = None, max_points: int = MAX_POINTS) -> dict[str, str]:
     files = dict(com_file(t) for t in tables)
     files["CONFIG.CMA"] = cma_file(tables, machine)
     if kinematics_comp:
-        files.update(kc_files(model, machine, tables))
+        files.update(kc_files(model, machine, step, max_points))
     files["README.txt"] = (f"mtcal export {model_path} --format heidenhain\nsign: {SIGN}\nunits: mm (linear), deg "
                            "(rotary); AXISPOS from the machine datum\n")
     return files

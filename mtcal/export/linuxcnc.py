@@ -38,7 +38,9 @@ def render(tables: list[AxisTable], machine, file_type: int, model_path: str) ->
     files, ini = {}, [f"# mtcal export {model_path} --format linuxcnc: merge into the machine's INI file.",
                       f"# {SIGN[file_type]}.",
                       "# Joint numbers follow the machine's axis order (trivkins); change n if your joints differ.",
-                      "# BACKLASH must stay 0 (unset) where a COMP_FILE carries the reversal.", ""]
+                      "# With a COMP_FILE loaded, control.c uses its trims and ignores [JOINT_n]BACKLASH.",
+                      "# Outside a table the end trims are held: a rotary joint beyond its table range (e.g. C past "
+                      "360 deg) gets the end value, not a wrapped one.", ""]
     for t in tables:
         n = machine.axes.index(t.axis)
         name = f"joint{n}_{t.axis}.comp"

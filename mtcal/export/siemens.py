@@ -34,6 +34,13 @@ def _ax(machine, axis: str) -> str:
     return f"AX{machine.axes.index(axis) + 1}"
 
 
+def _modulo(machine, tab: AxisTable) -> int:
+    """1 for a rotary axis without limits whose table spans exactly one turn (K3: the table repeats cyclically)."""
+    k = machine.axes.index(tab.axis)
+    span = tab.positions[-1] - tab.positions[0]
+    return int(machine.axis_kinds[k] == "rotary" and machine.limits[k] is None and abs(span - 360.0) < 1e-9)
+
+
 def _cec(lines: list[str], t: int, inp: str, out: str, values, tab: AxisTable, direction: int) -> None:
     lines += [f"$AN_CEC[{t},{i}]={_fmt(v)}" for i, v in enumerate(values)]
     lines += [f"$AN_CEC_INPUT_AXIS[{t}]=({inp})", f"$AN_CEC_OUTPUT_AXIS[{t}]=({out})",
@@ -57,7 +64,8 @@ def render(tables: list[AxisTable], machine, model_path: str, name: str) -> dict
                        f"{len(tab.positions)} points, step {tab.step:g} {tab.unit}")
             lec += [f"$AA_ENC_COMP[0,{i},{ax}]={_fmt(-v)}" for i, v in enumerate(tab.corrections[tab.axis])]
             lec += [f"$AA_ENC_COMP_STEP[0,{ax}]={_fmt(tab.step)}", f"$AA_ENC_COMP_MIN[0,{ax}]={_fmt(tab.positions[0])}",
-                    f"$AA_ENC_COMP_MAX[0,{ax}]={_fmt(tab.positions[-1])}", f"$AA_ENC_COMP_IS_MODULO[0,{ax}]=0"]
+                    f"$AA_ENC_COMP_MAX[0,{ax}]={_fmt(tab.positions[-1])}",
+                    f"$AA_ENC_COMP_IS_MODULO[0,{ax}]={_modulo(machine, tab)}"]
         for out, c in tab.corrections.items():
             if out == tab.axis:
                 continue
