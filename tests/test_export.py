@@ -452,3 +452,13 @@ def test_siemens_modulo_only_for_a_full_turn_of_an_unlimited_rotary_axis(tmp_pat
     export_model(model, M, "siemens", tmp_path / "c.mpf")
     text = (tmp_path / "c.mpf").read_text()
     assert "$AA_ENC_COMP_IS_MODULO[0,AX5]=1" in text and "$AA_ENC_COMP_IS_MODULO[0,AX4]=0" in text
+
+
+def test_backlash_without_a_table_is_reported_not_dropped(tmp_path):
+    model = model_from_dict(raw_model(E_XX=poly("X", EXX)))
+    diag = {"effects": [{"name": "backlash", "axis": "Z", "significant": True, "estimate": B_REV}]}
+    res = export_model(model, M, "linuxcnc", tmp_path, diagnosis=diag)
+    assert any("axis Z" in w for w in res.warnings)
+    with pytest.raises(InputError, match="not of machine dmu50"):
+        export_model(model, M, "linuxcnc", tmp_path / "q", diagnosis={"effects": [
+            {"name": "backlash", "axis": "Q", "significant": True, "estimate": B_REV}]})

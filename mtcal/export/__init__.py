@@ -58,6 +58,11 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     mod, kind = FORMATS[fmt]
     mp = max_points or mod.MAX_POINTS
     reversal = backlash_from(diagnosis)
+    foreign = sorted(set(reversal) - set(machine.axes))
+    unknown = sorted(set(require or []) - set(machine.error_names))
+    if foreign or unknown:
+        raise InputError(f"not of machine {machine.name}: " + "; ".join(
+            ([f"diagnosis backlash axes {foreign}"] if foreign else []) + ([f"error names {unknown}"] if unknown else [])))
     if fmt in isg.NAMES:
         render = isg.render_csv if fmt == "tf5280" else isg.render_etalon
         files, held, tables = render(model, machine, step, mp, model_path), isg.held(model), []
@@ -80,8 +85,11 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     if not files or (kind == "dir" and not tables):
         raise InputError(f"the model has nothing format {fmt} can hold (non-zero: {', '.join(not_held(model, set()))})")
     paths = _write(files, Path(out), kind, protect)
-    warnings = [f"reversal of axis {a} from the diagnosis not written: format {fmt} has no direction-dependent table"
-                for a in reversal if fmt in isg.NAMES]
+    written = {t.axis for t in tables}
+    warnings = [f"reversal of axis {a} from the diagnosis not written: " +
+                (f"format {fmt} has no direction-dependent table" if fmt in isg.NAMES else
+                 "the model has no error function of that axis to give the table its range")
+                for a in reversal if fmt in isg.NAMES or a not in written]
     return ExportResult(fmt, paths, sign, sorted(held), not_held(model, held), [_summary(t) for t in tables], warnings)
 
 
