@@ -385,8 +385,9 @@ def test_refuses_non_finite_and_never_overwrites_the_model(tmp_path, capsys):
     bad = raw_model(E_XX=poly("X", [0.0, 1e308, 0.0, 1e308]))
     p = tmp_path / "bad.json"
     p.write_text(json.dumps(bad))
-    assert main(["export", str(p), "--format", "siemens", "-o", str(tmp_path / "x.mpf")]) == 2
-    assert "not finite" in capsys.readouterr().err
+    for fmt in ("siemens", "tf5280"):
+        assert main(["export", str(p), "--format", fmt, "-o", str(tmp_path / "x.out")]) == 2
+        assert "not finite" in capsys.readouterr().err and not (tmp_path / "x.out").exists()
     good = tmp_path / "m.json"
     good.write_text(json.dumps(CROSS_MODEL))
     before = good.read_text()

@@ -31,10 +31,10 @@ class ExportResult:
     warnings: list[str] = field(default_factory=list)
 
 
-def _tables(model: ErrorModel, machine, mod, step, max_points, reversal, spans) -> list[AxisTable]:
+def _tables(model: ErrorModel, machine, mod, step, max_points, reversal) -> list[AxisTable]:
     out = []
     for ax in machine.axes:
-        t = sample_axis(model, machine, ax, step, max_points, mod.CROSS, reversal.get(ax, 0.0), spans.get(ax))
+        t = sample_axis(model, machine, ax, step, max_points, mod.CROSS, reversal.get(ax, 0.0))
         if t is not None:
             out.append(t)
     return out
@@ -50,7 +50,7 @@ def _summary(t: AxisTable) -> dict:
 def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_path: str = "MODEL.json",
                  step: float | None = None, max_points: int | None = None, diagnosis: dict | None = None,
                  file_type: int = 0, require: list[str] | None = None, kinematics_comp: bool = False,
-                 spans: dict[str, tuple[float, float]] | None = None, protect: tuple = ()) -> ExportResult:
+                 protect: tuple = ()) -> ExportResult:
     """Write ``fmt`` to ``out`` (a folder for "dir" formats, a file otherwise) atomically; refuse before writing
     anything when a ``require``d error name is not held by the format."""
     if fmt not in FORMATS:
@@ -68,7 +68,7 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         files, held, tables = render(model, machine, step, mp, model_path), isg.held(model), []
         sign = isg.SIGN
     else:
-        tables = _tables(model, machine, mod, step, mp, reversal, spans or {})
+        tables = _tables(model, machine, mod, step, mp, reversal)
         held = {n for t in tables for s in t.sources.values() for n in s}
         if fmt == "linuxcnc":
             files, sign = linuxcnc.render(tables, machine, file_type, model_path), linuxcnc.SIGN[file_type]

@@ -14,6 +14,9 @@ pages found), so check one constant on the machine.
 """
 from __future__ import annotations
 
+import numpy as np
+
+from mtcal.errors import InputError
 from mtcal.export.sampling import choose_step, grid
 from mtcal.model import ErrorModel
 
@@ -40,7 +43,11 @@ def samples(model: ErrorModel, machine, step: float | None, max_points: int) -> 
         hi = max(model.functions[n].positions.max() for n in names)
         st = step if step is not None else choose_step(lo, hi, max_points)
         q = grid(lo, hi, st, max_points)
-        out[ax] = (q, {n: model.functions[n](q, "hold") for n in names}, st)
+        vals = {n: model.functions[n](q, "hold") for n in names}
+        bad = [n for n, v in vals.items() if not np.isfinite(v).all()]
+        if bad:
+            raise InputError(f"error functions {bad} are not finite on axis {ax} (NaN/inf in the model)")
+        out[ax] = (q, vals, st)
     return out
 
 

@@ -152,48 +152,46 @@ def _linear_corrections(model: ErrorModel, machine, axis: str, q: np.ndarray, na
     return {o: -delta[:, k] for k, o in enumerate(outputs)}
 
 
-def sample_axis(model: ErrorModel, machine, axis: str, step: float | None, max_points: int, cross: bool,
-                reversal: float = 0.0, span: tuple[float, float] | None = None) -> AxisTable | None:
-    """The table of ``axis``: own positioning correction (+ cross corrections of the other linear axes from
-    straightness and squareness when ``cross``).  ``reversal``: backlash b in mm or rad (diagnose).  None when the
-    model has nothing this table can hold for the axis."""
-    kind = machine.axis_kinds[machine.axes.index(axis)]
-    own = positioning_name(machine, axis)
-    if own is None:
-        return None
-    linear = [a for a, k in zip(machine.axes, machine.axis_kinds) if k == "linear"]
-    if kind == "linear" and cross:
+def _held_names(model: ErrorModel, machine, axis: str, own: str, cross: bool) -> list[str]:
+    """Errors of ``axis`` a table can hold that the model has: the positioning error, and with ``cross`` (linear
+    axes) the straightness errors and the squareness constants that act when the axis moves."""
+    names = [own]
+    if cross and machine.axis_kinds[machine.axes.index(axis)] == "linear":
         names = [n for n in (f"E_{c}{axis}" for c in "XYZ") if n in machine.error_names]
         names += squareness_of(machine, axis)
-    else:
-        names = [own]
-    names = [n for n in names if n in model.functions or model.constants.get(n, 0.0) != 0.0]
-    span = span or axis_range(model, axis)
+    return [n for n in names if n in model.functions or model.constants.get(n, 0.0) != 0.0]
+
+
+def sample_axis(model: ErrorModel, machine, axis: str, step: float | None, max_points: int, cross: bool,
+                reversal: float = 0.0) -> AxisTable | None:
+    """The table of ``axis`` over its measured range: own positioning correction (+ the other linear axes'
+    corrections for straightness and squareness when ``cross``).  ``reversal``: backlash b in mm or rad
+    (diagnose).  None when the model has nothing this table can hold for the axis."""
+    own = positioning_name(machine, axis)
+    names = _held_names(model, machine, axis, own, cross) if own else []
+    span = axis_range(model, axis)
     if not names or span is None:
         return None
     lo, hi = span
-    if hi <= lo:
-        raise InputError(f"axis {axis}: empty range [{lo:g}, {hi:g}]")
     st = step if step is not None else choose_step(lo, hi, max_points)
     q = grid(lo, hi, st, max_points)
     k_own = joint_factor(machine, axis, own)
-    unit = "mm" if kind == "linear" else "deg"
-    if kind == "linear":
-        outs = linear if cross else [axis]
-        corr = _linear_corrections(model, machine, axis, q, names, outs)
+    linear = machine.axis_kinds[machine.axes.index(axis)] == "linear"
+    if linear:
+        outs = [a for a, k in zip(machine.axes, machine.axis_kinds) if k == "linear"] if cross else [axis]
         sources = {o: [n for n in names if _touches(machine, axis, n, o)] for o in outs}
-        corr = {o: c for o, c in corr.items() if sources[o]}
         sources = {o: s for o, s in sources.items() if s}
+        corr = _linear_corrections(model, machine, axis, q, names, list(sources))
     else:
-        corr = {axis: -k_own * model.functions[own](q, "hold")} if own in model.functions else {}
-        sources = {axis: [own]} if corr else {}
+        sources = {axis: [own]} if own in model.functions else {}
+        corr = {axis: -k_own * model.functions[own](q, "hold")} if sources else {}
     if not corr:
         return None
     for o, c in corr.items():
         if not np.isfinite(c).all():
             raise InputError(f"axis {axis}: the correction of {o} is not finite (NaN/inf in the model)")
     units = {o: "mm" if machine.axis_kinds[machine.axes.index(o)] == "linear" else "deg" for o in corr}
-    return AxisTable(axis, unit, q, st, corr, sources, k_own * reversal, units)
+    return AxisTable(axis, "mm" if linear else "deg", q, st, corr, sources, k_own * reversal, units)
 
 
 def _touches(machine, axis: str, name: str, out: str) -> bool:
