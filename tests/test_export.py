@@ -252,10 +252,12 @@ def test_siemens_direction_dependent_reversal(tmp_path):
 # ---------------------------------------------------------------- Heidenhain
 
 def read_tnc_table(path):
+    """Fixed-width TNC table: each field starts where its header name starts; blank fields are absent."""
     lines = open(path).read().splitlines()
     assert lines[0].startswith("BEGIN") and lines[-1] == "[END]"
-    head = lines[1].split()
-    return [dict(zip(head, r.split())) for r in lines[2:-1]]
+    starts = [(m.start(), m.group()) for m in re.finditer(r"\S+", lines[1])]
+    bounds = [(a, starts[i + 1][0] if i + 1 < len(starts) else None, n) for i, (a, n) in enumerate(starts)]
+    return [{n: r[a:b].strip() for a, b, n in bounds if r[a:b].strip()} for r in lines[2:-1]]
 
 
 def heidenhain_physical(folder, cmd, sign=+1, direction=+1):
@@ -271,8 +273,8 @@ def heidenhain_physical(folder, cmd, sign=+1, direction=+1):
         i = M.axes.index(inp)
         for out in rows[0]:
             if out in M.axes:
-                v = np.array([float(r["BACKLASH" if (direction < 0 and out == inp and "BACKLASH" in r) else out])
-                              for r in rows])
+                col = "BACKLASH" if (direction < 0 and out == inp and "BACKLASH" in rows[0]) else out
+                v = np.array([float(r[col]) for r in rows])
                 phys[:, M.axes.index(out)] -= sign * interp_hold(cmd[:, i], pos, v)
     return phys
 
@@ -463,3 +465,22 @@ def test_backlash_without_a_table_is_reported_not_dropped(tmp_path):
     with pytest.raises(InputError, match="not of machine dmu50"):
         export_model(model, M, "linuxcnc", tmp_path / "q", diagnosis={"effects": [
             {"name": "backlash", "axis": "Q", "significant": True, "estimate": B_REV}]})
+
+
+def test_heidenhain_reversal_and_blank_cma_cells(tmp_path):
+    """X and Z have tables, Y has none (its CMA cell stays blank); the X table carries a backlash: own column
+    = error moving positive, BACKLASH = error moving negative."""
+    model = model_from_dict(raw_model(E_XX=poly("X", EXX), E_ZZ=poly("Z", EZZ)))
+    diag = {"effects": [{"name": "backlash", "axis": "X", "significant": True, "estimate": B_REV}]}
+    export_model(model, M, "heidenhain", tmp_path, diagnosis=diag)
+    active = read_tnc_table(tmp_path / "CONFIG.CMA")[0]
+    assert active["X"] == "X.COM" and active["Z"] == "Z.COM" and "Y" not in active
+    cmd = np.zeros((300, 5))
+    cmd[:, [0, 2]] = RNG.uniform(-LIN, LIN, (300, 2))
+    step = 2.0
+    for d in (1, -1):
+        add = np.zeros(len(M.error_names))
+        add[M.error_names.index("E_XX")] = d * B_REV / 2
+        r = pose_residual(model, cmd, heidenhain_physical(tmp_path, cmd, direction=d), add)
+        assert r.max() < tol_lin(EXX, step, B_REV / 2) + tol_lin(EZZ, step) + 2 * 5e-7
+        assert pose_residual(model, cmd, heidenhain_physical(tmp_path, cmd, -1, d), add).max() > 1e-3

@@ -30,6 +30,7 @@ SIGN = ("the COM tables hold the error (actual - nominal, joint-equivalent; = -c
 
 
 def _table(name: str, unit: str, cols: list[str], rows: list[list[str]]) -> str:
+    """A TNC table: BEGIN line, fixed-width columns (14 characters; an empty field stays blank), [END]."""
     w = 14
     out = [f"BEGIN {name} {unit}", "".join(c.ljust(w) for c in ["NR"] + cols).rstrip()]
     out += ["".join(c.ljust(w) for c in [str(i)] + r).rstrip() for i, r in enumerate(rows)]
@@ -41,17 +42,15 @@ def _v(x: float) -> str:
 
 
 def com_file(t: AxisTable) -> tuple[str, str]:
-    """(file name, text) of the COM table of input axis ``t.axis``: error columns per compensated axis."""
+    """(file name, text) of the COM table of input axis ``t.axis``: error columns per compensated axis; with a
+    reversal the own column holds the error moving in the positive direction and BACKLASH the negative one."""
     name = f"{t.axis}.COM"
     outs = list(t.corrections)
-    cols = ["AXISPOS"] + outs + (["BACKLASH"] if t.reversal else [])
-    rows = []
-    for i, p in enumerate(t.positions):
-        r = [_v(p)] + [_v(-t.corrections[o][i]) for o in outs]
-        if t.reversal:
-            r.append(_v(-t.directional(-1)[i]))
-        rows.append(r)
-    return name, _table(name, "MM", cols, rows)
+    cols = {o: -t.corrections[o] for o in outs}
+    if t.reversal:
+        cols[t.axis], cols["BACKLASH"] = -t.directional(+1), -t.directional(-1)
+    rows = [[_v(p)] + [_v(c[i]) for c in cols.values()] for i, p in enumerate(t.positions)]
+    return name, _table(name, "MM", ["AXISPOS"] + list(cols), rows)
 
 
 def cma_file(tables: list[AxisTable], machine) -> str:
