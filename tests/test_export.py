@@ -378,6 +378,10 @@ def test_refuses_what_a_format_cannot_hold(tmp_path):
     with pytest.raises(InputError, match="cannot hold E_AX"):
         export_model(model, M, "linuxcnc", tmp_path / "lc", require=["E_AX"])
     assert not (tmp_path / "lc").exists()  # refused before writing anything
+    with pytest.raises(InputError, match="at most 256 points"):
+        export_model(model, M, "linuxcnc", tmp_path / "lc", max_points=300)
+    with pytest.raises(InputError, match="holds at most 256"):
+        export_model(model, M, "linuxcnc", tmp_path / "lc", step=1.0)
     res = export_model(model, M, "linuxcnc", tmp_path / "lc2", require=["E_XX"])
     assert {"E_AX", "E_YX", "E_C0Y", "E_X0C"} <= set(res.not_held)
 

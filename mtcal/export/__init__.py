@@ -57,6 +57,8 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         raise InputError(f"unknown format {fmt!r}; known: {', '.join(FORMATS)}")
     mod, kind = FORMATS[fmt]
     mp = max_points or mod.MAX_POINTS
+    if mod.HARD_LIMIT and mp > mod.MAX_POINTS:
+        raise InputError(f"format {fmt} holds at most {mod.MAX_POINTS} points per table, got --max-points {mp}")
     reversal = backlash_from(diagnosis)
     foreign = sorted(set(reversal) - set(machine.axes))
     unknown = sorted(set(require or []) - set(machine.error_names))

@@ -24,6 +24,7 @@ from mtcal.model import ErrorModel
 
 NAME = "heidenhain"
 MAX_POINTS = 256
+HARD_LIMIT = True   # the controller cannot take more points
 CROSS = True
 SIGN = ("the COM tables hold the error (actual - nominal, joint-equivalent; = -correction); ASSUMED from the TNC "
         "407 / MANUALplus 620 Technical Manuals (not confirmed for TNC 640): verify on the machine")

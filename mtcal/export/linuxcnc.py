@@ -18,6 +18,7 @@ from mtcal.export.sampling import AxisTable
 
 NAME = "linuxcnc"
 MAX_POINTS = 256
+HARD_LIMIT = True   # the controller cannot take more points
 CROSS = False  # a joint table holds the joint's own positioning only
 SIGN = {1: "type 1: forward/reverse trim added to the commanded joint position (= -error); source: LinuxCNC "
            "usrmotintf.cc usrmotLoadComp and control.c compute_screw_comp",

@@ -20,6 +20,7 @@ from mtcal.export.sampling import AxisTable
 
 NAME = "siemens"
 MAX_POINTS = 256
+HARD_LIMIT = False  # the point limit is configurable on the controller
 CROSS = True
 SIGN = ("each value is the measured error (actual - nominal, joint-equivalent; = -correction) that the NC adds to "
         "the axis' actual value, so the axis moves by -value; source: SINUMERIK K3 Compensations / 808D Function "
