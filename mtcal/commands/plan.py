@@ -41,7 +41,7 @@ def run(args: argparse.Namespace) -> int:
     tracker = parse_xyz(args.tracker) if args.tracker is not None else None
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
     res = plan_uncertainty(tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
-                           weighting=args.weighting, axes=axes)
+                           weighting=args.weighting, axes=axes).to_dict()
     if args.plot:
         logging.getLogger("mtcal.plan").info("computing the placement map ...")
         mp = plot_placement_map(args.plot, plan, tracker=res["tracker"], z=res["tracker"][2])
