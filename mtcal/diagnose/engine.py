@@ -1,0 +1,171 @@
+"""The statistics engine of the diagnosis: least squares on a block-diagonal base plus global columns.
+
+Candidate columns are scored by projection (Frisch-Waugh-Lovell): the F test of adding columns G (whitened,
+N x k) to the fitted base, with the separability of G from the base (sin of the smallest principal angle).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import stats
+
+ALIAS_TOL = 1e-4       # sin of the smallest angle between a candidate and the base below this: not separable
+WEAK_TOL = 0.05        # ... below this: separable only weakly (estimate strongly correlated with the base)
+
+
+@dataclass(frozen=True)
+class Score:
+    """F test of added columns: ``delta`` = RSS reduction (whitened), ``k`` = separable columns, ``dof`` = residual
+    degrees of freedom with them, ``logp`` = natural log of the p value, ``sep`` = separability (0..1)."""
+
+    separable: bool
+    sep: float
+    k: int = 0
+    dof: int = 1
+    delta: float = 0.0
+    F: float = 0.0
+    logp: float = 0.0
+
+
+class Engine:
+    """Least squares on a block-diagonal base (one block of rows per axis) plus global columns.
+
+    Keeps an orthonormal basis of the fitted columns (per block, and ``E`` for columns added across blocks)
+    and the residual; scores candidate columns by projection (Frisch-Waugh-Lovell), never forming normal
+    equations of the base."""
+
+    def __init__(self, blocks: list[tuple[np.ndarray, np.ndarray]], y: np.ndarray):
+        self.N = len(y)
+        self.y = y
+        self.blocks = [(idx, self._orth(X)) for idx, X in blocks]
+        self.E = np.zeros((self.N, 0))
+        self.r = y - self.project(y[:, None])[:, 0]
+        self.p = sum(q.shape[1] for _, q in self.blocks)
+
+    @staticmethod
+    def _orth(G: np.ndarray) -> np.ndarray:
+        if G.shape[1] == 0:
+            return np.zeros((G.shape[0], 0))
+        scale = np.linalg.norm(G, axis=0)
+        G = G[:, scale > 0] / scale[scale > 0]
+        q, rr = np.linalg.qr(G)
+        d = np.abs(np.diag(rr))
+        keep = d > 1e-9 * max(1.0, float(d.max()) if len(d) else 1.0)
+        if not keep.all():  # rank-deficient: fall back to the SVD
+            u, sv, _ = np.linalg.svd(G, full_matrices=False)
+            return u[:, sv > 1e-9 * sv[0]]
+        return q
+
+    def qt(self, G: np.ndarray) -> np.ndarray:
+        """Q^T G (p, k)."""
+        parts = [q.T @ G[idx] for idx, q in self.blocks]
+        parts.append(self.E.T @ G)
+        return np.vstack(parts)
+
+    def project(self, G: np.ndarray) -> np.ndarray:
+        """Q Q^T G (N, k)."""
+        out = self.E @ (self.E.T @ G)
+        for idx, q in self.blocks:
+            out[idx] += q @ (q.T @ G[idx])
+        return out
+
+    def rows(self) -> np.ndarray:
+        """Per reading, its three rows of Q padded to a common width (n, 3, P): enough for leverages and for
+        sums over readings of one axis (the blocks have disjoint rows)."""
+        pmax = max([q.shape[1] for _, q in self.blocks] + [0])
+        out = np.zeros((self.N, pmax + self.E.shape[1]))
+        for idx, q in self.blocks:
+            out[idx, :q.shape[1]] = q
+        out[:, pmax:] = self.E
+        return out.reshape(self.N // 3, 3, -1)
+
+    def full_rows(self) -> np.ndarray:
+        """Per reading, its three rows of the full Q (every block at its own columns, then E): (n, 3, P)."""
+        widths = [q.shape[1] for _, q in self.blocks]
+        Qf = np.zeros((self.N, sum(widths) + self.E.shape[1]))
+        off = 0
+        for (idx, q), w in zip(self.blocks, widths):
+            Qf[idx, off:off + w] = q
+            off += w
+        Qf[:, off:] = self.E
+        return Qf.reshape(self.N // 3, 3, -1)
+
+    @property
+    def rss(self) -> float:
+        return float(self.r @ self.r)
+
+    @property
+    def dof(self) -> int:
+        return self.N - self.p
+
+    @property
+    def sigma(self) -> float:
+        return math.sqrt(self.rss / max(self.dof, 1))
+
+    def residualized(self, G: np.ndarray) -> np.ndarray:
+        """An orthonormal basis (N, k) of G with the fitted columns projected out (empty if G is in the base)."""
+        Gp = G - self.project(G)
+        Gp = Gp - self.project(Gp)
+        if not np.any(Gp):
+            return np.zeros((self.N, 0))
+        ref = max(float(np.linalg.norm(G)), 1e-300)
+        u, sv, _ = np.linalg.svd(Gp, full_matrices=False)
+        return u[:, sv > ALIAS_TOL * ref]
+
+    def overlap(self, G1: np.ndarray, G2: np.ndarray) -> float:
+        """|cos| of the smallest principal angle between two column spaces after the fitted base (0..1): near 1,
+        the data cannot tell the two apart."""
+        a, b = self.residualized(G1), self.residualized(G2)
+        if a.shape[1] == 0 or b.shape[1] == 0:
+            return 0.0
+        return float(min(1.0, np.linalg.svd(a.T @ b, compute_uv=False)[0]))
+
+    def score(self, G: np.ndarray) -> Score:
+        """F test of adding the columns G (N, k) to the fit; separability = sin of the smallest angle to the base."""
+        GtG = G.T @ G
+        lam, V = np.linalg.eigh(GtG)
+        if lam[-1] <= 0:
+            return Score(False, 0.0)
+        keep = lam > 1e-12 * lam[-1]
+        T = V[:, keep] / np.sqrt(lam[keep])
+        QtG = self.qt(G) @ T
+        M = np.eye(T.shape[1]) - QtG.T @ QtG
+        mu, U = np.linalg.eigh(M)
+        sep = math.sqrt(max(mu[0], 0.0))
+        ok = mu > ALIAS_TOL**2
+        if not ok.any():
+            return Score(False, sep)
+        b = U[:, ok].T @ (T.T @ (G.T @ self.r))
+        delta = float(np.sum(b**2 / mu[ok]))
+        k = int(ok.sum())
+        dof = max(self.dof - k, 1)
+        rss1 = max(self.rss - delta, 1e-300)
+        F = (delta / k) / (rss1 / dof)
+        return Score(True, sep, k, dof, delta, F, float(stats.f.logsf(F, k, dof)))
+
+    def add(self, G: np.ndarray) -> None:
+        Gp = G - self.project(G)
+        Gp = Gp - self.project(Gp)
+        q = self._orth(Gp)
+        self.E = np.hstack([self.E, q])
+        self.r = self.r - q @ (q.T @ self.r)
+        self.p += q.shape[1]
+
+    def copy_base(self) -> "Engine":
+        e = Engine.__new__(Engine)
+        e.N, e.y, e.blocks, e.E = self.N, self.y, self.blocks, np.zeros((self.N, 0))
+        e.r = self.y - e.project(self.y[:, None])[:, 0]
+        e.p = sum(q.shape[1] for _, q in self.blocks)
+        return e
+
+    def estimate(self, Gs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        """Joint estimate and covariance of the columns Gs given the block base (Frisch-Waugh-Lovell);
+        sigma from this engine's residual."""
+        G = np.hstack(Gs)
+        base = self.copy_base()
+        Gp = G - base.project(G)
+        theta, *_ = np.linalg.lstsq(Gp, base.r, rcond=None)
+        cov = self.sigma**2 * np.linalg.pinv(Gp.T @ Gp)
+        return theta, cov

@@ -1,0 +1,148 @@
+"""The noise model of the diagnosis: the covariance of every reading, given or estimated from the data.
+
+A laser tracker's reading covariance is a small radial part along the beam and a much larger transverse part
+across it (angle encoders; AT960, mtcal.tracker).  With the tracker position given (``--tracker``), the AT960
+covariance about it weights the readings.  Without it, the position is estimated from the scatter of the
+repeated rounds: the residuals of the quasi-static base family (unweighted) at every reflector have their
+smallest spread along the beam, so (1) each reflector's residual scatter (3x3, pooled over its readings) gives a
+beam line through the reflector along its least-spread direction, (2) the point closest to all beam lines
+starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance shape with a free scale
+(profile likelihood, Nelder-Mead from that start and from 1.5 m along the mean beam on either side).  The
+estimate is used when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3);
+else (or with one round) the readings are weighted equally, sigma from the residuals.  Units: mm.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy import optimize, stats
+
+from mtcal.tracker import covariance
+
+if TYPE_CHECKING:
+    from mtcal.diagnose.prepare import Prepared
+
+LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (estimated tracker) vs isotropic
+START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
+MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
+
+
+@dataclass
+class NoiseModel:
+    """Whitening W (n, 3, 3) with W^T W = covariance^-1 (1/mm), and how it was obtained."""
+
+    W: np.ndarray
+    kind: str                          # "AT960 (given tracker)", "AT960 (estimated tracker)", "isotropic"
+    how: str
+    tracker: list[float] | None = None  # mm, machine frame
+    details: dict = field(default_factory=dict)
+
+    @property
+    def weighted(self) -> bool:
+        return self.kind != "isotropic"
+
+    @classmethod
+    def isotropic(cls, n: int, how: str = "") -> "NoiseModel":
+        return cls(np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), "isotropic", how)
+
+    @classmethod
+    def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, **details) -> "NoiseModel":
+        W = np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
+        return cls(W, kind, how, [float(v) for v in tracker], dict(details))
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
+
+
+def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -> NoiseModel:
+    """The noise model of ``prep``'s readings (see module docstring)."""
+    xyz = prep.rec.xyz
+    n = len(xyz)
+    if tracker is not None:
+        return NoiseModel.at960(xyz, tracker, "AT960 (given tracker)", "tracker position given (--tracker)")
+    if len(set(prep.rec.round.tolist())) < 2:
+        return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
+    r = _base_residuals(prep, max_degree)
+    starts = [s for s in (_beam_intersection(prep, r),) if s is not None]
+    c = xyz.mean(axis=0)
+    u = _mean_beam(prep, r)
+    starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
+    best = min((_refine(xyz, r, s) for s in starts), key=lambda v: v[1])
+    t, nll = best
+    nll_iso = 1.5 * n * math.log(float(np.mean(r**2)))
+    lr = 2.0 * (nll_iso - nll)
+    p = float(stats.chi2.sf(max(lr, 0.0), 3))
+    details = {"likelihood_ratio": lr, "p_isotropic": p,
+               "distance_mm": float(np.linalg.norm(t - c))}
+    if p >= LR_LEVEL:
+        return NoiseModel.isotropic(n, f"the scatter of the repeated rounds shows no tracker shape (likelihood "
+                                       f"ratio {lr:.1f}, p = {p:.2g}): equal weights, sigma from the residuals")
+    return NoiseModel.at960(xyz, t, "AT960 (estimated tracker)",
+                            "tracker position estimated from the shape of the scatter of the repeated rounds "
+                            "(beam lines of the least spread, then maximum likelihood under the AT960 shape)",
+                            **details)
+
+
+def _base_residuals(prep: "Prepared", max_degree: int) -> np.ndarray:
+    """(n, 3) unweighted residuals of the quasi-static base family (or the given model), mm."""
+    from mtcal.diagnose.design import base_design, engine_for
+    degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
+    eng = engine_for(prep, base_design(prep, degrees), prep.y.reshape(-1))
+    return eng.r.reshape(-1, 3) * math.sqrt(eng.N / max(eng.dof, 1))
+
+
+def _groups(prep: "Prepared"):
+    rec = prep.rec
+    for a in prep.axes:
+        for lab in np.unique(rec.point[rec.axis == a]):
+            sel = (rec.axis == a) & (rec.point == lab)
+            if sel.sum() >= 6:
+                yield sel
+
+
+def _least_spread(r: np.ndarray) -> np.ndarray:
+    return np.linalg.eigh(r.T @ r)[1][:, 0]
+
+
+def _beam_intersection(prep: "Prepared", r: np.ndarray) -> np.ndarray | None:
+    """The point closest (least squares) to the beam lines of every reflector (mm), None if they are parallel."""
+    A, b = np.zeros((3, 3)), np.zeros(3)
+    for sel in _groups(prep):
+        u = _least_spread(r[sel])
+        P = np.eye(3) - np.outer(u, u)
+        A += P
+        b += P @ prep.rec.xyz[sel].mean(axis=0)
+    lam = np.linalg.eigvalsh(A)
+    if lam[-1] <= 0 or lam[0] < 1e-3 * lam[-1]:
+        return None
+    return np.linalg.solve(A, b)
+
+
+def _mean_beam(prep: "Prepared", r: np.ndarray) -> np.ndarray:
+    """The mean least-spread direction (sign-aligned), a unit vector."""
+    us = [_least_spread(r[sel]) for sel in _groups(prep)] or [_least_spread(r)]
+    M = sum(np.outer(u, u) for u in us)
+    return np.linalg.eigh(M)[1][:, -1]
+
+
+def _profile_nll(xyz: np.ndarray, r: np.ndarray, t: np.ndarray) -> float:
+    """Negative log-likelihood (up to a constant) of the residuals under c * AT960 covariance about t, with the
+    scale c at its maximum-likelihood value."""
+    d = np.linalg.norm(xyz - t, axis=1)
+    if not np.all(np.isfinite(t)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
+        return math.inf
+    C = covariance(xyz, t)
+    q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
+    c = float(np.mean(q)) / 3.0
+    return 0.5 * (3 * len(r) * math.log(c) + float(np.sum(np.linalg.slogdet(C)[1])))
+
+
+def _refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float]:
+    res = optimize.minimize(lambda t: _profile_nll(xyz, r, t), np.asarray(start, float), method="Nelder-Mead",
+                            options={"xatol": 1.0, "fatol": 1e-3, "initial_simplex":
+                                     np.asarray(start, float) + np.vstack([np.zeros(3), 300.0 * np.eye(3)]),
+                                     "maxiter": 600})
+    return res.x, float(res.fun)

@@ -1,0 +1,263 @@
+"""Selection of the diagnosis: forward selection of candidate effects by F test, backward elimination that
+never drops a large effect for a later overlapping smaller one, confounding, degrees by BIC, cross-validation.
+
+Multiplicity: Bonferroni over families x members (scanned families: x the members scanned).  Among the
+significant candidates of a step, the strongest evidence (raw p) names the effect; a significant candidate
+whose signature overlaps the chosen one (|cos| of the smallest principal angle between their whitened columns
+after the base > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates
+them.  Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings
+of every sequence in time order) for round-specific ones (re-seated nest, bump, tracker knock); a single-reading
+outlier has nothing to predict (its test is its studentized displacement).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+from scipy import optimize
+
+from mtcal import diagnose_effects as fx
+from mtcal.diagnose.candidates import scanned
+from mtcal.diagnose.design import Base, base_design, engine_for, whiten
+from mtcal.diagnose.engine import Engine, Score
+from mtcal.diagnose.prepare import Prepared
+
+CONFOUND_COS = 0.9
+ROUND_SPECIFIC = ("outlier", "offset")
+
+SEPARATE_BY = {
+    frozenset(("rotary_location", "offset")): "measure the rotary axis again at the end of the campaign, or from a "
+                                              "second tracker station: a location error repeats, a knock does not",
+    frozenset(("thermal_drift", "offset")): "repeat the first axis at the end of the campaign and log the "
+                                            "temperature: a warm-up grows gradually, a tracker knock is a step",
+    frozenset(("backlash", "offset")): "measure the axis bidirectionally in every round: backlash reverses with the "
+                                       "direction of approach, a shift does not",
+    frozenset(("periodic", "second_order")): "measure at a finer, non-uniform position step",
+    frozenset(("periodic",)): "measure at a finer, non-uniform position step (below half the shortest pitch)",
+}
+DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
+
+
+def separate_by(a: str, b: str) -> str:
+    """The measurement that would separate effects ``a`` and ``b`` (names of design.md)."""
+    return SEPARATE_BY.get(frozenset((a, b)), DEFAULT_SEPARATE)
+
+
+class Columns:
+    """Whitened columns (3n, k) of candidates, computed once per candidate (kept on the candidate)."""
+
+    def __init__(self, W: np.ndarray):
+        self.W = W
+
+    def __call__(self, c: fx.Candidate) -> np.ndarray:
+        if "_w" not in c.extra:
+            c.extra["_w"] = whiten(self.W, c.G)
+        return c.extra["_w"]
+
+
+@dataclass
+class Step:
+    """A selected effect: its candidate, F test at entry, Bonferroni-adjusted log p, family size, confounds."""
+
+    candidate: fx.Candidate
+    score: Score
+    logp_adj: float
+    confounded_with: list[dict] = field(default_factory=list)
+
+
+def refine(c: fx.Candidate, s: Score, eng: Engine, w: Columns) -> tuple[fx.Candidate, Score]:
+    """Refine a continuous parameter (pitch, tau) of the family winner by a bounded 1-D search."""
+    if c.refine is None:
+        return c, s
+    lo, hi = c.refine_range
+    v = c.refine_value
+    a, b = max(lo, v / 1.5), min(hi, v * 1.5)
+    if b <= a:
+        return c, s
+    res = optimize.minimize_scalar(lambda lv: -eng.score(w(c.refine(math.exp(lv)))).delta,
+                                   bounds=(math.log(a), math.log(b)), method="bounded", options={"xatol": 1e-3})
+    cc = c.refine(math.exp(res.x))
+    sc = eng.score(w(cc))
+    return (cc, sc) if sc.separable and sc.delta > s.delta else (c, s)
+
+
+def score_all(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns) -> dict[str, Step]:
+    """Per family, its best member on the current fit (refined), with its Bonferroni-adjusted log p."""
+    fams: dict[str, list[tuple[fx.Candidate, Score]]] = {}
+    for c in cands:
+        sc = eng.score(w(c))
+        if sc.separable:
+            fams.setdefault(c.family, []).append((c, sc))
+    scans = [(f, c, n, eng.score(w(c))) for f, c, n in scanned(prep, eng)]
+    scans = [s for s in scans if s[3].separable]
+    n_fam = len(fams) + len(scans)
+    out = {}
+    for fam, members in fams.items():
+        c, sc = refine(*min(members, key=lambda cs: cs[1].logp), eng, w)
+        out[fam] = Step(c, sc, sc.logp + math.log(len(members) * n_fam))
+    for fam, c, count, sc in scans:
+        out[fam] = Step(c, sc, sc.logp + math.log(count * n_fam))
+    return out
+
+
+def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, level: float, max_effects: int,
+            say: Callable[[str], None]) -> tuple[list[Step], dict[str, Step]]:
+    """Forward selection (adds to ``eng``); returns the selected steps and the last scores of every family."""
+    selected: list[Step] = []
+    last: dict[str, Step] = {}
+    for step in range(max_effects):
+        last = score_all(prep, eng, cands, w)
+        sig = [v for v in last.values() if v.logp_adj < math.log(level)]
+        if not sig:
+            break
+        # the strongest evidence (raw p) names the effect; exact ties (a knock just after a reflector's first
+        # sequence is that nest's offset) go to the smaller family (the adjusted p breaks them)
+        top = min(v.score.logp for v in sig)
+        tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
+        best = min((v for v in sig if v.score.logp <= top + tol), key=lambda v: v.logp_adj)
+        c = best.candidate
+        for v in sig:
+            if v is not best and v.candidate.family != c.family:
+                cos = eng.overlap(w(c), w(v.candidate))
+                if cos > CONFOUND_COS:
+                    best.confounded_with.append(_confound(c, v, cos))
+        before = eng.sigma
+        eng.add(w(c))
+        say(f"step {step + 1}: {c.name} {c.axis or ''} {c.label}: F = {best.score.F:.1f}, "
+            f"sigma ratio {before:.3f} -> {eng.sigma:.3f}")
+        selected.append(best)
+        if c.family not in ROUND_SPECIFIC:  # one member per family (outliers and knocks are scanned afresh)
+            cands = [x for x in cands if x.family != c.family]
+    return selected, last
+
+
+def _confound(c: fx.Candidate, v: Step, cos: float) -> dict:
+    o = v.candidate
+    return {"name": o.name, "axis": o.axis, "where": o.label, "overlap_cos": cos,
+            "p_adjusted": min(1.0, math.exp(v.logp_adj)), "separate_by": separate_by(c.name, o.name)}
+
+
+def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
+             say: Callable[[str], None]) -> list[Step]:
+    """Drop a selected effect that the others have made insignificant -- unless a LATER, smaller effect that
+    overlaps it took its signal and dropping that one leaves less misfit: then the later effect goes and is
+    reported as confounded with the kept one (a large effect is never lost to a smaller overlapping one)."""
+    selected = list(selected)
+    while len(selected) > 1:
+        worst = None
+        for j, s in enumerate(selected):
+            e = _with(eng, [o for i, o in enumerate(selected) if i != j], w)
+            s2 = e.score(w(s.candidate))
+            lp2 = (s2.logp + s.logp_adj - s.score.logp) if s2.separable else 0.0
+            if worst is None or lp2 > worst[1]:
+                worst = (j, lp2)
+        if worst[1] < math.log(level):
+            break
+        j = worst[0]
+        kept = selected[j]
+        # a later, overlapping, smaller effect may have taken j's signal: drop whichever leaves the least misfit
+        rss_j = _with(eng, selected[:j] + selected[j + 1:], w).rss
+        later = [(_with(eng, selected[:i] + selected[i + 1:], w).rss, i) for i, o in enumerate(selected)
+                 if i > j and o.score.delta < kept.score.delta
+                 and eng.copy_base().overlap(w(kept.candidate), w(o.candidate)) > 0.5]
+        rss_o, i = min(later, default=(float("inf"), -1))
+        if rss_o < rss_j:
+            gone = selected.pop(i)
+            cos = eng.copy_base().overlap(w(kept.candidate), w(gone.candidate))
+            kept.confounded_with.append(_confound(kept.candidate, gone, cos))
+            say(f"backward: {gone.candidate.name} {gone.candidate.label} dropped: it overlaps "
+                f"{kept.candidate.name} (cos {cos:.2f}), which explains more")
+        else:
+            gone = selected.pop(j)
+            say(f"backward: {gone.candidate.name} {gone.candidate.axis or ''} {gone.candidate.label} dropped "
+                f"(explained by the other effects)")
+    return selected
+
+
+def _with(eng: Engine, steps: Sequence[Step], w: Columns) -> Engine:
+    e = eng.copy_base()
+    for s in steps:
+        e.add(w(s.candidate))
+    return e
+
+
+def select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, say: Callable[[str], None],
+                   effects: Sequence[np.ndarray] = ()) -> dict[str, int]:
+    """Per axis, the degree (1..max) with the least BIC of the axis' own whitened fit, with the whitened
+    columns ``effects`` (N, k) of the selected effects in the fit (restricted to the axis' readings): an
+    unmodelled effect (backlash) inflates the residual and would make BIC choose too low a degree."""
+    out = {}
+    for a in prep.axes:
+        on = prep.rec.axis == a
+        G = None
+        if len(effects):
+            G = np.hstack(effects)[np.repeat(on, 3)]
+            G = G[:, np.any(G != 0, axis=0)]
+        best = None
+        for d in range(1, max_degree + 1):
+            e = engine_for(prep, base_design(prep, {a: d}, [a]), wy, on)
+            if G is not None and G.shape[1]:
+                e.add(G)
+            bic = e.N * math.log(e.rss / e.N) + e.p * math.log(e.N)
+            if best is None or bic < best[0]:
+                best = (bic, d)
+        out[a] = best[1]
+        say(f"axis {a}: degree {best[1]} by BIC" + (" (with the selected effects)" if G is not None else ""))
+    return out
+
+
+def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
+    """Held-out reading sets (bool (n,)) of the validation of ``c`` and their description."""
+    rec = prep.rec
+    touched = np.any(c.G != 0, axis=(1, 2))
+    rounds = sorted(set(rec.round[touched].tolist()))
+    if c.family not in ROUND_SPECIFIC and len(rounds) >= 2:
+        return [rec.round == k for k in sorted(set(rec.round.tolist()))], "held-out rounds"
+    if touched.sum() < 2:
+        return [], "one reading: tested by its studentized displacement only"
+    rank = np.empty(len(rec), int)
+    for s in range(len(prep.seq_keys)):
+        idx = np.flatnonzero(prep.seq == s)
+        rank[idx[np.argsort(prep.order[idx])]] = np.arange(len(idx))
+    return [rank % 2 == 0, rank % 2 == 1], "held-out alternate readings"
+
+
+def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray], G: np.ndarray,
+            held: list[np.ndarray]) -> float | None:
+    """1 - RSS_with / RSS_without on held-out readings: the effects (others + G) estimated on the rest, applied to
+    the held-out readings after the base model (all its parameters) is fitted to them alone; "without" uses the
+    others only.  A fold where G cannot be estimated (not separable on the training readings) or where the base
+    leaves no residual is skipped; None when no fold is usable."""
+    with_, without = 0.0, 0.0
+    used = False
+    for te in held:
+        tr = ~te
+        if not te.any() or not tr.any():
+            continue
+        r3tr, r3te = np.repeat(tr, 3), np.repeat(te, 3)
+        e_tr, e_te = engine_for(prep, base, wy, tr), engine_for(prep, base, wy, te)
+        if e_te.rss <= 0 or e_tr.dof <= 0:
+            continue
+        res = {}
+        for tag, cols in (("with", others + [G]), ("without", others)):
+            if not cols:
+                res[tag] = e_te.rss
+                continue
+            Gall = np.hstack(cols)
+            Gtr = Gall[r3tr]
+            if not e_tr.score(Gtr[:, -G.shape[1]:] if tag == "with" else Gtr).separable:
+                break
+            theta, _ = e_tr.estimate([Gtr])
+            pred = Gall[r3te] @ theta
+            rr = e_te.r - (pred - e_te.project(pred[:, None])[:, 0])
+            res[tag] = float(rr @ rr)
+        if len(res) < 2:
+            continue
+        used = True
+        with_ += res["with"]
+        without += res["without"]
+    if not used or without <= 0:
+        return None
+    return 1.0 - with_ / without
