@@ -92,8 +92,10 @@ def _in(lo: float, hi: float, what: str = "") -> Callable[[str], float]:
     """A finite number in [lo, hi] (``what``: the physical reason for the range, for the message)."""
     def parse(v) -> float:
         x = _float(v)
-        if math.isnan(x) or not lo <= x <= hi:
-            raise ValueError(f"must lie in [{lo:g}, {hi:g}]{' (' + what + ')' if what else ''}, got {v!r}")
+        if math.isnan(x):  # only a non-string NaN gets here: a default passed on ("not given")
+            return x
+        if not lo <= x <= hi:
+            raise ValueError(f"must lie in [{lo:g}, {hi:g}]{' (' + what + ')' if what else ''}")
         return x
     return parse
 
