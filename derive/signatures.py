@@ -11,15 +11,15 @@ the generated point Jacobian column of that error (Machine.point_jacobian_errors
 The same model is emitted for simulation (mtcal.effects): ``<effect>_model`` gives the increment of the affected
 error function (mm or rad), which the simulator adds to the machine's errors and carries to the reflectors
 through the exact error-inclusive kinematics; ``thermal_drift_displacement`` and ``tracker_scale_reading`` move
-the readings themselves.  So each effect is written once, and tests/test_effects_physics.py shows that
+the readings themselves.  So each effect is written once, and tests/test_effects_physics.py and tests/test_effects_new_physics.py show that
 simulate(effect) - simulate(none) = signature x parameter to first order, with a second-order remainder.
 
 Effects (names of design.md; q = axis position, d = approach direction +-1, dt = time since the warm-up
 started, s):
 * backlash       positioning error + d * b / 2                                        -> column * d / 2
-                 (b = the reversal of the error function in the axis' own positive sense: error(+ approach) -
-                 error(- approach); for a linear axis the ISO 230-2 reversal value B = mean(dev up) - mean(dev
-                 down) equals b; for a rotary axis B in the axis' commanded sense is joint sign x b, see mtcal.effects)
+                 (b = error(+ approach) - error(- approach) of the positioning error in its own ISO 230-1 sense;
+                 ISO 230-2's reversal value B (commanded sense) = b on a linear axis, s b on a rotary axis with
+                 s = +1 when a positive command turns about +z of its stator, else -1 (DMU 50's C); mtcal.effects)
 * reversal_angular  angular error (E_A/E_B/E_C of a linear axis) + d * r / 2             -> column * d / 2
                  (pitch / yaw / roll differs by r between + and - approach; the same reversal law as backlash)
 * scale          positioning error + 1e-6 * ppm * q (q in mm, or rad for rotary)       -> column * q * 1e-6

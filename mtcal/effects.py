@@ -6,7 +6,8 @@ it to the reflectors) or to the tracker readings themselves.  Units: mm and rad 
 axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
-outlier, second_order, offset, tracker_scale.  API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
+outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
+thermal_temperature.  Parameters are checked (finite, in a physical range) and a bad one is an InputError.  API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
 
 Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s of the reading):
@@ -14,9 +15,30 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  for t > t0_s (exponential warm-up); target "spindle" moves points on the spindle (spindle
                  growth), "table" points on the table, "tracker" every reading (drift of the tracker stand).
                  The temperature_c column rises by temperature_rise_c with the same time law.
-* backlash       reversal (lost motion) of one axis: its positioning error (E_XX for X, E_CC for C ...)
-                 gets + d * amount / 2, so the ISO 230-2 reversal value mean(dev up) - mean(dev down) = amount
-                 (mm for linear, rad for rotary axes).
+* backlash       reversal of one axis: its positioning error (E_XX for X, E_CC for C ...) gets + d * amount / 2,
+                 i.e. amount = error(+ approach) - error(- approach) in the error's own ISO 230-1 sense (mm for
+                 linear, rad for rotary axes).  Against ISO 230-2's reversal value B = mean(dev up) - mean(dev
+                 down) (deviation = actual - target in the commanded sense): B = amount on a linear axis (its
+                 positioning error points along its motion in every shipped spec); on a rotary axis B = s amount,
+                 s = +1 when a positive command turns about +z of the axis' stator frame (the sense of E_C<R>),
+                 -1 otherwise (DMU 50's C, T_0^w = ... Rz(-C): amount = +20 urad reads B = -20 urad).  Classic
+                 lost motion (the axis stops short in the direction of travel: B < 0) is a negative amount on a
+                 linear axis (tests/test_effects_new_physics.py checks both through mtcal.iso230_2).
+* reversal_angular  direction-dependent pitch / yaw / roll of a linear axis: its angular error ``error`` (E_AJ,
+                 E_BJ, E_CJ of a linear axis J) gets + d * amount / 2 on the readings of J's motion, so the angle
+                 differs by amount (rad) between + and - approach (e.g. a carriage rocking on its guides as the
+                 drive force reverses).
+* nest_creep     one reflector's nest (``point`` on ``side``) creeps at rate_mm_s along ``direction`` (the side's
+                 local frame: spindle or workpiece coordinates), linearly from t0_s: local + v (t - t0_s); the
+                 exact kinematics carry it to the machine frame (it turns with the table).  10 um/h = 2.78e-6 mm/s.
+* tracker_settling  the tracker stand settles: every reading turns about the axis ``about`` through the tracker
+                 position by theta = rate_rad_s (t - t0_s) + angle_rad (1 - exp(-(t - t0_s) / tau_s)) (a ramp
+                 and / or a first-order settling); exact rotation, distances to the tracker unchanged.
+* thermal_temperature  thermal drift driven by the recorded temperature_c (T, degC; T_ref = t_ref_c, default the
+                 first reading's): the positioning error of linear ``axis`` gets + 1e-6 ppm_per_k (T - T_ref) q
+                 (expansion of the scale / screw), and the points of ``target`` (spindle or table) move by
+                 drift_mm_per_k (T - T_ref) along ``direction``.  The simulator writes a warm-up temperature
+                 channel (mtcal.simulate.WarmUp, default 2 K with tau 1800 s) when this effect is planted.
 * periodic       ball-screw / worm-gear periodic positioning error: positioning error + amplitude *
                  sin(2 pi q / pitch + phase_deg).  Sampling must resolve the pitch (default 200 mm; a 50 mm
                  step aliases pitches of 100 mm and below).
@@ -141,7 +163,7 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                       "t0_s": (0.0, _float, "s, start of the warm-up"),
                       "temperature_rise_c": (2.0, _float, "degC, rise of the temperature_c column")},
     "backlash": {"axis": (None, _axis, "axis; default the machine's first"),
-                 "amount": (0.004, _float, "reversal value, mm (rad for a rotary axis)")},
+                 "amount": (0.004, _float, "error(+ approach) - error(- approach), mm (rad for a rotary axis)")},
     "periodic": {"axis": (None, _axis, "axis; default the machine's first"),
                  "amplitude": (0.002, _float, "mm (rad for a rotary axis)"),
                  "pitch": (200.0, _float, "mm (deg for a rotary axis)"),
