@@ -465,6 +465,25 @@ def edit(ch: Chunk, r: int, new: dict[int, str], added: list[tuple[int, str]], s
     p[t] = tp
 
 
+_FEED_SCAN = re.compile(r"\([^)\r\n]*\)?|;[^\r\n]*|[Ff][ \t]*(" + _NUM + ")")
+
+
+def replace_feed(ch: Chunk, r: int, value: str) -> None:
+    """Replace the number of motion row r's F word (outside comments) by ``value``, in place."""
+    p = ch.pieces
+    idx = ch.numidx[r][ch.numidx[r] >= 0]
+    head, tail = int(idx.min()) - 2, int(ch.tail[r])
+    for j in range(head, tail + 1, 3):  # the row's text pieces: before, between and after its numbers
+        t = p[j]
+        a = max(t.rfind("\n"), t.rfind("\r")) + 1 if j == head else 0
+        e = _EOL.search(t) if j == tail else None
+        for m in _FEED_SCAN.finditer(t, a, e.start() if e else len(t)):
+            if m.group(1):
+                p[j] = t[: m.start(1)] + value + t[m.end(1):]
+                return
+    raise RuntimeError(f"row {r} has no F word")  # parse_chunk refuses G93 feed rows without F: a bug
+
+
 def parse_cl(lines: list[str], first_line: int, source: str) -> tuple[np.ndarray, np.ndarray]:
     """CL data, one point a line: ``x y z i j k`` (workpiece frame, mm; tool axis) separated by blanks or commas,
     optionally after ``GOTO/``; blank lines and lines starting with ``#``, ``(``, ``;`` or ``$$`` are skipped.
@@ -570,6 +589,8 @@ class Block:
     motion: np.ndarray
     absolute: np.ndarray
     inch: np.ndarray
+    fresh = None                         # never on this path (G28 / G53 / G93 go through parse_chunk)
+    feed = None
 
     @property
     def n_lines(self) -> int:
