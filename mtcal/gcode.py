@@ -460,8 +460,9 @@ def edit(ch: Chunk, r: int, new: dict[int, str], added: list[tuple[int, str]], s
         if m:
             eol = m.group()
             tp = tp[: m.end()] + "".join(c + eol for c in cont) + tp[m.end():]
-        else:  # last line of the file without a line end
-            tp = tp + "".join("\n" + c for c in cont)
+        else:  # last line of the file without a line end: the file's own line end
+            eol = next((e for e in map(line_end, ch.lines) if e), "\n")
+            tp = tp + "".join(eol + c for c in cont)
     p[t] = tp
 
 

@@ -187,3 +187,18 @@ def test_lone_cr_program_is_compensated_like_the_lf_program(tmp_path, capsys):
     assert outs[0].count(b"X") == 4 and b"X-20 " not in outs[0]  # every move rewritten
     code, err, out = run_cli(tmp_path, capsys, (text + "G2 X0 Y0 I5 J5\n").replace("\n", "\r"), model)
     assert code == 2 and "line 6: G2" in err
+
+
+def test_cl_data_refusal_names_the_cl_file_line(tmp_path, capsys):
+    """CL data is compensated as generated G-code: a refusal still names the line of the CL file."""
+    cl = b"$$ header\n# comment\n\n10 20 30 0 0 1\nGOTO/50,20,30,0,0,1\n"
+    code, err, out = run_cli(tmp_path, capsys, cl, model_file(tmp_path, {"E_XX": 12.5}), name="part.cl")
+    assert code == 2 and "part.cl, line 4: the correction of X by -12.5000 mm" in err and not out.exists()
+
+
+def test_split_last_line_without_line_end_keeps_the_files_line_ends(tmp_path):
+    prog, out = tmp_path / "cr.nc", tmp_path / "o.nc"
+    prog.write_bytes(b"G90 G0 X-200 Y-150 Z-100 B20 C0 ; start\rG1 X200 Y150 Z100 B60 C90 F500")
+    rep = ProgramCompensator(Compensator(MODEL, M, "full"), tolerance=5e-4).run(prog, out)
+    data = out.read_bytes()
+    assert rep.subdivided_moves == 1 and b"\n" not in data and data.count(b"\r") == 1 + rep.lines_inserted
