@@ -42,9 +42,9 @@ RESIDUAL_EVERY = 20  # default: the exact residual of every 20th move (and of ev
 # measured on the DMU 50 (43 um; positioning ~20 um), yet 1000 times below a model typed in um under "mm";
 # 0.1 deg (1.7 mrad) is 10-50 times the largest angular errors of a rotary axis (thesis: tens of urad; ISO 230-1
 # typical rotary positioning errors 10-30 arcsec = 50-150 urad)
-FEED_DECIMALS = 4  # inverse-time F (1/min) written on split G93 moves
 MAX_CORRECTION_MM = 1.0
 MAX_ROTARY_CORRECTION_DEG = 0.1
+FEED_DECIMALS = 4  # inverse-time F (1/min) written on split G93 moves
 
 # ISO/TR 16907 compensation types and the ISO 230-1 errors they act on (DMU 50: linear X Y Z, rotary B C)
 ISO_TYPES: dict[str, tuple[str, ...]] = {
@@ -495,8 +495,8 @@ class Guard:
             msg = (f"the correction of {ax} by {q_w[r, a] - q_nom[r, a]:+.4f} {unit} ({ax}{q_nom[r, a]:.4f} -> "
                    f"{ax}{q_w[r, a]:.4f}) exceeds the plausibility bound {bound[a]:g} {unit} ({opt})")
         errs = comp.largest_errors(q_nom[r]) if np.isfinite(q_nom[r]).all() else ""
-        raise InputError(f"{src}, line {lines[r]}: {msg}; largest model errors there: {errs or 'none'} (are the model's values "
-                         "in its stated units?); nothing written")
+        raise InputError(f"{src}, line {lines[r]}: {msg}; largest model errors there: {errs or 'none'} (are the "
+                         "model's values in its stated units?); nothing written")
 
     def residual(self, err: np.ndarray, src: str, lines: np.ndarray, what: str) -> None:
         """Refuse a predicted residual (mm, (n,)) above the tolerance or not finite."""

@@ -80,7 +80,7 @@ def _g_refusal(gs: str) -> str | None:
         return f"G{gs}: {_TCPM}"
     if v in (73.0, 74.0, 76.0) or 81.0 <= v <= 89.0:
         return f"G{gs} {_CYCLE}"
-    if v in (50.1, 51.0, 51.1, 52.0, 92.0) or 68.0 <= v < 69.0:
+    if v in (51.0, 51.1, 52.0, 92.0) or 68.0 <= v < 69.0:
         return f"G{gs} {_FRAME}"
     if v in _HANDLED_G or v in _PASS_G:
         return None
@@ -110,8 +110,8 @@ def _check(code: str, first_line: int, source: str, machine: str) -> None:
 
 
 # G codes that do not change how coordinates are interpreted (passed through)
-_PASS_G = {9.0, 15.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 43.0, 49.0, 50.0, 54.0, 55.0, 56.0, 57.0, 58.0, 59.0,
-           54.1, 61.0, 64.0, 69.0, 80.0, 94.0, 95.0, 96.0, 97.0}
+_PASS_G = {9.0, 15.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 43.0, 49.0, 50.0, 50.1, 54.0, 55.0, 56.0, 57.0, 58.0,
+           59.0, 54.1, 61.0, 64.0, 69.0, 80.0, 94.0, 95.0, 96.0, 97.0}  # 49, 50, 50.1, 69, 80: cancels
 # G codes parse_chunk handles: motion, G90/G91, G20/G21, dwell, reference-point return, machine coordinates,
 # inverse-time feed
 _HANDLED_G = {0.0, 1.0, 4.0, 20.0, 21.0, 28.0, 30.0, 53.0, 90.0, 91.0, 93.0}

@@ -64,7 +64,7 @@ def test_rotary_correction_bound(tmp_path, capsys):
     model = model_file(tmp_path, {"E_A0C": 5e-3})
     code, err, out = run_cli(tmp_path, capsys, prog, model, "--scope", "full")
     assert code == 2 and "line 1" in err and "--max-rotary-correction" in err and " deg " in err
-    code, err, out = run_cli(tmp_path, capsys, prog, model, "--scope", "full", "--max-rotary-correction", "1",
+    code, err, _ = run_cli(tmp_path, capsys, prog, model, "--scope", "full", "--max-rotary-correction", "1",
                              "--max-correction", "5")
     assert code == 0, err
 

@@ -5,8 +5,15 @@ import argparse
 import sys
 import time
 
-from mtcal.compensate import (MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY, Compensator,
-                               ProgramCompensator, iso_types, write_tables)
+from mtcal.compensate import (
+    MAX_CORRECTION_MM,
+    MAX_ROTARY_CORRECTION_DEG,
+    RESIDUAL_EVERY,
+    Compensator,
+    ProgramCompensator,
+    iso_types,
+    write_tables,
+)
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
 
