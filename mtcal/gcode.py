@@ -485,10 +485,14 @@ def replace_feed(ch: Chunk, r: int, value: str) -> None:
     raise RuntimeError(f"row {r} has no F word")  # parse_chunk refuses G93 feed rows without F: a bug
 
 
+CL_UNIT_TOLERANCE = 1e-3  # allowed |(i, j, k)| - 1: unit vectors written to 3 decimals or more
+
+
 def parse_cl(lines: list[str], first_line: int, source: str) -> tuple[np.ndarray, np.ndarray]:
     """CL data, one point a line: ``x y z i j k`` (workpiece frame, mm; tool axis) separated by blanks or commas,
-    optionally after ``GOTO/``; blank lines and lines starting with ``#``, ``(``, ``;`` or ``$$`` are skipped.
-    Returns (poses (m, 6), 1-based line numbers (m,))."""
+    optionally after ``GOTO/``; blank lines and lines starting with ``#``, ``(``, ``;`` or ``$$`` are skipped;
+    numbers must be finite and (i, j, k) a unit vector within ``CL_UNIT_TOLERANCE`` (then normalised: the digits
+    written are the only error; a longer or shorter vector is not a tool axis).  Returns (poses (m, 6), 1-based line numbers (m,))."""
     poses, nos = [], []
     for i, ln in enumerate(lines):
         s = ln.strip()
@@ -503,7 +507,13 @@ def parse_cl(lines: list[str], first_line: int, source: str) -> tuple[np.ndarray
             raise _error(source, first_line + i, f"CL data must be 'x y z i j k' numbers, got {ln.strip()!r}") from None
         if len(v) != 6:
             raise _error(source, first_line + i, f"CL data needs 6 numbers (x y z i j k), got {len(v)}")
-        poses.append(v)
+        if not np.isfinite(v).all():
+            raise _error(source, first_line + i, f"CL data must be finite numbers, got {ln.strip()!r}")
+        norm = float(np.linalg.norm(v[3:]))
+        if abs(norm - 1) > CL_UNIT_TOLERANCE:
+            raise _error(source, first_line + i, f"tool axis (i, j, k) = {tuple(v[3:])} is not a unit vector "
+                                                 f"(length {norm:.6g})")
+        poses.append(v[:3] + [c / norm for c in v[3:]])
         nos.append(first_line + i)
     return np.array(poses, dtype=float).reshape(-1, 6), np.array(nos, dtype=np.int64)
 

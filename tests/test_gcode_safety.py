@@ -145,3 +145,22 @@ def test_numbers_that_look_unusual_but_are_one_token_pass():
 
 def test_huge_number_is_refused_not_read_as_infinity():
     assert "too large" in refusal("G0 X" + "9" * 400 + " Y0 Z0\n")
+
+
+@pytest.mark.parametrize("line, gist", [
+    ("1 2 3 0 0 nan\n", "finite"),
+    ("inf 2 3 0 0 1\n", "finite"),
+    ("1 2 3 0 0 0\n", "not a unit vector (length 0)"),
+    ("1 2 3 0.5 0 0.5\n", "not a unit vector (length 0.707107)"),
+    ("GOTO/1,2,3,0,0,1,4\n", "needs 6 numbers"),
+])
+def test_cl_points_must_be_finite_with_a_unit_tool_axis(line, gist):
+    with pytest.raises(InputError) as exc:
+        gcode.parse_cl(lines_of("$$ cam\r\n" + line), 1, "a.cl")
+    assert str(exc.value).startswith("a.cl, line 2") and gist in str(exc.value)
+
+
+def test_cl_tool_axis_written_to_three_decimals_is_normalised():
+    poses, nos = gcode.parse_cl(lines_of("1 2 3 0.707 0 0.707\r"), 1, "a.cl")
+    np.testing.assert_allclose(poses, [[1, 2, 3, 0.5 ** 0.5, 0, 0.5 ** 0.5]], rtol=1e-15)
+    assert nos.tolist() == [1]
