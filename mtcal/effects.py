@@ -436,8 +436,7 @@ class Effect:
         if self.name != "thermal_drift":
             return np.zeros(np.shape(t))
         p = self.params
-        dt = np.maximum(np.asarray(t, dtype=float) - p["t0_s"], 0.0)
-        return S.thermal_temperature_curve(0.0, p["temperature_rise_c"], dt, p["tau_s"])[..., 0]
+        return warm_up_rise(t, p["temperature_rise_c"], p["tau_s"], p["t0_s"])
 
     # -------------------------------------------------------------- truth
     def truth(self, rows: Rows | None = None) -> dict:
@@ -497,17 +496,28 @@ class Effect:
         return out
 
 
+def parse_items(text: str, what: str) -> dict[str, str]:
+    """'key=value,key=value' -> {key: value} (strings); ``what`` names the option in the error message."""
+    params: dict[str, str] = {}
+    for item in filter(None, (s.strip() for s in str(text).split(","))):
+        k, eq, v = item.partition("=")
+        if not eq or not k.strip():
+            raise InputError(f"{what}: expected key=value, got {item!r}")
+        params[k.strip()] = v.strip()
+    return params
+
+
 def parse_effect(text: str) -> Effect:
     """'NAME' or 'NAME:key=value,key=value' (CLI --effect) -> Effect."""
     name, _, rest = str(text).partition(":")
-    name = name.strip()
-    params: dict[str, str] = {}
-    for item in filter(None, (s.strip() for s in rest.split(","))):
-        k, eq, v = item.partition("=")
-        if not eq or not k.strip():
-            raise InputError(f"effect {text!r}: expected key=value, got {item!r}")
-        params[k.strip()] = v.strip()
-    return Effect(name, params)
+    return Effect(name.strip(), parse_items(rest, f"effect {text!r}"))
+
+
+def warm_up_rise(t, rise_c: float, tau_s: float, t0_s: float) -> np.ndarray:
+    """K above the starting temperature at times t (s) of a warm-up rise_c (1 - exp(-(t - t0_s) / tau_s)) for
+    t > t0_s (the generated warm-up curve of derive/signatures.py)."""
+    dt = np.maximum(np.asarray(t, dtype=float) - t0_s, 0.0)
+    return S.thermal_temperature_curve(0.0, rise_c, dt, tau_s)[..., 0]
 
 
 def as_effects(effects: Iterable) -> list[Effect]:

@@ -37,13 +37,13 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from mtcal import tracker as trk
-from mtcal.effects import Rows, as_effects
+from mtcal.effects import Rows, as_effects, parse_items, warm_up_rise
 from mtcal.errors import InputError
-from mtcal.generated import signatures_numpy as S
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorModel
 from mtcal.recordings import Recording, make_recording, write_recording
+
 
 @dataclass(frozen=True)
 class WarmUp:
@@ -62,8 +62,7 @@ class WarmUp:
 
     def rise(self, t: np.ndarray) -> np.ndarray:
         """K above the plan temperature at times t (s)."""
-        dt = np.maximum(np.asarray(t, dtype=float) - self.t0_s, 0.0)
-        return S.thermal_temperature_curve(0.0, self.rise_c, dt, self.tau_s)[..., 0]
+        return warm_up_rise(t, self.rise_c, self.tau_s, self.t0_s)
 
 
 def parse_warm_up(spec) -> WarmUp:
@@ -71,16 +70,12 @@ def parse_warm_up(spec) -> WarmUp:
     if isinstance(spec, WarmUp):
         return spec
     if isinstance(spec, str):
-        items = {}
-        for item in filter(None, (t.strip() for t in spec.split(","))):
-            k, eq, v = item.partition("=")
-            if not eq:
-                raise InputError(f"temperature: expected key=value, got {item!r} (keys rise_c, tau_s, t0_s)")
+        spec = parse_items(spec, "temperature")
+        for k, v in spec.items():
             try:
-                items[k.strip()] = float(v)
+                spec[k] = float(v)
             except ValueError:
-                raise InputError(f"temperature: {k.strip()}={v.strip()!r} is not a number") from None
-        spec = items
+                raise InputError(f"temperature: {k}={v!r} is not a number") from None
     if not isinstance(spec, Mapping):
         raise InputError(f"temperature must be 'rise_c=..,tau_s=..,t0_s=..' or a mapping, got {spec!r}")
     bad = sorted(set(spec) - {"rise_c", "tau_s", "t0_s"})
