@@ -6,8 +6,11 @@ covariance about it weights the readings.  Without it, the position is estimated
 repeated rounds: the residuals of the quasi-static base family (unweighted) at every reflector have their
 smallest spread along the beam, so (1) each reflector's residual scatter (3x3, pooled over its readings) gives a
 beam line through the reflector along its least-spread direction, (2) the point closest to all beam lines
-starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance shape with a free scale
-(profile likelihood, Nelder-Mead from that start and from 1.5 m along the mean beam on either side).  The
+starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a scale c near 1
+(prior log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the
+convergence of the beams; Nelder-Mead from that start and from 1.5 m along the mean beam on either side),
+(4) twice: the base refitted with the weights of the estimate, and the fit of (3) repeated on its residuals (the
+unweighted fit leaks the large transverse noise into the radial residuals of other readings).  The
 estimate is used when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3);
 else (or with one round) the readings are weighted equally, sigma from the residuals.  Units: mm.
 """
@@ -28,6 +31,8 @@ if TYPE_CHECKING:
 LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (estimated tracker) vs isotropic
 START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
 MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
+ITERATIONS = 2          # refits of the base with the estimated weights
+SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (AT960)
 
 
 @dataclass
@@ -70,9 +75,12 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
     c = xyz.mean(axis=0)
     u = _mean_beam(prep, r)
     starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
-    best = min((_refine(xyz, r, s) for s in starts), key=lambda v: v[1])
-    t, nll = best
-    nll_iso = 1.5 * n * math.log(float(np.mean(r**2)))
+    t, nll = min((_refine(xyz, r, s) for s in starts), key=lambda v: v[1])
+    for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
+        # large transverse noise into the radial residuals of other readings
+        r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "").W)
+        t, nll = _refine(xyz, r, t)
+    nll_iso = 1.5 * n * (math.log(float(np.mean(r**2))) + 1.0)
     lr = 2.0 * (nll_iso - nll)
     p = float(stats.chi2.sf(max(lr, 0.0), 3))
     details = {"likelihood_ratio": lr, "p_isotropic": p,
@@ -86,12 +94,19 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
                             **details)
 
 
-def _base_residuals(prep: "Prepared", max_degree: int) -> np.ndarray:
-    """(n, 3) unweighted residuals of the quasi-static base family (or the given model), mm."""
-    from mtcal.diagnose.design import base_design, engine_for
+def _base_residuals(prep: "Prepared", max_degree: int, W: np.ndarray | None = None) -> np.ndarray:
+    """(n, 3) residuals (mm) of the quasi-static base family (or the given model), fitted with the whitening W
+    (None: unweighted)."""
+    from dataclasses import replace
+
+    from mtcal.diagnose.design import base_design, engine_for, whiten
+    n = len(prep.rec)
+    if W is not None:
+        prep = replace(prep, noise=NoiseModel(W, "AT960", ""))
     degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
-    eng = engine_for(prep, base_design(prep, degrees), prep.y.reshape(-1))
-    return eng.r.reshape(-1, 3) * math.sqrt(eng.N / max(eng.dof, 1))
+    eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
+    raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]
+    return raw * math.sqrt(eng.N / max(eng.dof, 1))
 
 
 def _groups(prep: "Prepared"):
@@ -128,21 +143,23 @@ def _mean_beam(prep: "Prepared", r: np.ndarray) -> np.ndarray:
     return np.linalg.eigh(M)[1][:, -1]
 
 
-def _profile_nll(xyz: np.ndarray, r: np.ndarray, t: np.ndarray) -> float:
-    """Negative log-likelihood (up to a constant) of the residuals under c * AT960 covariance about t, with the
-    scale c at its maximum-likelihood value."""
+def _nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
+    """Negative log-likelihood (up to a constant) of the residuals under c * AT960 covariance about the tracker
+    t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
+    it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
+    t, logc = v[:3], float(v[3])
     d = np.linalg.norm(xyz - t, axis=1)
-    if not np.all(np.isfinite(t)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
+    if not np.all(np.isfinite(v)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
         return math.inf
     C = covariance(xyz, t)
     q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
-    c = float(np.mean(q)) / 3.0
-    return 0.5 * (3 * len(r) * math.log(c) + float(np.sum(np.linalg.slogdet(C)[1])))
+    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * len(r) * logc + float(np.sum(np.linalg.slogdet(C)[1]))
+                  + (logc / SCALE_PRIOR) ** 2)
 
 
 def _refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float]:
-    res = optimize.minimize(lambda t: _profile_nll(xyz, r, t), np.asarray(start, float), method="Nelder-Mead",
-                            options={"xatol": 1.0, "fatol": 1e-3, "initial_simplex":
-                                     np.asarray(start, float) + np.vstack([np.zeros(3), 300.0 * np.eye(3)]),
-                                     "maxiter": 600})
-    return res.x, float(res.fun)
+    x0 = np.append(np.asarray(start, float), 0.0)
+    simplex = x0 + np.vstack([np.zeros(4), np.diag([300.0, 300.0, 300.0, 0.3])])
+    res = optimize.minimize(lambda v: _nll(xyz, r, v), x0, method="Nelder-Mead",
+                            options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 1500})
+    return res.x[:3], float(res.fun)
