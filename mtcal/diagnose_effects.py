@@ -6,7 +6,9 @@ taken from the generated signatures (generated/signatures_numpy.py, derived in d
 generated point Jacobians of the machine (columns of the 41 ISO errors).  Parameter units: backlash mm (rad for
 B, C) reversal value; scale ppm; second_order per mm^2 or deg^2; periodic mm (rad) amplitudes of sin and cos;
 thermal_drift mm (3-vector final displacement); offset and outlier mm (3-vector shift); tracker_scale ppm;
-squareness / rotary_location mm or rad.
+squareness / rotary_location mm or rad; reversal_angular rad (angle(+ approach) - angle(- approach));
+nest_creep mm/s (3-vector in the side's local frame); tracker_settling rad/s and rad (rotation vector about the
+tracker: ramp rate and settled angle); thermal_temperature ppm/K (expansion) or mm/K (3-vector drift).
 
 Effect names and vocabulary follow design.md; ``QUASI_STATIC`` are the effects that are themselves smooth
 functions of the measured axis' position (part of the fitted base model's family when no model is given).
@@ -22,7 +24,8 @@ from mtcal.generated import signatures_numpy as S
 from mtcal.machine import Machine
 
 VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
-              "cross_axis", "second_order", "tracker_scale", "offset")
+              "cross_axis", "second_order", "tracker_scale", "offset", "reversal_angular", "nest_creep",
+              "tracker_settling", "thermal_temperature")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
 
@@ -57,6 +60,7 @@ class Geometry:
     """What the candidates need from the prepared recording (see mtcal.diagnose.prepare)."""
 
     axis: np.ndarray        # (n,) str
+    point: np.ndarray       # (n,) str, reflector labels
     position: np.ndarray    # (n,) mm or deg
     direction: np.ndarray   # (n,) +1 / -1 / 0
     time_s: np.ndarray      # (n,) s, NaN when absent
@@ -65,6 +69,8 @@ class Geometry:
     J: np.ndarray           # (n, 3, n_errors) point Jacobian of the errors at zero error
     machine: Machine
     tracker: np.ndarray | None
+    rotation: np.ndarray | None = None   # (n, 3, 3) the reflector's side rotation, local -> machine frame
+    temperature_c: np.ndarray | None = None  # (n,) degC, NaN when absent
 
     def col(self, name: str) -> np.ndarray:
         return self.J[:, :, self.machine.error_names.index(name)]
@@ -99,11 +105,14 @@ def second_order(g: Geometry, axis: str, error: str) -> Candidate:
                      family=f"second_order {axis}", extra={"error": error})
 
 
-def constant(g: Geometry, name: str, error: str) -> Candidate:
-    axis = constants(g.machine)[error][1]
-    G = g.col(error) * _on(g, axis)
-    unit = "mm" if error[2] in "XY" and name == "rotary_location" else "rad"
-    return Candidate(name, axis, error, G[:, :, None], [f"{error} ({unit})"], family=name, extra={"error": error})
+def constant(g: Geometry, name: str, errors: list[str]) -> Candidate:
+    """Squareness or location constants of one axis, fitted together (a location error of a rotary axis is 2-D:
+    testing E_X0C alone would leave E_Y0C to a knock or a drift)."""
+    axis = constants(g.machine)[errors[0]][1]
+    G = np.stack([g.col(e) for e in errors], axis=-1) * _on(g, axis)[:, :, None]
+    units = ["mm" if e[2] in "XY" and name == "rotary_location" else "rad" for e in errors]
+    return Candidate(name, axis, ", ".join(errors), G, [f"{e} ({u})" for e, u in zip(errors, units)],
+                     family=f"{name} {axis}", extra={"error": errors[0] if len(errors) == 1 else list(errors)})
 
 
 def periodic(g: Geometry, axis: str, pitch: float, span: tuple[float, float]) -> Candidate:
@@ -183,3 +192,52 @@ def tracker_knock(g: Geometry, t0: float, where: dict) -> Candidate:
              f"{where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
     return Candidate("offset", None, label, G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="offset",
                      extra={"variant": "tracker knock", "t0_s": float(t0), **where})
+
+
+def reversal_angular(g: Geometry, axis: str, error: str) -> Candidate:
+    """An angular error (pitch, yaw or roll) of a linear axis that differs between + and - approach by r (rad)."""
+    G = S.reversal_angular_signature(g.col(error), g.direction.astype(float)) * _on(g, axis)
+    return Candidate("reversal_angular", axis, error, G[:, :, None], ["r = angle(+) - angle(-) (rad)"],
+                     family=f"reversal_angular {axis}", extra={"error": error})
+
+
+def nest_creep(g: Geometry, label: str, t0: float) -> Candidate:
+    """One reflector's nest (label) creeping at a constant velocity (mm/s, the side's local frame) from t0 (s)."""
+    on = (g.point == label) & np.isfinite(g.time_s)
+    dt = np.where(on, np.maximum(g.time_s - t0, 0.0), 0.0)
+    G = S.nest_creep_signature(g.rotation.reshape(-1, 9), dt) * on[:, None, None]
+    return Candidate("nest_creep", None, f"point {label}", G, ["v_x (mm/s)", "v_y (mm/s)", "v_z (mm/s)"],
+                     family="nest_creep", extra={"point": str(label), "t0_s": float(t0)})
+
+
+def tracker_settling(g: Geometry, tau: float, t0: float) -> Candidate:
+    """The tracker turning slowly about an axis through it: rotation vector w dt + a (1 - exp(-dt/tau)) (rad/s,
+    rad; x, y, z components), every reading rotated about the tracker position."""
+    dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
+    cols = [S.tracker_settling_signature(g.xyz, g.tracker, u, dt, float(tau)) for u in np.eye(3)]
+    G = np.concatenate(cols, axis=-1)
+    params = [f"{k}_{c}" for c in "xyz" for k in ("w (rad/s)", "a (rad)")]
+    c = Candidate("tracker_settling", None, f"about the tracker, tau={tau:.0f} s", G, params,
+                  family="tracker_settling", extra={"tau_s": float(tau), "t0_s": float(t0),
+                                                    "t_end_s": float(np.nanmax(g.time_s)),
+                                                    "tracker": [float(v) for v in g.tracker]})
+    c.refine = lambda t: tracker_settling(g, t, t0)
+    c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
+    return c
+
+
+def thermal_temperature_scale(g: Geometry, axis: str, dT: np.ndarray) -> Candidate:
+    """The positioning error of a linear axis growing with the recorded temperature rise: 1e-6 k dT q (ppm/K)."""
+    e = g.machine.positioning_errors[axis]
+    G = S.thermal_temperature_signature(g.col(e), g.position, dT) * _on(g, axis)
+    return Candidate("thermal_temperature", axis, f"expansion of {e} with temperature", G[:, :, None],
+                     ["k (ppm/K)"], family="thermal_temperature", extra={"error": e, "variant": "expansion"})
+
+
+def thermal_temperature_drift(g: Geometry, target: str, dT: np.ndarray) -> Candidate:
+    """A side (spindle, table) or the tracker drifting by c dT with the recorded temperature rise (mm/K)."""
+    on = {"spindle": g.side == "tool", "table": g.side == "table", "tracker": np.ones(len(g.axis), bool)}[target]
+    G = S.thermal_temperature_drift_signature(dT) * on[:, None, None]
+    return Candidate("thermal_temperature", None, f"{target} drifting with temperature", G,
+                     ["c_x (mm/K)", "c_y (mm/K)", "c_z (mm/K)"], family="thermal_temperature",
+                     extra={"target": target, "variant": "drift"})

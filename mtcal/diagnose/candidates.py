@@ -30,6 +30,10 @@ NOT_SEPARABLE = {
     "backlash": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
     "thermal_drift": "the recording has no time_s column",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
+    "reversal_angular": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
+    "thermal_temperature": "the recording has no (varying) temperature_c column",
+    "nest_creep": "the recording has no time_s column",
+    "tracker_settling": "the recording has no time_s column",
 }
 
 
@@ -43,8 +47,11 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         dirs = set(rec.direction[on].tolist())
         if {1, -1} <= dirs:
             out.append(fx.backlash(g, a))
+            if g.linear(a):
+                out += [fx.reversal_angular(g, a, e) for e in prep.machine.error_motions(a) if e[2] in "ABC"]
         else:
-            notes.append({"name": "backlash", "axis": a, "not_separable": NOT_SEPARABLE["backlash"]})
+            notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
+                      for nm in ("backlash", "reversal_angular")]
         grid, span = fx.pitch_grid(rec.position[on], g.linear(a), max_degree)
         for pitch in grid:
             out.append(fx.periodic(g, a, pitch, span))
@@ -52,9 +59,11 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         for e in prep.machine.error_motions(a):
             out.append(fx.second_order(g, a, e))
         notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})
+    groups: dict[tuple[str, str, bool], list[str]] = {}
     for e, (name, a) in fx.constants(prep.machine).items():
         if a in prep.axes:
-            out.append(fx.constant(g, name, e))
+            groups.setdefault((name, a, e[2] in "XYZ"), []).append(e)  # offsets and tilts apart
+    out += [fx.constant(g, name, errors) for (name, _, _), errors in groups.items()]
     if np.isfinite(rec.time_s).all():
         t0 = float(np.min(rec.time_s))
         sides = set(g.side.tolist())
@@ -63,14 +72,34 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         for target in targets:
             for tau in fx.TAUS_S:
                 out.append(fx.thermal_drift(g, target, tau, t0))
+        out += [fx.nest_creep(g, label, t0) for label in sorted(set(rec.point.tolist()))]
+        if g.tracker is not None:
+            out += [fx.tracker_settling(g, tau, t0) for tau in fx.TAUS_S]
     else:
-        notes.append({"name": "thermal_drift", "axis": None, "not_separable": NOT_SEPARABLE["thermal_drift"]})
+        notes += [{"name": nm, "axis": None, "not_separable": NOT_SEPARABLE[nm]}
+                  for nm in ("thermal_drift", "nest_creep", "tracker_settling")]
+    out += _temperature(prep, notes)
     if g.tracker is not None:
         out.append(fx.tracker_scale(g))
     for s, (a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes
+
+def _temperature(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
+    """thermal_temperature candidates when temperature_c is recorded and varies: dT = T - T(first reading), K."""
+    g, rec = prep.geometry, prep.rec
+    T = rec.temperature_c
+    if not np.isfinite(T).all() or np.ptp(T) <= 0:
+        notes.append({"name": "thermal_temperature", "axis": None,
+                      "not_separable": NOT_SEPARABLE["thermal_temperature"]})
+        return []
+    dT = T - T[np.argmin(prep.order)]
+    out = [fx.thermal_temperature_scale(g, a, dT) for a in prep.axes if g.linear(a)]
+    sides = set(g.side.tolist())
+    targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else [])
+    return out + [fx.thermal_temperature_drift(g, t, dT) for t in targets]
+
 
 def scanned(prep: Prepared, eng: Engine) -> list[tuple[str, fx.Candidate, int]]:
     """The scanned candidates on the current residuals: (family, best member, members scanned)."""

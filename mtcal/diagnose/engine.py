@@ -122,6 +122,16 @@ class Engine:
             return 0.0
         return float(min(1.0, np.linalg.svd(a.T @ b, compute_uv=False)[0]))
 
+    def shared_fit(self, G1: np.ndarray, G2: np.ndarray) -> float:
+        """The share (0..1, a |cos|) of what G1 explains of the current residual that G2 explains as well: near 1,
+        this campaign cannot tell the two explanations apart."""
+        a, b = self.residualized(G1), self.residualized(G2)
+        fit = a @ (a.T @ self.r)
+        size = float(np.linalg.norm(fit))
+        if a.shape[1] == 0 or b.shape[1] == 0 or size == 0:
+            return 0.0
+        return float(min(1.0, np.linalg.norm(b.T @ fit) / size))
+
     def score(self, G: np.ndarray) -> Score:
         """F test of adding the columns G (N, k) to the fit; separability = sin of the smallest angle to the base."""
         GtG = G.T @ G
@@ -143,7 +153,10 @@ class Engine:
         dof = max(self.dof - k, 1)
         rss1 = max(self.rss - delta, 1e-300)
         F = (delta / k) / (rss1 / dof)
-        return Score(True, sep, k, dof, delta, F, float(stats.f.logsf(F, k, dof)))
+        logp = float(stats.f.logsf(F, k, dof))
+        if not math.isfinite(logp):  # beyond the float range: the chi^2 tail exponent keeps the order finite
+            logp = -0.5 * k * F
+        return Score(True, sep, k, dof, delta, F, logp)
 
     def add(self, G: np.ndarray) -> None:
         Gp = G - self.project(G)

@@ -4,7 +4,8 @@ A laser tracker's reading covariance is a small radial part along the beam and a
 across it (angle encoders; AT960, mtcal.tracker).  With the tracker position given (``--tracker``), the AT960
 covariance about it weights the readings.  Without it, the position is estimated from the scatter of the
 repeated rounds: the residuals of the quasi-static base family (unweighted) at every reflector have their
-smallest spread along the beam, so (1) each reflector's residual scatter (3x3, pooled over its readings) gives a
+smallest spread along the beam; each reading's residual is taken about the mean of its cell (axis, position,
+point, direction) over the rounds, so a misfit that repeats every round stays out of the noise model; (1) each reflector's residual scatter (3x3, pooled over its readings) gives a
 beam line through the reflector along its least-spread direction, (2) the point closest to all beam lines
 starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a scale c near 1
 (prior log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the
@@ -80,7 +81,8 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "").W)
         t, nll = _refine(xyz, r, t)
-    nll_iso = 1.5 * n * (math.log(float(np.mean(r**2))) + 1.0)
+    live = int(np.any(r != 0, axis=1).sum())
+    nll_iso = 1.5 * live * (math.log(float(np.sum(r**2)) / (3 * live)) + 1.0)
     lr = 2.0 * (nll_iso - nll)
     p = float(stats.chi2.sf(max(lr, 0.0), 3))
     details = {"likelihood_ratio": lr, "p_isotropic": p,
@@ -106,7 +108,21 @@ def _base_residuals(prep: "Prepared", max_degree: int, W: np.ndarray | None = No
     degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
     eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
     raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]
-    return raw * math.sqrt(eng.N / max(eng.dof, 1))
+    return _round_scatter(prep, raw)
+
+
+def _round_scatter(prep: "Prepared", raw: np.ndarray) -> np.ndarray:
+    """The scatter of the repeated rounds: each reading's residual minus the mean of its cell (axis, position,
+    point, direction) over the rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased), so that a
+    misfit that repeats in every round (an effect the base lacks) does not enter the noise model; cells of one
+    reading get 0 (they carry no scatter)."""
+    rec = prep.rec
+    keys = list(zip(rec.axis.tolist(), rec.position.tolist(), rec.point.tolist(), rec.direction.tolist()))
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    cell = np.array([index[k] for k in keys])
+    m = np.bincount(cell)[cell].astype(float)
+    mean = np.stack([np.bincount(cell, raw[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
+    return np.where(m[:, None] > 1, (raw - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
 
 
 def _groups(prep: "Prepared"):
@@ -153,7 +169,9 @@ def _nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
         return math.inf
     C = covariance(xyz, t)
     q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
-    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * len(r) * logc + float(np.sum(np.linalg.slogdet(C)[1]))
+    live = np.any(r != 0, axis=1)
+    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * int(live.sum()) * logc
+                  + float(np.sum(np.linalg.slogdet(C[live])[1]))
                   + (logc / SCALE_PRIOR) ** 2)
 
 

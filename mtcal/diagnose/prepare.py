@@ -108,7 +108,8 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
             J[mask] = m.point_jacobian_errors(s, av[mask], local[mask])
     y = rec.xyz - nominal
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
-    g = fx.Geometry(rec.axis, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t)
+    g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
+                    rotation=Aoff, temperature_c=rec.temperature_c)
     prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff,
                     NoiseModel.isotropic(n))
     prep.noise = noise_model(prep, t, max_degree)

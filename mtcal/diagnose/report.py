@@ -104,14 +104,27 @@ def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
                 "parameters": params, "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
                 "unit_vector": [float(v) for v in g], "t0_s": c.extra["t0_s"],
                 "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
-    if c.name in ("thermal_drift", "outlier", "offset"):
+    if c.name == "tracker_settling":  # the rotation reached at the end of the record (no extrapolation), rad
+        dt = c.extra["t_end_s"] - c.extra["t0_s"]
+        M = np.kron(np.eye(3), [[dt, 1.0 - math.exp(-dt / c.extra["tau_s"])]])   # (3, 6): rotation vector
+        rot, rcov = M @ theta, M @ cov @ M.T
+        size = float(np.linalg.norm(rot))
+        gv = rot / size if size > 0 else np.zeros(3)
+        k = int(np.argmax(np.abs(rot)))
+        return {"estimate": size, "uncertainty": float(math.sqrt(max(gv @ rcov @ gv, 0.0))), "unit": "rad",
+                "parameters": params, "direction": ("+" if rot[k] >= 0 else "-") + "XYZ"[k],
+                "rotation_vector": [float(v) for v in rot], "record_s": dt,
+                "note": "rotation of the readings about the tracker reached at the end of the record"}
+    if c.name in ("thermal_drift", "outlier", "offset", "nest_creep") or c.extra.get("variant") == "drift":
         k = int(np.argmax(np.abs(theta) / np.maximum(sd, 1e-300)))  # the best-determined component
-        return {"estimate": float(abs(theta[k])), "uncertainty": float(sd[k]), "unit": "mm", "parameters": params,
+        unit = {"nest_creep": "mm/s", "thermal_temperature": "mm/K"}.get(c.name, "mm")
+        return {"estimate": float(abs(theta[k])), "uncertainty": float(sd[k]), "unit": unit, "parameters": params,
                 "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
                 "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
-    unit = c.params[0].split("(")[-1].rstrip(")") if "(" in c.params[0] else c.params[0]
-    return {"estimate": float(theta[0]), "uncertainty": float(sd[0]), "unit": unit, "parameters": params,
-            "direction": None}
+    k = int(np.argmax(np.abs(theta) / np.maximum(sd, 1e-300)))  # several constants: the best-determined
+    unit = c.params[k].split("(")[-1].rstrip(")") if "(" in c.params[k] else c.params[k]
+    return {"estimate": float(theta[k]), "uncertainty": float(sd[k]), "unit": unit, "parameters": params,
+            "direction": None, **({"error": c.params[k].split(" ")[0]} if len(theta) > 1 else {})}
 
 
 def ramp(c: fx.Candidate, head: dict, t: np.ndarray) -> dict:

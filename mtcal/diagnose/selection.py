@@ -3,8 +3,8 @@ never drops a large effect for a later overlapping smaller one, confounding, deg
 
 Multiplicity: Bonferroni over families x members (scanned families: x the members scanned).  Among the
 significant candidates of a step, the strongest evidence (raw p) names the effect; a significant candidate
-whose signature overlaps the chosen one (|cos| of the smallest principal angle between their whitened columns
-after the base > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates
+that explains the same misfit (the share of the chosen effect's fitted signal, whitened, after the base, that the
+other's columns also explain: |cos| > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates
 them.  Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings
 of every sequence in time order) for round-specific ones (re-seated nest, bump, tracker knock); a single-reading
 outlier has nothing to predict (its test is its studentized displacement).
@@ -35,6 +35,15 @@ SEPARATE_BY = {
     frozenset(("backlash", "offset")): "measure the axis bidirectionally in every round: backlash reverses with the "
                                        "direction of approach, a shift does not",
     frozenset(("periodic", "second_order")): "measure at a finer, non-uniform position step",
+    frozenset(("thermal_drift", "thermal_temperature")): "record a temperature that does not follow the warm-up "
+                                                         "(e.g. a pause or cool-down): a temperature-driven drift "
+                                                         "follows the temperature, a time-driven one the clock",
+    frozenset(("nest_creep", "thermal_drift")): "measure with a second reflector in the same nest position (or "
+                                                "swap reflectors between nests): a creeping nest moves one point",
+    frozenset(("tracker_settling", "thermal_drift")): "measure a fixed reference nest off the machine at the start "
+                                                      "and end: a settling tracker turns every reading about itself",
+    frozenset(("reversal_angular", "backlash")): "measure with reflectors at several offsets from the axis: an "
+                                                 "angular reversal grows with the offset (Abbe), backlash does not",
     frozenset(("periodic",)): "measure at a finer, non-uniform position step (below half the shortest pitch)",
 }
 DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
@@ -65,6 +74,11 @@ class Step:
     score: Score
     logp_adj: float
     confounded_with: list[dict] = field(default_factory=list)
+
+    @property
+    def log_multiplicity(self) -> float:
+        """log of the Bonferroni factor (members x families) of this step's test."""
+        return self.logp_adj - self.score.logp
 
 
 def refine(c: fx.Candidate, s: Score, eng: Engine, w: Columns) -> tuple[fx.Candidate, Score]:
@@ -120,7 +134,7 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
         c = best.candidate
         for v in sig:
             if v is not best and v.candidate.family != c.family:
-                cos = eng.overlap(w(c), w(v.candidate))
+                cos = eng.shared_fit(w(c), w(v.candidate))
                 if cos > CONFOUND_COS:
                     best.confounded_with.append(_confound(c, v, cos))
         before = eng.sigma
@@ -150,7 +164,7 @@ def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
         for j, s in enumerate(selected):
             e = _with(eng, [o for i, o in enumerate(selected) if i != j], w)
             s2 = e.score(w(s.candidate))
-            lp2 = (s2.logp + s.logp_adj - s.score.logp) if s2.separable else 0.0
+            lp2 = (s2.logp + s.log_multiplicity) if s2.separable else 0.0
             if worst is None or lp2 > worst[1]:
                 worst = (j, lp2)
         if worst[1] < math.log(level):
