@@ -12,8 +12,16 @@ def _names(e: dict) -> set[str]:
     return {e["name"], *e.get("alternatives", [])}
 
 
+def out_of_reach(d, expect: list[dict]) -> list[str]:
+    """Expected effects the answer states it cannot see in this campaign (a "not_separable" entry of that name or
+    an alternative): honest, listed as out of reach in the README's concealment table."""
+    ns = {f.name for f in d.effects if f.get("not_separable")}
+    return [e["name"] for e in expect if _names(e) & ns]
+
+
 def judge(d, expect: list[dict]) -> tuple[bool, str]:
-    """(right, one-line account) of the diagnosis ``d`` against ``expect``."""
+    """(right, one-line account) of the diagnosis ``d`` against ``expect``; an expected periodic error with an
+    "alias_pitch" must carry its true pitch among the finding's "possible_alias" pitches."""
     sig = [f for f in d.effects if f.significant]
     allowed = set().union(*(_names(e) for e in expect)) if expect else set()
     wrong = [f"{f.name} {f.axis or ''}" for f in sig if f.name not in allowed]
@@ -22,6 +30,9 @@ def judge(d, expect: list[dict]) -> tuple[bool, str]:
         hit = any((f.name in _names(e) and (e.get("axis") in (None, f.axis) or f.name != e["name"])) or
                   any(c["name"] in _names(e) for c in f.get("confounded_with", [])) for f in sig)
         hit = hit or any(u.axis == e.get("axis", u.axis) for u in d.unexplained)
+        if hit and "alias_pitch" in e:
+            hit = any(abs(a["pitch"] - e["pitch"]) < 0.05 * e["pitch"]
+                      for f in sig if f.name == "periodic" for a in f.get("possible_alias", []))
         if not hit:
             missing.append(e["name"])
     found = "; ".join(f"{f.name} {f.axis or ''} {f.get('where', '')}" +
@@ -29,5 +40,11 @@ def judge(d, expect: list[dict]) -> tuple[bool, str]:
                        if f.get("confounded_with") else "") for f in sig)
     un = "; ".join(f"unexplained {u.axis} by {u.by}" for u in d.unexplained[:2])
     ok = not wrong and not missing
-    return ok, (f"{'right' if ok else 'WRONG'}: found [{found}]" + (f" {un}" if un else "") +
+    reach = [m for m in missing if m in out_of_reach(d, expect)]
+    verdict = ("right" if ok else "WRONG" if wrong else
+               "out of reach (stated)" if reach == missing else "missed (nothing named)")
+    alias = "; ".join(f"possible alias {[round(a['pitch'], 1) for a in f['possible_alias']]}"
+                      for f in sig if f.get("possible_alias"))
+    found = found + (f" ({alias})" if alias else "")
+    return ok, (f"{verdict}: found [{found}]" + (f" {un}" if un else "") +
                 (f" missing {missing}" if missing else "") + (f" wrong {wrong}" if wrong else ""))

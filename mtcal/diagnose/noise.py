@@ -76,6 +76,9 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
     c = xyz.mean(axis=0)
     u = _mean_beam(prep, r)
     starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
+    starts = [s for s in starts if math.isfinite(_nll(xyz, r, np.append(s, 0.0)))]
+    if not starts:  # the beams give no usable start: try the six directions around the machine
+        starts = [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
     t, nll = min((_refine(xyz, r, s) for s in starts), key=lambda v: v[1])
     for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
         # large transverse noise into the radial residuals of other readings

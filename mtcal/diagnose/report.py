@@ -238,6 +238,8 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
         aliases = possible_aliases(prep, c, eng.copy_base(), w)
         if aliases:
             details["possible_alias"] = aliases
+            details["where"] = (f"{c.label} or an alias: pitch "
+                                f"{', '.join(format(a['pitch'], '.4g') for a in aliases)} {c.extra['pitch_unit']}")
             details["note"] = ("possible alias: the positions sample every "
                                f"{float(np.min(np.diff(np.unique(prep.rec.position[prep.rec.axis == c.axis])))):g} "
                                f"{c.extra['pitch_unit']}, so pitches "

@@ -6,7 +6,8 @@ significant candidates of a step, the strongest evidence (raw p) names the effec
 that explains the same misfit (the share of the chosen effect's fitted signal, whitened, after the base, that the
 other's columns also explain: |cos| > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates
 them.  Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings
-of every sequence in time order) for round-specific ones (re-seated nest, bump, tracker knock); a single-reading
+of every sequence in time order) for round-specific and time-dependent ones (re-seated nest, bump, tracker
+knock, drifts); a single-reading
 outlier has nothing to predict (its test is its studentized displacement).
 """
 from __future__ import annotations
@@ -26,6 +27,9 @@ from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
 ROUND_SPECIFIC = ("outlier", "offset")
+# validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
+# alone absorbs most of a drift into its reflector positions)
+ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature")
 
 SEPARATE_BY = {
     frozenset(("rotary_location", "offset")): "measure the rotary axis again at the end of the campaign, or from a "
@@ -227,7 +231,7 @@ def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
     rec = prep.rec
     touched = np.any(c.G != 0, axis=(1, 2))
     rounds = sorted(set(rec.round[touched].tolist()))
-    if c.family not in ROUND_SPECIFIC and len(rounds) >= 2:
+    if c.name not in ALTERNATE_FOLDS and len(rounds) >= 2:
         return [rec.round == k for k in sorted(set(rec.round.tolist()))], "held-out rounds"
     if touched.sum() < 2:
         return [], "one reading: tested by its studentized displacement only"
