@@ -21,7 +21,7 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
 * with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets.
 
 Diagnosis: studentized residuals grouped by axis x (direction, round, time, position, point) locate the misfit;
-candidate effects (mtcal.diagnose_effects, signatures derived in derive/signatures.py) are tested by an F test on
+candidate effects (mtcal.diagnose.effects, signatures derived in derive/signatures.py) are tested by an F test on
 the projected (Frisch-Waugh) columns, with a separability (aliasing) check, Bonferroni control over families x
 members, forward selection, backward elimination and held-out-round cross-validation.  The null hypothesis of
 every test is the quasi-static family itself (every axis at the largest degree, plus the effects selected
@@ -32,7 +32,7 @@ reported base (degrees, sigma before and after, estimates, cross-validation) is 
 effects.  With ``model`` given the null is that model (plus offsets), as before.
 
 Modules: prepare (nominal positions, Jacobians), noise (weights), design (base columns), engine (F tests by
-projection), candidates (the candidate list), scans (locate by factors and pairs of factors; outlier and knock
+projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors and pairs of factors; outlier and knock
 scans), selection (forward / backward, confounding, validation), report (typed findings, JSON), plate (plate
 fits), run (``diagnose()``).
 """

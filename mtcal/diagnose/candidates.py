@@ -1,13 +1,13 @@
 """The candidate list of the diagnosis: every effect this recording can show, and notes on those it cannot.
 
-Candidates are built by mtcal.diagnose_effects from the generated signatures (derive/signatures.py); the
+Candidates are built by mtcal.diagnose.effects from the generated signatures (derive/signatures.py); the
 scanned ones (outlier, bumped nest, tracker knock) come from mtcal.diagnose.scans at every selection step.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from mtcal import diagnose_effects as fx
+from mtcal.diagnose import effects as fx
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of

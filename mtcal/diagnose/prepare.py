@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal import diagnose_effects as fx
+from mtcal.diagnose import effects as fx
 from mtcal.diagnose.noise import NoiseModel, noise_model
 from mtcal.errors import InputError
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine

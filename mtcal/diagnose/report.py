@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from mtcal import diagnose_effects as fx
+from mtcal.diagnose import effects as fx
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.noise import NoiseModel
 from mtcal.diagnose.prepare import Prepared

@@ -19,7 +19,7 @@ from typing import Callable, Sequence
 import numpy as np
 from scipy import optimize
 
-from mtcal import diagnose_effects as fx
+from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import Engine, Score
