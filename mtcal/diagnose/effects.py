@@ -105,9 +105,10 @@ def second_order(g: Geometry, axis: str, error: str) -> Candidate:
                      family=f"second_order {axis}", extra={"error": error})
 
 
-def constant(g: Geometry, name: str, errors: list[str]) -> Candidate:
-    """Squareness or location constants of one axis, fitted together (a location error of a rotary axis is 2-D:
-    testing E_X0C alone would leave E_Y0C to a knock or a drift)."""
+def constant(g: Geometry, name: str, errors: str | list[str]) -> Candidate:
+    """Squareness or location constants of one axis (a name or a list), fitted together (a location error of a
+    rotary axis is 2-D: testing E_X0C alone would leave E_Y0C to a knock or a drift)."""
+    errors = [errors] if isinstance(errors, str) else list(errors)
     axis = constants(g.machine)[errors[0]][1]
     G = np.stack([g.col(e) for e in errors], axis=-1) * _on(g, axis)[:, :, None]
     units = ["mm" if e[2] in "XY" and name == "rotary_location" else "rad" for e in errors]
