@@ -487,6 +487,9 @@ class ProgramCompensator:
             raise InputError(f"residual_every must be >= 1, got {residual_every}")
         self.report = Report(residual_every=int(residual_every))
         self.fast = True  # byte-level path for plain blocks (False: every block through parse_chunk)
+        m = comp.machine
+        self.words = gcode.words(m)  # the machine's axis words (its axis names)
+        self._ti, self._ri = m.index(m.ik_info["tilt_axis"]), m.index(m.ik_info["rotary_axis"])
 
     # ---------------------------------------------------------------- driver
     def run(self, src: str | os.PathLike, dst: str | os.PathLike, kind: str = "auto") -> Report:
@@ -498,9 +501,9 @@ class ProgramCompensator:
         total = src.stat().st_size
         enc = gcode.ENCODING
         with open(src, encoding=enc, newline="") as fin, atomic_open(dst, "wb") as fout:
-            self._state = gcode.ModalState()
+            self._state = gcode.ModalState.for_words(self.words)
             self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
-            self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
+            self._prev_mm = self._state.position.copy()  # linear axes unknown, rotary at 0
             self._src, self._done, self._moves_seen = str(src), 0, 0
             self._cl_lines: np.ndarray | None = None  # CL data: the file line of each generated block
             first = 1
@@ -545,7 +548,7 @@ class ProgramCompensator:
     # ---------------------------------------------------------------- G-code
     def _gcode_block(self, text: str, first: int) -> bytes:
         """Output bytes of a block of whole lines: the byte-level path when the block is plain, else by lines."""
-        blk = gcode.scan_block(text, self._state, first, self.min_decimals) if self.fast else None
+        blk = gcode.scan_block(text, self._state, first, self.min_decimals, self.words) if self.fast else None
         if blk is None:
             return self._gcode_chunk(io.StringIO(text, newline="").readlines(), first).encode(gcode.ENCODING)
         out = self._compensate_rows(blk, first)
@@ -554,7 +557,7 @@ class ProgramCompensator:
         return self._render_fast(blk, *out)
 
     def _gcode_chunk(self, lines: list[str], first: int, exact: np.ndarray | None = None) -> str:
-        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, self.comp.machine.name)
+        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, self.words)
         out = self._compensate_rows(ch, first, exact)
         if out is None:
             return "".join(lines)
@@ -572,25 +575,28 @@ class ProgramCompensator:
         rep.moves += m
         q_nom = ch.axes
         lines = self._cl_lines if self._cl_lines is not None else first + ch.rows
-        lim = comp.machine.limits[3]
-        bad = (q_nom[:, 3] < lim[0]) | (q_nom[:, 3] > lim[1])
-        if bad.any():
-            r = int(np.flatnonzero(bad)[0])
-            raise InputError(f"{self._src}, line {lines[r]}: B = {q_nom[r, 3]:g} deg is outside its range "
-                             f"[{lim[0]:g}, {lim[1]:g}]")
+        for i, lim in enumerate(comp.machine.limits):  # the spec's soft limits (the tilt axis on the shipped specs)
+            if lim is None:
+                continue
+            bad = (q_nom[:, i] < lim[0]) | (q_nom[:, i] > lim[1])
+            if bad.any():
+                r = int(np.flatnonzero(bad)[0])
+                raise InputError(f"{self._src}, line {lines[r]}: {comp.machine.axes[i]} = {q_nom[r, i]:g} "
+                                 f"{comp.machine.unit(comp.machine.axes[i])} is outside its range "
+                                 f"[{lim[0]:g}, {lim[1]:g}]")
         unknown = np.isnan(q_nom).any(axis=1)
         if unknown.any():
             feed = unknown & (ch.motion == 1)
             if feed.any():
                 r = int(np.flatnonzero(feed)[0])
-                miss = "".join(a for a, u in zip(gcode.AXES, np.isnan(q_nom[r])) if u)
+                miss = "".join(a for a, u in zip(self.words.letters, np.isnan(q_nom[r])) if u)
                 raise InputError(f"{self._src}, line {lines[r]}: feed move while {miss} is not known yet "
                                  "(program every linear axis before the first G1)")
             rep.uncompensated_rapids.extend(lines[unknown].tolist())
         known = ~unknown
         all_known = bool(known.all())
         if ch.inch.any():
-            scale = np.where(ch.inch[:, None] & gcode.LINEAR, gcode.INCH, 1.0)
+            scale = np.where(ch.inch[:, None] & self.words.linear, gcode.INCH, 1.0)
         else:
             scale = np.ones((m, 5))
         f = _P10[ch.decimals] if ch.decimals.max() < len(_P10) else 10.0 ** ch.decimals
@@ -644,7 +650,7 @@ class ProgramCompensator:
             w_all = comp.weight(qn_all)
             rep.in_cone += int((w_all <= 0).sum())
             rep.blended += int(((w_all > 0) & (w_all < 1)).sum())
-            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, 4] - qn_all[:, 4]).max()))
+            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, self._ri] - qn_all[:, self._ri]).max()))
             if len(qw):
                 w = w_all if k == 1 else comp.weight(qn)
                 rep.orientation.add(ang[w >= 1])
@@ -765,8 +771,7 @@ class ProgramCompensator:
         self._prev_mm = q_w[-1].copy()
         return "".join(pieces)
 
-    @staticmethod
-    def _slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs):
+    def _slow_row(self, ch, r, line, U, D, Pm, HOLD, scale, subs):
         """Words of an incremental row or a subdivided move, row by row: (new numbers {axis: text}, added words,
         continuation lines, separator, new F of the row or None).  Inverse-time feed (G93, F = 1/minutes per
         block): the n pieces of a split move are equal fractions 1/n of it, so each block carries F * n (a piece
@@ -801,7 +806,7 @@ class ProgramCompensator:
             for a in range(5):
                 if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
                     v = p[a] if absolute else p[a] - last[a]
-                    words.append(f"{gcode.AXES[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
+                    words.append(f"{self.words.letters[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
             last = p
             if words:
                 if inv is not None:
@@ -859,7 +864,7 @@ class ProgramCompensator:
                     new = {a: "%.*f" % (d[a], u[a]) for a in np.flatnonzero(changed[r]).tolist()}
                     add = [(a, "%.*f" % (d[a], u[a])) for a in np.flatnonzero(added[r]).tolist()]
                     cont, sep = None, " " if " " in line else ""
-                line_text[li] = gcode.edit_line(line, blk.code_line(li), new, add, sep, cont)
+                line_text[li] = gcode.edit_line(line, blk.code_line(li), new, add, sep, cont, self.words)
         self._prev_mm = q_w[-1].copy()
         return gcode.render_block(blk, num_text, line_text)
 
@@ -876,20 +881,21 @@ class ProgramCompensator:
             raise InputError(f"{self._src}: {exc}") from None
         # C continuity: at the singularity take the previous C, elsewhere the 360-deg multiple nearest the previous
         sing = np.hypot(poses[:, 3], poses[:, 4]) < 1e-9
-        c = q0[:, 4].copy()
-        prev_c = self._prev[0][4] if self._prev else 0.0
+        ri = self._ri
+        c = q0[:, ri].copy()
+        prev_c = self._prev[0][ri] if self._prev else 0.0
         seq = np.concatenate([[prev_c], c])
         for i in np.flatnonzero(sing):
             seq[i + 1] = seq[i]
         seq = np.unwrap(seq, period=360.0)
         hint = q0.copy()
-        hint[:, 4] = seq[1:]
+        hint[:, ri] = seq[1:]
         q_nom = m.inverse(poses, hint=hint)
         # render as G-code, all five words a block, and compensate it with the unrounded nominal axes
         p = self.min_decimals[0]
         text = []
         for q in q_nom.tolist():
-            words = " ".join(f"{a}{gcode.fmt(v, p)}" for a, v in zip(gcode.AXES, q))
+            words = " ".join(f"{a}{gcode.fmt(v, p)}" for a, v in zip(self.words.letters, q))
             text.append(("G1 " if self._first_cl else "") + words + "\n")
             self._first_cl = False
         self._cl_lines = nos
