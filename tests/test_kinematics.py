@@ -1,6 +1,8 @@
 """Foundation (issue 2): generated kinematics vs the thesis closed form, inverse, CasADi, Jacobians, first order."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -10,7 +12,7 @@ from hypothesis import strategies as st
 import mtcal
 from mtcal.errors import InputError
 
-MACHINES = ["dmu50", "headbc", "xyzac"]
+MACHINES = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 D = 154.996  # mm, DMU 50 (design.md)
 
 
