@@ -46,7 +46,6 @@ def _design(machine: Machine, plan: Plan, axis: str, positions, tracker, spec: t
     reading's share of the deltas in F (P, k, 3, 3) each)."""
     pos = np.atleast_1d(np.asarray(positions, dtype=float))
     local = np.array(list(plan.points_for(axis).values()), dtype=float)          # (k, 3)
-    k = len(local)
     ax = plan.axis_values(axis, pos)                                             # (P, n_axes)
     ax0 = plan.axis_values(axis, plan.reference_position(axis))
     r = nominal_points(machine, axis, ax[:, None, :], local)                     # (P, k, 3)
