@@ -574,9 +574,9 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
             except ValueError:
                 if not data and ln == 1:
                     continue  # header
-                raise InputError(f"{path}, line {ln}: expected 'label, x, y, z' in mm, got {line.strip()!r}") from None
+                raise InputError(f"{path}:{ln}: expected 'label, x, y, z' in mm, got {line.strip()!r}") from None
             if not np.isfinite(xyz).all():
-                raise InputError(f"{path}, line {ln}: NaN/inf is not a measurement")
+                raise InputError(f"{path}:{ln}: NaN/inf is not a measurement")
             data.append((ln, xyz))
         if len(data) % 3 or not data:
             raise InputError(f"{path}: {len(data)} readings is not three equal blocks (K, P, Q) of one per position")
