@@ -35,8 +35,15 @@ def _modules():
             yield importlib.import_module(f"mtcal.commands.{info.name}")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error (no usage block): ``mtcal CMD: error: argument --OPT: problem``."""
+
+    def error(self, message: str):
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(prog="mtcal", description="Machine-tool calibration with a laser tracker or a 2-D plate.")
+    ap = _Parser(prog="mtcal", description="Machine-tool calibration with a laser tracker or a 2-D plate.")
     debug_help = "on an internal error (exit 1) print the full traceback"
     ap.add_argument("--debug", action="store_true", help=debug_help)
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
@@ -72,7 +79,10 @@ def _show_warning(message, category, filename, lineno, file=None, line=None, pro
 
 def main(argv: list[str] | None = None) -> int:
     argv = join_negative_values(list(sys.argv[1:] if argv is None else argv))
-    args = build_parser().parse_args(argv)
+    try:
+        args = build_parser().parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a bad option (2, message printed)
+        return int(exc.code or 0)
     prog = f"mtcal {args.command}"
     old_term = _install(signal.SIGTERM, _terminate)
     old_show = warnings.showwarning

@@ -87,6 +87,7 @@ class Plan:
     round_pause_s: float = 60.0
     axis_change_s: float = 300.0
     temperature_c: float = 20.0
+    source: str = "<default plan>"  # the PLAN.json it came from (for messages)
 
     def points_for(self, axis: str) -> dict[str, tuple]:
         return self.tool_points if axis in LINEAR else self.table_points
@@ -137,7 +138,7 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
     if unknown:
         raise InputError(f"{source}: unknown key(s) {unknown}; allowed: {sorted(_PLAN_KEYS)}")
     plan = Plan()
-    kw: dict[str, Any] = {}
+    kw: dict[str, Any] = {"source": source}
     if "tracker" in raw:
         try:
             t = tuple(float(c) for c in raw["tracker"])
@@ -283,6 +284,19 @@ def exact_points(machine: Machine, rows: Rows, errors: np.ndarray) -> np.ndarray
     return xyz
 
 
+def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
+    """Every pose of the plan inside the machine's axis limits (from its spec); the message names the plan axis."""
+    for k, (name, lim) in enumerate(zip(m.axes, m.limits)):
+        if lim is None:
+            continue
+        out = (rows.axes[:, k] < lim[0]) | (rows.axes[:, k] > lim[1])
+        if out.any():
+            i = int(np.flatnonzero(out)[0])
+            unit = "deg" if m.axis_kinds[k] == "rotary" else "mm"
+            raise InputError(f"{pl.source}: measuring axis {rows.axis[i]} puts {name} at {rows.axes[i, k]:g} {unit}, "
+                             f"outside its range [{lim[0]:g}, {lim[1]:g}] {unit} on {m.name}")
+
+
 # ---------------------------------------------------------------------------------------------- campaign
 def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50", tracker=None, rounds: int | None = None,
              seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
@@ -302,6 +316,7 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
     if not np.isfinite(t_pos).all():
         raise InputError(f"tracker position must be finite, got {pl.tracker}")
     rows = schedule(pl)
+    _check_poses(m, pl, rows)
     if model is not None and model.machine != m.name:
         raise InputError(f"error model is for machine {model.machine!r}, simulating {m.name!r}")
     errors = (model.errors_at(m, rows.axes) if model is not None
@@ -315,6 +330,10 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
     rng = np.random.default_rng(seed)
     if noise:
         xyz = xyz + trk.sample(xyz, t_pos, rng, spec)
+    if not np.isfinite(xyz).all():
+        i = int(np.flatnonzero(~np.isfinite(xyz).all(axis=1))[0])
+        raise InputError(f"simulated reading of axis {rows.axis[i]} at {rows.position[i]:g} is not finite: an effect or "
+                         f"model value is out of range ({', '.join(e.name for e in eff) or 'no effects'})")
     temp = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff), np.zeros(len(rows)))
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
     truth = {

@@ -13,6 +13,8 @@ from typing import Callable
 
 import numpy as np
 
+from mtcal.errors import InputError
+
 # options whose value may start with '-' (a negative first number): pre-joined as --OPT=VALUE
 NEGATIVE_OK = ("--tracker",)
 _NUMBERISH = re.compile(r"^-[0-9.]")
@@ -82,15 +84,12 @@ def _range(lo, hi, lo_open: bool = False, hi_open: bool = False) -> str:
 
 
 def xyz(text: str) -> np.ndarray:
-    """'x,y,z' in mm -> array (3,) of finite numbers (``--tracker``)."""
-    parts = text.split(",")
+    """'x,y,z' in mm -> array (3,) of finite numbers (``--tracker``; mtcal.tracker.parse_xyz)."""
+    from mtcal.tracker import parse_xyz
     try:
-        v = np.array([float(t) for t in parts])
-    except ValueError:
-        v = np.array([])
-    if v.shape != (3,) or not np.isfinite(v).all():
-        raise argparse.ArgumentTypeError(f"expected three numbers x,y,z in mm, got {text!r}")
-    return v
+        return parse_xyz(text, what=None)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(exc.problem) from None
 
 
 finite = real()

@@ -7,11 +7,12 @@ import sys
 import numpy as np
 
 from mtcal import fitting
+from mtcal.commands._options import integer, nonnegative, xyz
 from mtcal.identify import identify, parse_positions, print_progress, read_inspire
+from mtcal.errors import InputError
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import save_model
 from mtcal.recordings import read_recording
-from mtcal.tracker import parse_xyz
 
 NAME = "identify"
 HELP = ("identify the six error motions per axis and position (three-point method, Type A uncertainty over "
@@ -24,7 +25,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "deg, machine frame); with --layout inspire: one export per round, in round order")
     p.add_argument("-o", "--output", metavar="MODEL.json", help="write the error model (mm, rad) here")
     p.add_argument("--plots", metavar="DIR", help="write PNG plots (errors with +-2 sigma bars, fits, reference lines)")
-    p.add_argument("--tracker", metavar="x,y,z", type=parse_xyz,
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz,
                    help="tracker position in the machine frame (mm): weight the least squares by the AT960 covariance")
     p.add_argument("--reference", choices=fitting.REFERENCE_METHODS, default="least-squares",
                    help="ISO 230-1 reference straight line for straightness and squareness (default least-squares)")
@@ -34,8 +35,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--positions", help="with --layout inspire: positions as start:stop:count or a comma list "
                    "(default: the thesis plan of the axis)")
     p.add_argument("--machine", default="dmu50", help="machine spec (default dmu50)")
-    p.add_argument("--max-degree", type=int, default=7, help="highest polynomial degree tried (default 7)")
-    p.add_argument("--outlier-k", type=float, default=5.0,
+    p.add_argument("--max-degree", type=integer(0, 15), default=7, help="highest polynomial degree tried (default 7)")
+    p.add_argument("--outlier-k", type=nonnegative, default=5.0,
                    help="warn when a round differs from the others by more than k sigma (default 5; 0 = off)")
 
 
@@ -66,10 +67,10 @@ def run(args: argparse.Namespace) -> int:
         refuse_overwrite(args.output, *args.recording)
     if args.layout == "inspire":
         if not args.axis:
-            raise ValueError("--layout inspire needs --axis (the axis the exports measured)")
+            raise InputError("--layout inspire needs --axis (the axis the exports measured)")
         rec = read_inspire(args.recording, args.axis, None if args.positions is None else parse_positions(args.positions))
     elif len(args.recording) != 1:
-        raise ValueError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
+        raise InputError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
     else:
         rec = read_recording(args.recording[0])
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
