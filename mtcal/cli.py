@@ -61,7 +61,7 @@ def describe_os_error(exc: OSError) -> str:
     words = {errno.EISDIR: "is a directory", errno.ENOTDIR: "a parent of this path is not a directory",
              errno.EACCES: "permission denied", errno.EPERM: "operation not permitted",
              errno.EROFS: "read-only file system", errno.ENOSPC: "no space left on device",
-             errno.ENOENT: "no such file or directory", errno.EEXIST: "already exists"}
+             errno.ENOENT: "no such file or directory", errno.EEXIST: "exists and is not a directory"}
     problem = words.get(exc.errno) or (exc.strerror or str(exc)).rstrip(".").lower()
     if exc.filename is None:
         return problem if exc.strerror else str(exc)
@@ -77,10 +77,16 @@ def _show_warning(message, category, filename, lineno, file=None, line=None, pro
     print(f"{prog}: warning: {message}", file=sys.stderr)
 
 
+def parse_args(argv: list[str]) -> argparse.Namespace:
+    """Parsed command line (``args._run(args)`` runs it without the error boundary, e.g. inside ``mtcal demo``);
+    a bad option raises SystemExit(2) after printing one line."""
+    return build_parser().parse_args(join_negative_values(list(argv)))
+
+
 def main(argv: list[str] | None = None) -> int:
-    argv = join_negative_values(list(sys.argv[1:] if argv is None else argv))
+    """Run ``mtcal ARGV`` behind the error boundary (module docstring); returns the exit code."""
     try:
-        args = build_parser().parse_args(argv)
+        args = parse_args(sys.argv[1:] if argv is None else argv)
     except SystemExit as exc:  # --help (0) or a bad option (2, message printed)
         return int(exc.code or 0)
     prog = f"mtcal {args.command}"

@@ -44,6 +44,7 @@ from mtcal.errors import InputError
 from mtcal.machine import Machine, load_machine
 from mtcal.recordings import Recording
 from mtcal.tracker import covariance
+from mtcal.io import save_figure
 
 AXIS_ORDER = ("X", "Y", "Z", "B", "C")
 MAX_DEGREE = 3
@@ -883,7 +884,7 @@ def plot_residuals(diag: Diagnosis, directory) -> list[str]:
         fig.suptitle(f"residuals {tag} the diagnosed effects ({prep.rec.source})")
         fig.tight_layout()
         p = os.path.join(str(directory), f"residuals_{tag}.png")
-        fig.savefig(p, dpi=110)
+        save_figure(fig, p, dpi=110)
         plt.close(fig)
         paths.append(p)
     return paths

@@ -32,6 +32,7 @@ from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.machine import Machine, load_machine
 from mtcal.simulate import AXIS_ORDER, LINEAR, TRACKER_POSITIONS, Plan, as_plan
+from mtcal.io import save_figure
 
 WEIGHTINGS = ("tracker", "none")
 
@@ -356,7 +357,7 @@ def plot_placement_map(path, plan=None, *, tracker=None, z: float | None = None,
         ax.set_aspect("equal")
         ax.set_title(f"{key} errors of X, Y, Z (mid-travel), tracker z = {z:g} mm", fontsize=10)
     fig.suptitle("Predicted one-round uncertainty vs tracker floor position (x: best grid cell, *: given)")
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     mp["best"] = {}
     for key in ("translational", "angular"):

@@ -21,7 +21,7 @@ from typing import Sequence
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.io import read_csv_rows
+from mtcal.io import read_csv_rows, save_figure
 from mtcal.generated import plate_numpy as G
 
 METRICS = ("split", "x", "y", "none")  # paper options 3, 1, 2, 4
@@ -591,6 +591,6 @@ def plot_plate(fit: PlateFit, path: str | os.PathLike, magnify: float | None = N
                  f"alpha = {fit.value('alpha'):.3g} rad\nred: flagged ({len(flagged)})", fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     return mag

@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.model import ErrorFunction
+from mtcal.io import save_figure
 
 
 def _plt():
@@ -49,7 +50,7 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
     fig.suptitle(f"Axis {ar.axis}: identified error motions, {int(ar.n.max())} rounds{sl}")
     fig.tight_layout()
     paths = [out / f"identify_{ar.axis}.png"]
-    fig.savefig(paths[0], dpi=120)
+    save_figure(fig, paths[0], dpi=120)
     plt.close(fig)
     if ar.lines:
         fig, axs = plt.subplots(1, len(ar.lines), figsize=(5.5 * len(ar.lines), 4))
@@ -68,7 +69,7 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
         fig.suptitle(f"Axis {ar.axis}: straightness and reference straight lines (thesis fig. 3.7)")
         fig.tight_layout()
         p = out / f"identify_{ar.axis}_straightness.png"
-        fig.savefig(p, dpi=120)
+        save_figure(fig, p, dpi=120)
         plt.close(fig)
         paths.append(p)
     return paths

@@ -10,6 +10,7 @@ from mtcal.compensate import RESIDUAL_EVERY, Compensator, ProgramCompensator, is
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
 
+TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.write_tables writes
 NAME = "compensate"
 HELP = "compensate an NC program (G-code or CL data) for the errors in a model, exactly to first order"
 
@@ -45,7 +46,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    refuse_overwrite(args.output, args.program, args.model)
+    refuse_overwrite([args.output], args.program, args.model, dirs={args.tables: TABLE_FILES})
     model = load_model(args.model)
     if args.iterations is None:
         args.iterations = 2 if args.scope == "full" else 1

@@ -30,10 +30,11 @@ def _fmt(e: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_residuals
-    from mtcal.io import dumps
+    from mtcal.io import dumps, refuse_overwrite
     from mtcal.model import load_model
     from mtcal.recordings import read_recording
 
+    refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
     rec = read_recording(args.recording)
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else "dmu50")

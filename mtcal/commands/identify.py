@@ -63,8 +63,7 @@ def _report(res) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.output:
-        refuse_overwrite(args.output, *args.recording)
+    refuse_overwrite([args.output], *args.recording, dirs={args.plots: ["identify_*.png"]})
     if args.layout == "inspire":
         if not args.axis:
             raise InputError("--layout inspire needs --axis (the axis the exports measured)")

@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from mtcal.io import dumps
+from mtcal.io import dumps, refuse_overwrite
 from mtcal.commands._options import integer, xyz
 from mtcal.errors import InputError
 
@@ -31,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.monte_carlo == 1:
         raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")
+    refuse_overwrite([args.plot], args.plan)
     plan = load_plan(args.plan) if args.plan else Plan()
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
     res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,

@@ -39,8 +39,7 @@ def run(args: argparse.Namespace) -> int:
     align, axis = args.align, "x"
     if align and ":" in align:
         align, axis = align.rsplit(":", 1)
-    if args.plot:
-        refuse_overwrite(args.plot, args.csv)
+    refuse_overwrite([args.plot], args.csv)
     data = read_plate_csv(args.csv)
     fit = fit_plate(data, metric=args.metric, offsets=not args.no_offsets, exact=True if args.exact else None,
                     origin=args.origin, align=align, align_axis=axis, level=args.level,

@@ -31,8 +31,7 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.model import load_model
     from mtcal.simulate import load_plan, simulate, truth_path, write_campaign
 
-    refuse_overwrite(args.output, args.model, args.plan)
-    refuse_overwrite(truth_path(args.output), args.model, args.plan)
+    refuse_overwrite([args.output, truth_path(args.output)], args.model, args.plan)
     effects = [fx.parse_effect(e) for e in args.effect]
     model = load_model(args.model) if args.model else None
     plan = load_plan(args.plan) if args.plan else None
