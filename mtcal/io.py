@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import errno
 import fnmatch
 import json
 import os
@@ -32,17 +33,32 @@ def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.Path
     for out in outs:
         if out is None:
             continue
+        if Path(out).is_dir():
+            raise InputError("is a directory; give an output file name", out)
+        _check_parents(Path(out))
         for i in ins:
             if _same(Path(out), i):
                 raise InputError(f"output {out} is also an input of this run; choose another output path")
     for d, patterns in (dirs or {}).items():
         if d is None:
             continue
+        if Path(d).exists() and not Path(d).is_dir():
+            raise InputError("exists and is not a directory; give an output directory", d)
+        _check_parents(Path(d))
         dd = Path(d).resolve()
         for i in ins:
             if i.resolve().parent == dd and any(fnmatch.fnmatch(i.name, pat) for pat in patterns):
                 raise InputError(f"output directory {d} would overwrite the input {i} (it writes "
                                  f"{', '.join(patterns)} there); choose another directory")
+
+
+def _check_parents(p: Path) -> None:
+    """The nearest existing parent of an output path must be a directory."""
+    for q in p.absolute().parents:
+        if q.exists():
+            if not q.is_dir():
+                raise InputError(f"cannot write here: {q} is a file, not a directory", p)
+            return
 
 
 def _same(a: Path, b: Path) -> bool:
@@ -63,6 +79,8 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     """Open a temporary file beside ``path`` for writing (streaming is fine); on success it is renamed onto
     ``path`` with the permissions open() would give, on failure removed: readers never see half a file."""
     p = Path(path)
+    if p.is_dir():
+        raise IsADirectoryError(errno.EISDIR, "is a directory", str(p))
     p.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
     try:

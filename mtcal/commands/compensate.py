@@ -5,7 +5,7 @@ import argparse
 import sys
 import time
 
-from mtcal.commands._options import integer, nonnegative, positive, real
+from mtcal.commands._options import integer, real
 from mtcal.compensate import RESIDUAL_EVERY, Compensator, ProgramCompensator, iso_types, write_tables
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
@@ -22,9 +22,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scope", choices=("position", "full"), default="position",
                    help="position: X Y Z put the tool tip on target (L-VOL, R-VOL); full: B C also correct the tool "
                         "axis (FOR) outside the cone around B = 0 (default: position)")
-    p.add_argument("--tolerance", type=positive, default=0.001, metavar="MM",
+    p.add_argument("--tolerance", type=real(0.0, unit="mm", lo_open=True), default=0.001, metavar="MM",
                    help="largest predicted mid-segment tool-tip error before a feed move is subdivided (default 0.001)")
-    p.add_argument("--tool-length", type=nonnegative, default=0.0, metavar="MM",
+    p.add_argument("--tool-length", type=real(0.0, unit="mm"), default=0.0, metavar="MM",
                    help="tool length below the error reference point (default 0)")
     p.add_argument("--iterations", type=integer(1, 50), default=None, metavar="N",
                    help="1: first-order correction; more: fixed-point iterations on the exact model (default 1 for "
