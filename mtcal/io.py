@@ -120,8 +120,9 @@ def read_text(path: str | os.PathLike, what: str = "input") -> str:
     if b"\0" in data:
         line = data[:data.index(b"\0")].count(b"\n") + 1
         raise InputError(f"NUL byte: a binary file, not a {what} file", p, line)
+    data = data.removeprefix(b"\xef\xbb\xbf")  # UTF-8 byte-order mark (Excel "CSV UTF-8")
     try:
-        return data.decode("utf-8-sig")
+        return data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data[:exc.start].count(b"\n") + 1
     for enc in ("cp1252", "latin-1"):

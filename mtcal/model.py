@@ -124,7 +124,10 @@ def model_from_dict(raw: Any, source: str = "<model>") -> ErrorModel:
     machine = raw.get("machine", "dmu50")
     if not isinstance(machine, str):
         raise InputError(f"machine must be a machine name, got {machine!r}", source)
-    m = load_machine(machine)
+    try:
+        m = load_machine(machine)
+    except InputError as exc:
+        raise InputError(f"machine: {exc.problem}", source) from None
     units = _units(raw.get("units", {"length": "mm", "angle": "rad"}), source)
     consts = {}
     for n, v in sc.obj(raw.get("constants", {}), source, "constants").items():
