@@ -222,7 +222,8 @@ def report(s: dict, out: Path) -> str:
               "What is left is the identification uncertainty (see the plan table): compensation is only as good "
               "as the model.", "", "![compensation](plots/compensation_before_after.png)", "",
               "## Diagnosis", "", f"Base model sigma: {d['base_sigma'] * 1e3:.2f} um.", "",
-              "| rank | effect | axis | significant | estimate | sigma after | evidence |", "|---|---|---|---|---|---|---|"]
+              "| rank | effect | axis | significant | estimate | sigma after | evidence |",
+              "|---|---|---|---|---|---|---|"]
     for k, e in enumerate(d["effects"], 1):
         ev = e.get("evidence") or {}
         evs = ", ".join(f"{a} = {b:.3g}" for a, b in ev.items() if isinstance(b, (int, float)))

@@ -198,7 +198,7 @@ class Effect:
             raise InputError(f"effect {self.name}: unknown key(s) {unknown}; allowed: "
                              + ", ".join(f"{k} ({d[2]}, default {d[0]})" for k, d in spec.items()))
         full = {}
-        for k, (default, parse, doc) in spec.items():
+        for k, (default, parse, _doc) in spec.items():
             v = self.params.get(k, default)
             try:
                 full[k] = parse(v) if k in self.params else v
@@ -285,8 +285,8 @@ class Effect:
         """Modify the readings (n, 3) in place."""
         p, n = self.params, self.name
         if n == "thermal_drift":
-            on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == {"spindle": "tool",
-                                                                                            "table": "table"}[p["target"]]
+            side = {"spindle": "tool", "table": "table"}.get(p["target"])
+            on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == side
             xyz[on] += (p["amplitude"] * self.drift(rows.time_s[on]))[:, None] * _unit(p["direction"])
         elif n == "outlier":
             xyz[self.outlier_rows(rows)] += p["size"] * _unit(p["direction"])
@@ -372,6 +372,7 @@ def as_effects(effects: Iterable) -> list[Effect]:
             try:
                 name, params = e
             except (TypeError, ValueError):
-                raise InputError(f"an effect must be Effect, (name, params), 'name:key=value' or a dict, got {e!r}") from None
+                raise InputError(f"an effect must be Effect, (name, params), 'name:key=value' or a dict, "
+                                 f"got {e!r}") from None
             out.append(Effect(str(name), dict(params or {})))
     return out

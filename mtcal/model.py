@@ -87,10 +87,11 @@ class ErrorModel:
         return e
 
     def is_zero(self) -> bool:
+        def fit_zero(fit: dict | None) -> bool:
+            return not fit or not any(np.any(np.asarray(v, dtype=float) != 0) for k, v in fit.items()
+                                      if k in ("coefficients", "a0", "cos", "sin"))
         return all(v == 0 for v in self.constants.values()) and all(
-            not np.any(f.values) and not (f.fit and any(np.any(np.asarray(v, dtype=float) != 0)
-                                                         for k, v in f.fit.items() if k in ("coefficients", "a0", "cos", "sin")))
-            for f in self.functions.values())
+            not np.any(f.values) and fit_zero(f.fit) for f in self.functions.values())
 
     def to_dict(self) -> dict:
         funcs = {}

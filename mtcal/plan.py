@@ -260,7 +260,8 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine = "dmu50
                               "position and the round's reference reading (position closest to zero, first approach), "
                               "9 equations, " +
                               ("generalised LS weighted by the AT960 covariance" if weighting == "tracker"
-                               else "ordinary LS") + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds",
+                               else "ordinary LS")
+                              + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds",
                  "approaches_per_round": approaches,
                  "weighting": weighting, "rounds": pl.rounds, "mid_travel": {}, "axes": {}, "mean_of_rounds": {},
                  "by_position": {}}

@@ -263,7 +263,8 @@ class PlateFit:
 
     def to_dict(self) -> dict:
         """The JSON answer of ``mtcal plate`` (design.md)."""
-        d = {"file": self.data.source, "scale_fitted": "gamma" in self.names, "units": {"length": "input unit", "angle": "rad", "gamma": "1"},
+        d = {"file": self.data.source, "scale_fitted": "gamma" in self.names,
+             "units": {"length": "input unit", "angle": "rad", "gamma": "1"},
              "metric": self.metric, "paper_option": PAPER_OPTION[self.metric], "offsets": self.offsets,
              "method": self.method, "n_points": self.data.n, "n_positions": len(self.data.positions),
              "dof": self.dof}
@@ -524,7 +525,8 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
         if worst > 0.5 * sigma1:
             exact = True
             notes.append(f"first-order model error beta^2 R / 2 = {worst:.3g} exceeds sigma / 2 = "
-                         f"{0.5 * sigma1:.3g} (turn off 90 deg by {math.degrees(abs(_wrap(turns[0] - NOMINAL_TURN[1]))) * 3600:.1f} "
+                         f"{0.5 * sigma1:.3g} (turn off 90 deg by "
+                         f"{math.degrees(abs(_wrap(turns[0] - NOMINAL_TURN[1]))) * 3600:.1f} "
                          "arcsec; the paper asks for about 10 arcsec): exact fit used")
     if exact:
         start = values.copy()

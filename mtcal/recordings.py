@@ -148,14 +148,16 @@ def _check_units(rec: Recording) -> None:
 def format_recording(rec: Recording, precision: int = 6) -> str:
     """CSV text of a recording (optional columns written when any row has them)."""
     cols = list(REQUIRED)
-    has_t, has_d, has_c = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any(), (~np.isnan(rec.temperature_c)).any()
+    has_t, has_d = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any()
+    has_c = (~np.isnan(rec.temperature_c)).any()
     cols += [c for c, h in zip(OPTIONAL, (has_t, has_d, has_c)) if h]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
     f = f"{{:.{precision}f}}"
     for i in range(len(rec)):
-        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i], *(f.format(v) for v in rec.xyz[i])]
+        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i],
+               *(f.format(v) for v in rec.xyz[i])]
         if has_t:
             row.append(f"{rec.time_s[i]:.3f}")
         if has_d:

@@ -74,7 +74,8 @@ class Plan:
 
     tracker: tuple[float, float, float] = DEFAULT_TRACKER
     rounds: int = 4
-    positions: dict[str, np.ndarray] = field(default_factory=lambda: {k: v.copy() for k, v in DEFAULT_POSITIONS.items()})
+    positions: dict[str, np.ndarray] = field(
+        default_factory=lambda: {k: v.copy() for k, v in DEFAULT_POSITIONS.items()})
     at: dict[str, dict[str, float]] = field(default_factory=dict)
     tool_points: dict[str, tuple] = field(default_factory=lambda: dict(DEFAULT_TOOL_POINTS))
     table_points: dict[str, tuple] = field(default_factory=lambda: dict(DEFAULT_TABLE_POINTS))
@@ -206,7 +207,8 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
             v = raw[k]
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or (
                     v < 0 and k != "temperature_c") or (k.startswith("feed") and v <= 0):
-                raise InputError(f"{source}: {k} must be a {'positive ' if k.startswith('feed') else ''}number, got {v!r}")
+                kind = "positive " if k.startswith("feed") else ""
+                raise InputError(f"{source}: {k} must be a {kind}number, got {v!r}")
             kw[k] = float(v)
     return replace(plan, **kw)
 
@@ -298,7 +300,8 @@ def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
 
 
 # ---------------------------------------------------------------------------------------------- campaign
-def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50", tracker=None, rounds: int | None = None,
+def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50", tracker=None,
+             rounds: int | None = None,
              seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
              spec: trk.TrackerSpec = trk.AT960) -> tuple[Recording, dict]:
     """(recording, truth) of one simulated campaign; see ``simulate_campaign``."""
@@ -332,8 +335,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
         xyz = xyz + trk.sample(xyz, t_pos, rng, spec)
     if not np.isfinite(xyz).all():
         i = int(np.flatnonzero(~np.isfinite(xyz).all(axis=1))[0])
-        raise InputError(f"simulated reading of axis {rows.axis[i]} at {rows.position[i]:g} is not finite: an effect or "
-                         f"model value is out of range ({', '.join(e.name for e in eff) or 'no effects'})")
+        raise InputError(f"simulated reading of axis {rows.axis[i]} at {rows.position[i]:g} is not finite: an "
+                         f"effect or model value is out of range ({', '.join(e.name for e in eff) or 'no effects'})")
     temp = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff), np.zeros(len(rows)))
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
     truth = {

@@ -14,7 +14,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("recording", metavar="REC.csv", help="laser-tracker recording (tidy CSV of design.md)")
     p.add_argument("--model", metavar="MODEL.json", help="base model = this error model (residuals = recordings "
                    "minus its simulation); default: fit smooth error functions to the recording")
-    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position, mm, machine frame: weights readings by "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz,
+                   help="tracker position, mm, machine frame: weights readings by "
                    "the AT960 covariance (default: unweighted, sigma from the residuals)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
@@ -60,7 +61,8 @@ def run(args: argparse.Namespace) -> int:
               f"F = {ev['F']:.1f}, p_adj = {ev['p_adjusted']:.2g}, cv gain = {ev['cv_gain']:.3g}, "
               f"sigma after {e['sigma_after'] * 1e3:.3f} um")
     for loc in d.located[:8]:
-        print(f"  located: axis {loc['axis']} by {loc['by']} = {loc['where']} (score {loc['score']:.1f}, {loc['kind']})")
+        print(f"  located: axis {loc['axis']} by {loc['by']} = {loc['where']} "
+              f"(score {loc['score']:.1f}, {loc['kind']})")
     ns: dict[tuple[str, str], list[str]] = {}
     for e in d.effects:
         if e.get("not_separable"):

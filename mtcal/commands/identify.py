@@ -53,7 +53,7 @@ def _report(res) -> str:
             cells = "".join(f"{mean[k, i] * 1e3 if i < 3 else mean[k, i] * 1e6:9.2f}"
                             f"+-{(sm[k, i] * 1e3 if i < 3 else sm[k, i] * 1e6):<6.2f}" for i in range(6))
             lines.append(f"{x:9.2f}{cells}{ar.residual_rms[k] * 1e3:9.2f}")
-        fits = ", ".join(f"{n}: {'deg ' + str(f['degree']) if f['kind'] == 'polynomial' else str(f['harmonics']) + ' harm'}"
+        fits = ", ".join(f"{n}: " + (f"deg {f['degree']}" if f["kind"] == "polynomial" else f"{f['harmonics']} harm")
                          for n, f in ar.fits.items())
         lines.append(f"fits: {fits}")
     if res.squareness:
@@ -67,7 +67,8 @@ def run(args: argparse.Namespace) -> int:
     if args.layout == "inspire":
         if not args.axis:
             raise InputError("--layout inspire needs --axis (the axis the exports measured)")
-        rec = read_inspire(args.recording, args.axis, None if args.positions is None else parse_positions(args.positions))
+        positions = None if args.positions is None else parse_positions(args.positions)
+        rec = read_inspire(args.recording, args.axis, positions)
     elif len(args.recording) != 1:
         raise InputError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
     else:

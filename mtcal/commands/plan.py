@@ -22,7 +22,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
                    help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
     p.add_argument("--axes", metavar="X,Y,...", help="axes to report (default: all axes of the plan)")
-    p.add_argument("--plot", metavar="PNG", help="write a map of the predicted uncertainty over tracker floor positions")
+    p.add_argument("--plot", metavar="PNG",
+                   help="write a map of the predicted uncertainty over tracker floor positions")
 
 
 def run(args: argparse.Namespace) -> int:

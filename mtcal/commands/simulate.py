@@ -48,7 +48,8 @@ def run(args: argparse.Namespace) -> int:
         print(dumps(summary))
     else:
         print(f"wrote {args.output}: {len(rec)} readings, axes {' '.join(rec.axes())}, {truth['rounds']} rounds, "
-              f"{summary['duration_s'] / 3600:.2f} h simulated; tracker at {', '.join(f'{c:g}' for c in truth['tracker'])} mm; "
+              f"{summary['duration_s'] / 3600:.2f} h simulated; "
+              f"tracker at {', '.join(f'{c:g}' for c in truth['tracker'])} mm; "
               f"noise {'AT960' if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
