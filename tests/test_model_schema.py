@@ -106,3 +106,53 @@ def test_every_command_reading_a_model_refuses_it(tmp_path, capsys, command, raw
     assert err == f"mtcal {command}: error: {model}: {message}" + err.split(message, 1)[1]
     assert err.count("\n") == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json"]
+
+
+# ----------------------------------------------------------------------------- plan JSON (mtcal.simulate)
+@pytest.mark.parametrize("raw, message", [
+    ([1], "a plan must be a JSON object"),
+    ({"tracker": [True, 0, 0]}, "tracker must be [x, y, z] in mm (three finite numbers), got [True, 0, 0]"),
+    ({"tracker": [1, 2]}, "tracker must be [x, y, z] in mm"),
+    ({"axes": {"X": {"positions": [0, "100"]}}}, "axes.X.positions[1] must be a finite number, got '100'"),
+    ({"axes": {"X": {"start": 0, "stop": 500, "count": 1}}}, "axes.X.count must be a whole number >= 2, got 1"),
+    ({"axes": {"X": {"start": 0, "stop": None, "count": 5}}}, "axes.X.stop must be a finite number, got None"),
+    ({"axes": {"C": {"positions": [0, 90], "at": {"B": "12"}}}}, "axes.C.at.B must be a finite number, got '12'"),
+    ({"points": {"tool": {"A": [0, 0, 0], "B": [1, 0, False], "C": [0, 1, 0]}}}, "point 'B' must be [x, y, z]"),
+    ({"rounds": True}, "rounds must be a positive integer, got True"),
+])
+def test_bad_plans_refused_naming_the_field(raw, message):
+    from mtcal.simulate import plan_from_dict
+    with pytest.raises(InputError) as exc:
+        plan_from_dict(raw, "plan.json")
+    assert str(exc.value).startswith("plan.json: ") and message in str(exc.value)
+
+
+def test_plan_pose_outside_the_axis_limits_is_refused(tmp_path, capsys):
+    """B = 270 held while C is measured: outside dmu50's B limits [0, 180] (derive/machines/dmu50.toml)."""
+    plan = tmp_path / "plan.json"
+    plan.write_text(json.dumps({"axes": {"C": {"positions": [0, 90, 180], "at": {"B": 270}}}}))
+    assert main(["simulate", "--plan", str(plan), "-o", str(tmp_path / "r.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"mtcal simulate: error: {plan}: measuring axis C puts B at 270 deg, outside its range [0, 180] deg "
+                   "on dmu50\n")
+    assert not (tmp_path / "r.csv").exists()
+
+
+@pytest.mark.parametrize("effect, message", [
+    ("periodic:axis=X,pitch=0", "effect periodic: pitch='0': must be positive"),
+    ("periodic:axis=X,amplitude=1e300", "simulated reading of axis X at"),
+    ("thermal_drift:tau_s=-5", "effect thermal_drift: tau_s='-5': must be positive"),
+])
+def test_effects_that_would_write_nan_are_refused(tmp_path, capsys, effect, message):
+    out = tmp_path / "r.csv"
+    assert main(["simulate", "--effect", effect, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.startswith("mtcal simulate: error: ") and err.count("\n") == 1
+    assert not out.exists()
+
+
+def test_huge_effect_without_noise_is_refused(tmp_path, capsys):
+    """Finite but absurd (1e300 mm): refused as well, not written."""
+    out = tmp_path / "r.csv"
+    assert main(["simulate", "--no-noise", "--effect", "periodic:axis=X,amplitude=1e300", "-o", str(out)]) == 2
+    assert "beyond 1e+06 mm" in capsys.readouterr().err and not out.exists()
