@@ -20,6 +20,7 @@ from mtcal.errors import InputError
 
 DATA = Path(__file__).resolve().parents[1] / "mtcal" / "data"
 PROGRAM, MODEL, PLATE = DATA / "sample_5axis.nc", DATA / "demo_truth.json", DATA / "nbs_table2.csv"
+COMP = ["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc"]
 
 
 def _err(capsys) -> str:
@@ -39,19 +40,19 @@ def test_input_error_carries_file_and_line():
 
 # ----------------------------------------------------------------------------- options
 @pytest.mark.parametrize("argv, message", [
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--tool-length", "nan"],
+    ([*COMP, "--tool-length", "nan"],
      "argument --tool-length: expected a number in mm (finite), got 'nan'"),
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--tool-length", "-5"],
+    ([*COMP, "--tool-length", "-5"],
      "argument --tool-length: expected a number in mm >= 0, got '-5'"),
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--precision", "-1"],
+    ([*COMP, "--precision", "-1"],
      "argument --precision: expected a whole number in [0, 9], got '-1'"),
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--tolerance", "nan"],
+    ([*COMP, "--tolerance", "nan"],
      "argument --tolerance: expected a number in mm (finite), got 'nan'"),
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--tolerance", "0"],
+    ([*COMP, "--tolerance", "0"],
      "argument --tolerance: expected a number in mm > 0, got '0'"),
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--cone", "nan"],
+    ([*COMP, "--cone", "nan"],
      "argument --cone: expected a number in deg (finite), got 'nan'"),
-    (["compensate", str(PROGRAM), "--model", str(MODEL), "-o", "o.nc", "--iterations", "0"],
+    ([*COMP, "--iterations", "0"],
      "argument --iterations: expected a whole number in [1, 50], got '0'"),
     (["plate", str(PLATE), "--level", "nan"], "argument --level: expected a number (finite), got 'nan'"),
     (["plate", str(PLATE), "--level", "1.5"], "argument --level: expected a number in (0, 1), got '1.5'"),
