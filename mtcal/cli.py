@@ -20,6 +20,7 @@ import warnings
 from mtcal import commands
 from mtcal.commands._options import join_negative_values
 from mtcal.errors import InputError
+from mtcal.io import remove_temporaries
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_INTERRUPT, EXIT_TERMINATED = 0, 1, 2, 130, 143
 REPORT_URL = "the mtcal issue tracker"
@@ -102,9 +103,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)
         return EXIT_INPUT
     except KeyboardInterrupt:
+        remove_temporaries()
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPT
     except Terminated:
+        remove_temporaries()
         print(f"{prog}: terminated", file=sys.stderr)
         return EXIT_TERMINATED
     except Exception as exc:  # a bug: say so, never disguise it as bad input

@@ -87,6 +87,7 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     try:
         with _signals_held():  # Ctrl-C / SIGTERM between creating the file and knowing its name would leak it
             fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
+            _ACTIVE.add(tmp)
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
         os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes 0600
@@ -95,6 +96,19 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
         if tmp is not None:
             Path(tmp).unlink(missing_ok=True)
         raise
+    finally:
+        _ACTIVE.discard(tmp)
+
+
+_ACTIVE: set[str] = set()  # temporaries of atomic_open calls under way
+
+
+def remove_temporaries() -> None:
+    """Remove the temporaries of every atomic_open still under way (the CLI calls this when a run is interrupted:
+    an exception raised between a generator's ``yield`` and the ``with`` taking it over never reaches it)."""
+    for tmp in list(_ACTIVE):
+        Path(tmp).unlink(missing_ok=True)
+        _ACTIVE.discard(tmp)
 
 
 @contextlib.contextmanager
