@@ -62,6 +62,14 @@ def test_input_error_carries_file_and_line():
     (["simulate", "-o", "r.csv", "--rounds", "0"], "argument --rounds: expected a whole number >= 1, got '0'"),
     (["simulate", "-o", "r.csv", "--seed", "-3"], "argument --seed: expected a whole number >= 0, got '-3'"),
     (["plan", "--monte-carlo", "-2"], "argument --monte-carlo: expected a whole number >= 0, got '-2'"),
+    (["export", str(MODEL), "--format", "linuxcnc", "-o", "o.nc", "--step", "0"],
+     "argument --step: expected a number in mm or deg > 0, got '0'"),
+    (["export", str(MODEL), "--format", "linuxcnc", "-o", "o.nc", "--max-points", "1"],
+     "argument --max-points: expected a whole number >= 2, got '1'"),
+    (["iso230-2", str(DATA / "demo_campaign.csv"), "--alpha", "nan"],
+     "argument --alpha: expected a number in 1/K (finite), got 'nan'"),
+    (["iso230-2", str(DATA / "demo_campaign.csv"), "--target-points", "0,x"],
+     "--target-points must be finite numbers separated by commas, got '0,x'"),
 ])
 def test_bad_options_one_line_exit_2(tmp_path, monkeypatch, capsys, argv, message):
     monkeypatch.chdir(tmp_path)
