@@ -8,8 +8,7 @@ import fnmatch
 import json
 import os
 import re
-import signal
-import tempfile
+import secrets
 import warnings
 from pathlib import Path
 from typing import IO, Any, Iterable, Iterator, Mapping, Sequence
@@ -85,12 +84,10 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     p.parent.mkdir(parents=True, exist_ok=True)
     tmp = None
     try:
-        with _signals_held():  # Ctrl-C / SIGTERM between creating the file and knowing its name would leak it
-            fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
-            _ACTIVE.add(tmp)
+        tmp, fd = _create_temporary(p)
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
-        os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes 0600
+        os.chmod(tmp, 0o666 & ~_UMASK)  # created 0600
         os.replace(tmp, p)
     except BaseException:
         if tmp is not None:
@@ -103,27 +100,25 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
 _ACTIVE: set[str] = set()  # temporaries of atomic_open calls under way
 
 
+def _create_temporary(p: Path) -> tuple[str, int]:
+    """A new ``.NAME.XXXXXXXX`` beside ``p`` (0600, exclusive), registered in _ACTIVE *before* it exists: a Ctrl-C or
+    SIGTERM raised at any point (Python runs signal handlers between any two calls) cannot leave an unknown file."""
+    for _ in range(100):
+        tmp = str(p.parent / f".{p.name}.{secrets.token_hex(4)}")
+        _ACTIVE.add(tmp)
+        try:
+            return tmp, os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o600)
+        except FileExistsError:
+            _ACTIVE.discard(tmp)
+    raise FileExistsError(errno.EEXIST, "no free temporary name", str(p))
+
+
 def remove_temporaries() -> None:
     """Remove the temporaries of every atomic_open still under way (the CLI calls this when a run is interrupted:
     an exception raised between a generator's ``yield`` and the ``with`` taking it over never reaches it)."""
     for tmp in list(_ACTIVE):
         Path(tmp).unlink(missing_ok=True)
         _ACTIVE.discard(tmp)
-
-
-@contextlib.contextmanager
-def _signals_held() -> Iterator[None]:
-    """Hold SIGINT and SIGTERM (POSIX) for the duration; they are delivered on exit from the block."""
-    held = {signal.SIGINT, signal.SIGTERM}
-    try:
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    except (AttributeError, ValueError, OSError):  # no pthread_sigmask on this platform
-        yield
-        return
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 110) -> None:
