@@ -38,9 +38,9 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.recordings import read_recording
 
     refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
-    rec = read_recording(args.recording)
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
+    rec = read_recording(args.recording, machine)
     d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level)
     out = d.to_dict()
     if args.plots:

@@ -74,7 +74,7 @@ def run(args: argparse.Namespace) -> int:
     elif len(args.recording) != 1:
         raise InputError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
     else:
-        rec = read_recording(args.recording[0])
+        rec = read_recording(args.recording[0], args.machine)
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
                    outlier_k=args.outlier_k, max_degree=args.max_degree)
     for w in res.warnings:

@@ -60,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("temperature normalisation needs both --temperature-normalise and --alpha PER_K")
     if args.output:
         refuse_overwrite([], args.recording, dirs={args.output: ["iso230-2_*"]})
-    rec = read_recording(args.recording)
+    rec = read_recording(args.recording, args.machine)
     res = evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine,
                    targets=_targets(args.target_points), alpha=args.alpha, angle_unit=args.angle_unit,
                    point=args.point)
