@@ -26,6 +26,7 @@ from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
 from mtcal.identify import delta_covariance, estimate, frame_data
+from mtcal.io import save_figure
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.simulate import Plan, as_plan, tracker_positions
 
@@ -269,7 +270,7 @@ def plot_placement_map(path, plan=None, *, tracker=None, z: float | None = None,
         ax.set_aspect("equal")
         ax.set_title(f"{key} errors of {', '.join(m.linear_axes)} (mid-travel), tracker z = {z:g} mm", fontsize=10)
     fig.suptitle("Predicted one-round uncertainty vs tracker floor position (x: best grid cell, *: given)")
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     mp["best"] = {}
     for key in ("translational", "angular"):

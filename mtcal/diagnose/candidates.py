@@ -81,7 +81,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
     out += _temperature(prep, notes)
     if g.tracker is not None:
         out.append(fx.tracker_scale(g))
-    for s, (a, r, label) in enumerate(prep.seq_keys):
+    for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes

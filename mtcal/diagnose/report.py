@@ -48,6 +48,7 @@ class Finding:
 
     def __contains__(self, key: str) -> bool:
         return key in self.to_dict()
+from mtcal.io import save_figure
 
 
 @dataclass
@@ -197,7 +198,7 @@ def plot_residuals(diag: Diagnosis, directory) -> list[str]:
         fig.suptitle(f"residuals {tag} the diagnosed effects ({prep.rec.source})")
         fig.tight_layout()
         p = os.path.join(str(directory), f"residuals_{tag}.png")
-        fig.savefig(p, dpi=110)
+        save_figure(fig, p, dpi=110)
         plt.close(fig)
         paths.append(p)
     return paths
