@@ -4,9 +4,9 @@ from __future__ import annotations
 import argparse
 import logging
 
-from mtcal.io import dumps
-from mtcal.tracker import parse_xyz
-from mtcal.commands._options import machine_argument
+from mtcal.commands._options import integer, machine_argument, xyz
+from mtcal.errors import InputError
+from mtcal.io import dumps, refuse_overwrite
 from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "plan"
@@ -14,17 +14,18 @@ HELP = "predict the uncertainty of the identified errors for a tracker placement
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--tracker", metavar="x,y,z", help="tracker position in mm, machine frame "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position in mm, machine frame "
                    "(default: the plan's, else the machine spec's first tracker station)")
     machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.simulate)")
-    p.add_argument("--monte-carlo", type=int, default=0, metavar="N",
+    p.add_argument("--monte-carlo", type=integer(0), default=0, metavar="N",
                    help="also run N simulated rounds per axis through the estimator (GUM Supplement 1)")
-    p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
+    p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
                    help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
     p.add_argument("--axes", metavar="X,Y,...", help="axes to report (default: all axes of the plan)")
-    p.add_argument("--plot", metavar="PNG", help="write a map of the predicted uncertainty over tracker floor positions")
+    p.add_argument("--plot", metavar="PNG",
+                   help="write a map of the predicted uncertainty over tracker floor positions")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,15 +33,13 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.machine import load_machine
     from mtcal.simulate import Plan, load_plan
 
-    if args.monte_carlo < 0:
-        raise ValueError(f"--monte-carlo must be >= 0, got {args.monte_carlo}")
     if args.monte_carlo == 1:
-        raise ValueError("--monte-carlo needs at least 2 rounds for a standard deviation")
+        raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")
+    refuse_overwrite([args.plot], args.plan)
     m = load_machine(args.machine)
     plan = load_plan(args.plan, m) if args.plan else Plan(m)
-    tracker = parse_xyz(args.tracker) if args.tracker is not None else None
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
-    res = plan_uncertainty(tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
+    res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
                            weighting=args.weighting, axes=axes).to_dict()
     if args.plot:
         logging.getLogger("mtcal.plan").info("computing the placement map ...")
