@@ -117,7 +117,7 @@ def _in(lo: float, hi: float, what: str = "") -> Callable[[str], float]:
         if math.isnan(x):  # only a non-string NaN gets here: a default passed on ("not given")
             return x
         if not lo <= x <= hi:
-            raise ValueError(f"must lie in [{lo:g}, {hi:g}]{' (' + what + ')' if what else ''}")
+            raise InputError(f"must lie in [{lo:g}, {hi:g}]{' (' + what + ')' if what else ''}")
         return x
     return parse
 

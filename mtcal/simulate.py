@@ -37,9 +37,8 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from mtcal import tracker as trk
-from mtcal.effects import Rows, as_effects, parse_items, warm_up_rise
-from mtcal.effects import Rows, as_effects
 from mtcal import schema as sc
+from mtcal.effects import Rows, as_effects, parse_items, warm_up_rise
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.machine import Machine, load_machine

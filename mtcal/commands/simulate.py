@@ -42,8 +42,7 @@ def run(args: argparse.Namespace) -> int:
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     plan = load_plan(args.plan, machine) if args.plan else None
     rec, truth = simulate(model, machine=machine, tracker=args.tracker, rounds=args.rounds, seed=args.seed,
-                          effects=effects, noise=not args.no_noise, plan=plan,
-                          temperature=args.temperature)
+                          effects=effects, noise=not args.no_noise, plan=plan, temperature=args.temperature)
     truth["model_file"] = args.model
     truth["plan_file"] = args.plan
     tp = write_campaign(rec, truth, args.output)
