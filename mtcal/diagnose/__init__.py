@@ -1,4 +1,5 @@
-"""Diagnosis of laser-tracker recordings (package; one job per module): fit a quasi-static base model, locate the mismatch, name the effect.
+"""Diagnosis of laser-tracker recordings (package; one job per module): fit a quasi-static base model, locate the
+mismatch, name the effect.
 
 Base model (frames: machine frame = tracker frame, mm; positions mm or deg; errors mm and rad):
 * every reflector reading of axis J is its nominal position plus the first-order effect of J's six error
@@ -32,10 +33,9 @@ reported base (degrees, sigma before and after, estimates, cross-validation) is 
 effects.  With ``model`` given the null is that model (plus offsets), as before.
 
 Modules: prepare (nominal positions, Jacobians), noise (weights), design (base columns), engine (F tests by
-projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors and pairs of factors; outlier and knock
-scans), selection (forward / backward, confounding, validation), report (typed findings, JSON), plate (plate
-fits), run (``diagnose()``).
-"""
+projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors
+and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), report
+(typed findings, JSON), plate (plate fits), run (``diagnose()``)."""
 from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.plate import diagnose_plate, format_plate_diagnosis
 from mtcal.diagnose.prepare import Prepared, prepare

@@ -1,20 +1,19 @@
 """The noise model of the diagnosis: the covariance of every reading, given or estimated from the data.
 
-A laser tracker's reading covariance is a small radial part along the beam and a much larger transverse part
-across it (angle encoders; AT960, mtcal.tracker).  With the tracker position given (``--tracker``), the AT960
-covariance about it weights the readings.  Without it, the position is estimated from the scatter of the
-repeated rounds: the residuals of the quasi-static base family (unweighted) at every reflector have their
-smallest spread along the beam; each reading's residual is taken about the mean of its cell (axis, position,
-point, direction) over the rounds, so a misfit that repeats every round stays out of the noise model; (1) each reflector's residual scatter (3x3, pooled over its readings) gives a
-beam line through the reflector along its least-spread direction, (2) the point closest to all beam lines
-starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a scale c near 1
-(prior log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the
-convergence of the beams; Nelder-Mead from that start and from 1.5 m along the mean beam on either side),
+A laser tracker's reading covariance is a small radial part along the beam and a much larger transverse part across
+it (angle encoders; AT960, mtcal.tracker). With the tracker position given (``--tracker``), the AT960 covariance
+about it weights the readings. Without it, the position is estimated from the scatter of the repeated rounds: the
+residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread along the beam;
+each reading's residual is taken about the mean of its cell (axis, position, point, direction) over the rounds, so a
+misfit that repeats every round stays out of the noise model; (1) each reflector's residual scatter (3x3, pooled
+over its readings) gives a beam line through the reflector along its least-spread direction, (2) the point closest
+to all beam lines starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a
+scale c near 1 (prior log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as
+from the convergence of the beams; Nelder-Mead from that start and from 1.5 m along the mean beam on either side),
 (4) twice: the base refitted with the weights of the estimate, and the fit of (3) repeated on its residuals (the
-unweighted fit leaks the large transverse noise into the radial residuals of other readings).  The
-estimate is used when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3);
-else (or with one round) the readings are weighted equally, sigma from the residuals.  Units: mm.
-"""
+unweighted fit leaks the large transverse noise into the radial residuals of other readings). The estimate is used
+when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); else (or with one round)
+the readings are weighted equally, sigma from the residuals. Units: mm."""
 from __future__ import annotations
 
 import math

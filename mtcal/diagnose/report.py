@@ -19,6 +19,7 @@ from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.noise import NoiseModel
 from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import Located
+from mtcal.io import save_figure
 
 
 @dataclass
@@ -48,7 +49,6 @@ class Finding:
 
     def __contains__(self, key: str) -> bool:
         return key in self.to_dict()
-from mtcal.io import save_figure
 
 
 @dataclass

@@ -1,15 +1,13 @@
 """Selection of the diagnosis: forward selection of candidate effects by F test, backward elimination that
 never drops a large effect for a later overlapping smaller one, confounding, degrees by BIC, cross-validation.
 
-Multiplicity: Bonferroni over families x members (scanned families: x the members scanned).  Among the
-significant candidates of a step, the strongest evidence (raw p) names the effect; a significant candidate
-that explains the same misfit (the share of the chosen effect's fitted signal, whitened, after the base, that the
-other's columns also explain: |cos| > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates
-them.  Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings
-of every sequence in time order) for round-specific and time-dependent ones (re-seated nest, bump, tracker
-knock, drifts); a single-reading
-outlier has nothing to predict (its test is its studentized displacement).
-"""
+Multiplicity: Bonferroni over families x members (scanned families: x the members scanned). Among the significant
+candidates of a step, the strongest evidence (raw p) names the effect; a significant candidate that explains the
+same misfit (the share of the chosen effect's fitted signal, whitened, after the base, that the other's columns also
+explain: |cos| > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates them.
+Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings of every
+sequence in time order) for round-specific and time-dependent ones (re-seated nest, bump, tracker knock, drifts); a
+single-reading outlier has nothing to predict (its test is its studentized displacement)."""
 from __future__ import annotations
 
 import math
