@@ -650,7 +650,8 @@ class ProgramCompensator:
             w_all = comp.weight(qn_all)
             rep.in_cone += int((w_all <= 0).sum())
             rep.blended += int(((w_all > 0) & (w_all < 1)).sum())
-            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, self._ri] - qn_all[:, self._ri]).max()))
+            dc = np.abs(qw_all[:, self._ri] - qn_all[:, self._ri]).max()
+            rep.max_c_correction = max(rep.max_c_correction, float(dc))
             if len(qw):
                 w = w_all if k == 1 else comp.weight(qn)
                 rep.orientation.add(ang[w >= 1])
