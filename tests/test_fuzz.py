@@ -113,6 +113,14 @@ def _check_output(case_dir: Path, chk: dict, stdout: str) -> list[str]:
         return oracle.check_recording_csv(case_dir, chk)
     if kind == "sim_exx":
         return oracle.check_sim_exx(case_dir, chk)
+    if kind == "model_exx":
+        return oracle.check_model_exx(case_dir, chk)
+    if kind == "same_as":
+        return oracle.check_same_as(case_dir, chk)
+    if kind == "png":
+        return oracle.check_png(case_dir, chk)
+    if kind == "exists":
+        return [f"{p} was not written" for p in chk["paths"] if not (case_dir / p).is_file()]
     if kind == "absent":
         return [f"{chk['path']} exists"] if (case_dir / chk["path"]).exists() else []
     try:
@@ -226,6 +234,9 @@ def test_fuzz_case(cid, corpus, capsys, monkeypatch):
     root, cases = corpus
     case = cases[cid]
     case_dir = root / cid
+    for argv in case.get("setup", []):
+        code, out, err = _run_inprocess(argv, case_dir, capsys, monkeypatch)
+        assert code == 0, f"{cid}: setup step mtcal {' '.join(argv)} failed (exit {code}): {err[-1500:]}"
     pre = _snapshot(case_dir)
     case["_pre"] = pre
     dots = _dotfiles(case_dir)

@@ -7,6 +7,7 @@ implementation: this is the independent oracle.  Each case is a folder holding i
 cases.json:
 
     {"id", "command", "kind" (input kind under test), "argv" (relative to the case folder),
+     "setup": [argv, ...],                     # optional: mtcal commands run first (must exit 0)
      "expect": [alternative, ...],            # the case passes when one alternative holds
      "signal": {...}}                          # optional: run as a subprocess and send a signal
 
@@ -52,7 +53,8 @@ class Corpus:
         self.root = root
         self.cases: list[dict] = []
 
-    def add(self, cid, command, kind, argv, files=None, expect=(), dirs=(), signal=None, note=""):
+    def add(self, cid, command, kind, argv, files=None, expect=(), dirs=(), signal=None, note="", links=None,
+            setup=()):
         if any(c["id"] == cid for c in self.cases):
             raise SystemExit(f"duplicate case id {cid}")
         d = self.root / cid
@@ -63,9 +65,13 @@ class Corpus:
             p = d / name
             p.parent.mkdir(parents=True, exist_ok=True)
             p.write_bytes(content if isinstance(content, bytes) else content.encode("utf-8"))
+        for name, target in (links or {}).items():
+            (d / name).symlink_to(target)
         case = {"id": cid, "command": command, "kind": kind, "argv": [command, *argv], "expect": list(expect)}
         if signal:
             case["signal"] = signal
+        if setup:
+            case["setup"] = [list(a) for a in setup]
         if note:
             case["note"] = note
         self.cases.append(case)
@@ -797,6 +803,85 @@ def cases_demo_and_cli(C: Corpus):
           {}, [err(None, None, "--frobnicate", "unrecognized", option=True)])
 
 
+
+def cases_real_data(C: Corpus):
+    """Valid runs on the bundled data and on simulate's output, chained through the commands a user types."""
+    sample = (DATA / "sample_5axis.nc").read_bytes()
+    truth = (DATA / "demo_truth.json").read_bytes()
+    files = {"prog.nc": sample, "truth.json": truth}
+    argv = ["prog.nc", "--model", "truth.json", "-o", "out.nc"]
+    # demo_truth: volumetric error up to ~43 um, angular ~25 urad: corrections stay well under 0.2 mm / 0.2 deg
+    chk = gcode_check(oracle=None, bound=0.2)
+    C.add("compensate_sample_5axis", "compensate", "NC program", argv + ["--json"], files,
+          [ok(chk, {"kind": "stdout_json", "keys": []})])
+    C.add("compensate_sample_5axis_full", "compensate", "NC program", argv + ["--scope", "full"], files, [ok(chk)])
+    for eol, name in [(b"\r\n", "crlf"), (b"\r", "cr")]:
+        # the same program with other line ends must give the same numbers, with its own line ends
+        C.add(f"compensate_sample_5axis_{name}", "compensate", "NC program", argv,
+              {**files, "prog.nc": sample.replace(b"\n", eol), "lf.nc": sample},
+              [ok(chk, {"kind": "same_as", "path": "out.nc", "ref": "ref.nc", "eol": eol.decode()})],
+              setup=[["compensate", "lf.nc", "--model", "truth.json", "-o", "ref.nc"]])
+    # simulate (no noise) -> identify -> compensate: the identified model must compensate like the planted one
+    plan = {"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5},
+                                  "Y": {"start": 0, "stop": 200, "count": 5}}}
+    prog = "G90 G21\nG0 X0 Y0 Z20\nG1 X150 Y20 Z5 F500\nX180 Y190\nX30\nY60 Z0\nG0 Z20\nM30\n"
+    C.add("chain_simulate_identify_compensate", "compensate", "model JSON",
+          ["prog.nc", "--model", "ident.json", "-o", "out.nc"],
+          {"plan.json": jdump(plan), "truth.json": jdump(HAND_MODEL), "prog.nc": prog},
+          [ok(gcode_check())],
+          setup=[["simulate", "--plan", "plan.json", "--model", "truth.json", "--no-noise", "-o", "rec.csv"],
+                 ["identify", "rec.csv", "-o", "ident.json"]])
+    C.add("chain_identify_model_values", "identify", "recording CSV", ["rec.csv", "-o", "ident.json", "--json"],
+          {"plan.json": jdump(plan), "truth.json": jdump(HAND_MODEL)},
+          [ok({"kind": "model_json", "path": "ident.json", "axes": ["X", "Y"]},
+              {"kind": "model_exx", "path": "ident.json", "exx": ORACLE["exx"], "c0y": C0Y})],
+          setup=[["simulate", "--plan", "plan.json", "--model", "truth.json", "--no-noise", "-o", "rec.csv"]])
+    header, rows = base_recording()
+    C.add("identify_plots_valid", "identify", "recording CSV", ["rec.csv", "-o", "model.json", "--plots", "plots"],
+          {"rec.csv": rows_to_csv(header, rows)},
+          [ok({"kind": "model_json", "path": "model.json", "axes": ["X", "C"]},
+              {"kind": "png", "dir": "plots", "min": 2})])
+    C.add("diagnose_plots_valid", "diagnose", "recording CSV", ["rec.csv", "--plots", "plots"],
+          {"rec.csv": rows_to_csv(*recording_x_only())},
+          [ok({"kind": "png", "dir": "plots", "min": 2})])
+    C.add("plate_plot_valid", "plate", "plate CSV", ["pos.csv", "--plot", "p.png", "--json"],
+          {"pos.csv": (DATA / "nbs_table2_corrected.csv").read_bytes()},
+          [ok({"kind": "plate", "alpha": -0.67e-6, "alpha_tol": 0.01e-6, "gamma": 2.82e-6, "gamma_tol": 0.01e-6},
+              {"kind": "png", "file": "p.png"})])
+    # a valid `mtcal demo` run (~30 s on a loaded machine) is left to tests/test_demo.py
+
+
+def cases_more_paths(C: Corpus):
+    hand = jdump(HAND_MODEL)
+    base = {"prog.nc": program(), "model.json": hand}
+    C.add("compensate_output_symlink_to_input", "compensate", "overwrite",
+          ["prog.nc", "--model", "model.json", "-o", "link.nc"], base, links={"link.nc": "prog.nc"},
+          expect=[err("link.nc", None, "input", "overwrite", "same"),
+                  err("prog.nc", None, "input", "overwrite", "same")])
+    C.add("compensate_output_equals_input_respelled", "compensate", "overwrite",
+          ["prog.nc", "--model", "model.json", "-o", "sub/../prog.nc"], base, dirs=["sub"],
+          expect=[err("prog.nc", None, "input", "overwrite", "same")])
+    C.add("compensate_program_symlink_loop", "compensate", "path", ["loop.nc", "--model", "model.json", "-o", "o.nc"],
+          {"model.json": hand}, links={"loop.nc": "loop.nc"},
+          expect=[err("loop.nc", None, "symbolic", "link", "loop")])
+    C.add("compensate_output_empty_name", "compensate", "path", ["prog.nc", "--model", "model.json", "-o", ""], base,
+          [err(None, None, "-o", "--output", "output", "empty", "path", option=True)])
+    C.add("identify_output_empty_name", "identify", "path", ["rec.csv", "-o", ""],
+          {"rec.csv": rows_to_csv(*recording_x_only())},
+          [err(None, None, "-o", "--output", "output", "empty", "path", option=True)])
+    utf16 = rows_to_csv(*recording_x_only(), sep="\t").encode("utf-16")
+    C.add("identify_utf16_export", "identify", "recording CSV", ["rec.csv", "-o", "model.json"], {"rec.csv": utf16},
+          [err("rec.csv", None, "UTF-16", "utf-16", "encoding", "decode", "binary", "NUL")])
+    C.add("plate_utf16_export", "plate", "plate CSV", ["pos.csv"],
+          {"pos.csv": (DATA / "nbs_table1_corrected.csv").read_text().encode("utf-16")},
+          [err("pos.csv", None, "UTF-16", "utf-16", "encoding", "decode", "binary", "NUL")])
+    C.add("compensate_model_bom", "compensate", "model JSON", ["prog.nc", "--model", "model.json", "-o", "out.nc"],
+          {**base, "model.json": b"\xef\xbb\xbf" + hand.encode()},
+          [ok(gcode_check()), err("model.json", None, "BOM", "byte-order", "byte order", "JSON", "decode")])
+    C.add("identify_semicolon_dot_decimals", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(*recording_x_only(), sep=";")},
+          [ok({"kind": "model_json", "path": "model.json", "axes": ["X"]}, say=[";", "semicolon"])])
+
 def cases_signals(C: Corpus):
     big = ["%", "G90 G21", "G0 X0 Y0 Z50", "G1 Z5 F1000"]
     for k in range(150_000):
@@ -826,6 +911,8 @@ def build(root: Path) -> list[dict]:
     cases_diagnose(C, rnd)
     cases_plate(C, rnd)
     cases_demo_and_cli(C)
+    cases_real_data(C)
+    cases_more_paths(C)
     cases_signals(C)
     C.write()
     return C.cases

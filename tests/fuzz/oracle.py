@@ -332,3 +332,37 @@ def check_sim_exx(case_dir: Path, chk: dict) -> list[str]:
         if max(abs(g - w) for g, w in zip(got, want)) > 2e-6:
             probs.append(f"X={pos} point {r[ix['point']]}: moved {got}, want {want}")
     return probs[:5]
+
+
+def check_model_exx(case_dir: Path, chk: dict) -> list[str]:
+    """An identified model from noise-free readings: E_XX at its table positions and the squareness E_C0Y
+    equal the planted ones (to 1e-6 mm / 1e-8 rad)."""
+    m = json.loads((case_dir / chk["path"]).read_text())
+    f = m["functions"].get("E_XX")
+    if f is None:
+        return ["no E_XX in the identified model"]
+    xs, vs = chk["exx"]
+    probs = [f"E_XX({p}) = {v}, planted {_interp(p, xs, vs)}" for p, v in zip(f["positions"], f["values"])
+             if abs(v - _interp(p, xs, vs)) > 1e-6]
+    c0y = m.get("constants", {}).get("E_C0Y")
+    if c0y is None or abs(c0y - chk["c0y"]) > 1e-8:
+        probs.append(f"E_C0Y = {c0y}, planted {chk['c0y']}")
+    return probs
+
+
+def check_same_as(case_dir: Path, chk: dict) -> list[str]:
+    """Same bytes as a reference output once its LF line ends are replaced by `eol`."""
+    got = (case_dir / chk["path"]).read_bytes()
+    want = (case_dir / chk["ref"]).read_bytes().replace(b"\n", chk["eol"].encode())
+    if got == want:
+        return []
+    ga, wa = got.split(chk["eol"].encode()), want.split(chk["eol"].encode())
+    k = next((i for i, (x, y) in enumerate(zip(ga, wa)) if x != y), min(len(ga), len(wa)))
+    return [f"differs from the LF program's output at line {k + 1}: {ga[k:k + 1]!r} vs {wa[k:k + 1]!r} "
+            f"({len(ga)} vs {len(wa)} lines)"]
+
+
+def check_png(case_dir: Path, chk: dict) -> list[str]:
+    files = [case_dir / chk["file"]] if "file" in chk else sorted((case_dir / chk["dir"]).rglob("*.png"))
+    files = [f for f in files if f.is_file() and f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"]
+    return [] if len(files) >= chk.get("min", 1) else [f"{len(files)} PNG files written, want >= {chk.get('min', 1)}"]
