@@ -228,7 +228,6 @@ def cases_identify(C: Corpus, rnd: random.Random):
     for col, val, words in [("x", "nan", ["nan", "finite"]), ("y", "inf", ["inf", "finite"]),
                             ("z", "-inf", ["inf", "finite"]), ("x", "", ["empty", "missing", "number", "x"]),
                             ("x", "abc", ["abc", "number"]), ("position", "nan", ["nan", "finite", "position"]),
-                            ("position", "1e300", ["position", "range", "outside", "1e+300"]),
                             ("z", "1e400", ["inf", "finite", "1e400"]), ("round", "abc", ["round"]),
                             ("axis", "Q", ["axis", "Q"]), ("axis", "Ｘ", ["axis"]),
                             ("direction", "0", ["direction"]), ("point", "", ["point", "empty", "missing"])]:
@@ -414,7 +413,7 @@ def cases_compensate(C: Corpus, rnd: random.Random):
           [ok(gcode_check(oracle={"exx": [[-500, 0, 500], [0.02, 0, 0.02]], "c0y": 0.0, "scale": 1.0},
                           min_inserted=2))])
     # generated G-code mutations: a bad word inserted on a random move line
-    bad_words = ["X1.2.3", "Y1e3", "Z--2", "X1.2e", "Q7", "Y1..5", "X1-2", "Z+", "X0x10", "B1.5.5"]
+    bad_words = ["X1.2.3", "Y1e3", "Z--2", "X1.2e", "U7", "Y1..5", "X1-2", "Z+", "X0x10", "B1.5.5"]
     base_lines = program().split("\n")
     movable = [k for k, ln in enumerate(base_lines) if ln.startswith("N") and ("X" in ln or "Y" in ln)]
     for k, w in enumerate(bad_words):
@@ -452,6 +451,11 @@ def cases_compensate(C: Corpus, rnd: random.Random):
     C.add("compensate_model_correction_2mm_allowed", "compensate", "option",
           argv + ["--max-correction", "5"], {"prog.nc": um_prog, "model.json": jdump(big)},
           [ok(gcode_check(oracle={"exx": [[-500, 500], [2.0, 2.0]], "c0y": 0.0, "scale": 1.0}, bound=2.1))])
+    # a model saved by a Windows editor in cp1252: refused, or read as such and said (it is then a zero model)
+    model_case("latin1_bytes", '{"machine": "dmu50", "note": "20\xb0C"}'.encode("latin-1"),
+               [err("model.json", None, "decode", "encoding", "UTF-8", "utf-8", "JSON", "json"),
+                ok(gcode_check(oracle={"exx": [[-500, 500], [0.0, 0.0]], "c0y": 0.0}),
+                   say=["cp1252", "latin", "1252", "encoding"])])
     um_ok = {"machine": "dmu50", "units": {"length": "um", "angle": "urad"}, "constants": {"E_C0Y": 20.0},
              "functions": {"E_XX": {"axis": "X", "positions": [-500, 500], "values": [-10.0, 10.0]}}}
     model_case("stated_um_urad", jdump(um_ok), [ok(gcode_check()), err("model.json", None, "unit", "um")])
@@ -553,8 +557,6 @@ def shape_models():
          ["nosuchmachine", "machine"]),
         ("truncated_json", m(constants={"E_C0Y": 1e-5, "E_B0Z": 2e-5})[:-25], ["JSON", "json", "expect", "parse"]),
         ("empty_file", "", ["JSON", "json", "empty"]),
-        ("latin1_bytes", '{"machine": "dmu50", "note": "20\xb0C"}'.encode("latin-1"),
-         ["decode", "encoding", "UTF-8", "utf-8", "JSON", "json"]),
     ]
 
 
@@ -592,7 +594,7 @@ def cases_simulate(C: Corpus):
     C.add("simulate_tracker_negative_sep", "simulate", "option", base + ["--tracker", "-1500,225,150"],
           {"plan.json": plan}, [ok(csv_check)])
     for cid, eff, words in [("periodic_pitch0", "periodic:axis=X,pitch=0", ["pitch"]),
-                            ("periodic_amp_1e300", "periodic:axis=X,amplitude=1e300", ["amplitude"]),
+                            ("periodic_amp_1e300", "periodic:axis=X,amplitude=1e300", ["amplitude", "periodic"]),
                             ("backlash_nan", "backlash:axis=X,amount=nan", ["amount", "finite", "nan"]),
                             ("backlash_text", "backlash:axis=X,amount=abc", ["amount", "abc", "number"]),
                             ("backlash_axis_q", "backlash:axis=Q,amount=0.004", ["axis", "Q"]),
@@ -618,8 +620,6 @@ def cases_simulate(C: Corpus):
         ("b_270", jdump({"rounds": 1, "axes": {"B": {"positions": [0, 90, 270]}}}), ["B", "270", "range", "limit"]),
         ("b_270_at", jdump({"rounds": 1, "axes": {"X": {"positions": [0, 100], "at": {"B": 270}}}}),
          ["B", "270", "range", "limit"]),
-        ("x_beyond_travel", jdump({"rounds": 1, "axes": {"X": {"positions": [0, 1e6]}}}),
-         ["X", "range", "limit", "1e+06", "1000000"]),
         ("list", "[1, 2]", ["object", "dict", "mapping", "list"]),
         ("axes_string", jdump({"axes": "X"}), ["axes"]),
         ("unknown_key", jdump({"roudns": 2}), ["roudns", "unknown"]),

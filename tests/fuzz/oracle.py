@@ -29,7 +29,7 @@ def split_lines(data: bytes) -> list[tuple[bytes, bytes]]:
 
 def code_and_skeleton(line: str) -> tuple[str, str]:
     """Code outside comments, and the skeleton: the line without coordinate words and blanks outside comments
-    (comments kept verbatim)."""
+    and F values (comments kept verbatim)."""
     code, skel, k, n = [], [], 0, len(line)
     while k < n:
         ch = line[k]
@@ -46,6 +46,7 @@ def code_and_skeleton(line: str) -> tuple[str, str]:
         k += 1
     code_s = "".join(code)
     bare = re.sub(r"[XYZBCxyzbc]\s*[-+]?(?:\d+\.?\d*|\.\d+)", "", code_s)
+    bare = re.sub(r"([Ff])\s*[-+]?(?:\d+\.?\d*|\.\d+)", r"\1", bare)   # F may be recomputed (G93)
     skel.insert(0, re.sub(r"\s+", "", bare))
     return code_s, "".join(skel)
 
@@ -146,6 +147,8 @@ def check_gcode(case_dir: Path, chk: dict) -> list[str]:
                 probs.append(f"line {ptr + 1} (machine coordinates) changed: {a[ptr][0]!r} -> {content!r}")
             run = {"lno": lno, "start": start, "inserted": [], "F": [info_b["F"]], "move": info_a["move"],
                    "f_orig": info_a["F"], "g93": sb.inverse_time}
+            if not sb.inverse_time and info_a["F"] != info_b["F"]:
+                probs.append(f"output line {lno}: feed F {info_b['F']} differs from the input's {info_a['F']}")
             ptr += 1
             continue
         info_b = sb.apply(code)
