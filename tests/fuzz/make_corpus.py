@@ -67,7 +67,8 @@ class Corpus:
             p.write_bytes(content if isinstance(content, bytes) else content.encode("utf-8"))
         for name, target in (links or {}).items():
             (d / name).symlink_to(target)
-        case = {"id": cid, "command": command, "kind": kind, "argv": [command, *argv], "expect": list(expect)}
+        case = {"id": cid, "command": command, "kind": kind, "argv": [command, *argv] if command else list(argv),
+                "expect": list(expect)}
         if signal:
             case["signal"] = signal
         if setup:
@@ -799,6 +800,9 @@ def cases_demo_and_cli(C: Corpus):
           [err("d", None, "directory", "exists", "file")])
     C.add("demo_out_parent_is_file", "demo", "path", ["--out", "f/d", "--quiet"], {"f": "a file"},
           [err("f", None, "directory", "exists", "file")])
+    C.add("cli_no_command", "", "option", [], {}, [err(None, None, "command", "COMMAND", "required", option=True)])
+    C.add("cli_unknown_command", "frobnicate", "option", [], {},
+          [err(None, None, "frobnicate", "invalid choice", option=True)])
     C.add("cli_unknown_option", "compensate", "option", ["prog.nc", "--model", "m.json", "-o", "o.nc", "--frobnicate"],
           {}, [err(None, None, "--frobnicate", "unrecognized", option=True)])
 
@@ -882,6 +886,89 @@ def cases_more_paths(C: Corpus):
           {"rec.csv": rows_to_csv(*recording_x_only(), sep=";")},
           [ok({"kind": "model_json", "path": "model.json", "axes": ["X"]}, say=[";", "semicolon"])])
 
+
+def cases_generated(C: Corpus, rnd: random.Random):
+    """Generated mutations: truncated JSON, swapped columns, odd characters, very long lines, option values."""
+    hand = jdump(HAND_MODEL)
+    for k in range(5):   # model JSON cut at a random byte: the JSON decoder's line is the line to name
+        cut = rnd.randrange(5, len(hand) - 2)
+        text = hand[:cut]
+        try:
+            json.loads(text)
+            continue
+        except json.JSONDecodeError as exc:
+            line = exc.lineno
+        C.add(f"compensate_gen_model_truncated_{k:02d}", "compensate", "model JSON",
+              ["prog.nc", "--model", "model.json", "-o", "out.nc"], {"prog.nc": program(), "model.json": text},
+              [err("model.json", line, "JSON", "json", "expect", "parse", "truncated", "end")])
+    plan = jdump({"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5}}, "tracker": [250, -1500, 150]})
+    for k in range(3):
+        cut = rnd.randrange(5, len(plan) - 2)
+        try:
+            json.loads(plan[:cut])
+            continue
+        except json.JSONDecodeError as exc:
+            line = exc.lineno
+        C.add(f"simulate_gen_plan_truncated_{k:02d}", "simulate", "plan JSON", ["--plan", "plan.json", "-o", "s.csv"],
+              {"plan.json": plan[:cut]}, [err("plan.json", line, "JSON", "json", "expect", "parse", "truncated",
+                                              "end")])
+    header, rows = recording_x_only()
+    def swapped(a, b):
+        ia, ib = header.index(a), header.index(b)
+        out = []
+        for r in rows:
+            r = r[:]
+            r[ia], r[ib] = r[ib], r[ia]
+            out.append(r)
+        return rows_to_csv(header, out)
+    for a, b, words in [("axis", "point", ["axis", "P"]), ("x", "point", ["x", "number", "P"]),
+                        ("round", "point", ["round", "P"])]:
+        C.add(f"identify_swapped_{a}_{b}", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+              {"rec.csv": swapped(a, b)}, [err("rec.csv", 2, *words)])
+    # old Mac line ends (lone CR) in a CSV: read as lines; an error names the right line
+    C.add("identify_lone_cr_csv", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, rows, eol="\r")}, [ok({"kind": "model_json", "path": "model.json",
+                                                                "axes": ["X"]})])
+    bad = [r[:] for r in rows]
+    bad[30][header.index("y")] = "nan"
+    C.add("identify_lone_cr_csv_nan", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, bad, eol="\r")}, [err("rec.csv", 32, "nan", "finite", "y")])
+    # G-code: characters a controller would not read as numbers, and a very long comment line (passed through)
+    for cid, word in [("fullwidth_digits", "X１０"), ("unicode_minus", "X−5"), ("arabic_digits", "Y٣")]:
+        p = f"G90 G21\nG1 X0 Y0 Z0 F100\nG1 {word} Y10\nM30\n"
+        C.add(f"compensate_word_{cid}", "compensate", "NC program", ["prog.nc", "--model", "model.json", "-o", "out.nc"],
+              {"prog.nc": p, "model.json": hand}, [err("prog.nc", 3, "number", "word", word[0], "character")])
+    longp = program().replace("(a comment line between moves)", "(" + "LONG COMMENT " * 20000 + ")")
+    C.add("compensate_very_long_comment", "compensate", "NC program", ["prog.nc", "--model", "model.json", "-o",
+                                                                       "out.nc"],
+          {"prog.nc": longp, "model.json": hand}, [ok(gcode_check())])
+    nbs = (DATA / "nbs_table1_corrected.csv").read_text()
+    huge = "\n".join(ln if not ln.startswith("3,") else "3,1e300,2.674304,2.674759,-3.141279"
+                     for ln in nbs.splitlines()) + "\n"
+    C.add("plate_huge_number", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": huge},
+          [err("pos.csv", None), ok({"kind": "stdout_json", "keys": ["alpha", "beta", "gamma"]})])
+    # option values: every numeric option refuses non-numbers and empty strings; nonsense infinities
+    numeric = {"compensate": ["--tolerance", "--tool-length", "--precision", "--cone", "--iterations",
+                              "--residual-every", "--max-correction"],
+               "identify": ["--max-degree", "--outlier-k"], "simulate": ["--rounds", "--seed"],
+               "plan": ["--monte-carlo", "--seed"], "diagnose": ["--level"], "plate": ["--level"]}
+    inf_ok = {"--tolerance", "--max-correction", "--outlier-k"}   # infinity may mean "off" there
+    files = {"prog.nc": program(), "model.json": hand, "rec.csv": rows_to_csv(header, rows),
+             "pos.csv": nbs, "plan.json": jdump(SMALL_PLAN)}
+    lead = {"compensate": ["prog.nc", "--model", "model.json", "-o", "out.nc"],
+            "identify": ["rec.csv", "-o", "model.json"], "simulate": ["--plan", "plan.json", "-o", "s.csv"],
+            "plan": ["--axes", "X"], "diagnose": ["rec.csv"], "plate": ["pos.csv"]}
+    for cmd, opts in numeric.items():
+        for opt in opts:
+            for val in ["abc", "", "inf", "1e999"]:
+                if val in ("inf", "1e999") and opt in inf_ok:
+                    continue
+                tag = {"abc": "text", "": "empty", "inf": "inf", "1e999": "overflow"}[val]
+                need = {"compensate": ["prog.nc", "model.json"], "identify": ["rec.csv"], "simulate": ["plan.json"],
+                        "plan": [], "diagnose": ["rec.csv"], "plate": ["pos.csv"]}[cmd]
+                C.add(f"{cmd}_gen_opt_{opt[2:].replace('-', '_')}_{tag}", cmd, "option", lead[cmd] + [opt, val],
+                      {f: files[f] for f in need}, [err(None, None, opt, option=True)])
+
 def cases_signals(C: Corpus):
     big = ["%", "G90 G21", "G0 X0 Y0 Z50", "G1 Z5 F1000"]
     for k in range(150_000):
@@ -913,6 +1000,7 @@ def build(root: Path) -> list[dict]:
     cases_demo_and_cli(C)
     cases_real_data(C)
     cases_more_paths(C)
+    cases_generated(C, rnd)
     cases_signals(C)
     C.write()
     return C.cases
