@@ -95,6 +95,9 @@ def _check_error(stderr: str, exp: dict, option: bool) -> list[str]:
                                                                    w[2:].replace("-", " "))]
     if words and not any(w.lower() in msg.lower() for w in words):
         probs.append(f"message names none of {words}: {msg[:300]!r}")
+    also = exp.get("also") or []
+    if also and not any(w.lower() in msg.lower() for w in also):
+        probs.append(f"message names none of {also}: {msg[:300]!r}")
     bad = [w for w in exp.get("forbid", []) if w.lower() in msg.lower()]
     if bad:
         probs.append(f"message mentions {bad}: {msg[:300]!r}")

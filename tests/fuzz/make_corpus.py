@@ -11,10 +11,11 @@ cases.json:
      "expect": [alternative, ...],            # the case passes when one alternative holds
      "signal": {...}}                          # optional: run as a subprocess and send a signal
 
-An alternative is {"exit": 0 | 2 | "bug" | 130 | "signal", "error": {"file", "line", "problem": [words]},
+An alternative is {"exit": 0 | 2 | "bug" | 130 | "signal", "error": {"file", "line", "problem": [words],
+"also": [words] (a second group, one of which must be said too), "forbid": [words]},
 "option": bool (argparse-style usage block + one error line allowed), "checks": [...], "say": [words]}.
 Error expectations follow issue 11: one line naming the file, the line where there is one and the problem,
-exit 2, no traceback.  Valid inputs get output checks (see tests/test_fuzz.py for their meaning).
+exit 2, no traceback.  Valid inputs get output checks (tests/fuzz/oracle.py, run by tests/test_fuzz.py).
 Input file lines are physical lines, 1-based (the CSV header is line 1).
 """
 from __future__ import annotations
@@ -38,6 +39,12 @@ def err(file=None, line=None, *problem, option=False):
     alt = {"exit": 2, "error": {"file": file, "line": line, "problem": list(problem)}}
     if option:
         alt["option"] = True
+    return alt
+
+
+def err_also(alt, *words):
+    """The same error, whose message must also say one of `words` (e.g. the option and what is wrong with it)."""
+    alt["error"]["also"] = list(words)
     return alt
 
 
@@ -166,7 +173,6 @@ def plate_csv(turn_deg=90.0, alpha=0.0, header="point,x1,y1,x2,y2", sep=",", dec
 def cases_identify(C: Corpus, rnd: random.Random):
     header, rows = base_recording()
     rec = rows_to_csv(header, rows)
-    n = len(rows)
     model_check = {"kind": "model_json", "path": "model.json", "axes": ["X", "C"]}
     C.add("identify_valid", "identify", "recording CSV", ["rec.csv", "-o", "model.json", "--json"],
           {"rec.csv": rec}, [ok(model_check, {"kind": "stdout_json", "keys": ["axes", "squareness"]})])
@@ -205,7 +211,7 @@ def cases_identify(C: Corpus, rnd: random.Random):
                             ("nan", "nan,0,0", ["finite", "nan"]), ("inf", "0,inf,0", ["finite", "inf"]),
                             ("text", "a,b,c", ["number", "x,y,z", "float", "invalid"])]:
         C.add(f"identify_tracker_{cid}", "identify", "option", ["rec.csv", "-o", "model.json", "--tracker", val],
-              {"rec.csv": rec}, [err(None, None, "--tracker", option=True)])
+              {"rec.csv": rec}, [err_also(err(None, None, "--tracker", option=True), *words)])
     for cid, argv, word in [("max_degree_neg", ["--max-degree", "-1"], "--max-degree"),
                             ("outlier_k_nan", ["--outlier-k", "nan"], "--outlier-k"),
                             ("outlier_k_neg", ["--outlier-k", "-3"], "--outlier-k")]:
@@ -306,8 +312,9 @@ def cases_identify(C: Corpus, rnd: random.Random):
           {"rec.csv": rec}, expect=[err("mmmm", None, "too long", "name")])
     C.add("identify_output_equals_input", "identify", "overwrite", ["rec.csv", "-o", "rec.csv"], {"rec.csv": rec},
           expect=[err("rec.csv", None, "input", "overwrite", "same")])
-    C.add("identify_output_equals_input_respelled", "identify", "overwrite", ["sub/rec.csv", "-o", "sub/../sub/./rec.csv"],
-          {"sub/rec.csv": rec}, expect=[err("rec.csv", None, "input", "overwrite", "same")])
+    C.add("identify_output_equals_input_respelled", "identify", "overwrite",
+          ["sub/rec.csv", "-o", "sub/../sub/./rec.csv"], {"sub/rec.csv": rec},
+          expect=[err("rec.csv", None, "input", "overwrite", "same")])
     C.add("identify_plots_onto_file", "identify", "path", ["rec.csv", "-o", "model.json", "--plots", "plots"],
           {"rec.csv": rec, "plots": "I am a file"}, expect=[err("plots", None, "directory", "exists", "file")])
     C.add("identify_plots_parent_is_file", "identify", "path", ["rec.csv", "-o", "model.json", "--plots", "f/plots"],
@@ -936,8 +943,9 @@ def cases_generated(C: Corpus, rnd: random.Random):
     # G-code: characters a controller would not read as numbers, and a very long comment line (passed through)
     for cid, word in [("fullwidth_digits", "X１０"), ("unicode_minus", "X−5"), ("arabic_digits", "Y٣")]:
         p = f"G90 G21\nG1 X0 Y0 Z0 F100\nG1 {word} Y10\nM30\n"
-        C.add(f"compensate_word_{cid}", "compensate", "NC program", ["prog.nc", "--model", "model.json", "-o", "out.nc"],
-              {"prog.nc": p, "model.json": hand}, [err("prog.nc", 3, "number", "word", word[0], "character")])
+        C.add(f"compensate_word_{cid}", "compensate", "NC program",
+              ["prog.nc", "--model", "model.json", "-o", "out.nc"], {"prog.nc": p, "model.json": hand},
+              [err("prog.nc", 3, "number", "word", word[0], "character")])
     longp = program().replace("(a comment line between moves)", "(" + "LONG COMMENT " * 20000 + ")")
     C.add("compensate_very_long_comment", "compensate", "NC program", ["prog.nc", "--model", "model.json", "-o",
                                                                        "out.nc"],
