@@ -36,16 +36,15 @@ def _load(name):
 
 make_corpus = _load("make_corpus")
 oracle = _load("oracle")
-_CASE_IDS = None
+_CASE_IDS: list[str] = []
 
 
-def _case_list():
-    """Case ids without writing files: build into a throwaway folder once per collection."""
+def _case_ids() -> list[str]:
+    """Case ids for parametrization: the corpus is built once into a throwaway folder at collection."""
     import tempfile
-    global _CASE_IDS
-    if _CASE_IDS is None:
+    if not _CASE_IDS:
         with tempfile.TemporaryDirectory() as d:
-            _CASE_IDS = [(c["id"], "signal" in c) for c in make_corpus.build(Path(d) / "c")]
+            _CASE_IDS.extend(c["id"] for c in make_corpus.build(Path(d) / "c"))
     return _CASE_IDS
 
 
@@ -235,7 +234,7 @@ def _run_signal(case, case_dir):
     return proc.returncode, out.decode(errors="replace"), err.decode(errors="replace")
 
 
-@pytest.mark.parametrize("cid", [c for c, _ in _case_list()])
+@pytest.mark.parametrize("cid", _case_ids())
 def test_fuzz_case(cid, corpus, capsys, monkeypatch):
     root, cases = corpus
     case = cases[cid]
