@@ -1,0 +1,148 @@
+"""SpatialAnalyzer ASCII exports -> tidy recording: round trips through SA text written here in the layouts of
+the SA manual ("Exporting ASCII Formatted Points": Collection Group Target x y z, optional uncertainties and time
+stamp, space or comma separated, // comments), mapping file and naming pattern, units, bad lines."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from mtcal.cli import main
+from mtcal.errors import InputError
+from mtcal.import_sa import import_sa
+from mtcal.recordings import format_recording, make_recording, parse_recording, read_recording
+from mtcal.simulate import simulate
+
+PATTERN = r"(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+?)_(?P<direction>up|dn)"
+
+
+@pytest.fixture(scope="module")
+def tidy():
+    """A small simulated campaign (X and C, 2 rounds, out and back, time stamps), as read from its CSV; the
+    temperature column is not part of an SA export, so it is left out."""
+    rec, _ = simulate(rounds=2, seed=3, plan={"axes": {"X": {"start": 0, "stop": 200, "count": 5},
+                                                       "C": {"start": -40, "stop": 80, "count": 4}}})
+    rec = make_recording(rec.axis, rec.round, rec.position, rec.point, rec.xyz, rec.time_s, rec.direction)
+    return parse_recording(format_recording(rec), "tidy.csv")
+
+
+def _name(rec, i):
+    return f"{rec.axis[i]}_r{rec.round[i]}_{rec.position[i]:g}_{rec.point[i]}_{'up' if rec.direction[i] > 0 else 'dn'}"
+
+
+def _sa_space(rec, scale=1.0):
+    lines = ["// SA Version 2021.01.08", "// Working Frame: Machine", "// Units: mm"]
+    for i in range(len(rec)):
+        x, y, z = rec.xyz[i] / scale
+        lines.append(f"Tracker Run{rec.round[i]} {_name(rec, i)} {x:.10f} {y:.10f} {z:.10f} 0.0021 0.0150 0.0148 "
+                     f"{rec.time_s[i]:.3f}")
+    return "\n".join(lines) + "\n"
+
+
+def test_round_trip_space_separated_with_pattern(tidy):
+    res = import_sa(_sa_space(tidy), "export.txt", pattern=PATTERN)
+    assert format_recording(res.recording) == format_recording(tidy)
+    assert res.matched == len(tidy) and not res.skipped
+    assert any("uncertainties were read" in n for n in res.notes)
+
+
+def test_round_trip_comma_header_and_inches(tidy):
+    head = "// exported with header\nCollection,Group,Target,X,Y,Z,Time\n"
+    body = "".join(f"A,B,{_name(tidy, i)},{tidy.xyz[i, 0] / 25.4:.12f},{tidy.xyz[i, 1] / 25.4:.12f},"
+                   f"{tidy.xyz[i, 2] / 25.4:.12f},{tidy.time_s[i]:.3f}\n" for i in range(len(tidy)))
+    res = import_sa(head + body, "export.csv", pattern=PATTERN, units="in")
+    assert format_recording(res.recording) == format_recording(tidy)
+
+
+def test_round_trip_tab_full_names_with_mapping_file(tidy, tmp_path):
+    """Collection::Group::Target in one field, tab separated, date-time stamps; mapping by file."""
+    t0 = np.datetime64("2026-03-04T08:00:00")
+    lines, rows = [], ["target,axis,round,position,point,direction"]
+    for i in range(len(tidy)):
+        name = f"T{i:04d}"
+        stamp = str(t0 + np.timedelta64(int(round(tidy.time_s[i] * 1000)), "ms")).replace("T", " ")
+        lines.append("\t".join([f"Run::Grp::{name}", *(f"{v:.9f}" for v in tidy.xyz[i]), stamp]))
+        rows.append(f"{name},{tidy.axis[i]},{tidy.round[i]},{tidy.position[i]:g},{tidy.point[i]},"
+                    f"{'+1' if tidy.direction[i] > 0 else '-1'}")
+    export, mapping, out = tmp_path / "export.txt", tmp_path / "map.csv", tmp_path / "rec.csv"
+    export.write_text("\n".join(lines) + "\n")
+    mapping.write_text("\n".join(rows) + "\n")
+    assert main(["import-sa", str(export), "--mapping", str(mapping), "-o", str(out)]) == 0
+    back = read_recording(out)
+    shift = tidy.time_s.min()  # date-time stamps become seconds since the earliest one
+    expect = make_recording(tidy.axis, tidy.round, tidy.position, tidy.point, tidy.xyz, tidy.time_s - shift,
+                            tidy.direction)
+    assert format_recording(back) == format_recording(expect)
+
+
+def test_imported_campaign_goes_through_iso230_2(tidy, tmp_path, capsys):
+    export, out = tmp_path / "export.txt", tmp_path / "rec.csv"
+    export.write_text(_sa_space(tidy))
+    assert main(["import-sa", str(export), "--pattern", PATTERN, "-o", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rows"] == len(tidy)
+    assert main(["iso230-2", str(out), "--axis", "X", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["axes"]["X"]["targets"]["n_up"] == [2.0] * 5
+
+
+def test_unmatched_targets_listed_or_skipped_with_a_count(tidy, tmp_path, capsys):
+    text = _sa_space(tidy) + "Tracker Run1 Nest_check 1.0 2.0 3.0 0.01 0.01 0.01 99.0\n"
+    with pytest.raises(InputError, match=r"1 target\(s\) match no pattern: Tracker::Run1::Nest_check \(line \d+\)"):
+        import_sa(text, "export.txt", pattern=PATTERN)
+    res = import_sa(text, "export.txt", pattern=PATTERN, skip_unmatched=True)
+    assert len(res.recording) == len(tidy) and res.skipped == [("Tracker::Run1::Nest_check", len(text.splitlines()))]
+    export, out = tmp_path / "e.txt", tmp_path / "r.csv"
+    export.write_text(text)
+    assert main(["import-sa", str(export), "--pattern", PATTERN, "-o", str(out)]) == 2
+    assert not out.exists()
+    assert main(["import-sa", str(export), "--pattern", PATTERN, "-o", str(out), "--skip-unmatched"]) == 0
+    assert "1 left out" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("line, message", [
+    ("C G X_r1_0_P_up 1.0 abc 3.0", r"export\.txt, line 3: x y z must be numbers"),
+    ("C G X_r1_0_P_up 1.0 2.0", r"export\.txt, line 3: 5 fields; expected 3 name field\(s\) then x y z"),
+    ("C G X_r1_0_P_up 1 2 3 0.1 0.1 0.1 yesterday", r"export\.txt, line 3: unrecognised field\(s\) after x y z"),
+    ("C G Q_r1_0_P_up 1 2 3", r"export\.txt, line 3: axis 'Q' is not one of"),
+    ("C G X_r1_0_P_up 1 2 3", r"export\.txt, line 3: target C::G::X_r1_0_P_up maps to the same reading as line 2"),
+])
+def test_bad_lines_named_with_file_and_line(line, message):
+    text = "// header comment\nC G X_r1_0_P_up 1 2 3\n" + line + "\n"
+    with pytest.raises(InputError, match=message):
+        import_sa(text, "export.txt", pattern=PATTERN)
+
+
+def test_bad_mapping_and_pattern(tmp_path):
+    text = "C G T1 1 2 3\n"
+    with pytest.raises(InputError, match="named groups"):
+        import_sa(text, "e.txt", pattern=r"(?P<axis>\w)")
+    with pytest.raises(InputError, match="not a valid regular expression"):
+        import_sa(text, "e.txt", pattern=r"(?P<axis>")
+    m = tmp_path / "map.csv"
+    m.write_text("target,axis,round,position,point\nT1,X,1.5,0,P\n")
+    from mtcal.import_sa import read_mapping
+    with pytest.raises(InputError, match=r"e\.txt, line 1 \(mapping: .*map\.csv, line 2\): round must be an integer"):
+        import_sa(text, "e.txt", mapping=read_mapping(m))
+    m.write_text("target,axis,round,position\nT1,X,1,0\n")
+    with pytest.raises(InputError, match=r"map\.csv, line 1: header must be"):
+        read_mapping(m)
+
+
+def test_numeric_target_names_need_the_name_field_count(tmp_path):
+    """SA targets are often numbered: 'Coll Grp 12 x y z' has no non-numeric target field to find."""
+    m = tmp_path / "map.csv"
+    m.write_text("target,axis,round,position,point,direction\n12,X,1,0,P,+\n13,X,1,50,P,+\n")
+    from mtcal.import_sa import read_mapping
+    text = "Coll Grp 12 70.0 0.0 10.0\nColl Grp 13 120.0 0.0 10.0\n"
+    with pytest.raises(InputError, match=r"match no mapping row: Coll::Grp \(line 1\).*numbered targets need "
+                                         r"--name-fields 3"):
+        import_sa(text, "e.txt", mapping=read_mapping(m))
+    res = import_sa(text, "e.txt", mapping=read_mapping(m), name_fields=3)
+    np.testing.assert_array_equal(res.recording.xyz, [[70, 0, 10], [120, 0, 10]])
+    assert res.recording.position.tolist() == [0, 50] and res.recording.direction.tolist() == [1, 1]
+
+
+def test_header_columns_not_used_are_named():
+    text = "Collection,Group,Target,X,Y,Z,RMS\nA,B,X_r1_0_P_up,1,2,3,0.004\n"
+    res = import_sa(text, "h.csv", pattern=PATTERN)
+    assert res.recording.xyz.tolist() == [[1, 2, 3]] and res.notes == ["h.csv, line 1: column(s) ['RMS'] not used"]
