@@ -115,6 +115,8 @@ def _check_output(case_dir: Path, chk: dict, stdout: str) -> list[str]:
         return oracle.check_recording_csv(case_dir, chk)
     if kind == "sim_exx":
         return oracle.check_sim_exx(case_dir, chk)
+    if kind == "recording_equal":
+        return oracle.check_recording_equal(case_dir, chk)
     if kind == "model_exx":
         return oracle.check_model_exx(case_dir, chk)
     if kind == "same_as":
@@ -133,6 +135,8 @@ def _check_output(case_dir: Path, chk: dict, stdout: str) -> list[str]:
         return ["stdout JSON has non-finite numbers"]
     if kind == "stdout_json":
         return [f"stdout JSON lacks {k!r}" for k in chk["keys"] if k not in js]
+    if kind == "iso_mean":
+        return oracle.check_iso_mean(js, chk)
     if kind == "plan_sigma":
         got = js["axes"][chk["axis"]][chk["name"]]
         ok = abs(got - chk["value"]) <= chk["rtol"] * chk["value"]
@@ -156,6 +160,8 @@ def _check_output(case_dir: Path, chk: dict, stdout: str) -> list[str]:
 def _exit_matches(want, code) -> bool:
     if want == "bug":
         return code not in (0, 2, None)
+    if want == "any":
+        return code is not None and code != "hung"
     if want == "signal":
         return code in (-signal.SIGTERM, 128 + signal.SIGTERM, 130)
     return code == want
@@ -207,9 +213,21 @@ def _run_inprocess(argv, case_dir, capsys, monkeypatch):
 
 
 def _run_signal(case, case_dir):
-    sig = getattr(signal, case["signal"]["sig"])
     before = _dotfiles(case_dir)
     env = dict(os.environ, PYTHONUNBUFFERED="1")
+    if case["signal"]["when"] == "epipe":   # the reader of stdout is gone before anything is written
+        r, w = os.pipe()
+        os.close(r)
+        proc = subprocess.Popen([sys.executable, "-m", "mtcal.cli", *case["argv"]], cwd=case_dir, stdout=w,
+                                stderr=subprocess.PIPE, env=env)
+        os.close(w)
+        try:
+            _, err = proc.communicate(timeout=120)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            return "hung", "", ""
+        return proc.returncode, "", err.decode(errors="replace")
+    sig = getattr(signal, case["signal"]["sig"])
     proc = subprocess.Popen([sys.executable, "-m", "mtcal.cli", *case["argv"]], cwd=case_dir,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
     t0 = time.monotonic()

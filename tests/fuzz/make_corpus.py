@@ -977,6 +977,112 @@ def cases_generated(C: Corpus, rnd: random.Random):
                 C.add(f"{cmd}_gen_opt_{opt[2:].replace('-', '_')}_{tag}", cmd, "option", lead[cmd] + [opt, val],
                       {f: files[f] for f in need}, [err(None, None, opt, option=True)])
 
+
+def sa_export(rows, header, eol="\n", scale=1.0, bad=None):
+    """A SpatialAnalyzer ASCII export (README: Collection Group Target x y z) of recording rows; names encode
+    axis, round, position, point and direction.  bad = (index, text) replaces one line's coordinates."""
+    ix = {c: header.index(c) for c in ("axis", "round", "position", "point", "x", "y", "z", "direction")}
+    out = ["// SA Version 2021.01.08", "// Working Frame: Machine::Machine Frame"]
+    for k, r in enumerate(rows):
+        d = "up" if r[ix["direction"]] == "1" else "dn"
+        name = f"{r[ix['axis']]}_r{r[ix['round']]}_{r[ix['position']]}_{r[ix['point']]}_{d}_{k}"
+        xyz = " ".join(f"{float(r[ix[c]]) / scale:.9f}" for c in "xyz")
+        if bad and bad[0] == k:
+            xyz = bad[1]
+        out.append(f"DMU50 Run{r[ix['round']]} {name} {xyz}")
+    return eol.join(out) + eol
+
+
+def sa_mapping(rows, header, bad_round_at=None):
+    """Mapping CSV target,axis,round,position,point,direction for sa_export's names; one round spelled 'one'."""
+    ix = {c: header.index(c) for c in ("axis", "round", "position", "point", "direction")}
+    out = ["target,axis,round,position,point,direction"]
+    for k, r in enumerate(rows):
+        d = "up" if r[ix["direction"]] == "1" else "dn"
+        name = f"{r[ix['axis']]}_r{r[ix['round']]}_{r[ix['position']]}_{r[ix['point']]}_{d}_{k}"
+        rnd = "one" if k == bad_round_at else r[ix["round"]]
+        out.append(",".join([name, r[ix["axis"]], rnd, r[ix["position"]], r[ix["point"]], r[ix["direction"]]]))
+    return "\n".join(out) + "\n"
+
+
+SA_PATTERN = r"(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>[A-Z]+)_(?P<direction>up|dn)_\d+"
+
+
+def cases_iso230_and_import(C: Corpus):
+    header, rows = recording_x_only()
+    rec = rows_to_csv(header, rows)
+    plan = jdump({"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5}}})
+    sim = ["simulate", "--plan", "plan.json", "--model", "truth.json", "--no-noise", "-o", "rec.csv"]
+    # noise-free X with E_XX = 2e-5 * X: the mean positional deviation at each target is E_XX(P) (um)
+    C.add("iso230_2_planted_exx", "iso230-2", "recording CSV", ["rec.csv", "--axis", "X", "--json"],
+          {"plan.json": plan, "truth.json": jdump(HAND_MODEL)},
+          [ok({"kind": "iso_mean", "axis": "X", "exx": ORACLE["exx"]})], setup=[sim])
+    C.add("iso230_2_report_dir", "iso230-2", "recording CSV", ["rec.csv", "-o", "rep"], {"rec.csv": rec},
+          [ok({"kind": "png", "dir": "rep", "min": 1}, {"kind": "exists", "paths": ["rep/iso230-2_X.csv"]})])
+    C.add("iso230_2_bom_german", "iso230-2", "recording CSV", ["rec.csv", "--json"],
+          {"rec.csv": b"\xef\xbb\xbf" + rows_to_csv(header, [[c.replace(".", ",") for c in r] for r in rows],
+                                                      sep=";").encode()},
+          [ok({"kind": "stdout_json", "keys": ["axes"]}, say=[";", "semicolon", "decimal comma"])])
+    bad = [r[:] for r in rows]
+    bad[20][header.index("x")] = "nan"
+    C.add("iso230_2_cell_nan", "iso230-2", "recording CSV", ["rec.csv"], {"rec.csv": rows_to_csv(header, bad)},
+          [err("rec.csv", 22, "nan", "finite", "x")])
+    for cid, argv, words in [("axis_unknown", ["--axis", "Q"], ["Q", "axis"]),
+                             ("target_points_text", ["--target-points", "a,b"], ["--target-points", "number"]),
+                             ("alpha_nan", ["--alpha", "nan", "--temperature-normalise"], ["--alpha", "finite"]),
+                             ("normalise_without_alpha", ["--temperature-normalise"], ["--alpha"]),
+                             ("point_unknown", ["--point", "ZZ"], ["ZZ", "point", "--point"]),
+                             ("angle_unit_bad", ["--angle-unit", "grad"], ["--angle-unit", "grad"])]:
+        C.add(f"iso230_2_opt_{cid}", "iso230-2", "option", ["rec.csv", *argv], {"rec.csv": rec},
+              [err(None, None, *words, option=True), err("rec.csv", None, *words)])
+    C.add("iso230_2_empty", "iso230-2", "recording CSV", ["rec.csv"], {"rec.csv": ""},
+          [err("rec.csv", None, "empty", "no data", "header")])
+    C.add("iso230_2_input_is_directory", "iso230-2", "path", ["rec.csv"], dirs=["rec.csv"],
+          expect=[err("rec.csv", None, "directory")])
+    C.add("iso230_2_output_onto_file", "iso230-2", "path", ["rec.csv", "-o", "rep"], {"rec.csv": rec, "rep": "x"},
+          [err("rep", None, "directory", "exists", "file")])
+    C.add("iso230_2_output_overwrites_input", "iso230-2", "overwrite", ["rep/iso230-2_X.csv", "-o", "rep"],
+          {"rep/iso230-2_X.csv": rec}, [err("iso230-2_X.csv", None, "input", "overwrite", "same")])
+    # import-sa: the export of a recording imports back to the same readings
+    exp = sa_export(rows, header)
+    rt = {"kind": "recording_equal", "path": "out.csv", "ref": "orig.csv"}
+    base = ["export.txt", "--pattern", SA_PATTERN, "-o", "out.csv"]
+    C.add("import_sa_round_trip", "import-sa", "SA export", base + ["--json"], {"export.txt": exp, "orig.csv": rec},
+          [ok(rt, {"kind": "stdout_json", "keys": []})])
+    C.add("import_sa_crlf_inches", "import-sa", "SA export", base + ["--units", "in"],
+          {"export.txt": sa_export(rows, header, eol="\r\n", scale=25.4), "orig.csv": rec}, [ok(rt)])
+    C.add("import_sa_bom_cp1252_comment", "import-sa", "SA export", base,
+          {"export.txt": b"\xef\xbb\xbf// Messung 20\xb0C\n".replace(b"\xb0", "°".encode("cp1252"))
+           + exp.encode(), "orig.csv": rec}, [ok(rt), err("export.txt", 1, "decode", "encoding", "BOM")])
+    for cid, badline, words in [("text", "1.0 abc 3.0", ["number", "abc"]), ("nan", "1.0 nan 3.0", ["finite", "nan"]),
+                                ("two_numbers", "1.0 2.0", ["x y z", "number", "field", "column"])]:
+        C.add(f"import_sa_line_{cid}", "import-sa", "SA export", base,
+              {"export.txt": sa_export(rows, header, bad=(7, badline))}, [err("export.txt", 10, *words)])
+    C.add("import_sa_unmatched", "import-sa", "SA export", base,
+          {"export.txt": exp + "DMU50 Run1 Nest_check 0 0 0\n"},
+          [err("export.txt", len(rows) + 3, "match", "Nest_check")])
+    C.add("import_sa_pattern_invalid", "import-sa", "option", ["export.txt", "--pattern", "(?P<axis", "-o", "o.csv"],
+          {"export.txt": exp}, [err(None, None, "--pattern", "regular expression", "regex", option=True)])
+    C.add("import_sa_pattern_no_groups", "import-sa", "option", ["export.txt", "--pattern", "X_.*", "-o", "o.csv"],
+          {"export.txt": exp}, [err(None, None, "--pattern", "group", "axis", option=True)])
+    C.add("import_sa_mapping_missing", "import-sa", "path", ["export.txt", "--mapping", "map.csv", "-o", "o.csv"],
+          {"export.txt": exp}, [err("map.csv", None, "no such", "not found", "does not exist", "missing")])
+    C.add("import_sa_mapping_bad_row", "import-sa", "recording CSV",
+          ["export.txt", "--mapping", "map.csv", "-o", "o.csv"],
+          {"export.txt": exp, "map.csv": sa_mapping(rows, header, bad_round_at=3)},
+          [err("map.csv", 5, "round", "one", "number", "integer")])
+    C.add("import_sa_mapping_valid", "import-sa", "SA export", ["export.txt", "--mapping", "map.csv", "-o", "out.csv"],
+          {"export.txt": exp, "map.csv": sa_mapping(rows, header), "orig.csv": rec}, [ok(rt)])
+    C.add("import_sa_empty", "import-sa", "SA export", base, {"export.txt": ""},
+          [err("export.txt", None, "empty", "no ")])
+    C.add("import_sa_binary", "import-sa", "SA export", base, {"export.txt": bytes(range(256)) * 8},
+          [err("export.txt", None, "binary", "decode", "encoding", "NUL", "number")])
+    C.add("import_sa_output_equals_input", "import-sa", "overwrite",
+          ["export.txt", "--pattern", SA_PATTERN, "-o", "export.txt"], {"export.txt": exp},
+          [err("export.txt", None, "input", "overwrite", "same")])
+    C.add("import_sa_output_is_directory", "import-sa", "path", base, {"export.txt": exp}, dirs=["out.csv"],
+          expect=[err("out.csv", None, "directory")])
+
 def cases_signals(C: Corpus):
     big = ["%", "G90 G21", "G0 X0 Y0 Z50", "G1 Z5 F1000"]
     for k in range(150_000):
@@ -990,6 +1096,9 @@ def cases_signals(C: Corpus):
     C.add("signal_sigterm_compensate", "compensate", "signal", argv, files,
           [{"exit": "signal", "quiet": True, "checks": [{"kind": "absent", "path": "out.nc"}]}],
           signal={"sig": "SIGTERM", "when": "temp"})
+    C.add("signal_stdout_closed", "plan", "signal", ["--axes", "X", "--json"], {},
+          [{"exit": "any", "quiet": True, "checks": []}], signal={"sig": "EPIPE", "when": "epipe"},
+          note="stdout is a pipe whose reader has gone (mtcal ... | head): no traceback")
     C.add("signal_sigint_plan", "plan", "signal", ["--monte-carlo", "2000000", "--axes", "C"], {},
           [{"exit": 130, "quiet": True, "checks": []}], signal={"sig": "SIGINT", "when": "delay", "delay": 2.0})
 
@@ -1009,6 +1118,7 @@ def build(root: Path) -> list[dict]:
     cases_real_data(C)
     cases_more_paths(C)
     cases_generated(C, rnd)
+    cases_iso230_and_import(C)
     cases_signals(C)
     C.write()
     return C.cases

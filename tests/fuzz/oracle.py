@@ -369,3 +369,39 @@ def check_png(case_dir: Path, chk: dict) -> list[str]:
     files = [case_dir / chk["file"]] if "file" in chk else sorted((case_dir / chk["dir"]).rglob("*.png"))
     files = [f for f in files if f.is_file() and f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"]
     return [] if len(files) >= chk.get("min", 1) else [f"{len(files)} PNG files written, want >= {chk.get('min', 1)}"]
+
+
+def check_iso_mean(stdout_json: dict, chk: dict) -> list[str]:
+    """ISO 230-2 on noise-free readings of an axis with only E_XX acting: the mean positional deviation at each
+    target is E_XX(P) - E_XX(P_0) (um), up and down alike (no reversal)."""
+    ax = stdout_json["axes"][chk["axis"]]
+    xs, vs = chk["exx"]
+    probs = []
+    for key in ("mean_up", "mean_down", "mean"):
+        for p, got in zip(ax["positions"], ax["targets"][key]):
+            want = 1000.0 * (_interp(p, xs, vs) - _interp(0.0, xs, vs))
+            if abs(got - want) > 1e-3:
+                probs.append(f"{key} at {p}: {got} um, want {want} um")
+    return probs[:5]
+
+
+def check_recording_equal(case_dir: Path, chk: dict) -> list[str]:
+    """Same readings (axis, round, position, point, direction, x y z to 1e-6 mm) as a reference recording."""
+    p = case_dir / chk["path"]
+    if not p.is_file():
+        return [f"{chk['path']} was not written"]
+    def key_rows(path):
+        h, rows = read_recording(path)
+        ix = [h.index(c) for c in ("axis", "round", "position", "point", "direction")]
+        return sorted((tuple(r[i] if k != 2 else float(r[i]) for k, i in enumerate(ix)),
+                       tuple(float(r[h.index(c)]) for c in "xyz")) for r in rows)
+    got, want = key_rows(p), key_rows(case_dir / chk["ref"])
+    if len(got) != len(want):
+        return [f"{len(got)} readings, want {len(want)}"]
+    probs = []
+    for (kg, xg), (kw, xw) in zip(got, want):
+        if (kg[0], int(float(kg[1])), kg[2], kg[3], int(float(kg[4]))) != \
+                (kw[0], int(float(kw[1])), kw[2], kw[3], int(float(kw[4]))) or \
+                max(abs(a - b) for a, b in zip(xg, xw)) > 1e-6:
+            probs.append(f"reading {kg} {xg} vs {kw} {xw}")
+    return probs[:5]
