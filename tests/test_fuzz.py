@@ -115,6 +115,10 @@ def _check_output(case_dir: Path, chk: dict, stdout: str) -> list[str]:
         return oracle.check_recording_csv(case_dir, chk)
     if kind == "sim_exx":
         return oracle.check_sim_exx(case_dir, chk)
+    if kind == "linuxcnc_comp":
+        return oracle.check_linuxcnc_comp(case_dir, chk)
+    if kind == "finite_text":
+        return oracle.check_finite_text(case_dir, chk)
     if kind == "recording_equal":
         return oracle.check_recording_equal(case_dir, chk)
     if kind == "model_exx":

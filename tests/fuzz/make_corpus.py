@@ -1083,6 +1083,66 @@ def cases_iso230_and_import(C: Corpus):
     C.add("import_sa_output_is_directory", "import-sa", "path", base, {"export.txt": exp}, dirs=["out.csv"],
           expect=[err("out.csv", None, "directory")])
 
+
+def cases_export(C: Corpus):
+    """mtcal export: the hand model's E_XX in LinuxCNC tables (README: type 1 trims = -error, type 0 = nominal +
+    error), the other formats written and finite; bad models, options and paths refused."""
+    hand = jdump(HAND_MODEL)
+    for t in ("0", "1"):
+        C.add(f"export_linuxcnc_type{t}", "export", "model JSON",
+              ["model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", t, "--json"], {"model.json": hand},
+              [ok({"kind": "linuxcnc_comp", "dir": "lc", "axis": "X", "type": int(t), "exx": ORACLE["exx"]},
+                  {"kind": "stdout_json", "keys": []})])
+    for fmt, out in [("siemens", "COMP.MPF"), ("heidenhain", "tnc"), ("tf5280", "vol.csv"), ("etalon", "etalon.txt")]:
+        C.add(f"export_{fmt}_valid", "export", "model JSON", ["model.json", "--format", fmt, "-o", out],
+              {"model.json": hand}, [ok({"kind": "finite_text", "path": out})])
+    C.add("export_demo_truth_siemens", "export", "model JSON", ["truth.json", "--format", "siemens", "-o", "C.MPF"],
+          {"truth.json": (DATA / "demo_truth.json").read_bytes()}, [ok({"kind": "finite_text", "path": "C.MPF"})])
+    lc = ["model.json", "--format", "linuxcnc", "-o", "lc"]
+    wanted = {"shape_list", "shape_constants_list", "shape_functions_string", "field_true", "function_over_wrong_axis",
+              "field_nan", "truncated_json", "shape_poly_no_coefficients"}
+    for cid, text, words in shape_models():
+        if cid in wanted:
+            C.add(f"export_model_{cid}", "export", "model JSON", lc, {"model.json": text},
+                  [err("model.json", None, *words)])
+    for cid, argv, words in [("step_nan", ["--step", "nan"], ["--step"]), ("step_zero", ["--step", "0"], ["--step"]),
+                             ("step_neg", ["--step", "-5"], ["--step"]),
+                             ("max_points_zero", ["--max-points", "0"], ["--max-points"]),
+                             ("max_points_one", ["--max-points", "1"], ["--max-points", "point"]),
+                             ("format_bogus", ["--format", "fanuc"], ["--format", "fanuc"]),
+                             ("comp_file_type_2", ["--comp-file-type", "2"], ["--comp-file-type"]),
+                             ("require_unknown", ["--require", "E_QQ"], ["E_QQ", "--require", "unknown"])]:
+        C.add(f"export_opt_{cid}", "export", "option", ["model.json", "-o", "lc", *argv]
+              + (["--format", "linuxcnc"] if cid != "format_bogus" else []), {"model.json": hand},
+              [err(None, None, *words, option=True)])
+    C.add("export_require_not_held", "export", "option", lc + ["--require", "E_C0Y"], {"model.json": hand},
+          [{**err(None, None, "E_C0Y", "not held", "cannot", option=True),
+            "checks": [{"kind": "absent", "path": "lc"}]}])
+    for cid, text, words in [("missing", None, ["no such", "not found", "does not exist", "missing"]),
+                             ("list", "[1, 2]", ["object", "dict", "mapping", "list", "effects", "diagnos"]),
+                             ("truncated", '{"effects": [', ["JSON", "json", "expect", "parse"])]:
+        files = {"model.json": hand, **({"diag.json": text} if text is not None else {})}
+        C.add(f"export_diagnosis_{cid}", "export", "model JSON", lc + ["--diagnosis", "diag.json"], files,
+              [err("diag.json", None, *words)])
+    C.add("export_output_equals_model", "export", "overwrite",
+          ["model.json", "--format", "siemens", "-o", "model.json"], {"model.json": hand},
+          [err("model.json", None, "input", "overwrite", "same")])
+    C.add("export_output_dir_holds_model", "export", "overwrite",
+          ["lc/joint0_X.comp", "--format", "linuxcnc", "-o", "lc"], {"lc/joint0_X.comp": hand},
+          [err("joint0_X.comp", None, "input", "overwrite", "same")])
+    C.add("export_output_equals_diagnosis", "export", "overwrite",
+          ["model.json", "--format", "tf5280", "-o", "diag.json", "--diagnosis", "diag.json"],
+          {"model.json": hand, "diag.json": jdump({"effects": []})},
+          [err("diag.json", None, "input", "overwrite", "same")])
+    C.add("export_file_format_onto_directory", "export", "path", ["model.json", "--format", "siemens", "-o", "d"],
+          {"model.json": hand}, dirs=["d"], expect=[err("d", None, "directory")])
+    C.add("export_folder_format_onto_file", "export", "path", lc, {"model.json": hand, "lc": "a file"},
+          [err("lc", None, "directory", "exists", "file")])
+    C.add("export_output_parent_is_file", "export", "path", ["model.json", "--format", "tf5280", "-o", "f/v.csv"],
+          {"model.json": hand, "f": "a file"}, [err("f", None, "not a directory", "directory")])
+    C.add("export_model_is_directory", "export", "path", lc, dirs=["model.json"],
+          expect=[err("model.json", None, "directory")])
+
 def cases_signals(C: Corpus):
     big = ["%", "G90 G21", "G0 X0 Y0 Z50", "G1 Z5 F1000"]
     for k in range(150_000):
@@ -1119,6 +1179,7 @@ def build(root: Path) -> list[dict]:
     cases_more_paths(C)
     cases_generated(C, rnd)
     cases_iso230_and_import(C)
+    cases_export(C)
     cases_signals(C)
     C.write()
     return C.cases

@@ -405,3 +405,33 @@ def check_recording_equal(case_dir: Path, chk: dict) -> list[str]:
                 max(abs(a - b) for a, b in zip(xg, xw)) > 1e-6:
             probs.append(f"reading {kg} {xg} vs {kw} {xw}")
     return probs[:5]
+
+
+def check_linuxcnc_comp(case_dir: Path, chk: dict) -> list[str]:
+    """LinuxCNC COMP_FILE of an axis (README, mtcal export): lines `nominal forward reverse`; type 1 holds the
+    trims -E(x), type 0 the positions reached, x + E(x); E is the hand model's E_XX."""
+    files = sorted((case_dir / chk["dir"]).glob(f"*_{chk['axis']}.comp"))
+    if len(files) != 1:
+        return [f"want one *_{chk['axis']}.comp in {chk['dir']}, got {[f.name for f in files]}"]
+    xs, vs = chk["exx"]
+    probs, n = [], 0
+    for lno, line in enumerate(files[0].read_text().splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        pos, fwd, rev = (float(v) for v in line.split())
+        want = -_interp(pos, xs, vs) if chk["type"] == 1 else pos + _interp(pos, xs, vs)
+        n += 1
+        if max(abs(fwd - want), abs(rev - want)) > 1e-8:
+            probs.append(f"{files[0].name}:{lno}: {line.strip()} (want {want:.9f})")
+    return (probs or ([] if n >= 2 else [f"only {n} table lines"]))[:5]
+
+
+def check_finite_text(case_dir: Path, chk: dict) -> list[str]:
+    """Every output file exists, is not empty and has no nan/inf numbers."""
+    p = case_dir / chk["path"]
+    files = [p] if p.is_file() else sorted(f for f in p.rglob("*") if f.is_file()) if p.is_dir() else []
+    if not files:
+        return [f"{chk['path']} was not written"]
+    bad = [f.name for f in files if not f.stat().st_size
+           or re.search(r"(?<![A-Za-z])(nan|inf)(?![A-Za-z])", f.read_text(errors="replace"), re.I)]
+    return [f"empty or non-finite: {bad}"] if bad else []
