@@ -8,6 +8,7 @@ cases.json:
 
     {"id", "command", "kind" (input kind under test), "argv" (relative to the case folder),
      "setup": [argv, ...],                     # optional: mtcal commands run first (must exit 0)
+     "rewrites": [prefix, ...],                # optional: earlier outputs the command may rewrite
      "expect": [alternative, ...],            # the case passes when one alternative holds
      "signal": {...}}                          # optional: run as a subprocess and send a signal
 
@@ -61,7 +62,7 @@ class Corpus:
         self.cases: list[dict] = []
 
     def add(self, cid, command, kind, argv, files=None, expect=(), dirs=(), signal=None, note="", links=None,
-            setup=()):
+            setup=(), rewrites=()):
         if any(c["id"] == cid for c in self.cases):
             raise SystemExit(f"duplicate case id {cid}")
         d = self.root / cid
@@ -80,6 +81,8 @@ class Corpus:
             case["signal"] = signal
         if setup:
             case["setup"] = [list(a) for a in setup]
+        if rewrites:
+            case["rewrites"] = list(rewrites)
         if note:
             case["note"] = note
         self.cases.append(case)
@@ -1093,6 +1096,12 @@ def cases_export(C: Corpus):
               ["model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", t, "--json"], {"model.json": hand},
               [ok({"kind": "linuxcnc_comp", "dir": "lc", "axis": "X", "type": int(t), "exx": ORACLE["exx"]},
                   {"kind": "stdout_json", "keys": []})])
+    # exporting again into the folder a previous export wrote (the usual re-run) works and rewrites the tables
+    C.add("export_linuxcnc_rerun_same_folder", "export", "path",
+          ["model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", "1"], {"model.json": hand},
+          [ok({"kind": "linuxcnc_comp", "dir": "lc", "axis": "X", "type": 1, "exx": ORACLE["exx"]})],
+          setup=[["export", "model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", "0"]],
+          rewrites=["lc/"])
     for fmt, out in [("siemens", "COMP.MPF"), ("heidenhain", "tnc"), ("tf5280", "vol.csv"), ("etalon", "etalon.txt")]:
         C.add(f"export_{fmt}_valid", "export", "model JSON", ["model.json", "--format", fmt, "-o", out],
               {"model.json": hand}, [ok({"kind": "finite_text", "path": out})])
