@@ -44,6 +44,7 @@ from mtcal.errors import InputError
 from mtcal.machine import Machine, load_machine
 from mtcal.recordings import Recording
 from mtcal.tracker import covariance
+from mtcal.io import save_figure
 
 AXIS_ORDER = ("X", "Y", "Z", "B", "C")
 MAX_DEGREE = 3
@@ -433,7 +434,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         notes.append({"name": "thermal_drift", "axis": None, "not_separable": NOT_SEPARABLE["thermal_drift"]})
     if g.tracker is not None:
         out.append(fx.tracker_scale(g))
-    for s, (a, r, label) in enumerate(prep.seq_keys):
+    for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes
@@ -883,7 +884,7 @@ def plot_residuals(diag: Diagnosis, directory) -> list[str]:
         fig.suptitle(f"residuals {tag} the diagnosed effects ({prep.rec.source})")
         fig.tight_layout()
         p = os.path.join(str(directory), f"residuals_{tag}.png")
-        fig.savefig(p, dpi=110)
+        save_figure(fig, p, dpi=110)
         plt.close(fig)
         paths.append(p)
     return paths
@@ -963,7 +964,7 @@ def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> d
         for c, s in scored:
             fams.setdefault(c[0] if c[0] == "outlier" else c[1], []).append((c, s))
         best = None
-        for fam, mem in fams.items():
+        for mem in fams.values():
             c, s = min(mem, key=lambda cs: cs[1]["logp"])
             lp = s["logp"] + math.log(len(mem) * len(fams))
             if best is None or lp < best[2]:

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.errors import InputError
+from mtcal.io import read_text
 from mtcal.recordings import LINEAR, ROTARY, Recording, make_recording
 
 UNITS_MM = {"mm": 1.0, "in": 25.4, "m": 1000.0}
@@ -171,12 +172,12 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
         line = raw.strip().lstrip("\ufeff")
         if not line or line.startswith("//"):
             continue
-        where, fields = f"{source}, line {n}", _split(line)
+        where, fields = f"{source}:{n}", _split(line)
         if not points and col is None and (h := _header(fields)) is not None:
             col, width = h, len(fields)
             unknown = [f for f in fields if f.strip().lower() not in HEADER_NAMES]
             if unknown:
-                notes.append(f"{source}, line {n}: column(s) {unknown} not used")
+                notes.append(f"{source}:{n}: column(s) {unknown} not used")
             continue
         if col is not None:
             p = _by_header(fields, col, width, where)
@@ -187,7 +188,7 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
                     raise InputError(f"{where}: expected 1-3 name fields (Collection Group Target) before x y z, "
                                      f"found {k}; numeric target names need name_fields (--name-fields)")
                 if k < 3 and "::" not in fields[0]:
-                    notes.append(f"{source}, line {n}: {k} name field(s) before x y z taken from the first "
+                    notes.append(f"{source}:{n}: {k} name field(s) before x y z taken from the first "
                                  f"non-number; numbered targets need --name-fields 3")
             p = _positional(fields, k, where)
         p.line = n
@@ -204,29 +205,26 @@ TargetMap = dict[str, dict[str, str]]  # target name -> {axis, round, position, 
 def read_mapping(path: str | Path) -> TargetMap:
     """Mapping CSV: header target,axis,round,position,point[,direction]; one row per target name."""
     p = Path(path)
-    try:
-        rows = list(csv.reader(io.StringIO(p.read_text())))
-    except FileNotFoundError:
-        raise FileNotFoundError(f"mapping file not found: {p}") from None
+    rows = list(csv.reader(io.StringIO(read_text(p, "mapping"))))
     rows = [(i + 1, r) for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise InputError(f"{p}: empty mapping file")
     header = [h.strip().lower() for h in rows[0][1]]
     need = ("target",) + GROUPS
     if not set(need) <= set(header) or not set(header) <= set(need + ("direction",)):
-        raise InputError(f"{p}, line {rows[0][0]}: header must be target,axis,round,position,point[,direction], "
+        raise InputError(f"{p}:{rows[0][0]}: header must be target,axis,round,position,point[,direction], "
                          f"got {','.join(header)}")
     out: TargetMap = {}
     seen: dict[str, int] = {}
     for line, r in rows[1:]:
         if len(r) != len(header):
-            raise InputError(f"{p}, line {line}: {len(r)} fields, header has {len(header)}")
+            raise InputError(f"{p}:{line}: {len(r)} fields, header has {len(header)}")
         row = {h: v.strip() for h, v in zip(header, r)}
         name = row.pop("target")
         if name in seen:
-            raise InputError(f"{p}, line {line}: target {name!r} mapped again (first at line {seen[name]})")
+            raise InputError(f"{p}:{line}: target {name!r} mapped again (first at line {seen[name]})")
         seen[name] = line
-        out[name] = row | {"_where": f"{p}, line {line}"}
+        out[name] = row | {"_where": f"{p}:{line}"}
     return out
 
 
@@ -297,7 +295,7 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
         if found is None:
             skipped.append((p.full_name, p.line))
             continue
-        where = f"{source}, line {p.line}" + (f" (mapping: {found['_where']})" if "_where" in found else "")
+        where = f"{source}:{p.line}" + (f" (mapping: {found['_where']})" if "_where" in found else "")
         keep.append(p)
         keys.append(_keys(found, where))
     if skipped and not skip_unmatched:
@@ -325,7 +323,7 @@ def _check_duplicates(points: list[SAPoint], keys: list[tuple], source: str) -> 
     for p, k in zip(points, keys):
         key = k + (p.time if isinstance(p.time, float) else str(p.time),)
         if key in seen:
-            raise InputError(f"{source}, line {p.line}: target {p.full_name} maps to the same reading as line "
+            raise InputError(f"{source}:{p.line}: target {p.full_name} maps to the same reading as line "
                              f"{seen[key]} (axis {k[0]}, round {k[1]}, position {k[2]:g}, point {k[3]}); repeated "
                              f"readings need a direction or a time stamp")
         seen[key] = p.line

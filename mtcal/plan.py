@@ -32,6 +32,7 @@ from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.machine import Machine, load_machine
 from mtcal.simulate import AXIS_ORDER, LINEAR, TRACKER_POSITIONS, Plan, as_plan
+from mtcal.io import save_figure
 
 WEIGHTINGS = ("tracker", "none")
 
@@ -259,7 +260,8 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine = "dmu50
                               "position and the round's reference reading (position closest to zero, first approach), "
                               "9 equations, " +
                               ("generalised LS weighted by the AT960 covariance" if weighting == "tracker"
-                               else "ordinary LS") + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds",
+                               else "ordinary LS")
+                              + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds",
                  "approaches_per_round": approaches,
                  "weighting": weighting, "rounds": pl.rounds, "mid_travel": {}, "axes": {}, "mean_of_rounds": {},
                  "by_position": {}}
@@ -356,7 +358,7 @@ def plot_placement_map(path, plan=None, *, tracker=None, z: float | None = None,
         ax.set_aspect("equal")
         ax.set_title(f"{key} errors of X, Y, Z (mid-travel), tracker z = {z:g} mm", fontsize=10)
     fig.suptitle("Predicted one-round uncertainty vs tracker floor position (x: best grid cell, *: given)")
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     mp["best"] = {}
     for key in ("translational", "angular"):

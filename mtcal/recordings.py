@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.io import atomic_write_text
+from mtcal.io import atomic_write_text, read_csv_rows
 
 REQUIRED = ("axis", "round", "position", "point", "x", "y", "z")
 OPTIONAL = ("time_s", "direction", "temperature_c")
@@ -48,7 +48,7 @@ class Recording:
         return [a for a in ("X", "Y", "Z", "A", "B", "C") if a in set(self.axis.tolist())]
 
     def where(self, i: int) -> str:
-        return f"{self.source}, line {int(self.line[i])}"
+        return f"{self.source}:{int(self.line[i])}"
 
 
 _FIELDS = ("axis", "round", "position", "point", "xyz", "time_s", "direction", "temperature_c", "line")
@@ -65,34 +65,34 @@ def _float(text: str, col: str, where: str) -> float:
 
 
 def read_recording(path: str | Path) -> Recording:
-    """Read and check a recording CSV (header required; units mm and degrees)."""
-    p = Path(path)
-    try:
-        text = p.read_text()
-    except FileNotFoundError:
-        raise FileNotFoundError(f"recording file not found: {p}") from None
-    return parse_recording(text, str(p))
+    """Read and check a recording CSV (header required; units mm and degrees; see mtcal.io.read_csv_rows for
+    encodings and ';' exports)."""
+    return _parse_rows(read_csv_rows(path, "recording"), str(path))
 
 
 def parse_recording(text: str, source: str = "<memory>") -> Recording:
-    rows = list(csv.reader(io.StringIO(text)))
-    rows = [(i + 1, r) for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")]
+    """A recording from CSV text (comma-separated)."""
+    rows = [(i + 1, r) for i, r in enumerate(csv.reader(io.StringIO(text))) if r and not r[0].lstrip().startswith("#")]
     if not rows:
-        raise InputError(f"{source}: empty file, expected header {','.join(REQUIRED)}")
+        raise InputError(f"empty file, expected header {','.join(REQUIRED)}", source)
+    return _parse_rows(rows, source)
+
+
+def _parse_rows(rows: list[tuple[int, list[str]]], source: str) -> Recording:
     hline, header = rows[0]
     header = [h.strip().lower() for h in header]
     missing = [c for c in REQUIRED if c not in header]
     if missing:
-        raise InputError(f"{source}, line {hline}: missing column(s) {missing}; header must contain "
+        raise InputError(f"{source}:{hline}: missing column(s) {missing}; header must contain "
                          f"{','.join(REQUIRED)} (optional {','.join(OPTIONAL)})")
     unknown = [c for c in header if c not in REQUIRED + OPTIONAL]
     if unknown:
-        raise InputError(f"{source}, line {hline}: unknown column(s) {unknown}; allowed: {REQUIRED + OPTIONAL}")
+        raise InputError(f"{source}:{hline}: unknown column(s) {unknown}; allowed: {REQUIRED + OPTIONAL}")
     col = {c: header.index(c) for c in header}
     out = {f: [] for f in _FIELDS}
     seen: dict[tuple, int] = {}
     for line, r in rows[1:]:
-        where = f"{source}, line {line}"
+        where = f"{source}:{line}"
         if len(r) != len(header):
             raise InputError(f"{where}: {len(r)} fields, header has {len(header)}")
         ax = r[col["axis"]].strip().upper()
@@ -148,14 +148,16 @@ def _check_units(rec: Recording) -> None:
 def format_recording(rec: Recording, precision: int = 6) -> str:
     """CSV text of a recording (optional columns written when any row has them)."""
     cols = list(REQUIRED)
-    has_t, has_d, has_c = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any(), (~np.isnan(rec.temperature_c)).any()
+    has_t, has_d = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any()
+    has_c = (~np.isnan(rec.temperature_c)).any()
     cols += [c for c, h in zip(OPTIONAL, (has_t, has_d, has_c)) if h]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
     f = f"{{:.{precision}f}}"
     for i in range(len(rec)):
-        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i], *(f.format(v) for v in rec.xyz[i])]
+        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i],
+               *(f.format(v) for v in rec.xyz[i])]
         if has_t:
             row.append(f"{rec.time_s[i]:.3f}")
         if has_d:

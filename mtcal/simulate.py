@@ -39,6 +39,7 @@ import numpy as np
 
 from mtcal import tracker as trk
 from mtcal.effects import Rows, as_effects
+from mtcal import schema as sc
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.machine import Machine, load_machine
@@ -46,6 +47,7 @@ from mtcal.model import ErrorModel
 from mtcal.recordings import Recording, make_recording, write_recording
 
 AXIS_ORDER = ("X", "Y", "Z", "B", "C")
+MAX_READING_MM = 1e6  # a simulated reading farther than 1 km from the machine origin is no measurement
 LINEAR = ("X", "Y", "Z")
 
 # Thesis fig. 5.1 tracker placements (our reading of the sketch; machine frame, mm):
@@ -74,7 +76,8 @@ class Plan:
 
     tracker: tuple[float, float, float] = DEFAULT_TRACKER
     rounds: int = 4
-    positions: dict[str, np.ndarray] = field(default_factory=lambda: {k: v.copy() for k, v in DEFAULT_POSITIONS.items()})
+    positions: dict[str, np.ndarray] = field(
+        default_factory=lambda: {k: v.copy() for k, v in DEFAULT_POSITIONS.items()})
     at: dict[str, dict[str, float]] = field(default_factory=dict)
     tool_points: dict[str, tuple] = field(default_factory=lambda: dict(DEFAULT_TOOL_POINTS))
     table_points: dict[str, tuple] = field(default_factory=lambda: dict(DEFAULT_TABLE_POINTS))
@@ -87,6 +90,7 @@ class Plan:
     round_pause_s: float = 60.0
     axis_change_s: float = 300.0
     temperature_c: float = 20.0
+    source: str = "<default plan>"  # the PLAN.json it came from (for messages)
 
     def points_for(self, axis: str) -> dict[str, tuple]:
         return self.tool_points if axis in LINEAR else self.table_points
@@ -110,18 +114,20 @@ _PLAN_KEYS = {"tracker", "rounds", "axes", "points", "bidirectional", "feed_mm_s
               "measure_s", "reflector_change_s", "round_pause_s", "axis_change_s", "temperature_c"}
 
 
+def _xyz(v: Any, where: str) -> tuple[float, float, float]:
+    """[x, y, z]: three finite JSON numbers (mm)."""
+    if not (isinstance(v, list) and len(v) == 3 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                                                        and math.isfinite(c) for c in v)):
+        raise InputError(f"{where} must be [x, y, z] in mm (three finite numbers), got {v!r}")
+    return tuple(float(c) for c in v)
+
+
 def _points(raw: Any, where: str) -> dict[str, tuple]:
     if not isinstance(raw, Mapping) or len(raw) < 3:
         raise InputError(f"{where}: needs >= 3 labelled points {{label: [x, y, z]}}, got {raw!r}")
     out = {}
     for k, v in raw.items():
-        try:
-            xyz = tuple(float(c) for c in v)
-        except (TypeError, ValueError):
-            xyz = ()
-        if len(xyz) != 3 or not all(math.isfinite(c) for c in xyz):
-            raise InputError(f"{where}: point {k!r} must be [x, y, z] in mm, got {v!r}")
-        out[str(k)] = xyz
+        out[str(k)] = _xyz(v, f"{where}: point {k!r}")
     pts = np.array(list(out.values()))
     c = pts - pts.mean(axis=0)
     if np.linalg.matrix_rank(c, tol=1e-6 * max(1.0, np.abs(c).max())) < 2:
@@ -137,15 +143,9 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
     if unknown:
         raise InputError(f"{source}: unknown key(s) {unknown}; allowed: {sorted(_PLAN_KEYS)}")
     plan = Plan()
-    kw: dict[str, Any] = {}
+    kw: dict[str, Any] = {"source": source}
     if "tracker" in raw:
-        try:
-            t = tuple(float(c) for c in raw["tracker"])
-        except (TypeError, ValueError):
-            t = ()
-        if len(t) != 3 or not all(math.isfinite(c) for c in t):
-            raise InputError(f"{source}: tracker must be [x, y, z] in mm, got {raw['tracker']!r}")
-        kw["tracker"] = t
+        kw["tracker"] = _xyz(raw["tracker"], f"{source}: tracker")
     if "rounds" in raw:
         r = raw["rounds"]
         if not isinstance(r, int) or isinstance(r, bool) or r < 1:
@@ -165,15 +165,16 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
             bad = sorted(set(spec) - {"positions", "start", "stop", "count", "at"})
             if bad:
                 raise InputError(f"{source}: axes.{a}: unknown key(s) {bad}")
-            try:
-                if "positions" in spec:
-                    p = np.asarray(spec["positions"], dtype=float)
-                elif "start" in spec or "stop" in spec or "count" in spec:
-                    p = np.linspace(float(spec["start"]), float(spec["stop"]), int(spec["count"]))
-                else:
-                    p = DEFAULT_POSITIONS[a].copy()
-            except (KeyError, TypeError, ValueError) as exc:
-                raise InputError(f"{source}: axes.{a}: give positions or start, stop, count ({exc})") from None
+            if "positions" in spec:
+                p = sc.numbers(spec["positions"], source, f"axes.{a}.positions", 2)
+            elif "start" in spec or "stop" in spec or "count" in spec:
+                n = spec.get("count")
+                if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+                    raise InputError(f"{source}: axes.{a}.count must be a whole number >= 2, got {n!r}")
+                p = np.linspace(sc.number(spec.get("start"), source, f"axes.{a}.start"),
+                                sc.number(spec.get("stop"), source, f"axes.{a}.stop"), n)
+            else:
+                p = DEFAULT_POSITIONS[a].copy()
             if p.ndim != 1 or len(p) < 2 or not np.isfinite(p).all() or len(np.unique(p)) != len(p):
                 raise InputError(f"{source}: axes.{a}: positions must be >= 2 distinct finite numbers")
             if a == "B" and (p.min() < 0 or p.max() > 180):
@@ -182,10 +183,7 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
             other = spec.get("at", {}) or {}
             if not isinstance(other, Mapping) or any(k not in AXIS_ORDER or k == a for k in other):
                 raise InputError(f"{source}: axes.{a}.at must map other axes to positions, got {other!r}")
-            try:
-                at[a] = {k: float(v) for k, v in other.items()}
-            except (TypeError, ValueError):
-                raise InputError(f"{source}: axes.{a}.at values must be numbers") from None
+            at[a] = {k: sc.number(v, source, f"axes.{a}.at.{k}") for k, v in other.items()}
         kw["positions"], kw["at"] = pos, at
     if "points" in raw:
         pts = raw["points"]
@@ -205,7 +203,8 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
             v = raw[k]
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or (
                     v < 0 and k != "temperature_c") or (k.startswith("feed") and v <= 0):
-                raise InputError(f"{source}: {k} must be a {'positive ' if k.startswith('feed') else ''}number, got {v!r}")
+                kind = "positive " if k.startswith("feed") else ""
+                raise InputError(f"{source}: {k} must be a {kind}number, got {v!r}")
             kw[k] = float(v)
     return replace(plan, **kw)
 
@@ -283,8 +282,22 @@ def exact_points(machine: Machine, rows: Rows, errors: np.ndarray) -> np.ndarray
     return xyz
 
 
+def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
+    """Every pose of the plan inside the machine's axis limits (from its spec); the message names the plan axis."""
+    for k, (name, lim) in enumerate(zip(m.axes, m.limits)):
+        if lim is None:
+            continue
+        out = (rows.axes[:, k] < lim[0]) | (rows.axes[:, k] > lim[1])
+        if out.any():
+            i = int(np.flatnonzero(out)[0])
+            unit = "deg" if m.axis_kinds[k] == "rotary" else "mm"
+            raise InputError(f"{pl.source}: measuring axis {rows.axis[i]} puts {name} at {rows.axes[i, k]:g} {unit}, "
+                             f"outside its range [{lim[0]:g}, {lim[1]:g}] {unit} on {m.name}")
+
+
 # ---------------------------------------------------------------------------------------------- campaign
-def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50", tracker=None, rounds: int | None = None,
+def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50", tracker=None,
+             rounds: int | None = None,
              seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
              spec: trk.TrackerSpec = trk.AT960) -> tuple[Recording, dict]:
     """(recording, truth) of one simulated campaign; see ``simulate_campaign``."""
@@ -302,19 +315,25 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
     if not np.isfinite(t_pos).all():
         raise InputError(f"tracker position must be finite, got {pl.tracker}")
     rows = schedule(pl)
+    _check_poses(m, pl, rows)
     if model is not None and model.machine != m.name:
         raise InputError(f"error model is for machine {model.machine!r}, simulating {m.name!r}")
     errors = (model.errors_at(m, rows.axes) if model is not None
               else np.zeros((len(rows), len(m.error_names))))
-    for e in eff:
-        e.add_errors(rows, errors, m.error_names)
-    true_xyz = exact_points(m, rows, errors)
-    xyz = true_xyz.copy()
-    for e in eff:
-        e.apply_readings(rows, xyz, t_pos)
-    rng = np.random.default_rng(seed)
-    if noise:
-        xyz = xyz + trk.sample(xyz, t_pos, rng, spec)
+    with np.errstate(over="ignore", invalid="ignore"):  # non-finite readings are refused below, in one line
+        for e in eff:
+            e.add_errors(rows, errors, m.error_names)
+        xyz = exact_points(m, rows, errors)
+        for e in eff:
+            e.apply_readings(rows, xyz, t_pos)
+        if noise and np.isfinite(xyz).all():
+            xyz = xyz + trk.sample(xyz, t_pos, np.random.default_rng(seed), spec)
+    bad = ~(np.abs(xyz) <= MAX_READING_MM).all(axis=1)  # NaN compares False
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InputError(f"simulated reading of axis {rows.axis[i]} at {rows.position[i]:g} is not finite or beyond "
+                         f"{MAX_READING_MM:g} mm: an effect or model value is out of range "
+                         f"({', '.join(e.name for e in eff) or 'no effects'})")
     temp = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff), np.zeros(len(rows)))
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
     truth = {

@@ -4,38 +4,38 @@ from __future__ import annotations
 import argparse
 import sys
 
-from mtcal.io import dumps
-from mtcal.tracker import parse_xyz
+from mtcal.io import dumps, refuse_overwrite
+from mtcal.commands._options import integer, xyz
+from mtcal.errors import InputError
 
 NAME = "plan"
 HELP = "predict the uncertainty of the identified errors for a tracker placement (linear propagation + Monte Carlo)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--tracker", metavar="x,y,z", help="tracker position in mm, machine frame "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position in mm, machine frame "
                    "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.simulate)")
-    p.add_argument("--monte-carlo", type=int, default=0, metavar="N",
+    p.add_argument("--monte-carlo", type=integer(0), default=0, metavar="N",
                    help="also run N simulated rounds per axis through the estimator (GUM Supplement 1)")
-    p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
+    p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
                    help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
     p.add_argument("--axes", metavar="X,Y,...", help="axes to report (default: all axes of the plan)")
-    p.add_argument("--plot", metavar="PNG", help="write a map of the predicted uncertainty over tracker floor positions")
+    p.add_argument("--plot", metavar="PNG",
+                   help="write a map of the predicted uncertainty over tracker floor positions")
 
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.plan import plan_uncertainty, plot_placement_map
     from mtcal.simulate import Plan, load_plan
 
-    if args.monte_carlo < 0:
-        raise ValueError(f"--monte-carlo must be >= 0, got {args.monte_carlo}")
     if args.monte_carlo == 1:
-        raise ValueError("--monte-carlo needs at least 2 rounds for a standard deviation")
+        raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")
+    refuse_overwrite([args.plot], args.plan)
     plan = load_plan(args.plan) if args.plan else Plan()
-    tracker = parse_xyz(args.tracker) if args.tracker is not None else None
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
-    res = plan_uncertainty(tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
+    res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
                            weighting=args.weighting, axes=axes, progress=not args.json)
     if args.plot:
         if not args.json:

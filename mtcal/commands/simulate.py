@@ -6,7 +6,7 @@ import sys
 
 from mtcal import effects as fx
 from mtcal.io import dumps, refuse_overwrite
-from mtcal.tracker import parse_xyz
+from mtcal.commands._options import integer, xyz
 
 NAME = "simulate"
 HELP = "simulate laser-tracker recordings from an error model, a tracker placement and planted effects"
@@ -16,10 +16,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", metavar="MODEL.json", help="error model of the simulated machine (default: no errors)")
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan: positions, points, rounds, times "
                    "(schema in mtcal.simulate; default: the thesis campaign)")
-    p.add_argument("--tracker", metavar="x,y,z", help="tracker position in mm, machine frame "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position in mm, machine frame "
                    "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
-    p.add_argument("--rounds", type=int, metavar="N", help="rounds (default: the plan's, else 4)")
-    p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
+    p.add_argument("--rounds", type=integer(1), metavar="N", help="rounds (default: the plan's, else 4)")
+    p.add_argument("--seed", type=integer(0), default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
@@ -31,16 +31,12 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.model import load_model
     from mtcal.simulate import load_plan, simulate, truth_path, write_campaign
 
-    refuse_overwrite(args.output, args.model, args.plan)
-    refuse_overwrite(truth_path(args.output), args.model, args.plan)
-    tracker = parse_xyz(args.tracker) if args.tracker is not None else None
+    refuse_overwrite([args.output, truth_path(args.output)], args.model, args.plan)
     effects = [fx.parse_effect(e) for e in args.effect]
     model = load_model(args.model) if args.model else None
     plan = load_plan(args.plan) if args.plan else None
     machine = args.machine or (model.machine if model is not None else "dmu50")
-    if args.rounds is not None and args.rounds < 1:
-        raise ValueError(f"--rounds must be a positive integer, got {args.rounds}")
-    rec, truth = simulate(model, machine=machine, tracker=tracker, rounds=args.rounds, seed=args.seed,
+    rec, truth = simulate(model, machine=machine, tracker=args.tracker, rounds=args.rounds, seed=args.seed,
                           effects=effects, noise=not args.no_noise, plan=plan)
     truth["model_file"] = args.model
     truth["plan_file"] = args.plan
@@ -52,7 +48,8 @@ def run(args: argparse.Namespace) -> int:
         print(dumps(summary))
     else:
         print(f"wrote {args.output}: {len(rec)} readings, axes {' '.join(rec.axes())}, {truth['rounds']} rounds, "
-              f"{summary['duration_s'] / 3600:.2f} h simulated; tracker at {', '.join(f'{c:g}' for c in truth['tracker'])} mm; "
+              f"{summary['duration_s'] / 3600:.2f} h simulated; "
+              f"tracker at {', '.join(f'{c:g}' for c in truth['tracker'])} mm; "
               f"noise {'AT960' if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
