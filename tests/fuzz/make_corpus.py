@@ -787,8 +787,8 @@ def cases_plate(C: Corpus, rnd: random.Random):
     mut("missing_column", [ln.rsplit(",", 1)[0] for ln in lines], first + 1, ["y2", "column"])
     mut("header_only", lines[:first + 1], None, ["no data", "empty", "point", "no rows"])
     mut("two_points", lines[:first + 3], None, ["point", "few", "enough", "3"])
-    mut("x3_without_y3", [lines[first] + ",x3"] + [ln + ",1.0" for ln in lines[first + 1:]], first + 1,
-        ["x3", "y3", "column", "pair"])
+    mut("x3_without_y3", lines[:first] + [lines[first] + ",x3"] + [ln + ",1.0" for ln in lines[first + 1:]],
+        first + 1, ["x3", "y3", "column", "pair"])
     C.add("plate_empty", "plate", "plate CSV", ["pos.csv"], {"pos.csv": ""}, [err("pos.csv", None, "empty", "no data",
                                                                                   "header")])
     C.add("plate_binary", "plate", "plate CSV", ["pos.csv"], {"pos.csv": bytes(range(256)) * 4},
