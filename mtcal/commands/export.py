@@ -52,7 +52,8 @@ def run(args: argparse.Namespace) -> int:
     require = [n.strip() for n in args.require.split(",") if n.strip()]
     res = export_model(model, machine, args.format, args.output, args.model, args.step, args.max_points, diag,
                        args.comp_file_type, require, args.kinematics_comp,
-                       protect=tuple(p for p in (args.model, args.diagnosis) if p))
+                       protect=tuple(p for p in (args.model, args.diagnosis) if p),
+                       diagnosis_source=args.diagnosis or "diagnosis")
     out = {"format": res.format, "files": res.files, "sign": res.sign, "held": res.held, "not_held": res.not_held,
            "tables": res.tables, "warnings": res.warnings,
            "units": {"positions": "mm (linear axes), deg (rotary axes)",
