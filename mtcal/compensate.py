@@ -878,7 +878,12 @@ class ProgramCompensator:
         m = comp.machine
         try:
             q0 = m.inverse(poses)
-        except InputError as exc:
+        except InputError as exc:  # name the first pose the machine cannot reach by its file line
+            for r in range(len(poses)):
+                try:
+                    m.inverse(poses[r:r + 1])
+                except InputError as one:
+                    raise InputError(f"{self._src}:{int(nos[r])}: {str(one).replace(' at index (0,)', '')}") from None
             raise InputError(f"{self._src}: {exc}") from None
         # C continuity: at the singularity take the previous C, elsewhere the 360-deg multiple nearest the previous
         sing = np.hypot(poses[:, 3], poses[:, 4]) < 1e-9
