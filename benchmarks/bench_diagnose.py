@@ -6,7 +6,8 @@ import time
 
 def run() -> dict:
     from mtcal.diagnose import diagnose
-    from mtcal.simulate import DEFAULT_TRACKER, simulate_campaign
+    from mtcal.simulate import Plan, simulate_campaign
+    DEFAULT_TRACKER = Plan().tracker
 
     out = {}
     for label, effects in (("clean", ()), ("backlash_x", [("backlash", {"axis": "X", "amount": 0.004})])):

@@ -10,7 +10,8 @@ from timing import best_of
 def run() -> dict:
     from mtcal.generated import threepoint_numpy as tp
     from mtcal.identify import identify
-    from mtcal.simulate import DEFAULT_TRACKER, simulate_campaign
+    from mtcal.simulate import Plan, simulate_campaign
+    DEFAULT_TRACKER = Plan().tracker
 
     rec = simulate_campaign(None, tracker=DEFAULT_TRACKER, seed=0)
     identify(rec)  # warm-up (imports, first calls)

@@ -30,7 +30,7 @@ def run() -> dict:
         "monte_carlo_1e4_rounds_X_11_positions_s": best_of(
             lambda: monte_carlo(m, pl, "X", pl.positions["X"], pl.tracker, 10_000), repeat=1),
         "monte_carlo_1e4_rounds_X_mid_travel_identify_2_passes_s": best_of(
-            lambda: monte_carlo(m, pl, "X", [250.0], pl.tracker, 10_000, solver="auto", approaches=2), repeat=1),
+            lambda: monte_carlo(m, pl, "X", [250.0], pl.tracker, 10_000, approaches=2), repeat=1),
         "monte_carlo_1e4_rounds_C_18_positions_s": best_of(
             lambda: monte_carlo(m, pl, "C", pl.positions["C"], pl.tracker, 10_000), repeat=1),
     }

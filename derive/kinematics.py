@@ -136,15 +136,17 @@ def _point_functions(ch: Chain) -> list[Function]:
 
 
 def _ik(ch: Chain, nominal_t0w: sp.Matrix) -> tuple[list[Function], dict]:
-    """Closed-form inverse for a table-tilt + rotary-table machine with the tool along base +z.
+    """Closed-form inverse for a tilt axis (on the table or on the head) plus a rotary table (last table joint).
 
-    Tool axis in the workpiece frame: n = Rz(s C)^T u(B), u(B) = R_pre(B)^T z, so k = u_z(B) = a + b cos B + c sin B
-    (asserted) gives B = phi +/- acos((k - a)/rho); C is the angle that turns u onto n about z; the linear axes
-    follow from the tool tip = T_0^w(B, C) p_w.
+    With R_pre the table rotation before the rotary joint and R_tool(tilt) the head rotation, the tool axis seen
+    from the rotary table is u(tilt) = R_pre^T R_tool z, and in the workpiece frame n = Rz(s C)^T u(tilt).  So
+    k = u_z(tilt) = a + b cos(tilt) + c sin(tilt) (asserted) gives tilt = phi +/- acos((k - a)/rho) (the two IK
+    branches); C is the angle that turns u onto n about z (free at the singularity u || z, k = a + rho); the
+    linear axes follow from the tool tip = T_0^w(tilt, C) p_w.
     """
     spec = ch.spec
     ik = spec.ik
-    if ik.get("kind") != "table_tilt_rotary":
+    if ik.get("kind") not in ("tilt_rotary", "table_tilt_rotary"):
         raise ValueError(f"{spec.path.name}: unsupported ik kind {ik.get('kind')!r}")
     tilt, rot = ch.qs[ik["tilt"]], ch.qs[ik["rotary"]]
     last = spec.table_chain[-1]
@@ -152,12 +154,11 @@ def _ik(ch: Chain, nominal_t0w: sp.Matrix) -> tuple[list[Function], dict]:
         raise ValueError(f"{spec.path.name}: ik needs the rotary table joint last in table_chain")
     zero: dict = {}
     tool_nom = ch.chain("tool_chain", zero)
-    if tool_nom[:3, :3] != sp.eye(3):
-        raise ValueError(f"{spec.path.name}: ik needs the tool axis along base +z")
     s = last.get("sign", 1)
-    u = ch.chain("table_chain", zero, upto=-1)[:3, :3].T * sp.Matrix([0, 0, 1])
+    u = ch.chain("table_chain", zero, upto=-1)[:3, :3].T * tool_nom[:3, :3] * sp.Matrix([0, 0, 1])
     if u.free_symbols - {tilt}:
-        raise ValueError(f"{spec.path.name}: u(tilt) depends on {u.free_symbols - {tilt}}")
+        raise ValueError(f"{spec.path.name}: the tool axis seen from the rotary table depends on "
+                         f"{u.free_symbols - {tilt}}; ik needs it to depend on {ik['tilt']} only")
     uz = sp.simplify(u[2])
     at = {v: uz.subs(tilt, v) for v in (0, 90, 180)}
     a = sp.nsimplify((at[0] + at[180]) / 2)
@@ -197,11 +198,17 @@ def _ik(ch: Chain, nominal_t0w: sp.Matrix) -> tuple[list[Function], dict]:
                  f"axis onto (i, j), and sin of the angle between tool axis and {ik['rotary']} axis "
                  f"(0 at the singularity, where {ik['rotary']} is free).", vector_output=True),
         Function("ik_linear", (Arg("rot", (tilt, rot), f"[{ik['tilt']}, {ik['rotary']}] in deg"),
-                               Arg("tip", (x, y, z), "tool tip in the workpiece frame, mm")),
-                 linear, "Linear axes (mm) that put the tool tip at `tip` for the given rotary angles.",
+                               Arg("tip", (x, y, z), "tool tip in the workpiece frame, mm"),
+                               Arg("tool_length", (TOOL_LENGTH,), "tool length below the error reference point, mm",
+                                   vector=False)),
+                 linear, "Linear axes (mm) that put the tool tip at `tip` for the given rotary angles and tool.",
                  vector_output=True),
     ], {"tilt_axis": ik["tilt"], "rotary_axis": ik["rotary"], "rotary_sign": int(s),
-        "k_range": [float(k_range[0]), float(k_range[1])], "preferred_branch": int(ik.get("preferred_branch", 1))}
+        "k_range": [float(k_range[0]), float(k_range[1])], "preferred_branch": int(ik.get("preferred_branch", 1)),
+        "singular_k": float(a + rho), "phi_deg": float(phi / DEG),
+        "branches": f"{ik['tilt']} = phi + t (branch +1) or phi - t (branch -1), cos t = (k - a)/rho; "
+                    f"singular at k = {float(a + rho):g} (tool axis parallel to {ik['rotary']}, which is then free)",
+        "tilt_side": spec.side(ik["tilt"])}
 
 
 def _trig_reduce(ch: Chain, expr: sp.Expr) -> sp.Expr:
@@ -268,6 +275,7 @@ def derive_machine(spec: Spec, progress=lambda msg: None) -> Module:
     ik_funcs, ik_meta = _ik(ch, ch.chain("table_chain", {}))
 
     groups = spec.error_names()
+    names = [a.name for a in spec.axes]
     meta = {
         "MACHINE": spec.name,
         "TITLE": spec.title,
@@ -277,6 +285,9 @@ def derive_machine(spec: Spec, progress=lambda msg: None) -> Module:
         "ERRORS": ch.error_names,
         "ERROR_GROUPS": {k: list(v) for k, v in groups.items()},
         "PARAMETERS": {k: str(v) for k, v in spec.parameters.items()},
+        "AXIS_SIDES": {n: spec.side(n) for n in names},
+        "POSITIONING_ERRORS": {n: spec.positioning_error(n) for n in names},
+        "CAMPAIGN": spec.campaign,
         "IK": ik_meta,
         "POSE": ("x", "y", "z", "i", "j", "k"),
     }

@@ -5,8 +5,15 @@ it adds to the design.  Each effect is written here once as a physical model of 
 (machine frame, mm), and its signature is the exact derivative of that model with respect to the effect's
 parameters at zero effect (all models below are linear in their amplitudes, so the signature is exact, not
 just first order).  Where an effect acts through an error function of the machine, its model takes ``column``:
-the generated point Jacobian column of that error (dmu50 ``tool_point_jacobian_errors`` /
-``table_point_jacobian_errors``, mm per mm or mm per rad), so the kinematics stays in derive/kinematics.py.
+the generated point Jacobian column of that error (Machine.point_jacobian_errors: the machine's
+``tool_point_jacobian_errors`` / ``table_point_jacobian_errors``, mm per mm or mm per rad), so the kinematics
+stays in derive/kinematics.py.
+
+The same model is emitted for simulation (mtcal.effects): ``<effect>_model`` gives the increment of the affected
+error function (mm or rad), which the simulator adds to the machine's errors and carries to the reflectors
+through the exact error-inclusive kinematics; ``thermal_drift_displacement`` and ``tracker_scale_reading`` move
+the readings themselves.  So each effect is written once, and tests/test_effects_physics.py shows that
+simulate(effect) - simulate(none) = signature x parameter to first order, with a second-order remainder.
 
 Effects (names of design.md; q = axis position, d = approach direction +-1, dt = time since the warm-up
 started, s):
@@ -67,24 +74,27 @@ def build(progress=lambda m: None) -> Module:
 
     fns: list[Function] = []
     progress("error-function effects")
-    models = {
-        "backlash": ((col_arg, d_arg), col * (d * b / 2), [b],
-                     "backlash: d point / d reversal value b (positioning error + d b / 2), mm per mm or per rad"),
-        "scale": ((col_arg, q_arg), col * (PPM * ppm * q), [ppm],
-                  "scale: d point / d ppm (positioning error + 1e-6 ppm q; q in mm, or rad for rotary), mm per ppm"),
-        "second_order": ((col_arg, q_arg), col * (c2 * q**2), [c2],
-                         "second_order: d point / d c (error function + c q^2), mm per (unit / q^2)"),
-        "cross_axis": ((col_arg, q_arg, qo_arg), col * (cx * q * qo), [cx],
-                       "cross_axis: d point / d c (error function + c q_own q_on), mm per (unit / (q q_on))"),
-        "periodic": ((col_arg, q_arg, pitch_arg),
-                     col * (a_s * sp.sin(2 * sp.pi * q / pitch) + a_c * sp.cos(2 * sp.pi * q / pitch)), [a_s, a_c],
-                     "periodic: d point / d (a_s, a_c), positioning error + a_s sin(2 pi q / pitch) + "
-                     "a_c cos(2 pi q / pitch)"),
+    models = {  # effect: (arguments besides the parameters, increment of the error function, parameters, doc)
+        "backlash": ((d_arg,), d * b / 2, [b],
+                     "backlash: positioning error + d b / 2 (b = reversal value, mm or rad)"),
+        "scale": ((q_arg,), PPM * ppm * q, [ppm],
+                  "scale: positioning error + 1e-6 ppm q (q in mm, or rad for rotary)"),
+        "second_order": ((q_arg,), c2 * q**2, [c2],
+                         "second_order: error function + c q^2 (per mm^2 or deg^2)"),
+        "cross_axis": ((q_arg, qo_arg), cx * q * qo, [cx],
+                       "cross_axis: error function + c q_own q_on"),
+        "periodic": ((q_arg, pitch_arg), a_s * sp.sin(2 * sp.pi * q / pitch) + a_c * sp.cos(2 * sp.pi * q / pitch),
+                     [a_s, a_c], "periodic: positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch)"),
     }
-    for name, (args, disp, params, doc) in models.items():
-        sig = _signature(disp, params)
-        fns.append(Function(f"{name}_signature", args, sig if sig.shape[1] > 1 else sig,
-                            doc, vector_output=sig.shape[1] == 1))
+    for name, (args, inc, params, doc) in models.items():
+        par = Arg("params", tuple(params), f"effect parameters [{', '.join(map(str, params))}]")
+        fns.append(Function(f"{name}_model", args + (par,), sp.Matrix([inc]),
+                            f"{doc}: the increment of the error function (mm or rad), for simulation.",
+                            vector_output=True))
+        sig = _signature(col * inc, params)
+        fns.append(Function(f"{name}_signature", (col_arg,) + args, sig,
+                            f"{doc}: d point / d parameters at zero effect = column x d increment / d parameters, "
+                            f"mm per parameter unit.", vector_output=sig.shape[1] == 1))
 
     progress("reading effects")
     warm = 1 - sp.exp(-dt / tau)
@@ -96,6 +106,9 @@ def build(progress=lambda m: None) -> Module:
     fns.append(Function("thermal_drift_dtau", (amp_arg, dt_arg, tau_arg), drift.diff(tau).applyfunc(sp.simplify),
                         "thermal_drift: d point / d tau at amplitude A, mm per s", vector_output=True))
     scaled = tr + (1 + PPM * ppm) * (pt - tr)
+    fns.append(Function("tracker_scale_reading", (pt_arg, tr_arg, Arg("ppm", (ppm,), "scale, 1e-6", vector=False)),
+                        scaled, "tracker_scale: the reading (mm) of a point when the tracker's distances scale by "
+                                "1 + 1e-6 ppm about the tracker (refractive index of air wrong)", vector_output=True))
     fns.append(Function("tracker_scale_signature", (pt_arg, tr_arg), _signature(scaled - pt, [ppm]),
                         "tracker_scale: d reading / d ppm (radial scaling about the tracker), mm per ppm",
                         vector_output=True))

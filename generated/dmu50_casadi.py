@@ -2456,12 +2456,13 @@ def ik_rotary():
 
 @functools.cache
 def ik_linear():
-    """Linear axes (mm) that put the tool tip at `tip` for the given rotary angles.
+    """Linear axes (mm) that put the tool tip at `tip` for the given rotary angles and tool.
 
     rot (..., 2): [B, C] in deg
         [B, C]
     tip (..., 3): tool tip in the workpiece frame, mm
         [x, y, z]
+    tool_length (...): tool length below the error reference point, mm
     returns (..., 3)
     """
     rot = ca.SX.sym('rot', 2)
@@ -2471,6 +2472,8 @@ def ik_linear():
     x = tip[0]
     y = tip[1]
     z = tip[2]
+    tool_length = ca.SX.sym('tool_length', 1)
+    tool_length = tool_length[0]
     _x0 = (1/180)*ca.pi
     _x1 = B*_x0
     _x2 = ca.sqrt(2)*ca.sin(_x1)
@@ -2490,4 +2493,4 @@ def ik_linear():
     _out[0, 0] = _x11*_x2 - _x13*_x2 - _x2*_x3 + (38749/500)*_x2 + _x7*x + _x9*y
     _out[1, 0] = -_x11 + _x13 + _x14 - _x3
     _out[2, 0] = _x11 - _x13 + _x14 + _x3
-    return ca.Function('dmu50_ik_linear', [rot, tip], [_out], ['rot', 'tip'], ['out'])
+    return ca.Function('dmu50_ik_linear', [rot, tip, tool_length], [_out], ['rot', 'tip', 'tool_length'], ['out'])

@@ -26,7 +26,26 @@ ERROR_GROUPS = {'linear': ['E_XX', 'E_YX', 'E_ZX', 'E_AX', 'E_BX', 'E_CX', 'E_XY
  'rotary': ['E_XB', 'E_YB', 'E_ZB', 'E_AB', 'E_BB', 'E_CB', 'E_XC', 'E_YC', 'E_ZC', 'E_AC', 'E_BC', 'E_CC'],
  'squareness': ['E_C0Y', 'E_B0Z', 'E_A0Z']}
 PARAMETERS = {'d': '38749/250', 'tilt': '45'}
-IK = {'k_range': [0.0, 1.0], 'preferred_branch': 1, 'rotary_axis': 'C', 'rotary_sign': -1, 'tilt_axis': 'B'}
+AXIS_SIDES = {'B': 'table', 'C': 'table', 'X': 'tool', 'Y': 'tool', 'Z': 'tool'}
+POSITIONING_ERRORS = {'B': 'E_CB', 'C': 'E_CC', 'X': 'E_XX', 'Y': 'E_YY', 'Z': 'E_ZZ'}
+CAMPAIGN = {'positions': [['X', 0.0, 500.0, 11], ['Y', 0.0, 450.0, 11], ['Z', 0.0, 400.0, 11], ['B', 0.0, 180.0, 19],
+               ['C', 0.0, 340.0, 18]],
+ 'reflectors': {'table': [['P', [150.0, 0.0, 40.0]], ['Q', [-75.0, 130.0, 80.0]],
+                          ['K', [-75.0, -130.0, 120.0]]],
+                'tool': [['P', [70.0, 0.0, 10.0]], ['Q', [-35.0, 60.0, 40.0]], ['K', [-35.0, -60.0, 70.0]]]},
+ 'rounds': 4,
+ 'trackers': [['pos1', [250.0, -1500.0, 150.0]], ['pos2', [-1500.0, 225.0, 150.0]],
+              ['pos3', [250.0, 225.0, 2000.0]]]}
+IK = {'branches': 'B = phi + t (branch +1) or phi - t (branch -1), cos t = (k - a)/rho; singular at k = 1 (tool '
+             'axis parallel to C, which is then free)',
+ 'k_range': [0.0, 1.0],
+ 'phi_deg': 0.0,
+ 'preferred_branch': 1,
+ 'rotary_axis': 'C',
+ 'rotary_sign': -1,
+ 'singular_k': 1.0,
+ 'tilt_axis': 'B',
+ 'tilt_side': 'table'}
 POSE = ('x', 'y', 'z', 'i', 'j', 'k')
 FUNCTIONS = ('forward', 'jacobian_axes', 'forward_errors', 'forward_errors_with_jacobian', 'jacobian_errors', 'deviation_first_order', 'correction_first_order', 'tool_point', 'tool_point_jacobian_errors', 'table_point', 'table_point_jacobian_errors', 'ik_tilt', 'ik_rotary', 'ik_linear')
 
@@ -2400,17 +2419,19 @@ def ik_rotary(tilt, ij):
     return _out
 
 
-def ik_linear(rot, tip):
-    """Linear axes (mm) that put the tool tip at `tip` for the given rotary angles.
+def ik_linear(rot, tip, tool_length):
+    """Linear axes (mm) that put the tool tip at `tip` for the given rotary angles and tool.
 
     rot (..., 2): [B, C] in deg
         [B, C]
     tip (..., 3): tool tip in the workpiece frame, mm
         [x, y, z]
+    tool_length (...): tool length below the error reference point, mm
     returns (..., 3)
     """
     rot = as_arg(rot, 2, 'rot', 'ik_linear')
     tip = as_arg(tip, 3, 'tip', 'ik_linear')
+    tool_length = as_arg(tool_length, 0, 'tool_length', 'ik_linear')
     B = rot[..., 0]
     C = rot[..., 1]
     x = tip[..., 0]
@@ -2431,7 +2452,7 @@ def ik_linear(rot, tip):
     _x12 = (1/2)*y
     _x13 = _x12*_x6
     _x14 = _x10*_x2*_x6 - _x10*_x9 + _x12*_x2*_x8 + _x12*_x7 + _x3*_x4 - 38749/500*_x4 + 38749/500
-    _out = out_array((rot.shape[:-1], tip.shape[:-1],), (3,))
+    _out = out_array((rot.shape[:-1], tip.shape[:-1], tool_length.shape,), (3,))
     _out[..., 0] = _x11*_x2 - _x13*_x2 - _x2*_x3 + (38749/500)*_x2 + _x7*x + _x9*y
     _out[..., 1] = -_x11 + _x13 + _x14 - _x3
     _out[..., 2] = _x11 - _x13 + _x14 + _x3

@@ -11,12 +11,30 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('backlash_signature', 'scale_signature', 'second_order_signature', 'cross_axis_signature', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_signature', 'outlier_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'outlier_signature')
+
+
+@functools.cache
+def backlash_model():
+    """backlash: positioning error + d b / 2 (b = reversal value, mm or rad): the increment of the error function (mm or rad), for simulation.
+
+    d (...): approach direction, +1 or -1
+    params (..., 1): effect parameters [b]
+        [b]
+    returns (..., 1)
+    """
+    d = ca.SX.sym('d', 1)
+    d = d[0]
+    params = ca.SX.sym('params', 1)
+    b = params[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = (1/2)*b*d
+    return ca.Function('signatures_backlash_model', [d, params], [_out], ['d', 'params'], ['out'])
 
 
 @functools.cache
 def backlash_signature():
-    """backlash: d point / d reversal value b (positioning error + d b / 2), mm per mm or per rad
+    """backlash: positioning error + d b / 2 (b = reversal value, mm or rad): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -38,8 +56,26 @@ def backlash_signature():
 
 
 @functools.cache
+def scale_model():
+    """scale: positioning error + 1e-6 ppm q (q in mm, or rad for rotary): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    params (..., 1): effect parameters [ppm]
+        [ppm]
+    returns (..., 1)
+    """
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    params = ca.SX.sym('params', 1)
+    ppm = params[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = (1/1000000)*ppm*q
+    return ca.Function('signatures_scale_model', [q, params], [_out], ['q', 'params'], ['out'])
+
+
+@functools.cache
 def scale_signature():
-    """scale: d point / d ppm (positioning error + 1e-6 ppm q; q in mm, or rad for rotary), mm per ppm
+    """scale: positioning error + 1e-6 ppm q (q in mm, or rad for rotary): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -61,8 +97,26 @@ def scale_signature():
 
 
 @functools.cache
+def second_order_model():
+    """second_order: error function + c q^2 (per mm^2 or deg^2): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    params (..., 1): effect parameters [c2]
+        [c2]
+    returns (..., 1)
+    """
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    params = ca.SX.sym('params', 1)
+    c2 = params[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = c2*q**2
+    return ca.Function('signatures_second_order_model', [q, params], [_out], ['q', 'params'], ['out'])
+
+
+@functools.cache
 def second_order_signature():
-    """second_order: d point / d c (error function + c q^2), mm per (unit / q^2)
+    """second_order: error function + c q^2 (per mm^2 or deg^2): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -84,8 +138,29 @@ def second_order_signature():
 
 
 @functools.cache
+def cross_axis_model():
+    """cross_axis: error function + c q_own q_on: the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    q_on (...): position of the other axis, mm or deg
+    params (..., 1): effect parameters [cx]
+        [cx]
+    returns (..., 1)
+    """
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    q_on = ca.SX.sym('q_on', 1)
+    q_on = q_on[0]
+    params = ca.SX.sym('params', 1)
+    cx = params[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = cx*q*q_on
+    return ca.Function('signatures_cross_axis_model', [q, q_on, params], [_out], ['q', 'q_on', 'params'], ['out'])
+
+
+@functools.cache
 def cross_axis_signature():
-    """cross_axis: d point / d c (error function + c q_own q_on), mm per (unit / (q q_on))
+    """cross_axis: error function + c q_own q_on: d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -110,8 +185,31 @@ def cross_axis_signature():
 
 
 @functools.cache
+def periodic_model():
+    """periodic: positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    pitch (...): period of the periodic error, same unit as q
+    params (..., 2): effect parameters [a_s, a_c]
+        [a_s, a_c]
+    returns (..., 1)
+    """
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    pitch = ca.SX.sym('pitch', 1)
+    pitch = pitch[0]
+    params = ca.SX.sym('params', 2)
+    a_s = params[0]
+    a_c = params[1]
+    _x0 = 2*ca.pi*q/pitch
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = a_c*ca.cos(_x0) + a_s*ca.sin(_x0)
+    return ca.Function('signatures_periodic_model', [q, pitch, params], [_out], ['q', 'pitch', 'params'], ['out'])
+
+
+@functools.cache
 def periodic_signature():
-    """periodic: d point / d (a_s, a_c), positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch)
+    """periodic: positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -216,6 +314,35 @@ def thermal_drift_dtau():
     _out[1, 0] = -A_y*_x0
     _out[2, 0] = -A_z*_x0
     return ca.Function('signatures_thermal_drift_dtau', [amplitude, dt, tau], [_out], ['amplitude', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def tracker_scale_reading():
+    """tracker_scale: the reading (mm) of a point when the tracker's distances scale by 1 + 1e-6 ppm about the tracker (refractive index of air wrong)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    ppm (...): scale, 1e-6
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    ppm = ca.SX.sym('ppm', 1)
+    ppm = ppm[0]
+    _x0 = (1/1000000)*ppm + 1
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*(-tx + x) + tx
+    _out[1, 0] = _x0*(-ty + y) + ty
+    _out[2, 0] = _x0*(-tz + z) + tz
+    return ca.Function('signatures_tracker_scale_reading', [xyz, tracker, ppm], [_out], ['xyz', 'tracker', 'ppm'], ['out'])
 
 
 @functools.cache

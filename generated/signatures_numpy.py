@@ -11,11 +11,28 @@ import numpy
 
 from mtcal._gensupport import as_arg, out_array
 
-FUNCTIONS = ('backlash_signature', 'scale_signature', 'second_order_signature', 'cross_axis_signature', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_signature', 'outlier_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'outlier_signature')
+
+
+def backlash_model(d, params):
+    """backlash: positioning error + d b / 2 (b = reversal value, mm or rad): the increment of the error function (mm or rad), for simulation.
+
+    d (...): approach direction, +1 or -1
+    params (..., 1): effect parameters [b]
+        [b]
+    returns (..., 1)
+    """
+    d = as_arg(d, 0, 'd', 'backlash_model')
+    params = as_arg(params, 1, 'params', 'backlash_model')
+    d = d
+    b = params[..., 0]
+    _out = out_array((d.shape, params.shape[:-1],), (1,))
+    _out[..., 0] = (1/2)*b*d
+    return _out
 
 
 def backlash_signature(column, d):
-    """backlash: d point / d reversal value b (positioning error + d b / 2), mm per mm or per rad
+    """backlash: positioning error + d b / 2 (b = reversal value, mm or rad): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -36,8 +53,25 @@ def backlash_signature(column, d):
     return _out
 
 
+def scale_model(q, params):
+    """scale: positioning error + 1e-6 ppm q (q in mm, or rad for rotary): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    params (..., 1): effect parameters [ppm]
+        [ppm]
+    returns (..., 1)
+    """
+    q = as_arg(q, 0, 'q', 'scale_model')
+    params = as_arg(params, 1, 'params', 'scale_model')
+    q = q
+    ppm = params[..., 0]
+    _out = out_array((q.shape, params.shape[:-1],), (1,))
+    _out[..., 0] = (1/1000000)*ppm*q
+    return _out
+
+
 def scale_signature(column, q):
-    """scale: d point / d ppm (positioning error + 1e-6 ppm q; q in mm, or rad for rotary), mm per ppm
+    """scale: positioning error + 1e-6 ppm q (q in mm, or rad for rotary): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -58,8 +92,25 @@ def scale_signature(column, q):
     return _out
 
 
+def second_order_model(q, params):
+    """second_order: error function + c q^2 (per mm^2 or deg^2): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    params (..., 1): effect parameters [c2]
+        [c2]
+    returns (..., 1)
+    """
+    q = as_arg(q, 0, 'q', 'second_order_model')
+    params = as_arg(params, 1, 'params', 'second_order_model')
+    q = q
+    c2 = params[..., 0]
+    _out = out_array((q.shape, params.shape[:-1],), (1,))
+    _out[..., 0] = c2*q**2
+    return _out
+
+
 def second_order_signature(column, q):
-    """second_order: d point / d c (error function + c q^2), mm per (unit / q^2)
+    """second_order: error function + c q^2 (per mm^2 or deg^2): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -80,8 +131,28 @@ def second_order_signature(column, q):
     return _out
 
 
+def cross_axis_model(q, q_on, params):
+    """cross_axis: error function + c q_own q_on: the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    q_on (...): position of the other axis, mm or deg
+    params (..., 1): effect parameters [cx]
+        [cx]
+    returns (..., 1)
+    """
+    q = as_arg(q, 0, 'q', 'cross_axis_model')
+    q_on = as_arg(q_on, 0, 'q_on', 'cross_axis_model')
+    params = as_arg(params, 1, 'params', 'cross_axis_model')
+    q = q
+    q_on = q_on
+    cx = params[..., 0]
+    _out = out_array((q.shape, q_on.shape, params.shape[:-1],), (1,))
+    _out[..., 0] = cx*q*q_on
+    return _out
+
+
 def cross_axis_signature(column, q, q_on):
-    """cross_axis: d point / d c (error function + c q_own q_on), mm per (unit / (q q_on))
+    """cross_axis: error function + c q_own q_on: d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -105,8 +176,30 @@ def cross_axis_signature(column, q, q_on):
     return _out
 
 
+def periodic_model(q, pitch, params):
+    """periodic: positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    pitch (...): period of the periodic error, same unit as q
+    params (..., 2): effect parameters [a_s, a_c]
+        [a_s, a_c]
+    returns (..., 1)
+    """
+    q = as_arg(q, 0, 'q', 'periodic_model')
+    pitch = as_arg(pitch, 0, 'pitch', 'periodic_model')
+    params = as_arg(params, 2, 'params', 'periodic_model')
+    q = q
+    pitch = pitch
+    a_s = params[..., 0]
+    a_c = params[..., 1]
+    _x0 = 2*numpy.pi*q/pitch
+    _out = out_array((q.shape, pitch.shape, params.shape[:-1],), (1,))
+    _out[..., 0] = a_c*numpy.cos(_x0) + a_s*numpy.sin(_x0)
+    return _out
+
+
 def periodic_signature(column, q, pitch):
-    """periodic: d point / d (a_s, a_c), positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch)
+    """periodic: positioning error + a_s sin(2 pi q / pitch) + a_c cos(2 pi q / pitch): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -207,6 +300,34 @@ def thermal_drift_dtau(amplitude, dt, tau):
     _out[..., 0] = -A_x*_x0
     _out[..., 1] = -A_y*_x0
     _out[..., 2] = -A_z*_x0
+    return _out
+
+
+def tracker_scale_reading(xyz, tracker, ppm):
+    """tracker_scale: the reading (mm) of a point when the tracker's distances scale by 1 + 1e-6 ppm about the tracker (refractive index of air wrong)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    ppm (...): scale, 1e-6
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'tracker_scale_reading')
+    tracker = as_arg(tracker, 3, 'tracker', 'tracker_scale_reading')
+    ppm = as_arg(ppm, 0, 'ppm', 'tracker_scale_reading')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    ppm = ppm
+    _x0 = (1/1000000)*ppm + 1
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1], ppm.shape,), (3,))
+    _out[..., 0] = _x0*(-tx + x) + tx
+    _out[..., 1] = _x0*(-ty + y) + ty
+    _out[..., 2] = _x0*(-tz + z) + tz
     return _out
 
 

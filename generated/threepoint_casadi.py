@@ -11,7 +11,7 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('point_rows', 'design_matrix', 'solve_selected', 'selected_denominator', 'ls_solve', 'ls_residuals', 'point_shape', 'frame_dmu50_X', 'frame_dmu50_Y', 'frame_dmu50_Z', 'frame_dmu50_B', 'frame_dmu50_C', 'frame_xyzac_X', 'frame_xyzac_Y', 'frame_xyzac_Z', 'frame_xyzac_A', 'frame_xyzac_C')
+FUNCTIONS = ('point_rows', 'design_matrix', 'solve_selected', 'selected_denominator', 'ls_solve', 'ls_residuals', 'point_shape', 'frame_dmu50_X', 'frame_dmu50_Y', 'frame_dmu50_Z', 'frame_dmu50_B', 'frame_dmu50_C', 'frame_headbc_X', 'frame_headbc_Y', 'frame_headbc_Z', 'frame_headbc_B', 'frame_headbc_C', 'frame_xyzac_X', 'frame_xyzac_Y', 'frame_xyzac_Z', 'frame_xyzac_A', 'frame_xyzac_C')
 
 
 @functools.cache
@@ -718,6 +718,156 @@ def frame_dmu50_C():
     _out[2, 2] = _x6
     _out[2, 3] = _x8
     return ca.Function('threepoint_frame_dmu50_C', [axes], [_out], ['axes'], ['out'])
+
+
+@functools.cache
+def frame_headbc_X():
+    """headbc: frame of axis X after its nominal translation in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = ca.SX.sym('axes', 5)
+    X = axes[0]
+    Y = axes[1]
+    Z = axes[2]
+    B = axes[3]
+    C = axes[4]
+    _out = ca.SX.zeros(3, 4)
+    _out[0, 0] = 1
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[0, 3] = X
+    _out[1, 0] = 0
+    _out[1, 1] = 1
+    _out[1, 2] = 0
+    _out[1, 3] = 0
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = 1
+    _out[2, 3] = 150
+    return ca.Function('threepoint_frame_headbc_X', [axes], [_out], ['axes'], ['out'])
+
+
+@functools.cache
+def frame_headbc_Y():
+    """headbc: frame of axis Y after its nominal translation in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = ca.SX.sym('axes', 5)
+    X = axes[0]
+    Y = axes[1]
+    Z = axes[2]
+    B = axes[3]
+    C = axes[4]
+    _out = ca.SX.zeros(3, 4)
+    _out[0, 0] = 1
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[0, 3] = X
+    _out[1, 0] = 0
+    _out[1, 1] = 1
+    _out[1, 2] = 0
+    _out[1, 3] = Y
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = 1
+    _out[2, 3] = 150
+    return ca.Function('threepoint_frame_headbc_Y', [axes], [_out], ['axes'], ['out'])
+
+
+@functools.cache
+def frame_headbc_Z():
+    """headbc: frame of axis Z after its nominal translation in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = ca.SX.sym('axes', 5)
+    X = axes[0]
+    Y = axes[1]
+    Z = axes[2]
+    B = axes[3]
+    C = axes[4]
+    _out = ca.SX.zeros(3, 4)
+    _out[0, 0] = 1
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[0, 3] = X
+    _out[1, 0] = 0
+    _out[1, 1] = 1
+    _out[1, 2] = 0
+    _out[1, 3] = Y
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = 1
+    _out[2, 3] = Z + 150
+    return ca.Function('threepoint_frame_headbc_Z', [axes], [_out], ['axes'], ['out'])
+
+
+@functools.cache
+def frame_headbc_B():
+    """headbc: frame of axis B (stator frame) in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = ca.SX.sym('axes', 5)
+    X = axes[0]
+    Y = axes[1]
+    Z = axes[2]
+    B = axes[3]
+    C = axes[4]
+    _out = ca.SX.zeros(3, 4)
+    _out[0, 0] = 1
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[0, 3] = X
+    _out[1, 0] = 0
+    _out[1, 1] = 0
+    _out[1, 2] = 1
+    _out[1, 3] = Y
+    _out[2, 0] = 0
+    _out[2, 1] = -1
+    _out[2, 2] = 0
+    _out[2, 3] = Z + 150
+    return ca.Function('threepoint_frame_headbc_B', [axes], [_out], ['axes'], ['out'])
+
+
+@functools.cache
+def frame_headbc_C():
+    """headbc: frame of axis C (stator frame) in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; table side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = ca.SX.sym('axes', 5)
+    X = axes[0]
+    Y = axes[1]
+    Z = axes[2]
+    B = axes[3]
+    C = axes[4]
+    _out = ca.SX.zeros(3, 4)
+    _out[0, 0] = 1
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[0, 3] = 0
+    _out[1, 0] = 0
+    _out[1, 1] = 1
+    _out[1, 2] = 0
+    _out[1, 3] = 0
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = 1
+    _out[2, 3] = 0
+    return ca.Function('threepoint_frame_headbc_C', [axes], [_out], ['axes'], ['out'])
 
 
 @functools.cache

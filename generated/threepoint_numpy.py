@@ -19,6 +19,11 @@ FRAMES = {'dmu50_B': 'frame_dmu50_B',
  'dmu50_X': 'frame_dmu50_X',
  'dmu50_Y': 'frame_dmu50_Y',
  'dmu50_Z': 'frame_dmu50_Z',
+ 'headbc_B': 'frame_headbc_B',
+ 'headbc_C': 'frame_headbc_C',
+ 'headbc_X': 'frame_headbc_X',
+ 'headbc_Y': 'frame_headbc_Y',
+ 'headbc_Z': 'frame_headbc_Z',
  'xyzac_A': 'frame_xyzac_A',
  'xyzac_C': 'frame_xyzac_C',
  'xyzac_X': 'frame_xyzac_X',
@@ -29,12 +34,17 @@ FRAME_SIDES = {'dmu50_B': 'table',
  'dmu50_X': 'tool',
  'dmu50_Y': 'tool',
  'dmu50_Z': 'tool',
+ 'headbc_B': 'tool',
+ 'headbc_C': 'table',
+ 'headbc_X': 'tool',
+ 'headbc_Y': 'tool',
+ 'headbc_Z': 'tool',
  'xyzac_A': 'table',
  'xyzac_C': 'table',
  'xyzac_X': 'tool',
  'xyzac_Y': 'tool',
  'xyzac_Z': 'tool'}
-FUNCTIONS = ('point_rows', 'design_matrix', 'solve_selected', 'selected_denominator', 'ls_solve', 'ls_residuals', 'point_shape', 'frame_dmu50_X', 'frame_dmu50_Y', 'frame_dmu50_Z', 'frame_dmu50_B', 'frame_dmu50_C', 'frame_xyzac_X', 'frame_xyzac_Y', 'frame_xyzac_Z', 'frame_xyzac_A', 'frame_xyzac_C')
+FUNCTIONS = ('point_rows', 'design_matrix', 'solve_selected', 'selected_denominator', 'ls_solve', 'ls_residuals', 'point_shape', 'frame_dmu50_X', 'frame_dmu50_Y', 'frame_dmu50_Z', 'frame_dmu50_B', 'frame_dmu50_C', 'frame_headbc_X', 'frame_headbc_Y', 'frame_headbc_Z', 'frame_headbc_B', 'frame_headbc_C', 'frame_xyzac_X', 'frame_xyzac_Y', 'frame_xyzac_Z', 'frame_xyzac_A', 'frame_xyzac_C')
 
 
 def point_rows(point):
@@ -707,6 +717,135 @@ def frame_dmu50_C(axes):
     _out[..., 2, 1] = _x7
     _out[..., 2, 2] = _x6
     _out[..., 2, 3] = _x8
+    return _out
+
+
+def frame_headbc_X(axes):
+    """headbc: frame of axis X after its nominal translation in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = as_arg(axes, 5, 'axes', 'frame_headbc_X')
+    X = axes[..., 0]
+    _out = out_array((axes.shape[:-1],), (3, 4))
+    _out[..., 0, 0] = 1
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 0, 3] = X
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = 1
+    _out[..., 1, 2] = 0
+    _out[..., 1, 3] = 0
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = 0
+    _out[..., 2, 2] = 1
+    _out[..., 2, 3] = 150
+    return _out
+
+
+def frame_headbc_Y(axes):
+    """headbc: frame of axis Y after its nominal translation in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = as_arg(axes, 5, 'axes', 'frame_headbc_Y')
+    X = axes[..., 0]
+    Y = axes[..., 1]
+    _out = out_array((axes.shape[:-1],), (3, 4))
+    _out[..., 0, 0] = 1
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 0, 3] = X
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = 1
+    _out[..., 1, 2] = 0
+    _out[..., 1, 3] = Y
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = 0
+    _out[..., 2, 2] = 1
+    _out[..., 2, 3] = 150
+    return _out
+
+
+def frame_headbc_Z(axes):
+    """headbc: frame of axis Z after its nominal translation in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = as_arg(axes, 5, 'axes', 'frame_headbc_Z')
+    X = axes[..., 0]
+    Y = axes[..., 1]
+    Z = axes[..., 2]
+    _out = out_array((axes.shape[:-1],), (3, 4))
+    _out[..., 0, 0] = 1
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 0, 3] = X
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = 1
+    _out[..., 1, 2] = 0
+    _out[..., 1, 3] = Y
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = 0
+    _out[..., 2, 2] = 1
+    _out[..., 2, 3] = Z + 150
+    return _out
+
+
+def frame_headbc_B(axes):
+    """headbc: frame of axis B (stator frame) in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; tool side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = as_arg(axes, 5, 'axes', 'frame_headbc_B')
+    X = axes[..., 0]
+    Y = axes[..., 1]
+    Z = axes[..., 2]
+    _out = out_array((axes.shape[:-1],), (3, 4))
+    _out[..., 0, 0] = 1
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 0, 3] = X
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = 0
+    _out[..., 1, 2] = 1
+    _out[..., 1, 3] = Y
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = -1
+    _out[..., 2, 2] = 0
+    _out[..., 2, 3] = Z + 150
+    return _out
+
+
+def frame_headbc_C(axes):
+    """headbc: frame of axis C (stator frame) in which its error motion acts, as [R | o] (rotation, origin in mm) in the machine frame; table side, tool_length = 0.
+
+    axes (..., 5): axis positions: linear mm, rotary deg
+        [X, Y, Z, B, C]
+    returns (..., 3, 4)
+    """
+    axes = as_arg(axes, 5, 'axes', 'frame_headbc_C')
+    _out = out_array((axes.shape[:-1],), (3, 4))
+    _out[..., 0, 0] = 1
+    _out[..., 0, 1] = 0
+    _out[..., 0, 2] = 0
+    _out[..., 0, 3] = 0
+    _out[..., 1, 0] = 0
+    _out[..., 1, 1] = 1
+    _out[..., 1, 2] = 0
+    _out[..., 1, 3] = 0
+    _out[..., 2, 0] = 0
+    _out[..., 2, 1] = 0
+    _out[..., 2, 2] = 1
+    _out[..., 2, 3] = 0
     return _out
 
 

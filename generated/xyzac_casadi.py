@@ -2131,12 +2131,13 @@ def ik_rotary():
 
 @functools.cache
 def ik_linear():
-    """Linear axes (mm) that put the tool tip at `tip` for the given rotary angles.
+    """Linear axes (mm) that put the tool tip at `tip` for the given rotary angles and tool.
 
     rot (..., 2): [A, C] in deg
         [A, C]
     tip (..., 3): tool tip in the workpiece frame, mm
         [x, y, z]
+    tool_length (...): tool length below the error reference point, mm
     returns (..., 3)
     """
     rot = ca.SX.sym('rot', 2)
@@ -2146,6 +2147,8 @@ def ik_linear():
     x = tip[0]
     y = tip[1]
     z = tip[2]
+    tool_length = ca.SX.sym('tool_length', 1)
+    tool_length = tool_length[0]
     _x0 = (1/180)*ca.pi
     _x1 = C*_x0
     _x2 = ca.cos(_x1)
@@ -2158,4 +2161,4 @@ def ik_linear():
     _out[0, 0] = _x2*x + _x3*y
     _out[1, 0] = _x2*_x6*y + _x5*z - 120*_x5 - _x6*_x7
     _out[2, 0] = -_x2*_x5*y + _x5*_x7 + _x6*z - 120*_x6 + 120
-    return ca.Function('xyzac_ik_linear', [rot, tip], [_out], ['rot', 'tip'], ['out'])
+    return ca.Function('xyzac_ik_linear', [rot, tip, tool_length], [_out], ['rot', 'tip', 'tool_length'], ['out'])

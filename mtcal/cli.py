@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import errno
 import importlib
+import logging
 import pkgutil
 import signal
 import sys
@@ -18,7 +19,7 @@ import traceback
 import warnings
 
 from mtcal import commands
-from mtcal.commands._options import join_negative_values
+from mtcal.commands._options import add_common_arguments, join_negative_values
 from mtcal.errors import InputError
 from mtcal.io import remove_temporaries
 
@@ -36,6 +37,25 @@ def _modules():
             yield importlib.import_module(f"mtcal.commands.{info.name}")
 
 
+class _logging:
+    """Progress of every module goes through `logging` (logger "mtcal.<module>") to stderr as
+    "mtcal COMMAND: message"; -q keeps warnings only.  The previous configuration is restored on exit (the demo
+    runs commands in-process)."""
+
+    def __init__(self, command: str, quiet: bool):
+        self.log = logging.getLogger("mtcal")
+        self.command, self.quiet = command, quiet
+
+    def __enter__(self):
+        self.saved = (self.log.handlers[:], self.log.level, self.log.propagate)
+        h = logging.StreamHandler(sys.stderr)
+        h.setFormatter(logging.Formatter(f"mtcal {self.command}: %(message)s"))
+        self.log.handlers[:] = [h]
+        self.log.setLevel(logging.WARNING if self.quiet else logging.INFO)
+        self.log.propagate = False
+
+    def __exit__(self, *exc):
+        self.log.handlers[:], self.log.level, self.log.propagate = self.saved
 class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error (no usage block): ``mtcal CMD: error: argument --OPT: problem``."""
 
@@ -50,8 +70,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for mod in _modules():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
-        p.add_argument("--json", action="store_true", help="print a machine-readable JSON answer on stdout")
-        p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=debug_help)
+        add_common_arguments(p, debug_help)
         mod.add_arguments(p)
         p.set_defaults(_run=mod.run)
     return ap
@@ -95,7 +114,8 @@ def main(argv: list[str] | None = None) -> int:
     old_show = warnings.showwarning
     warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog)
     try:
-        return int(args._run(args) or 0)
+        with _logging(args.command, getattr(args, "quiet", False)):
+            return int(args._run(args) or 0)
     except InputError as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return EXIT_INPUT

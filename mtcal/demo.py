@@ -1,17 +1,19 @@
-"""`mtcal demo`: the whole calibration story on bundled data, through the same commands a user runs.
+"""`mtcal demo [--machine NAME]`: the whole calibration story, through the same commands a user runs.
 
-campaign (bundled: simulated DMU 50, thesis-magnitude errors, one concealed effect) -> identify -> plan ->
-compensate the bundled five-axis program -> diagnose -> NBS plate reversal; numbers printed, PNG plots and a
-Markdown report written to DIR.  The truth behind the campaign is bundled too, so the demo can say how close
-identification and compensation came to it.
+campaign (DMU 50: bundled, simulated with thesis-magnitude errors and one concealed effect; any other spec:
+simulated now from a synthetic truth of the same magnitudes, mtcal.data.make_demo_data.build_for) -> identify
+-> plan -> compensate a five-axis program (DMU 50: the bundled one; other machines: a tool path taken through
+the machine's inverse kinematics, written in its axis words) -> diagnose -> NBS plate reversal; numbers
+printed, PNG plots and a Markdown report written to DIR.  The truth behind the campaign is known, so the demo
+says how close identification and compensation came to it.
 """
 from __future__ import annotations
 
 import contextlib
 import io
 import json
+import logging
 import shutil
-import sys
 import time
 from importlib import resources
 from pathlib import Path
@@ -21,6 +23,7 @@ import numpy as np
 from mtcal.io import atomic_write_text, dumps, save_figure
 
 STEPS = 6
+log = logging.getLogger(__name__)
 
 
 def data_path(name: str) -> Path:
@@ -40,13 +43,15 @@ def _cli(args: list[str]) -> dict:
 
 
 class Progress:
-    def __init__(self, quiet: bool):
-        self.quiet, self.t0, self.k = quiet, time.perf_counter(), 0
+    """Numbered steps through `logging` (logger mtcal.demo); the commands run in-process log their own progress
+    unless ``quiet``."""
+
+    def __init__(self):
+        self.t0, self.k = time.perf_counter(), 0
 
     def step(self, msg: str) -> None:
         self.k += 1
-        if not self.quiet:
-            print(f"[{self.k}/{STEPS}] {msg} ({time.perf_counter() - self.t0:.1f} s)", file=sys.stderr, flush=True)
+        log.info("[%d/%d] %s (%.1f s)", self.k, STEPS, msg, time.perf_counter() - self.t0)
 
 
 def _um(v: float) -> str:
@@ -59,35 +64,64 @@ def tool_tip_errors(machine, truth, q: np.ndarray, targets: np.ndarray, tool_len
     return np.linalg.norm(pose[:, :3] - targets[:, :3], axis=1)
 
 
-def run_demo(out: Path, quiet: bool = False) -> dict:
+BUNDLED = "dmu50"  # the machine whose campaign, truth and sample program ship in mtcal/data
+
+
+def _campaign(m, out: Path) -> tuple[Path, dict, object]:
+    """(recording path, planted truth, truth model): the bundled campaign of the DMU 50, else a simulated one."""
+    from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_SEED, build_for
+    from mtcal.model import load_model
+    from mtcal.simulate import simulate, write_campaign
+    rec_path = out / "campaign.csv"
+    if m.name == BUNDLED:
+        shutil.copyfile(data_path("demo_campaign.csv"), rec_path)
+        return rec_path, json.loads(data_path("demo_campaign.truth.json").read_text()), load_model(
+            data_path("demo_truth.json"))
+    truth = build_for(m)
+    effect = (DEMO_EFFECT[0], {**DEMO_EFFECT[1], "axis": m.linear_axes[0]})
+    rec, planted = simulate(truth, machine=m, seed=DEMO_SEED, effects=[effect])
+    write_campaign(rec, planted, rec_path)
+    return rec_path, planted, truth
+
+
+def _sample_grid(m, n: int, rng: np.random.Generator) -> np.ndarray:
+    """Random axis positions (n, n_axes) inside the spec's campaign ranges (where the model was measured)."""
+    from mtcal.simulate import default_positions
+    pos = default_positions(m)
+    return np.column_stack([rng.uniform(pos[a].min(), pos[a].max(), n) for a in m.axes])
+
+
+def run_demo(out: Path, machine: str | None = None) -> dict:
+    """The demo into ``out``; progress through logging (mtcal.demo and the commands; `mtcal -q` silences it)."""
     import mtcal
-    from mtcal.gcode import read_moves
     from mtcal.model import load_model
 
     out.mkdir(parents=True, exist_ok=True)
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
-    prog = Progress(quiet)
-    summary: dict = {"out": str(out)}
+    prog = Progress()
+    m = mtcal.load_machine(machine or BUNDLED)
+    summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
+    mach = ["--machine", m.name]
 
     # 1. campaign ---------------------------------------------------------------------------------------
-    rec_path = out / "campaign.csv"
-    shutil.copyfile(data_path("demo_campaign.csv"), rec_path)
-    planted = json.loads(data_path("demo_campaign.truth.json").read_text())
+    rec_path, planted, truth = _campaign(m, out)
     tracker = ",".join(f"{c:g}" for c in planted["tracker"])
-    prog.step(f"campaign: {rec_path.name} (simulated DMU 50, 5 axes x {planted['rounds']} rounds, tracker at "
-              f"{tracker} mm; one effect concealed)")
+    prog.step(f"campaign: {rec_path.name} ({'bundled' if m.name == BUNDLED else 'simulated now'}: {m.name}, "
+              f"{len(m.axes)} axes x {planted['rounds']} rounds, tracker at {tracker} mm; one effect concealed)")
 
     # 2. identify ----------------------------------------------------------------------------------------
     model_path = out / "model.json"
-    ident = _cli(["identify", str(rec_path), "-o", str(model_path), f"--tracker={tracker}", "--plots", str(plots)])
+    ident = _cli(["identify", str(rec_path), "-o", str(model_path), f"--tracker={tracker}", "--plots", str(plots),
+                  *mach])
     prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
-    m = mtcal.load_machine("dmu50")
-    truth = load_model(data_path("demo_truth.json"))
     model = load_model(model_path)
     rng = np.random.default_rng(0)
-    grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000), rng.uniform(-150, 150, 2000),
-                            rng.uniform(0, 120, 2000), rng.uniform(0, 360, 2000)])
+    if m.name == BUNDLED:  # travel centred on the C axis, as the bundled campaign
+        grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000),
+                                rng.uniform(-150, 150, 2000), rng.uniform(0, 120, 2000), rng.uniform(0, 360, 2000)])
+    else:
+        grid = _sample_grid(m, 2000, rng)
     dev_true = m.deviation(grid, truth.errors_at(m, grid, "hold"), order=None)[:, :3]
     dev_ident = m.deviation(grid, model.errors_at(m, grid, "hold"), order=None)[:, :3]
     summary["identify"] = {
@@ -101,7 +135,7 @@ def run_demo(out: Path, quiet: bool = False) -> dict:
     }
 
     # 3. plan --------------------------------------------------------------------------------------------
-    plan = _cli(["plan", f"--tracker={tracker}", "--plot", str(plots / "plan_map.png")])
+    plan = _cli(["plan", f"--tracker={tracker}", "--plot", str(plots / "plan_map.png"), *mach])
     prog.step("plan: predicted uncertainty of one round at this tracker placement, and a placement map")
     observed = {}  # std over rounds at the plan's mid-travel position (the same machine coordinates)
     for ax, res in ident["axes"].items():
@@ -112,14 +146,7 @@ def run_demo(out: Path, quiet: bool = False) -> dict:
                             for n, s in plan["axes"][ax].items()} for ax in plan["axes"]}
 
     # 4. compensate --------------------------------------------------------------------------------------
-    nc_in = out / "sample_5axis.nc"
-    shutil.copyfile(data_path("sample_5axis.nc"), nc_in)
-    nc_out = out / "sample_5axis_compensated.nc"
-    comp = _cli(["compensate", str(nc_in), "--model", str(model_path), "-o", str(nc_out)])
-    q_nom, q_cmd = read_moves(nc_in), read_moves(nc_out)
-    targets = m.forward(q_nom)
-    before = tool_tip_errors(m, truth, q_nom, targets)
-    after = tool_tip_errors(m, truth, q_cmd, targets)
+    before, after, comp = _compensate_program(m, truth, model_path, out, rng)
     summary["compensate"] = {"iso_16907": comp["iso_16907"], "lines_changed": comp["lines_changed"],
                              "true_error_before_max_um": float(before.max() * 1e3),
                              "true_error_before_rms_um": float(np.sqrt(np.mean(before**2)) * 1e3),
@@ -130,7 +157,7 @@ def run_demo(out: Path, quiet: bool = False) -> dict:
     prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
 
     # 5. diagnose ----------------------------------------------------------------------------------------
-    diag = _cli(["diagnose", str(rec_path), f"--tracker={tracker}", "--plots", str(plots)])
+    diag = _cli(["diagnose", str(rec_path), f"--tracker={tracker}", "--plots", str(plots), *mach])
     summary["diagnose"] = {"base_sigma": diag["base_sigma"],
                            "effects": [e for e in diag["effects"] if e.get("significant")],
                            "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
@@ -151,6 +178,36 @@ def run_demo(out: Path, quiet: bool = False) -> dict:
     return summary
 
 
+def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Generator
+                        ) -> tuple[np.ndarray, np.ndarray, dict]:
+    """`mtcal compensate` on a five-axis program (DMU 50: the bundled one; other machines: ``_sample_program``);
+    tool-tip errors on the true machine before / after."""
+    from mtcal.gcode import read_moves
+    nc_in = out / "sample_5axis.nc"
+    if m.name == BUNDLED:
+        shutil.copyfile(data_path("sample_5axis.nc"), nc_in)
+    else:
+        atomic_write_text(nc_in, _sample_program(m, rng))
+    nc_out = out / "sample_5axis_compensated.nc"
+    comp = _cli(["compensate", str(nc_in), "--model", str(model_path), "-o", str(nc_out)])
+    q_nom, q_cmd = read_moves(nc_in, machine=m), read_moves(nc_out, machine=m)
+    targets = m.forward(q_nom)
+    return tool_tip_errors(m, truth, q_nom, targets), tool_tip_errors(m, truth, q_cmd, targets), comp
+
+
+def _sample_program(m, rng: np.random.Generator, n: int = 400) -> str:
+    """A five-axis G-code program in the machine's own axis words: a smooth motion between two random axis
+    configurations inside the measured ranges, taken through the forward and the inverse kinematics (so it is
+    what a post-processor would write for that tool path)."""
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    q = _sample_grid(m, 2, rng)
+    path = q[0] + (q[1] - q[0]) * (0.5 - 0.5 * np.cos(np.pi * t))
+    q_nom = m.inverse(m.forward(path), hint=path)
+    lines = ["(mtcal demo: five-axis tool path of " + m.name + ", machine axes, mm and deg)", "G90 G21"]
+    lines += ["G1 " + " ".join(f"{a}{v:.4f}" for a, v in zip(m.axes, row)) for row in q_nom]
+    return "\n".join(lines + ["M30", ""])
+
+
 def true_squareness(truth, ident: dict) -> dict[str, float]:
     """ISO squareness of the truth model as identify defines it: the constants plus what the slopes of the
     truth's straightness reference lines (over the measured positions) contribute."""
@@ -158,7 +215,7 @@ def true_squareness(truth, ident: dict) -> dict[str, float]:
     slopes = {}
     for name, f in truth.functions.items():
         ax = f.axis
-        if ax in ident["axes"] and name[2] != ax and name[2] in "XYZ" and ax in "XYZ":
+        if ax in ident["axes"] and ident["axes"][ax].get("reference_lines", {}).get(name) is not None:
             x = np.asarray(ident["axes"][ax]["positions"], dtype=float)
             slopes[name] = fitting.reference_line(x, f(x))[1]
     lines = fitting.squareness(slopes)
@@ -186,8 +243,9 @@ def report(s: dict, out: Path) -> str:
     """The Markdown report (links to the PNGs beside it)."""
     i, c, d, p = s["identify"], s["compensate"], s["diagnose"], s["plate"]
     lines = ["# mtcal demo report", "",
-             "A simulated DMU 50 eVolution with errors of the magnitudes measured in the thesis, measured with a "
-             "laser tracker (AT960 noise) in 4 rounds, with one effect concealed in the campaign that the "
+             f"A simulated {s.get('title', 'DMU 50 eVolution')} with errors of the magnitudes measured in the "
+             "thesis, measured with a laser tracker (AT960 noise) in 4 rounds, with one effect concealed in the "
+             "campaign that the "
              "quasi-static model does not contain. Units: um, urad unless stated.", "",
              "## Identification", "",
              "Squareness (right-hand ISO 230-1 convention; the thesis' eq. 3.16 prints the opposite signs), "
@@ -212,7 +270,9 @@ def report(s: dict, out: Path) -> str:
             obs = v["observed_std_over_rounds"]
             lines.append(f"| {ax} | {v['position']:g} | {n} | {v['predicted'] * scale:.2f} {unit} | "
                          f"{'' if obs is None else f'{obs * scale:.2f} {unit}'} |")
-    lines += ["", "![plan map](plots/plan_map.png)", "", "## Compensation of the sample five-axis program", "",
+    what = ("the sample five-axis program" if s.get("machine", BUNDLED) == BUNDLED
+            else "a five-axis program (a tool path through the inverse kinematics)")
+    lines += ["", "![plan map](plots/plan_map.png)", "", f"## Compensation of {what}", "",
               f"ISO/TR 16907 types covered: {', '.join(c['iso_16907'].get('covered', []))}; partial: "
               f"{', '.join(c['iso_16907'].get('partial', [])) or 'none'}. Lines changed: {c['lines_changed']}.", "",
               "| tool-tip error on the true machine | max | RMS |", "|---|---|---|",

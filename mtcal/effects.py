@@ -21,14 +21,19 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  sin(2 pi q / pitch + phase_deg).  Sampling must resolve the pitch (default 200 mm; a 50 mm
                  step aliases pitches of 100 mm and below).
 * scale          linear scale error of an axis: positioning error + ppm * 1e-6 * q (q in rad for rotary).
-* squareness     a squareness constant (E_C0Y, E_B0Z or E_A0Z, rad, ISO 230-1 right-hand convention).
-* rotary_location  a location constant of a rotary axis (E_X0B, E_Y0B, E_A0B, E_B0B, E_X0C, ..; mm or rad).
-* cross_axis     an error of one axis depends on another axis' position (e.g. sag of X in Z growing with the
-                 Y carriage's overhang): error + coefficient * q_own * q_on.  Invisible when the axis is
+* squareness     a squareness constant of the machine (its spec's squareness group, e.g. E_C0Y; rad, ISO 230-1
+                 right-hand convention).
+* rotary_location  a location constant of a rotary axis (E_X0<R>, E_Y0<R> mm; E_A0<R>, E_B0<R> rad).
+* cross_axis     an error of one axis depends on another axis' position (e.g. sag of the first linear axis in z
+                 growing with the second's overhang): error + coefficient * q_own * q_on.  Invisible when the axis is
                  measured with ``on`` at zero (the default campaign); a plan with "at" shows it.
 * outlier        a gross reading: one reading (mode "reading") or that reflector for the rest of the round
                  (mode "bump": a knocked magnet nest) displaced by ``size`` mm along ``direction``.
 * second_order   a quadratic term in an error function: error + coefficient * q^2 (per mm^2 or deg^2).
+
+Axes and error names come from the machine (``Effect.bind``): an effect's default axis is the machine's first
+axis, its default error the positioning error of that axis (E_XX on an X axis, E_C<R> on a rotary axis), the
+first squareness / location constant of the spec, and its default reflector the first of its side.
 * offset         the tracker (stand) is knocked at t_from_s: every later reading is displaced by ``size`` mm
                  along ``direction`` (the rest of the current round no longer matches its reference reading).
 * tracker_scale  the tracker's distances scale by ppm about the tracker position (refractive index of air
@@ -45,21 +50,15 @@ from typing import Any, Callable, Iterable, Mapping
 import numpy as np
 
 from mtcal.errors import InputError
+from mtcal.generated import signatures_numpy as S
 
-LINEAR_AXES, ROTARY_AXES = ("X", "Y", "Z"), ("B", "C")
-SQUARENESS = ("E_C0Y", "E_B0Z", "E_A0Z")
-LOCATIONS = ("E_X0B", "E_Y0B", "E_A0B", "E_B0B", "E_X0C", "E_Y0C", "E_A0C", "E_B0C")
-
-
-def positioning_error(axis: str) -> str:
-    """ISO name of an axis' positioning error: E_XX for X, E_CB for B (rotation about its own axis)."""
-    return f"E_{axis}{axis}" if axis in LINEAR_AXES else f"E_C{axis}"
 
 
 def _axis(v: str) -> str:
+    """An axis name (checked against the machine in ``Effect.bind``)."""
     a = str(v).strip().upper()
-    if a not in LINEAR_AXES + ROTARY_AXES:
-        raise InputError(f"axis must be one of X, Y, Z, B, C, got {v!r}")
+    if not a.isalpha():
+        raise InputError(f"axis must be an axis name, got {v!r}")
     return a
 
 
@@ -90,15 +89,6 @@ def _error_name(v: str) -> str:
     if not (len(s) in (4, 5) and s.startswith("E_")):
         raise InputError(f"not an ISO 230-1 error name: {v!r}")
     return s.upper().replace("E_", "E_", 1)
-
-
-def _member(options: tuple[str, ...]) -> Callable[[str], str]:
-    def parse(v: str) -> str:
-        s = str(v).strip().upper()
-        if s not in options:
-            raise InputError(f"must be one of {', '.join(options)}, got {v!r}")
-        return s
-    return parse
 
 
 def _float(v) -> float:
@@ -132,27 +122,31 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                       "target": ("spindle", _choice("spindle", "table", "tracker"), "what drifts"),
                       "t0_s": (0.0, _float, "s, start of the warm-up"),
                       "temperature_rise_c": (2.0, _float, "degC, rise of the temperature_c column")},
-    "backlash": {"axis": ("X", _axis, "axis"),
-                 "amount": (0.004, _float, "reversal value, mm (rad for B, C)")},
-    "periodic": {"axis": ("X", _axis, "axis"),
-                 "amplitude": (0.002, _float, "mm (rad for B, C)"),
-                 "pitch": (200.0, _positive, "mm (deg for B, C)"),
+    "backlash": {"axis": (None, _axis, "axis; default the machine's first"),
+                 "amount": (0.004, _float, "reversal value, mm (rad for a rotary axis)")},
+    "periodic": {"axis": (None, _axis, "axis; default the machine's first"),
+                 "amplitude": (0.002, _float, "mm (rad for a rotary axis)"),
+                 "pitch": (200.0, _positive, "mm (deg for a rotary axis)"),
                  "phase_deg": (0.0, _float, "deg")},
-    "scale": {"axis": ("X", _axis, "axis"), "ppm": (20.0, _float, "1e-6 of the position")},
-    "squareness": {"error": ("E_C0Y", _member(SQUARENESS), "E_C0Y, E_B0Z or E_A0Z"),
+    "scale": {"axis": (None, _axis, "axis; default the machine's first"),
+              "ppm": (20.0, _float, "1e-6 of the position")},
+    "squareness": {"error": (None, _error_name, "a squareness constant of the machine; default its first"),
                    "value": (50e-6, _float, "rad")},
-    "rotary_location": {"error": ("E_X0C", _member(LOCATIONS), "location constant of B or C"),
+    "rotary_location": {"error": (None, _error_name, "location constant of a rotary axis; default E_X0 of the last"),
                         "value": (0.020, _float, "mm or rad")},
-    "cross_axis": {"error": ("E_ZX", _error_name, "error function of the own axis (last letter)"),
-                   "on": ("Y", _axis, "the other axis"),
+    "cross_axis": {"error": (None, _error_name, "error function of the own axis (last letter); default E_Z of "
+                                                "the first linear axis"),
+                   "on": (None, _axis, "the other axis; default the second linear axis"),
                    "coefficient": (1e-7, _float, "per mm (or deg) of own axis and of the other axis")},
-    "outlier": {"axis": ("X", _axis, "axis"), "round": (1, _int, "round (1-based)"),
+    "outlier": {"axis": (None, _axis, "axis; default the machine's first"), "round": (1, _int, "round (1-based)"),
                 "position": (math.nan, _float, "mm or deg; default: the middle position of the axis"),
-                "point": ("P", str, "point label"), "size": (0.050, _float, "mm"),
+                "point": (None, str, "point label; default the first reflector of the axis"),
+                "size": (0.050, _float, "mm"),
                 "direction": ("+Z", _dir, "X, Y, Z or -X, -Y, -Z"),
                 "mode": ("reading", _choice("reading", "bump"), "one reading, or the rest of the round"),
                 "approach": (1, _int, "which approach direction of that position: +1 or -1")},
-    "second_order": {"error": ("E_XX", _error_name, "error function (its axis is the last letter)"),
+    "second_order": {"error": (None, _error_name, "error function (its axis is the last letter); default the "
+                                                  "positioning error of the first axis"),
                      "coefficient": (2e-8, _float, "per mm^2 (deg^2 for B, C): 2e-8 -> 5 um at 500 mm")},
     "offset": {"size": (0.020, _float, "mm"), "direction": ("+X", _dir, "X, Y, Z or -X, -Y, -Z"),
                "t_from_s": (math.nan, _float, "s; default: half the campaign's duration")},
@@ -174,7 +168,7 @@ class Rows:
     point: np.ndarray      # (n,) str
     direction: np.ndarray  # (n,) +1/-1
     time_s: np.ndarray     # (n,)
-    axes: np.ndarray       # (n, 5) all axis positions [X, Y, Z, B, C]
+    axes: np.ndarray       # (n, n_axes) all axis positions, in the machine's axis order
     side: np.ndarray       # (n,) "tool" or "table"
     local: np.ndarray      # (n, 3) reflector coordinates on its side, mm
 
@@ -188,6 +182,7 @@ class Effect:
 
     name: str
     params: dict = field(default_factory=dict)
+    error: str | None = field(default=None, repr=False)  # the positioning error it acts on (set by ``bind``)
 
     def __post_init__(self):
         if self.name not in PARAMS:
@@ -201,51 +196,83 @@ class Effect:
         for k, (default, parse, _doc) in spec.items():
             v = self.params.get(k, default)
             try:
-                full[k] = parse(v) if k in self.params else v
+                full[k] = parse(v) if k in self.params and v is not None else v
             except (TypeError, ValueError) as exc:
                 raise InputError(f"effect {self.name}: {k}={v!r}: {exc}") from None
         self.params = full
-        if self.name in ("cross_axis", "second_order"):
-            e = full["error"]
-            if e[-1] not in LINEAR_AXES + ROTARY_AXES or e[2] not in "XYZABC" or "0" in e:
-                raise InputError(f"effect {self.name}: error={e!r} must be an error function such as E_ZX")
         if self.name == "outlier" and full["approach"] not in (1, -1):
             raise InputError(f"effect outlier: approach must be +1 or -1, got {full['approach']}")
 
+    def bind(self, machine, points: Mapping[str, Mapping] | None = None) -> "Effect":
+        """This effect with its defaults resolved and its axes / errors checked against ``machine`` (a
+        mtcal.Machine); ``points``: the campaign's reflectors {side: {label: xyz}} (default reflector)."""
+        p = dict(self.params)
+        lin = machine.linear_axes
+        if "axis" in p:
+            p["axis"] = p["axis"] or machine.axes[0]
+            self._member("axis", p["axis"], machine.axes)
+        if self.name == "squareness":
+            p["error"] = p["error"] or machine.error_groups["squareness"][0]
+            self._member("error", p["error"], machine.error_groups["squareness"])
+        elif self.name == "rotary_location":
+            p["error"] = p["error"] or f"E_X0{machine.rotary_axes[-1]}"
+            self._member("error", p["error"], machine.error_groups["location"])
+        elif self.name == "cross_axis":
+            p["error"] = p["error"] or f"E_Z{lin[0]}"
+            p["on"] = p["on"] or lin[1]
+            self._member("on", p["on"], machine.axes)
+        elif self.name == "second_order":
+            p["error"] = p["error"] or machine.positioning_errors[machine.axes[0]]
+        if self.name in ("cross_axis", "second_order"):
+            funcs = machine.error_groups["linear"] + machine.error_groups["rotary"]
+            self._member("error", p["error"], funcs)
+        if self.name == "outlier" and p["point"] is None:
+            side = machine.side(p["axis"])
+            p["point"] = next(iter(points[side])) if points else machine.campaign["reflectors"][side][0][0]
+        out = Effect(self.name, {})
+        out.params = p
+        out.error = machine.positioning_errors[p["axis"]] if "axis" in p else None
+        return out
+
+    def _member(self, key: str, value: str, options) -> None:
+        if value not in options:
+            self._bad(key, value, options)
+
+    def _bad(self, key: str, value, options) -> None:
+        raise InputError(f"effect {self.name}: {key} must be one of {', '.join(options)} (this machine's), "
+                         f"got {value!r}")
+
     # -------------------------------------------------------------- errors (mm, rad) per reading
-    def add_errors(self, rows: Rows, errors: np.ndarray, error_names: tuple[str, ...]) -> None:
-        """Add this effect's error contribution in place to ``errors`` (n, n_errors)."""
+    def add_errors(self, rows: Rows, errors: np.ndarray, machine) -> None:
+        """Add this (bound) effect's error contribution in place to ``errors`` (n, n_errors) of ``machine``."""
         p, n = self.params, self.name
-        idx = {e: i for i, e in enumerate(error_names)}
+        idx = {e: i for i, e in enumerate(machine.error_names)}
 
         def q_of(axis: str) -> np.ndarray:
-            return rows.axes[:, "XYZBC".index(axis)]
+            return rows.axes[:, machine.index(axis)]
 
         def q_si(axis: str) -> np.ndarray:  # mm, or rad for rotary
             q = q_of(axis)
-            return np.deg2rad(q) if axis in ROTARY_AXES else q
+            return np.deg2rad(q) if machine.kind(axis) == "rotary" else q
 
+        # the increments of the error functions are the generated models of derive/signatures.py (whose
+        # derivatives are the diagnosis' signatures): each effect is written once
         if n == "backlash":
             on = rows.axis == p["axis"]
-            errors[on, idx[positioning_error(p["axis"])]] += rows.direction[on] * p["amount"] / 2
+            errors[on, idx[self.error]] += S.backlash_model(rows.direction[on].astype(float), [p["amount"]])[:, 0]
         elif n == "periodic":
-            q = q_of(p["axis"])
-            errors[:, idx[positioning_error(p["axis"])]] += p["amplitude"] * np.sin(
-                2 * np.pi * q / p["pitch"] + np.deg2rad(p["phase_deg"]))
+            ph = np.deg2rad(p["phase_deg"])
+            amp = [p["amplitude"] * np.cos(ph), p["amplitude"] * np.sin(ph)]  # a sin(x + ph) = a_s sin x + a_c cos x
+            errors[:, idx[self.error]] += S.periodic_model(q_of(p["axis"]), float(p["pitch"]), amp)[:, 0]
         elif n == "scale":
-            errors[:, idx[positioning_error(p["axis"])]] += p["ppm"] * 1e-6 * q_si(p["axis"])
+            errors[:, idx[self.error]] += S.scale_model(q_si(p["axis"]), [p["ppm"]])[:, 0]
         elif n in ("squareness", "rotary_location"):
             errors[:, idx[p["error"]]] += p["value"]
         elif n == "cross_axis":
             own = p["error"][-1]
-            errors[:, self._index(idx, p["error"])] += p["coefficient"] * q_of(own) * q_of(p["on"])
+            errors[:, idx[p["error"]]] += S.cross_axis_model(q_of(own), q_of(p["on"]), [p["coefficient"]])[:, 0]
         elif n == "second_order":
-            errors[:, self._index(idx, p["error"])] += p["coefficient"] * q_of(p["error"][-1]) ** 2
-
-    def _index(self, idx: Mapping[str, int], name: str) -> int:
-        if name not in idx:
-            raise InputError(f"effect {self.name}: {name} is not an error of this machine")
-        return idx[name]
+            errors[:, idx[p["error"]]] += S.second_order_model(q_of(p["error"][-1]), [p["coefficient"]])[:, 0]
 
     # -------------------------------------------------------------- readings (mm)
     def drift(self, t: np.ndarray) -> np.ndarray:
@@ -287,13 +314,14 @@ class Effect:
         if n == "thermal_drift":
             side = {"spindle": "tool", "table": "table"}.get(p["target"])
             on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == side
-            xyz[on] += (p["amplitude"] * self.drift(rows.time_s[on]))[:, None] * _unit(p["direction"])
+            dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
+            xyz[on] += S.thermal_drift_displacement(p["amplitude"] * _unit(p["direction"]), dt, p["tau_s"])
         elif n == "outlier":
             xyz[self.outlier_rows(rows)] += p["size"] * _unit(p["direction"])
         elif n == "offset":
             xyz[rows.time_s >= self.offset_time(rows)] += p["size"] * _unit(p["direction"])
         elif n == "tracker_scale":
-            xyz[:] = tracker + (1.0 + self.tracker_ppm() * 1e-6) * (xyz - tracker)
+            xyz[:] = S.tracker_scale_reading(xyz, tracker, self.tracker_ppm())
 
     def offset_time(self, rows: Rows) -> float:
         t = self.params["t_from_s"]
@@ -311,7 +339,7 @@ class Effect:
         out: dict[str, Any] = {"name": n, "params": {k: (None if isinstance(v, float) and math.isnan(v) else v)
                                                       for k, v in p.items()}}
         if n in ("backlash", "periodic", "scale"):
-            out.update(axis=p["axis"], error=positioning_error(p["axis"]))
+            out.update(axis=p["axis"], error=self.error)
             if n == "backlash":
                 out["reversal"] = p["amount"]
         elif n in ("squareness", "rotary_location"):

@@ -14,7 +14,7 @@ rotary axes: B is measured at C = 0, C at B = 0); errors are zero at the referen
 """
 from __future__ import annotations
 
-import sys
+import logging
 import warnings as _warnings
 from dataclasses import dataclass, field
 from typing import Iterable
@@ -26,11 +26,12 @@ from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
 from mtcal.io import read_text
-from mtcal.machine import Machine, load_machine
+from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
+log = logging.getLogger(__name__)
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
 MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
 
@@ -80,54 +81,50 @@ def solve_frame(points, deltas, cov=None) -> tuple[np.ndarray, np.ndarray, np.nd
     return e, resid, ce
 
 
-def _point_affine(machine: Machine, side: str, axes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Nominal point map x = R w + t of the spindle ('tool') or table side at axes (..., n_axes)."""
-    fn = machine._np.tool_point if side == "tool" else machine._np.table_point
-    zero = np.zeros(len(machine.error_names))
-    basis = np.vstack([np.zeros(3), np.eye(3)])  # origin, then unit vectors
-    out = fn(axes[..., None, :], zero, basis)  # (..., 4, 3)
-    t = out[..., 0, :]
-    return np.swapaxes(out[..., 1:, :] - t[..., None, :], -1, -2), t
-
-
 def _axes_vector(machine: Machine, axis: str, position) -> np.ndarray:
-    pos = np.asarray(position, dtype=float)
-    a = np.zeros(pos.shape + (len(machine.axes),))
-    a[..., machine.axes.index(axis)] = pos
-    return a
+    """Axis positions (..., n_axes) with ``axis`` at ``position`` and the others at zero."""
+    return machine.axis_vector({axis: position})
 
 
-def frame_data(machine: Machine, axis: str, position, reference_position, readings, reference):
-    """Nominal points and deltas in the axis frame F (see ``identify_position``); returns
-    (points_F (..., n, 3), deltas_F (..., n, 3), R_F (..., 3, 3), deltas in the machine frame (..., n, 3),
-    R_rel (..., 3, 3): how the part turned from the reference position, which carries the reference
-    reading's noise into the nominal point)."""
-    key = f"{machine.name}_{axis}"
-    if key not in tp.FRAMES:
-        raise InputError(f"no three-point frame derived for axis {axis} of machine {machine.name}")
-    side = tp.FRAME_SIDES[key]
-    q, q0 = _axes_vector(machine, axis, position), _axes_vector(machine, axis, reference_position)
-    r0, t0 = _point_affine(machine, side, q0)
-    rq, tq = _point_affine(machine, side, q)
+def frame_data(machine: Machine, axis: str, axes, axes0, readings, reference):
+    """Nominal points and deltas in the axis frame F (see ``identify_position``); axes, axes0 (..., n_axes): all
+    axis positions at the reading and at the reference reading.  Returns (points_F (..., n, 3), deltas_F
+    (..., n, 3), R_F (..., 3, 3), deltas in the machine frame (..., n, 3), R_rel (..., 3, 3): how the part turned
+    from the reference position, which carries the reference reading's noise into the nominal point)."""
+    q, q0 = np.asarray(axes, dtype=float), np.asarray(axes0, dtype=float)
+    t0, r0 = machine.rigid_motion(axis, q0)
+    tq, rq = machine.rigid_motion(axis, q)
     m = np.asarray(readings, dtype=float)
     m0 = np.asarray(reference, dtype=float)
     w = np.einsum("...ji,...nj->...ni", r0, m0 - t0[..., None, :])  # R0^T (m0 - t0): point in its own part
     nominal = np.einsum("...ij,...nj->...ni", rq, w) + tq[..., None, :]
-    f = getattr(tp, tp.FRAMES[key])(q)  # (..., 3, 4)
-    rf, of = f[..., :3], f[..., 3]
+    rf, of = machine.axis_frame(axis, q)
     d_m = m - nominal
     pts = np.einsum("...ji,...nj->...ni", rf, nominal - of[..., None, :])
     dls = np.einsum("...ji,...nj->...ni", rf, d_m)
     return pts, dls, rf, d_m, rq @ np.swapaxes(r0, -1, -2)
 
 
-def delta_covariance(readings, reference, r_rel, r_f, tracker, parts: bool = False):
-    """Covariance (..., n, 3, 3) mm^2 in F of delta = reading - (R_rel (reference - t0) + t), AT960 model;
-    with ``parts`` the pair (reading's share, reference reading's share)."""
-    c0 = np.einsum("...ij,...njk,...lk->...nil", r_rel, trk.covariance(reference, tracker), r_rel)
-    c1 = trk.covariance(readings, tracker)
+def delta_covariance(readings, reference, r_rel, r_f, tracker, parts: bool = False, spec: trk.TrackerSpec = trk.AT960):
+    """Covariance (..., n, 3, 3) mm^2 in F of delta = reading - (R_rel (reference - t0) + t), tracker noise model
+    ``spec`` (AT960); with ``parts`` the pair (reading's share, reference reading's share)."""
+    c0 = np.einsum("...ij,...njk,...lk->...nil", r_rel, trk.covariance(reference, tracker, spec), r_rel)
+    c1 = trk.covariance(readings, tracker, spec)
     to_f = lambda c: np.einsum("...ki,...nkl,...lj->...nij", r_f, c, r_f)  # noqa: E731
     return (to_f(c1), to_f(c0)) if parts else to_f(c1 + c0)
+
+
+def estimate(machine: Machine, axis: str, axes, axes0, readings, reference, tracker=None,
+             spec: trk.TrackerSpec = trk.AT960) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """The three-point estimator (used by identify and plan): the six error motions of ``axis`` (..., 6) from
+    readings (..., n, 3) at axis positions ``axes`` (..., n_axes) and their reference readings (..., n, 3) at
+    ``axes0``; weighted by the tracker covariance when ``tracker`` (3,) mm is given.  Returns (errors,
+    residuals (..., 3 n), covariance (..., 6, 6) or None), as ``solve_frame``."""
+    pts, dls, rf, _, rrel = frame_data(machine, axis, axes, axes0, readings, reference)
+    cov = None
+    if tracker is not None:
+        cov = delta_covariance(readings, reference, rrel, rf, np.asarray(tracker, dtype=float).reshape(3), spec=spec)
+    return solve_frame(pts, dls, cov)
 
 
 @dataclass
@@ -146,7 +143,7 @@ class PositionResult:
 
 
 def identify_position(axis: str, position, readings, reference, reference_position=0.0, tracker=None,
-                      machine: str | Machine = "dmu50") -> PositionResult:
+                      machine: str | Machine = DEFAULT_MACHINE) -> PositionResult:
     """The six error motions of ``axis`` at ``position`` (mm or deg; vectorised over leading dimensions).
 
     readings (..., n, 3) mm: the n points measured at ``position``; reference (..., n, 3) mm: the same points
@@ -155,12 +152,9 @@ def identify_position(axis: str, position, readings, reference, reference_positi
     covariance of reading and reference reading, and the errors' covariance is returned.
     """
     m = machine if isinstance(machine, Machine) else load_machine(machine)
-    pts, dls, rf, _, rrel = frame_data(m, axis, position, reference_position, readings, reference)
-    cov = None
-    if tracker is not None:
-        cov = delta_covariance(readings, reference, rrel, rf, np.asarray(tracker, dtype=float).reshape(3))
-    e, r, ce = solve_frame(pts, dls, cov)
-    return PositionResult(e, r, ce, error_names(axis))
+    e, r, ce = estimate(m, axis, _axes_vector(m, axis, position), _axes_vector(m, axis, reference_position),
+                        readings, reference, tracker)
+    return PositionResult(e, r, ce, m.error_motions(axis))
 
 
 # ----------------------------------------------------------------------------- a recording
@@ -303,9 +297,9 @@ def _passes(rec: Recording, axis: str):
             "q0": np.array([refs[k[0]][0] for k in keys])}
 
 
-def identify(rec: Recording, tracker=None, machine: str | Machine = "dmu50", reference: str = "least-squares",
+def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None) -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM) -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``."""
@@ -318,15 +312,14 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = "dmu50", ref
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
-        if progress:
-            progress(f"identifying axis {axis}")
+        log.info("identifying axis %s", axis)
         results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
     slopes = {}
     for axis, ar in results.items():
         if m.axis_kinds[m.axes.index(axis)] != "linear":
             continue
         for nm in ar.names[:3]:
-            if nm[2] == axis:
+            if nm == m.positioning_errors[axis]:
                 continue  # positioning error: no reference line
             a, b = fitting.reference_line(ar.positions, ar.mean[:, ar.names.index(nm)], reference)
             ar.lines[nm] = {"method": reference, "intercept": a, "slope": b}
@@ -378,7 +371,8 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
     ps = _passes(rec, axis)
     rows, ref_rows = ps["rows"], ps["ref_rows"]
     readings, refs = rec.xyz[rows], rec.xyz[ref_rows]
-    pts, dls, rf, d_m, rrel = frame_data(m, axis, ps["position"], ps["q0"], readings, refs)
+    pts, dls, rf, d_m, rrel = frame_data(m, axis, _axes_vector(m, axis, ps["position"]),
+                                         _axes_vector(m, axis, ps["q0"]), readings, refs)
     worst = np.unravel_index(int(np.argmax(np.linalg.norm(d_m, axis=-1))), rows.shape)
     dev = float(np.linalg.norm(d_m[worst]))
     if not dev <= max_dev:
@@ -464,7 +458,7 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
             floor = np.nanmedian(np.where(s2 > 0, s2, np.nan), axis=0)
         if np.isfinite(floor).all():
             var_round = np.where(np.isfinite(var_round), np.maximum(var_round, floor), var_round)
-    names = error_names(axis)
+    names = m.error_motions(axis)
     if len(rounds) >= 2 and outlier_k > 0:
         _check_rounds(rec, axis, names, positions, rounds, per_round, var_round, outlier_k, warnings, ps)
     return AxisResult(axis, positions, rounds, ps["points"], per_round, np.sqrt(rss / np.maximum(cnt, 1)),
@@ -563,7 +557,7 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
     direction).  ``positions`` (mm or deg) default to the thesis plan of the axis when the block length matches.
     A first line that is not numeric is taken as a header; any other bad line is an error naming file and line."""
     from mtcal.recordings import make_recording
-    from mtcal.simulate import DEFAULT_POSITIONS
+    from mtcal.simulate import default_positions
     axis = axis.upper()
     rows: dict[str, list] = {k: [] for k in ("round", "position", "point", "xyz", "line", "file")}
     for r, path in enumerate(paths, start=1):
@@ -587,7 +581,8 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
         if len(data) % 3 or not data:
             raise InputError(f"{path}: {len(data)} readings is not three equal blocks (K, P, Q) of one per position")
         n = len(data) // 3
-        pos = np.asarray(positions, dtype=float) if positions is not None else DEFAULT_POSITIONS.get(axis)
+        pos = (np.asarray(positions, dtype=float) if positions is not None
+               else default_positions(load_machine()).get(axis))
         if pos is None or len(pos) != n:
             raise InputError(f"{path}: blocks of {n} readings; give the {n} positions of axis {axis} "
                              f"(--positions start:stop:count)")
@@ -599,6 +594,3 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
     rec.line = np.array(rows["line"])
     return rec
 
-
-def print_progress(msg: str) -> None:
-    print(f"mtcal identify: {msg}", file=sys.stderr, flush=True)

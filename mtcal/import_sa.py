@@ -38,7 +38,7 @@ import numpy as np
 
 from mtcal.errors import InputError
 from mtcal.io import read_text
-from mtcal.recordings import LINEAR, ROTARY, Recording, make_recording
+from mtcal.recordings import Recording, make_recording
 
 UNITS_MM = {"mm": 1.0, "in": 25.4, "m": 1000.0}
 GROUPS = ("axis", "round", "position", "point")  # required names of a mapping
@@ -248,11 +248,11 @@ def _lookup(p: SAPoint, mapping: TargetMap | None, rx: re.Pattern | None) -> dic
     return None if m is None else {k: v for k, v in m.groupdict().items() if v is not None}
 
 
-def _keys(found: dict[str, str], where: str) -> tuple[str, int, float, str, int]:
+def _keys(found: dict[str, str], where: str, axes: tuple[str, ...]) -> tuple[str, int, float, str, int]:
     """axis, round, position, point, direction (0 = not given) from mapped text, checked."""
     ax = found["axis"].strip().upper()
-    if ax not in LINEAR + ROTARY:
-        raise InputError(f"{where}: axis {found['axis']!r} is not one of X, Y, Z, A, B, C")
+    if ax not in axes:
+        raise InputError(f"{where}: axis {found['axis']!r} is not one of the machine's axes ({', '.join(axes)})")
     rnd, pos = _number(found["round"]), _number(found["position"])
     if rnd is None or rnd != int(rnd):
         raise InputError(f"{where}: round must be an integer, got {found['round']!r}")
@@ -280,8 +280,12 @@ def _times(points: list[SAPoint], source: str) -> np.ndarray:
 
 
 def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = None, pattern: str | None = None,
-              units: str = "mm", skip_unmatched: bool = False, name_fields: int | None = None) -> ImportResult:
-    """SpatialAnalyzer export text -> tidy Recording (xyz in mm); exactly one of ``mapping`` / ``pattern``."""
+              units: str = "mm", skip_unmatched: bool = False, name_fields: int | None = None,
+              machine=None) -> ImportResult:
+    """SpatialAnalyzer export text -> tidy Recording (xyz in mm); exactly one of ``mapping`` / ``pattern``;
+    the axes must be axes of ``machine`` (mtcal.Machine or name; default: the default machine)."""
+    from mtcal.machine import Machine, load_machine
+    axes = (machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))).axes
     if (mapping is None) == (pattern is None):
         raise InputError("give exactly one of a mapping file (--mapping) or a naming pattern (--pattern)")
     if units not in UNITS_MM:
@@ -297,7 +301,7 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
             continue
         where = f"{source}:{p.line}" + (f" (mapping: {found['_where']})" if "_where" in found else "")
         keep.append(p)
-        keys.append(_keys(found, where))
+        keys.append(_keys(found, where, axes))
     if skipped and not skip_unmatched:
         shown = "; ".join(f"{n} (line {ln})" for n, ln in skipped[:10])
         hint = "".join(f"; {n}" for n in notes if "name field(s)" in n)

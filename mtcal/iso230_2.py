@@ -37,7 +37,7 @@ import numpy as np
 
 from mtcal.errors import InputError
 from mtcal.identify import MAX_DEVIATION_MM, frame_data, solve_frame
-from mtcal.machine import Machine, load_machine
+from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.recordings import Recording
 
 RUNS = 5  # ISO 230-2:2014 standard test cycle: five runs in each direction at every target
@@ -280,10 +280,11 @@ def deviations(rec: Recording, axis: str, machine: Machine, point: str | None = 
     rows, q0 = ps["rows"], ps["q0"]
     pos = np.array([k[1] for k in ps["keys"]])
     refs = rec.xyz[ps["ref_rows"]]
-    pts, dls, _, d_m, _ = frame_data(machine, axis, pos, q0, rec.xyz[rows], refs)
+    at = lambda q: machine.axis_vector({axis: q})  # noqa: E731  (the other axes at zero)
+    pts, dls, _, d_m, _ = frame_data(machine, axis, at(pos), at(q0), rec.xyz[rows], refs)
     _check_size(rec, d_m, rows, "mm" if linear else "deg")
     # the nominal motion by one unit from the reference: direction (linear) or sense of rotation in F (rotary)
-    _, _, rf1, d1, rrel1 = frame_data(machine, axis, q0[:1] + 1.0, q0[:1], refs[:1], refs[:1])
+    _, _, rf1, d1, rrel1 = frame_data(machine, axis, at(q0[:1] + 1.0), at(q0[:1]), refs[:1], refs[:1])
     if linear:
         dev, unit = _linear(rec, axis, d_m, d1, rows, pos, q0, alpha), "um"
     else:
@@ -324,7 +325,7 @@ def _warn_design(t: dict[str, np.ndarray], positions: np.ndarray, axis: str, not
         notes.append(f"axis {axis}: {len(positions)} target positions; ISO 230-2 asks for at least 5")
 
 
-def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = "dmu50", targets=None,
+def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = DEFAULT_MACHINE, targets=None,
              alpha: float | None = None, angle_unit: str = "arcsec", point: str | None = None) -> Iso230Result:
     """ISO 230-2 evaluation of ``axis`` (default: every axis in the recording); ``targets``: evaluate only these
     positions (mm / deg); ``alpha`` (1/K): normalise linear axes to 20 C; ``point``: use one reflector only."""

@@ -52,7 +52,91 @@ class Machine:
         self.error_groups: dict[str, list[str]] = m.ERROR_GROUPS
         self.parameters: dict[str, str] = m.PARAMETERS
         self.ik_info: dict = m.IK
+        self.sides: dict[str, str] = m.AXIS_SIDES  # axis -> "tool" (moves the spindle) or "table"
+        self.positioning_errors: dict[str, str] = m.POSITIONING_ERRORS  # axis -> E_XX, E_CB, ...
+        self.campaign: dict = m.CAMPAIGN  # default measurement campaign of the spec (positions, reflectors, ...)
         self._err_index = {n: i for i, n in enumerate(self.error_names)}
+        self._ax_index = {a: i for i, a in enumerate(self.axes)}
+
+    # ------------------------------------------------------------------ spec facts
+    def index(self, axis: str) -> int:
+        """Position of ``axis`` in the axis vector; an unknown axis is an InputError naming the machine's axes."""
+        try:
+            return self._ax_index[axis]
+        except KeyError:
+            raise InputError(f"{axis!r} is not an axis of machine {self.name} ({', '.join(self.axes)})") from None
+
+    def kind(self, axis: str) -> str:
+        """"linear" (mm) or "rotary" (deg)."""
+        return self.axis_kinds[self.index(axis)]
+
+    def unit(self, axis: str) -> str:
+        return "mm" if self.kind(axis) == "linear" else "deg"
+
+    def side(self, axis: str) -> str:
+        """"tool" when the axis carries the spindle, "table" when it carries the workpiece."""
+        self.index(axis)
+        return self.sides[axis]
+
+    @property
+    def linear_axes(self) -> tuple[str, ...]:
+        return tuple(a for a, k in zip(self.axes, self.axis_kinds) if k == "linear")
+
+    @property
+    def rotary_axes(self) -> tuple[str, ...]:
+        return tuple(a for a, k in zip(self.axes, self.axis_kinds) if k == "rotary")
+
+    def error_motions(self, axis: str) -> tuple[str, ...]:
+        """ISO 230-1 names of the six error motions of an axis: E_X<axis> .. E_C<axis> (mm, then rad)."""
+        self.index(axis)
+        return tuple(f"E_{c}{axis}" for c in "XYZABC")
+
+    def axis_vector(self, at: Mapping[str, float | np.ndarray] | None = None) -> np.ndarray:
+        """Axis positions (..., n_axes) from {axis: position} (missing axes at zero)."""
+        vals = {a: np.asarray(v, dtype=float) for a, v in (at or {}).items()}
+        out = np.zeros(np.broadcast_shapes(*(v.shape for v in vals.values())) + (len(self.axes),))
+        for a, v in vals.items():
+            out[..., self.index(a)] = v
+        return out
+
+    # ------------------------------------------------------------------ geometry of measured points
+    def _side_of(self, axis_or_side: str) -> str:
+        return axis_or_side if axis_or_side in ("tool", "table") else self.side(axis_or_side)
+
+    def points(self, axis_or_side: str, axes, local, errors=None) -> np.ndarray:
+        """Machine-frame positions (..., 3) mm of reflectors ``local`` (..., 3) fixed to the spindle ("tool":
+        mm relative to the spindle gauge point) or the table ("table": workpiece coordinates), at axis positions
+        (..., n_axes); exact error-inclusive with ``errors`` (..., n_errors), nominal without.  ``axis_or_side``:
+        "tool", "table" or an axis (its side).  Positions are not limit-checked (campaigns stay inside)."""
+        a, p = np.asarray(axes, dtype=float), np.asarray(local, dtype=float)
+        e = np.zeros(len(self.error_names)) if errors is None else np.asarray(errors, dtype=float)
+        side = self._side_of(axis_or_side)
+        return (self._np.tool_point if side == "tool" else self._np.table_point)(a, e, p)
+
+    def point_jacobian_errors(self, axis_or_side: str, axes, local) -> np.ndarray:
+        """d points / d errors at zero error (..., 3, n_errors), mm per mm and mm per rad."""
+        side = self._side_of(axis_or_side)
+        fn = self._np.tool_point_jacobian_errors if side == "tool" else self._np.table_point_jacobian_errors
+        return fn(np.asarray(axes, dtype=float), np.asarray(local, dtype=float))
+
+    def rigid_motion(self, axis_or_side: str, axes) -> tuple[np.ndarray, np.ndarray]:
+        """(b (..., 3), R (..., 3, 3)): the nominal map local -> machine frame x = b + R local of the spindle or
+        table side at axis positions (..., n_axes), read off exactly from the images of 0 and the unit vectors."""
+        a = np.asarray(axes, dtype=float)
+        basis = self.points(axis_or_side, a[..., None, :], np.vstack([np.zeros(3), np.eye(3)]))  # (..., 4, 3)
+        b = basis[..., 0, :]
+        return b, np.swapaxes(basis[..., 1:, :] - b[..., None, :], -1, -2)
+
+    def axis_frame(self, axis: str, axes) -> tuple[np.ndarray, np.ndarray]:
+        """(R (..., 3, 3), o (..., 3) mm): the frame in which the error motion of ``axis`` acts, in the machine
+        frame at axis positions (..., n_axes): a linear axis' frame after its nominal translation, a rotary
+        axis' stator frame (z along its nominal rotation axis); generated by derive/threepoint.py."""
+        from mtcal.generated import threepoint_numpy as tp
+        key = f"{self.name}_{axis}"
+        if key not in tp.FRAMES:
+            raise InputError(f"no axis frame derived for axis {axis} of machine {self.name}: run `python -m derive`")
+        f = getattr(tp, tp.FRAMES[key])(np.asarray(axes, dtype=float))
+        return f[..., :3], f[..., 3]
 
     def __repr__(self) -> str:
         return f"Machine({self.name!r}: {self.title})"
@@ -110,34 +194,48 @@ class Machine:
         return e
 
     # ------------------------------------------------------------------ kinematics
-    def forward(self, axes, errors=None, tool_length: float = 0.0) -> np.ndarray:
-        """Pose (..., 6) = [x, y, z (mm), i, j, k] in the workpiece frame; exact error-inclusive when ``errors``."""
+    # ``check=False`` skips the input checks (limits, NaN, error names) for batch code that checked its input
+    # already (compensation of long programs): axes (..., n_axes) and errors (..., n_errors) arrays, as generated.
+    def _in(self, axes, errors, check: bool, want_errors: bool = True):
+        if not check:
+            return axes, errors
         a = self.check_axes(axes)
+        return a, (self.error_vector(errors, a.shape[:-1]) if want_errors else None)
+
+    def forward(self, axes, errors=None, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+        """Pose (..., 6) = [x, y, z (mm), i, j, k] in the workpiece frame; exact error-inclusive when ``errors``."""
+        a, e = self._in(axes, errors, check, errors is not None)
         if errors is None:
             return self._np.forward(a, tool_length)
-        return self._np.forward_errors(a, self.error_vector(errors, a.shape[:-1]), tool_length)
+        return self._np.forward_errors(a, e, tool_length)
 
-    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0) -> np.ndarray:
+    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0,
+                  check: bool = True) -> np.ndarray:
         """Pose deviation (..., 6) caused by the errors: first order (order=1) or exact (order=None)."""
-        a = self.check_axes(axes)
-        e = self.error_vector(errors, a.shape[:-1])
+        a, e = self._in(axes, errors, check)
         if order == 1:
             return self._np.deviation_first_order(a, e, tool_length)
         if order is None:
             return self._np.forward_errors(a, e, tool_length) - self._np.forward(a, tool_length)
         raise InputError(f"order must be 1 (first order) or None (exact), got {order!r}")
 
-    def jacobian_axes(self, axes, errors=None, tool_length: float = 0.0) -> np.ndarray:
-        """d pose / d axes (..., 6, n_axes): per mm and per degree; at the given errors (held fixed) if any."""
-        a = self.check_axes(axes)
-        if errors is None:
-            return self._np.jacobian_axes(a, tool_length)
-        return self.forward_with_jacobian(a, errors, tool_length)[1]
+    def correction_first_order(self, axes, errors, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+        """(..., 6): the linear-axis step (mm) that cancels the first-order tool-tip deviation, and the tool-axis
+        deviation in the machine frame (derive/kinematics.py, generated ``correction_first_order``)."""
+        a, e = self._in(axes, errors, check)
+        return self._np.correction_first_order(a, e, tool_length)
 
-    def forward_with_jacobian(self, axes, errors=None, tool_length: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    def jacobian_axes(self, axes, errors=None, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+        """d pose / d axes (..., 6, n_axes): per mm and per degree; at the given errors (held fixed) if any."""
+        if errors is None:
+            return self._np.jacobian_axes(self._in(axes, None, check, False)[0], tool_length)
+        return self.forward_with_jacobian(axes, errors, tool_length, check)[1]
+
+    def forward_with_jacobian(self, axes, errors=None, tool_length: float = 0.0,
+                              check: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """(pose (..., 6), d pose / d axes (..., 6, n_axes)) of the exact error-inclusive model in one pass."""
-        a = self.check_axes(axes)
-        out = self._np.forward_errors_with_jacobian(a, self.error_vector(errors, a.shape[:-1]), tool_length)
+        a, e = self._in(axes, errors, check)
+        out = self._np.forward_errors_with_jacobian(a, e, tool_length)
         return out[..., 0], out[..., 1:]
 
     def jacobian_errors(self, axes, tool_length: float = 0.0) -> np.ndarray:
@@ -145,12 +243,13 @@ class Machine:
         return self._np.jacobian_errors(self.check_axes(axes), tool_length)
 
     # ------------------------------------------------------------------ inverse kinematics
-    def inverse(self, pose, hint=None, singular_tol: float = 1e-9) -> np.ndarray:
-        """Axes (..., 5) that reach pose (..., 6) = [x, y, z, i, j, k] nominally.
+    def inverse(self, pose, hint=None, singular_tol: float = 1e-9, tool_length: float = 0.0) -> np.ndarray:
+        """Axes (..., n_axes) that reach pose (..., 6) = [x, y, z, i, j, k] nominally.
 
-        Branch: the tilt angle inside its limits (the spec's preferred branch, else the other, else the one
-        closer to ``hint``); the rotary angle is the 360-degree multiple closest to the hint's rotary angle
-        (hint default: all zero).  At the singularity (tool axis parallel to the rotary axis, |u_xy| <
+        Branches (``ik_info["branches"]``): the tilt angle inside its limits (the spec's preferred branch, else
+        the other, else the one closer to ``hint``); the rotary angle is the 360-degree multiple closest to the
+        hint's rotary angle (hint default: all zero); ``tool_length`` (mm) as in ``forward`` (it matters when the
+        tilt axis is on the head).  At the singularity (tool axis parallel to the rotary axis, |u_xy| <
         ``singular_tol``) the rotary angle is taken from the hint.  The tool axis must be a unit vector within
         1e-3 (it is then normalised); k outside the reachable range is an error.
         """
@@ -191,7 +290,7 @@ class Machine:
         rc = self._np.ik_rotary(tilt, n[..., :2])
         rot, sing = rc[..., 0], rc[..., 1] < singular_tol
         rot = np.where(sing, h[..., ri], rot + 360.0 * np.round((h[..., ri] - rot) / 360.0))
-        lin = self._np.ik_linear(np.stack([tilt, rot], axis=-1), p[..., :3])
+        lin = self._np.ik_linear(np.stack([tilt, rot], axis=-1), p[..., :3], tool_length)
         out = np.empty(p.shape[:-1] + (len(self.axes),))
         li = [i for i, kd in enumerate(self.axis_kinds) if kd == "linear"]
         out[..., li] = lin
@@ -219,10 +318,11 @@ def _is_machine(name: str) -> bool:
 
 
 _CACHE: dict[str, Machine] = {}
+DEFAULT_MACHINE = "dmu50"  # the thesis' machine: what every command uses unless --machine says otherwise
 
 
-def load_machine(name: str = "dmu50") -> Machine:
-    """The kinematic model of a machine generated from derive/machines/<name>.toml (default: the DMU 50)."""
+def load_machine(name: str = DEFAULT_MACHINE) -> Machine:
+    """The kinematic model of a machine generated from derive/machines/<name>.toml (default: DEFAULT_MACHINE)."""
     if name not in _CACHE:
         _check_stale()
         _CACHE[name] = Machine(name)

@@ -19,7 +19,6 @@ from mtcal.io import atomic_write_text, read_csv_rows
 
 REQUIRED = ("axis", "round", "position", "point", "x", "y", "z")
 OPTIONAL = ("time_s", "direction", "temperature_c")
-LINEAR, ROTARY = ("X", "Y", "Z"), ("A", "B", "C")
 
 
 @dataclass
@@ -45,7 +44,8 @@ class Recording:
         return Recording(*(getattr(self, f)[mask] for f in _FIELDS), source=self.source)
 
     def axes(self) -> list[str]:
-        return [a for a in ("X", "Y", "Z", "A", "B", "C") if a in set(self.axis.tolist())]
+        """The measured axes in the order they first appear in the file."""
+        return list(dict.fromkeys(self.axis.tolist()))
 
     def where(self, i: int) -> str:
         return f"{self.source}:{int(self.line[i])}"
@@ -64,21 +64,27 @@ def _float(text: str, col: str, where: str) -> float:
     return v
 
 
-def read_recording(path: str | Path) -> Recording:
+def read_recording(path: str | Path, machine=None) -> Recording:
     """Read and check a recording CSV (header required; units mm and degrees; see mtcal.io.read_csv_rows for
-    encodings and ';' exports)."""
-    return _parse_rows(read_csv_rows(path, "recording"), str(path))
+    encodings and ';' exports).  ``machine`` (mtcal.Machine or name; default: the default machine): the axes
+    must be its axes (the commands pass their --machine)."""
+    return _parse_rows(read_csv_rows(path, "recording"), str(path), _machine(machine))
 
 
-def parse_recording(text: str, source: str = "<memory>") -> Recording:
+def _machine(machine):
+    from mtcal.machine import Machine, load_machine
+    return machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
+
+
+def parse_recording(text: str, source: str = "<memory>", machine=None) -> Recording:
     """A recording from CSV text (comma-separated)."""
     rows = [(i + 1, r) for i, r in enumerate(csv.reader(io.StringIO(text))) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise InputError(f"empty file, expected header {','.join(REQUIRED)}", source)
-    return _parse_rows(rows, source)
+    return _parse_rows(rows, source, _machine(machine))
 
 
-def _parse_rows(rows: list[tuple[int, list[str]]], source: str) -> Recording:
+def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) -> Recording:
     hline, header = rows[0]
     header = [h.strip().lower() for h in header]
     missing = [c for c in REQUIRED if c not in header]
@@ -96,8 +102,9 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str) -> Recording:
         if len(r) != len(header):
             raise InputError(f"{where}: {len(r)} fields, header has {len(header)}")
         ax = r[col["axis"]].strip().upper()
-        if ax not in LINEAR + ROTARY:
-            raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of X, Y, Z, A, B, C")
+        if ax not in machine.axes:
+            raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of the axes of machine {machine.name} "
+                             f"({', '.join(machine.axes)}; --machine names another)")
         rnd_f = _float(r[col["round"]], "round", where)
         if rnd_f != int(rnd_f):
             raise InputError(f"{where}: round must be an integer, got {r[col['round']]!r}")
@@ -127,13 +134,13 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str) -> Recording:
                     np.array(out["point"]), np.array(out["xyz"], dtype=float).reshape(-1, 3),
                     np.array(out["time_s"], dtype=float), np.array(out["direction"], dtype=int),
                     np.array(out["temperature_c"], dtype=float), np.array(out["line"], dtype=int), source)
-    _check_units(rec)
+    _check_units(rec, machine.linear_axes)
     return rec
 
 
-def _check_units(rec: Recording) -> None:
+def _check_units(rec: Recording, linear) -> None:
     """Positions of a linear axis all within +-2 while the points move by metres' worth: metres, not mm."""
-    for ax in LINEAR:
+    for ax in linear:
         m = rec.axis == ax
         if m.sum() < 2:
             continue

@@ -5,18 +5,17 @@ The simulated machine follows the exact error-inclusive kinematics (the generate
 depends on where it stands.  Frames and units: machine frame (= tracker frame after alignment), mm; linear
 axes in mm, rotary axes in degrees; errors in mm and rad.
 
-Default campaign (thesis ch. 3, Zhang & Hu three-point method):
-* reflectors P, Q, K on the spindle (coordinates relative to the spindle gauge point, ~100 mm apart, at
-  different heights) for X, Y, Z, and on the table (workpiece coordinates) for B and C;
-* 11 positions over each linear travel (X 0..500, Y 0..450, Z 0..400 mm), B 0..180 step 10, C 0..340 step 20;
-  each axis measured with the others at zero (B at C = 0, C at B = 0);
-* 4 rounds; in each round the reflector sits in one nest at a time and the axis runs out and back
-  (ISO 230-2: every target approached in + then in - direction); the reference reading of a point is its
-  first reading at the position closest to zero;
+Default campaign: from the machine's spec ([campaign] of derive/machines/<name>.toml, Machine.campaign):
+* reflectors (>= 3, e.g. P, Q, K) on the spindle (coordinates relative to the spindle gauge point) for the axes
+  that move the spindle, and on the table (workpiece coordinates) for the axes that move the workpiece;
+* positions per axis [start, stop, count]; axes measured in the spec's order, each with the others at zero;
+* rounds (4 in the shipped specs); the first named tracker station of the spec (DMU 50: thesis fig. 5.1 Pos. 1,
+  in front of the machine, beam roughly along Y);
+* in each round the reflector sits in one nest at a time and the axis runs out and back (ISO 230-2: every
+  target approached in + then in - direction); the reference reading of a point is its first reading at the
+  position closest to zero;
 * times: the axis moves at 50 mm/s or 20 deg/s, settles 3 s (stable-point detection), the reading takes 2 s;
   30 s to move the reflector to the next nest, 60 s between rounds, 300 s between axes.
-* tracker at Pos. 1 (thesis fig. 5.1: in front of the machine, beam roughly along Y):
-  (250, -1500, 150) mm in the machine frame.
 
 PLAN.json (all keys optional; values replace the defaults):
 {"tracker": [x, y, z],                      mm, machine frame
@@ -46,41 +45,36 @@ from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorModel
 from mtcal.recordings import Recording, make_recording, write_recording
 
-AXIS_ORDER = ("X", "Y", "Z", "B", "C")
 MAX_READING_MM = 1e6  # a simulated reading farther than 1 km from the machine origin is no measurement
-LINEAR = ("X", "Y", "Z")
 
-# Thesis fig. 5.1 tracker placements (our reading of the sketch; machine frame, mm):
-TRACKER_POSITIONS = {
-    "pos1": (250.0, -1500.0, 150.0),   # in front of the machine, beam ~ along Y (the thesis' setup)
-    "pos2": (-1500.0, 225.0, 150.0),   # beside the machine in line with X, beam ~ along X
-    "pos3": (250.0, 225.0, 2000.0),    # above the work zone looking down, beam ~ along Z
-}
-DEFAULT_TRACKER = TRACKER_POSITIONS["pos1"]
 
-DEFAULT_POSITIONS = {
-    "X": np.linspace(0.0, 500.0, 11),
-    "Y": np.linspace(0.0, 450.0, 11),
-    "Z": np.linspace(0.0, 400.0, 11),
-    "B": np.arange(0.0, 180.0 + 1e-9, 10.0),
-    "C": np.arange(0.0, 340.0 + 1e-9, 20.0),
-}
-# Reflector nests: spindle points relative to the gauge point, table points in workpiece coordinates (mm).
-DEFAULT_TOOL_POINTS = {"P": (70.0, 0.0, 10.0), "Q": (-35.0, 60.0, 40.0), "K": (-35.0, -60.0, 70.0)}
-DEFAULT_TABLE_POINTS = {"P": (150.0, 0.0, 40.0), "Q": (-75.0, 130.0, 80.0), "K": (-75.0, -130.0, 120.0)}
+def tracker_positions(machine: Machine) -> dict[str, tuple[float, float, float]]:
+    """The spec's named tracker stations (mm, machine frame); the first is the default."""
+    return {k: tuple(v) for k, v in machine.campaign["trackers"]}
+
+
+def default_positions(machine: Machine) -> dict[str, np.ndarray]:
+    """The spec's campaign positions of every axis (mm or deg), in the order the axes are measured."""
+    return {a: np.linspace(start, stop, count) for a, start, stop, count in machine.campaign["positions"]}
+
+
+def default_points(machine: Machine, side: str) -> dict[str, tuple]:
+    """The spec's reflector nests of one side ("tool": mm from the spindle gauge point; "table": workpiece)."""
+    return {k: tuple(v) for k, v in machine.campaign["reflectors"][side]}
 
 
 @dataclass
 class Plan:
-    """A measurement plan (see module docstring for the JSON schema)."""
+    """A measurement plan of one machine (see module docstring for the JSON schema); fields left None take
+    the machine's spec defaults."""
 
-    tracker: tuple[float, float, float] = DEFAULT_TRACKER
-    rounds: int = 4
-    positions: dict[str, np.ndarray] = field(
-        default_factory=lambda: {k: v.copy() for k, v in DEFAULT_POSITIONS.items()})
+    machine: Machine = field(default_factory=lambda: load_machine())
+    tracker: tuple[float, float, float] | None = None
+    rounds: int | None = None
+    positions: dict[str, np.ndarray] | None = None
     at: dict[str, dict[str, float]] = field(default_factory=dict)
-    tool_points: dict[str, tuple] = field(default_factory=lambda: dict(DEFAULT_TOOL_POINTS))
-    table_points: dict[str, tuple] = field(default_factory=lambda: dict(DEFAULT_TABLE_POINTS))
+    tool_points: dict[str, tuple] | None = None
+    table_points: dict[str, tuple] | None = None
     bidirectional: bool = True
     feed_mm_s: float = 50.0
     feed_deg_s: float = 20.0
@@ -92,17 +86,27 @@ class Plan:
     temperature_c: float = 20.0
     source: str = "<default plan>"  # the PLAN.json it came from (for messages)
 
+    def __post_init__(self) -> None:
+        m = self.machine = self.machine if isinstance(self.machine, Machine) else load_machine(self.machine)
+        if self.tracker is None:
+            self.tracker = next(iter(tracker_positions(m).values()))
+        if self.rounds is None:
+            self.rounds = int(m.campaign["rounds"])
+        if self.positions is None:
+            self.positions = default_positions(m)
+        if self.tool_points is None:
+            self.tool_points = default_points(m, "tool")
+        if self.table_points is None:
+            self.table_points = default_points(m, "table")
+
     def points_for(self, axis: str) -> dict[str, tuple]:
-        return self.tool_points if axis in LINEAR else self.table_points
+        return self.tool_points if self.machine.side(axis) == "tool" else self.table_points
 
     def axis_values(self, axis: str, position: float | np.ndarray) -> np.ndarray:
-        """All axis positions (..., 5) when ``axis`` is at ``position`` and the others at their "at" values."""
+        """All axis positions (..., n_axes) when ``axis`` is at ``position`` and the others at their "at" values."""
         q = np.asarray(position, dtype=float)
-        out = np.zeros(q.shape + (5,))
-        for k, v in self.at.get(axis, {}).items():
-            out[..., AXIS_ORDER.index(k)] = v
-        out[..., AXIS_ORDER.index(axis)] = q
-        return out
+        at = {k: np.full(q.shape, v) for k, v in self.at.get(axis, {}).items()}
+        return self.machine.axis_vector({**at, axis: q})
 
     def reference_position(self, axis: str) -> float:
         """The position closest to zero (the reference of every round, design.md)."""
@@ -135,14 +139,17 @@ def _points(raw: Any, where: str) -> dict[str, tuple]:
     return out
 
 
-def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
-    """Build a Plan from PLAN.json contents; unknown keys and bad values name the file and key."""
+def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine | None = None) -> Plan:
+    """Build a Plan of ``machine`` (default: the default machine) from PLAN.json contents; unknown keys and bad
+    values name the file and key."""
     if not isinstance(raw, Mapping):
         raise InputError(f"{source}: a plan must be a JSON object")
     unknown = sorted(set(raw) - _PLAN_KEYS)
     if unknown:
         raise InputError(f"{source}: unknown key(s) {unknown}; allowed: {sorted(_PLAN_KEYS)}")
-    plan = Plan()
+    plan = Plan(machine if machine is not None else load_machine())
+    m = plan.machine
+    defaults = default_positions(m)
     kw: dict[str, Any] = {"source": source}
     if "tracker" in raw:
         kw["tracker"] = _xyz(raw["tracker"], f"{source}: tracker")
@@ -157,8 +164,8 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
             raise InputError(f"{source}: axes must be an object {{AXIS: {{positions: [...]}}}}")
         pos, at = {}, {}
         for a, spec in axes.items():
-            if a not in AXIS_ORDER:
-                raise InputError(f"{source}: axes: unknown axis {a!r}; axes are {', '.join(AXIS_ORDER)}")
+            if a not in m.axes:
+                raise InputError(f"{source}: axes: unknown axis {a!r}; axes of {m.name} are {', '.join(m.axes)}")
             spec = spec or {}
             if not isinstance(spec, Mapping):
                 raise InputError(f"{source}: axes.{a} must be an object")
@@ -174,14 +181,15 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
                 p = np.linspace(sc.number(spec.get("start"), source, f"axes.{a}.start"),
                                 sc.number(spec.get("stop"), source, f"axes.{a}.stop"), n)
             else:
-                p = DEFAULT_POSITIONS[a].copy()
+                p = defaults[a].copy()
             if p.ndim != 1 or len(p) < 2 or not np.isfinite(p).all() or len(np.unique(p)) != len(p):
                 raise InputError(f"{source}: axes.{a}: positions must be >= 2 distinct finite numbers")
-            if a == "B" and (p.min() < 0 or p.max() > 180):
-                raise InputError(f"{source}: axes.B: positions must lie in [0, 180] deg")
+            lim = m.limits[m.index(a)]
+            if lim and (p.min() < lim[0] or p.max() > lim[1]):
+                raise InputError(f"{source}: axes.{a}: positions must lie in [{lim[0]:g}, {lim[1]:g}] {m.unit(a)}")
             pos[a] = p
             other = spec.get("at", {}) or {}
-            if not isinstance(other, Mapping) or any(k not in AXIS_ORDER or k == a for k in other):
+            if not isinstance(other, Mapping) or any(k not in m.axes or k == a for k in other):
                 raise InputError(f"{source}: axes.{a}.at must map other axes to positions, got {other!r}")
             at[a] = {k: sc.number(v, source, f"axes.{a}.at.{k}") for k, v in other.items()}
         kw["positions"], kw["at"] = pos, at
@@ -209,18 +217,22 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>") -> Plan:
     return replace(plan, **kw)
 
 
-def load_plan(path: str | Path) -> Plan:
-    return plan_from_dict(read_json(path, "plan"), str(path))
+def load_plan(path: str | Path, machine: str | Machine | None = None) -> Plan:
+    return plan_from_dict(read_json(path, "plan"), str(path), machine)
 
 
-def as_plan(plan: Plan | Mapping | str | Path | None) -> Plan:
+def as_plan(plan: Plan | Mapping | str | Path | None, machine: str | Machine | None = None) -> Plan:
+    """A Plan of ``machine`` from a Plan, a dict, a PLAN.json path or None (the spec's default campaign)."""
+    m = machine if isinstance(machine, Machine) or machine is None else load_machine(machine)
     if plan is None:
-        return Plan()
+        return Plan(m) if m is not None else Plan()
     if isinstance(plan, Plan):
+        if m is not None and plan.machine.name != m.name:
+            raise InputError(f"the plan is for machine {plan.machine.name!r}, not {m.name!r}")
         return plan
     if isinstance(plan, Mapping):
-        return plan_from_dict(plan)
-    return load_plan(plan)
+        return plan_from_dict(plan, machine=m)
+    return load_plan(plan, m)
 
 
 # ---------------------------------------------------------------------------------------------- schedule
@@ -239,8 +251,8 @@ def schedule(plan: Plan) -> Rows:
         seq = [(float(p), 1 if out[-1] > out[0] else -1) for p in out]
         if plan.bidirectional:
             seq += [(float(p), -d) for p, d in reversed(seq)]
-        feed = plan.feed_mm_s if axis in LINEAR else plan.feed_deg_s
-        side = "tool" if axis in LINEAR else "table"
+        feed = plan.feed_mm_s if plan.machine.kind(axis) == "linear" else plan.feed_deg_s
+        side = plan.machine.side(axis)
         for r in range(1, plan.rounds + 1):
             if r > 1:
                 t += plan.round_pause_s
@@ -262,7 +274,7 @@ def schedule(plan: Plan) -> Rows:
                     t += plan.measure_s
     axis = np.array(cols["axis"])
     position = np.array(cols["position"], dtype=float)
-    axes = np.zeros((len(axis), 5))
+    axes = np.zeros((len(axis), len(plan.machine.axes)))
     for a in plan.positions:
         m = axis == a
         axes[m] = plan.axis_values(a, position[m])
@@ -274,11 +286,10 @@ def schedule(plan: Plan) -> Rows:
 def exact_points(machine: Machine, rows: Rows, errors: np.ndarray) -> np.ndarray:
     """Machine-frame reflector positions (n, 3) mm by the exact error-inclusive kinematics."""
     xyz = np.empty((len(rows), 3))
-    tool = rows.side == "tool"
-    if tool.any():
-        xyz[tool] = machine._np.tool_point(rows.axes[tool], errors[tool], rows.local[tool])
-    if (~tool).any():
-        xyz[~tool] = machine._np.table_point(rows.axes[~tool], errors[~tool], rows.local[~tool])
+    for side in ("tool", "table"):
+        on = rows.side == side
+        if on.any():
+            xyz[on] = machine.points(side, rows.axes[on], rows.local[on], errors[on])
     return xyz
 
 
@@ -296,13 +307,14 @@ def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
 
 
 # ---------------------------------------------------------------------------------------------- campaign
-def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50", tracker=None,
-             rounds: int | None = None,
-             seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
+def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None = None, tracker=None,
+             rounds: int | None = None, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
              spec: trk.TrackerSpec = trk.AT960) -> tuple[Recording, dict]:
     """(recording, truth) of one simulated campaign; see ``simulate_campaign``."""
-    m = machine if isinstance(machine, Machine) else load_machine(machine)
-    pl = as_plan(plan)
+    if machine is None:
+        machine = plan.machine if isinstance(plan, Plan) else (model.machine if model is not None else None)
+    m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
+    pl = as_plan(plan, m)
     if tracker is not None:
         pl = replace(pl, tracker=tuple(float(c) for c in (trk.parse_xyz(tracker) if isinstance(tracker, str)
                                                           else np.asarray(tracker, dtype=float).reshape(3))))
@@ -310,7 +322,7 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
         if int(rounds) != rounds or rounds < 1:
             raise InputError(f"rounds must be a positive integer, got {rounds!r}")
         pl = replace(pl, rounds=int(rounds))
-    eff = as_effects(effects)
+    eff = [e.bind(m, {"tool": pl.tool_points, "table": pl.table_points}) for e in as_effects(effects)]
     t_pos = np.asarray(pl.tracker, dtype=float)
     if not np.isfinite(t_pos).all():
         raise InputError(f"tracker position must be finite, got {pl.tracker}")
@@ -322,7 +334,7 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
               else np.zeros((len(rows), len(m.error_names))))
     with np.errstate(over="ignore", invalid="ignore"):  # non-finite readings are refused below, in one line
         for e in eff:
-            e.add_errors(rows, errors, m.error_names)
+            e.add_errors(rows, errors, m)
         xyz = exact_points(m, rows, errors)
         for e in eff:
             e.apply_readings(rows, xyz, t_pos)
@@ -338,7 +350,7 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
     truth = {
         "machine": m.name,
-        "units": {"length": "mm", "angle": "rad", "position": "mm (X, Y, Z) or deg (B, C)", "time": "s"},
+        "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)", "time": "s"},
         "tracker": list(pl.tracker),
         "tracker_spec": {"radial_um": spec.radial_um, "radial_um_per_m": spec.radial_um_per_m,
                          "transverse_um": spec.transverse_um, "transverse_um_per_m": spec.transverse_um_per_m,
@@ -357,13 +369,14 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine = "dmu50
     return rec, truth
 
 
-def simulate_campaign(model: ErrorModel | None = None, *, machine="dmu50", tracker=None, rounds=4, seed=0,
+def simulate_campaign(model: ErrorModel | None = None, *, machine=None, tracker=None, rounds=4, seed=0,
                       effects=(), noise=True, plan=None) -> Recording:
     """A simulated laser-tracker campaign as a Recording (tidy CSV columns incl. time_s, direction, temperature_c).
 
-    model: error model of the simulated machine (None = no errors); machine: name or Machine; tracker: (3,) mm
-    or "x,y,z" (None = the plan's, default thesis Pos. 1 = DEFAULT_TRACKER); rounds: overrides the plan's
-    (default 4; pass None to keep the plan's); seed: numpy Generator seed; effects: see mtcal.effects;
+    model: error model of the simulated machine (None = no errors); machine: name or Machine (default: the
+    plan's, else the model's, else the default machine); tracker: (3,) mm or "x,y,z" (None = the plan's, default
+    the spec's first tracker station); rounds: overrides the plan's (default 4; pass None to keep the plan's);
+    seed: numpy Generator seed; effects: see mtcal.effects;
     noise: AT960 noise on/off; plan: Plan, dict or PLAN.json path (module docstring).
     The planted truth is attached as ``recording.truth`` (a dict, also written by ``write_campaign``).
     """

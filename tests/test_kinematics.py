@@ -1,6 +1,8 @@
 """Foundation (issue 2): generated kinematics vs the thesis closed form, inverse, CasADi, Jacobians, first order."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -10,7 +12,7 @@ from hypothesis import strategies as st
 import mtcal
 from mtcal.errors import InputError
 
-MACHINES = ["dmu50", "xyzac"]
+MACHINES = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 D = 154.996  # mm, DMU 50 (design.md)
 
 
@@ -111,6 +113,58 @@ def test_inverse_rejects_unreachable_and_bad_input():
         m.inverse([np.nan, 0, 0, 0, 0, 1])
 
 
+# ---------------------------------------------------------------------------- head-table machine (headbc)
+PIVOT = 150.0  # mm, headbc: B pivot above the spindle gauge point (derive/machines/headbc.toml)
+
+
+def head_table_forward(ax: np.ndarray, tool_length: float = 0.0) -> np.ndarray:
+    """Swivel head B about machine Y on X, Y, Z, C table turning the workpiece by -C, written here by hand:
+    tool axis t = (sin B, 0, cos B); the pivot sits at (X, Y, Z + P + L) and the tip P + L below it along t;
+    the workpiece frame sees base vectors turned by Rz(C)."""
+    X, Y, Z, B, C = ax.T
+    b, c = np.radians(B), np.radians(C)
+    arm = PIVOT + tool_length
+    tip = np.column_stack([X - arm * np.sin(b), Y, Z + arm * (1 - np.cos(b))])
+    t = np.column_stack([np.sin(b), np.zeros_like(b), np.cos(b)])
+
+    def rz(v):
+        return np.column_stack([v[:, 0] * np.cos(c) - v[:, 1] * np.sin(c), v[:, 0] * np.sin(c) + v[:, 1] * np.cos(c),
+                                v[:, 2]])
+    return np.hstack([rz(tip), rz(t)])
+
+
+def test_head_table_forward_equals_closed_form():
+    m = mtcal.load_machine("headbc")
+    ax = random_axes(m, 2000, np.random.default_rng(21))
+    for tl in (0.0, 95.0):
+        err = np.abs(m.forward(ax, tool_length=tl) - head_table_forward(ax, tl))
+        assert err[:, :3].max() < 1e-9 and err[:, 3:].max() < 1e-12
+
+
+@pytest.mark.parametrize("b", [0.0, 1e-9, 1e-6, 1e-3, -1e-3, -1e-6, 0.1, -45.0, 110.0, -110.0])
+def test_head_table_inverse_through_singularity_and_both_branches(b):
+    """B = 0: tool axis parallel to C (C free, taken from the hint).  B < 0 and B > 0 are the two branches:
+    (B, C) and (-B, C + 180) give the same pose; the hint picks the branch, FK(IK(pose)) = pose either way."""
+    m = mtcal.load_machine("headbc")
+    assert m.ik_info["singular_k"] == 1.0 and m.ik_info["tilt_side"] == "tool"
+    ax = np.array([[120.0, -80.0, 35.0, b, 37.0]])
+    for tl in (0.0, 60.0):
+        pose = m.forward(ax, tool_length=tl)
+        assert np.abs(pose - head_table_forward(ax, tl)).max() < 1e-9
+        default = m.inverse(pose, hint=[0, 0, 0, 0, 30.0], tool_length=tl)
+        assert np.abs(m.forward(default, tool_length=tl) - pose).max() < 1e-9
+        assert default[0, 3] >= 0.0  # preferred branch +1: B = +acos(k)
+        if b == 0.0:
+            assert default[0, 4] == 30.0
+        elif b < 0:  # the other branch: C turned by 180 deg
+            assert default[0, 3] == pytest.approx(-b, abs=1e-7)
+            assert (default[0, 4] - 37.0) % 360 == pytest.approx(180.0, abs=1e-6)
+        hinted = m.inverse(pose, hint=ax[0], tool_length=tl)  # the hint's branch comes back exactly
+        if abs(b) > 1e-6:
+            assert np.abs(hinted - ax).max() < 1e-7
+        assert np.abs(m.forward(hinted, tool_length=tl) - pose).max() < 1e-9
+
+
 # ---------------------------------------------------------------------------- generic, every machine
 @pytest.mark.parametrize("name", MACHINES)
 def test_forward_inverse_round_trip_generic(name):
@@ -145,7 +199,7 @@ def test_numpy_and_casadi_agree(name):
             "tool_point_jacobian_errors": (ax, p), "table_point_jacobian_errors": (ax, p),
             "ik_tilt": (m.forward(ax)[:, 3:],),
             "ik_rotary": (ax[:, 3], rng.normal(size=(8, 2))),
-            "ik_linear": (ax[:, 3:], rng.normal(size=(8, 3)) * 100)}
+            "ik_linear": (ax[:, 3:], rng.normal(size=(8, 3)) * 100, L)}
     assert set(args) == set(m._np.FUNCTIONS) == set(m.casadi.FUNCTIONS)
     for fname, a in args.items():
         out_np = getattr(m._np, fname)(*a)
@@ -165,8 +219,9 @@ def test_axis_jacobians_against_central_differences(name):
     m = mtcal.load_machine(name)
     rng = np.random.default_rng(5)
     ax = random_axes(m, 20, rng)
-    if name == "dmu50":
-        ax[:, 3] = rng.uniform(1, 179, 20)  # central differences must stay inside the B range
+    for k, lim in enumerate(m.limits):  # central differences must stay inside the limits
+        if lim:
+            ax[:, k] = rng.uniform(lim[0] + 1, lim[1] - 1, 20)
     e = random_errors(m, 20, rng)
     h = 1e-3
     fd_nom, fd_err = np.zeros((20, 6, 5)), np.zeros((20, 6, 5))
@@ -195,11 +250,11 @@ def test_error_jacobians_against_central_differences(name):
         de = np.zeros(n)
         de[k] = h
         fd_pose[:, :, k] = (m.forward(ax, de, 150) - m.forward(ax, -de, 150)) / (2 * h)
-        fd_tool[:, :, k] = (m._np.tool_point(ax, de, p) - m._np.tool_point(ax, -de, p)) / (2 * h)
-        fd_table[:, :, k] = (m._np.table_point(ax, de, p) - m._np.table_point(ax, -de, p)) / (2 * h)
+        fd_tool[:, :, k] = (m.points('tool', ax, p, de) - m.points('tool', ax, p, -de)) / (2 * h)
+        fd_table[:, :, k] = (m.points('table', ax, p, de) - m.points('table', ax, p, -de)) / (2 * h)
     assert np.abs(m.jacobian_errors(ax, 150) - fd_pose).max() < 1e-6
-    assert np.abs(m._np.tool_point_jacobian_errors(ax, p) - fd_tool).max() < 1e-6
-    assert np.abs(m._np.table_point_jacobian_errors(ax, p) - fd_table).max() < 1e-6
+    assert np.abs(m.point_jacobian_errors('tool', ax, p) - fd_tool).max() < 1e-6
+    assert np.abs(m.point_jacobian_errors('table', ax, p) - fd_table).max() < 1e-6
 
 
 @pytest.mark.parametrize("name", MACHINES)
@@ -272,3 +327,38 @@ def test_broadcasting_of_leading_shapes():
     assert m.jacobian_errors(ax).shape == (3, 4, 6, 41)
     flat = m.forward(ax.reshape(12, 5), {"E_XX": 0.01})
     assert np.array_equal(m.forward(ax, {"E_XX": 0.01}).reshape(12, 6), flat)
+
+
+@pytest.mark.parametrize("name", MACHINES)
+def test_machine_geometry_api(name):
+    """The public geometry API: rigid motions are rotations + translations that reproduce the reflector points;
+    turning a rotary axis moves the points of its side about the z axis of its stator frame (axis_frame): the
+    displacement is orthogonal to that axis and the distance from it is kept; facts of the spec."""
+    m = mtcal.load_machine(name)
+    rng = np.random.default_rng(31)
+    ax = random_axes(m, 50, rng)
+    for k, lim in enumerate(m.limits):
+        if lim:
+            ax[:, k] = rng.uniform(lim[0] + 2, lim[1] - 2, 50)
+    local = rng.normal(size=(50, 3)) * 100
+    for side in ("tool", "table"):
+        b, rot = m.rigid_motion(side, ax)
+        assert np.abs(rot @ np.swapaxes(rot, 1, 2) - np.eye(3)).max() < 1e-12
+        assert np.abs(np.linalg.det(rot) - 1).max() < 1e-12
+        assert np.abs(m.points(side, ax, local) - (b + np.einsum("nij,nj->ni", rot, local))).max() < 1e-9
+    for a in m.rotary_axes:
+        r_f, o = m.axis_frame(a, ax)
+        z = r_f[..., 2]
+        k = m.index(a)
+        moved = ax.copy()
+        moved[:, k] += 1.5
+        p0, p1 = m.points(a, ax, local), m.points(a, moved, local)
+        assert np.abs(np.einsum("ni,ni->n", p1 - p0, z)).max() < 1e-9  # in the plane normal to the axis
+        dist = lambda p, o=o, z=z: np.linalg.norm(np.cross(p - o, z), axis=1)  # noqa: E731
+        assert np.abs(dist(p1) - dist(p0)).max() < 1e-9
+        assert np.abs(p1 - p0).max() > 0.1  # and it did move
+    assert set(m.sides.values()) <= {"tool", "table"}
+    assert m.sides[m.ik_info["rotary_axis"]] == "table"
+    if name in ("headbc", "dmu50"):  # the head's B moves the spindle, the DMU 50's B the table
+        assert m.sides["B"] == ("tool" if name == "headbc" else "table")
+    assert all(m.positioning_errors[a] == f"E_C{a}" for a in m.rotary_axes)

@@ -10,11 +10,12 @@ import pytest
 from mtcal import load_machine
 from mtcal.cli import main
 from mtcal.model import ErrorFunction, ErrorModel
-from mtcal.plan import (axis_errors, linear_covariance, mid_position, monte_carlo, plan_uncertainty,
-                        plot_placement_map, solve_positions)
-from mtcal.simulate import TRACKER_POSITIONS, Plan, simulate_campaign
+from mtcal.identify import estimate
+from mtcal.plan import linear_covariance, mid_position, monte_carlo, plan_uncertainty, plot_placement_map
+from mtcal.simulate import Plan, simulate_campaign, tracker_positions
 
 M = load_machine("dmu50")
+TRACKER_POSITIONS = tracker_positions(load_machine("dmu50"))
 POS1, POS2, POS3 = (np.array(TRACKER_POSITIONS[k]) for k in ("pos1", "pos2", "pos3"))
 
 
@@ -48,7 +49,7 @@ def _solve_recording(rec, axis, tracker, pl):
                 r[i, j, k] = rec.xyz[row]
     j0 = int(np.flatnonzero(pos == ref)[0])
     r0 = np.broadcast_to(r[:, j0:j0 + 1], r.shape)
-    return solve_positions(M, axis, pl.axis_values(axis, pos), pl.axis_values(axis, ref), r, r0, tracker)
+    return estimate(M, axis, pl.axis_values(axis, pos), pl.axis_values(axis, ref), r, r0, tracker)[0]
 
 
 def test_identified_simulated_rounds_scatter_as_planned_and_recover_the_model():
@@ -66,7 +67,7 @@ def test_identified_simulated_rounds_scatter_as_planned_and_recover_the_model():
     est = _solve_recording(rec, "X", POS1, pl)[:, 1:]  # (300, 10, 6), the reference position dropped
     pos = pl.positions["X"][1:]
     sd = _sd(linear_covariance(M, pl, "X", pos, POS1))
-    truth = model.errors_at(M, pl.axis_values("X", pos))[:, [M.error_names.index(n) for n in axis_errors("X")]]
+    truth = model.errors_at(M, pl.axis_values("X", pos))[:, [M.error_names.index(n) for n in M.error_motions("X")]]
     z = (est.mean(axis=0) - truth) / (sd / math.sqrt(est.shape[0]))
     assert np.all(np.abs(z) < 5), z
     ratio = est.std(axis=0, ddof=1) / sd
@@ -77,7 +78,7 @@ def test_thesis_table_5_1_pattern_at_pos1_and_table_5_2_with_pos2_pos3():
     """Table 5.1 (Pos. 1, beam ~ along Y): E_YX, E_YY, E_YZ have low tracker influence, the other six
     translational errors high.  Fig. 5.1/Table 5.2: from Pos. 2 (beam ~ along X) the E_X* errors and from Pos. 3
     (beam ~ along Z) the E_Z* errors become low, so the best placement of each translational error is low."""
-    res = {k: plan_uncertainty(t, axes=["X", "Y", "Z"])["axes"] for k, t in TRACKER_POSITIONS.items()}
+    res = {k: plan_uncertainty(t, axes=["X", "Y", "Z"]).axes for k, t in TRACKER_POSITIONS.items()}
     trans = {k: {n: v for a in r.values() for n, v in a.items() if n[2] in "XYZ"} for k, r in res.items()}
     for pos, direction in (("pos1", "Y"), ("pos2", "X"), ("pos3", "Z")):
         low = [v for n, v in trans[pos].items() if n[2] == direction]
@@ -103,8 +104,8 @@ def test_weighted_estimator_beats_ordinary_least_squares():
 def test_mid_travel_and_output_units():
     pl = Plan()
     assert [mid_position(pl, a) for a in "XYZBC"] == [250.0, 225.0, 200.0, 90.0, 160.0]
-    r = plan_uncertainty(POS1, monte_carlo_n=500, axes=["Y"])
-    assert r["tracker"] == POS1.tolist() and list(r["axes"]["Y"]) == axis_errors("Y")
+    r = plan_uncertainty(POS1, monte_carlo_n=500, axes=["Y"]).to_dict()
+    assert r["tracker"] == POS1.tolist() and list(r["axes"]["Y"]) == list(M.error_motions("Y"))
     assert 0.001 < r["axes"]["Y"]["E_XY"] < 0.05 and 1e-5 < r["axes"]["Y"]["E_AY"] < 1e-3  # mm, rad
     assert r["by_position"]["Y"]["E_XY"][0] is None  # the reference position
     for n, v in r["axes"]["Y"].items():
@@ -156,6 +157,6 @@ def test_monte_carlo_through_mtcal_identify_two_approaches():
     pytest.importorskip("mtcal.identify")
     pl = Plan()
     pos = pl.positions["B"][[3, 9, 18]]
-    est = monte_carlo(M, pl, "B", pos, POS2, 3000, seed=2, solver="identify", approaches=2)
+    est = monte_carlo(M, pl, "B", pos, POS2, 3000, seed=2, approaches=2)
     ratio = est.std(axis=0, ddof=1) / _sd(linear_covariance(M, pl, "B", pos, POS2, approaches=2))
     assert np.all(np.abs(ratio - 1) < 5 / math.sqrt(2 * 2999))

@@ -13,10 +13,12 @@ from mtcal.effects import Effect, parse_effect
 from mtcal.errors import InputError
 from mtcal.model import ErrorModel, ErrorFunction
 from mtcal.recordings import read_recording
-from mtcal.simulate import (DEFAULT_TABLE_POINTS, DEFAULT_TOOL_POINTS, DEFAULT_TRACKER, Plan, plan_from_dict,
-                            schedule, simulate, simulate_campaign)
+from mtcal.simulate import Plan, plan_from_dict, schedule, simulate, simulate_campaign
 
 M = load_machine("dmu50")
+_DEFAULT = Plan(M)  # the spec's campaign (derive/machines/dmu50.toml [campaign])
+DEFAULT_TOOL_POINTS, DEFAULT_TABLE_POINTS, DEFAULT_TRACKER = (_DEFAULT.tool_points, _DEFAULT.table_points,
+                                                              _DEFAULT.tracker)
 D = 154.996  # mm, B/C intersection height (dmu50.toml)
 
 
@@ -199,7 +201,7 @@ def test_error_model_drives_exact_kinematics():
     x = rec.axis == "X"
     np.testing.assert_allclose((rec.xyz - ref.xyz)[x, 0], 0.020 * rec.position[x] / 500, atol=1e-9)
     with pytest.raises(InputError, match="machine"):
-        simulate_campaign(ErrorModel(machine="xyzac"), noise=False)
+        simulate_campaign(ErrorModel(machine="xyzac"), machine="dmu50", noise=False)
 
 
 def test_cli_round_trip(tmp_path, capsys):

@@ -1,4 +1,7 @@
-"""Shared argparse ``type=`` helpers: every numeric option is checked (finite, in range, unit named) at parse time.
+"""Options shared by the subcommands, defined once: --json, -q/--quiet and --debug on every command
+(``add_common_arguments``, added by mtcal.cli), --machine on every command that takes a machine
+(``machine_argument``), and the argparse ``type=`` helpers: every numeric option is checked (finite, in range,
+unit named) at parse time.
 
 A helper raises ``argparse.ArgumentTypeError``, so argparse prints ``mtcal CMD: error: argument --OPT: PROBLEM``
 and exits 2.  ``join_negative_values`` lets ``--tracker -2000,0,300`` mean what it says (argparse would take the
@@ -96,3 +99,17 @@ finite = real()
 positive = real(0.0, lo_open=True)
 nonnegative = real(0.0)
 probability = real(0.0, 1.0, lo_open=True, hi_open=True)
+
+
+def add_common_arguments(p: argparse.ArgumentParser, debug_help: str) -> None:
+    """The options every subcommand has."""
+    p.add_argument("--json", action="store_true", help="print a machine-readable JSON answer on stdout")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr (warnings and errors only)")
+    p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=debug_help)
+
+
+def machine_argument(p: argparse.ArgumentParser, default: str | None = None) -> None:
+    """--machine NAME, the same for every command that takes one (default: DEFAULT_MACHINE, or the model's)."""
+    p.add_argument("--machine", default=default, metavar="NAME",
+                   help="machine spec, one of derive/machines/*.toml (default: the model's if one is given, else "
+                        "dmu50)")

@@ -2,11 +2,12 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
-from mtcal.commands._options import probability, xyz
+from mtcal.commands._options import machine_argument, probability, xyz
 
 NAME = "diagnose"
+log = logging.getLogger("mtcal." + NAME)
 HELP = "fit a quasi-static base model to tracker recordings, locate the misfit, name and model left-out effects"
 
 
@@ -19,7 +20,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "the AT960 covariance (default: unweighted, sigma from the residuals)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
-    p.add_argument("--machine", default=None, help="machine (default: the model's, else dmu50)")
+    machine_argument(p)
 
 
 def _fmt(e: dict) -> str:
@@ -33,14 +34,14 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_residuals
     from mtcal.io import dumps, refuse_overwrite
     from mtcal.model import load_model
+    from mtcal.machine import DEFAULT_MACHINE
     from mtcal.recordings import read_recording
 
     refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
-    rec = read_recording(args.recording)
     model = load_model(args.model) if args.model else None
-    machine = args.machine or (model.machine if model is not None else "dmu50")
-    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level,
-                 progress=lambda m: print(f"diagnose: {m}", file=sys.stderr, flush=True))
+    machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
+    rec = read_recording(args.recording, machine)
+    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level)
     out = d.to_dict()
     if args.plots:
         out["plots"] = plot_residuals(d, args.plots)
@@ -71,5 +72,5 @@ def run(args: argparse.Namespace) -> int:
         where = f" ({' '.join(a for a in axes if a)})" if any(axes) else ""
         print(f"  not separable: {name}{where}: {why}")
     for p in out.get("plots", []):
-        print(f"plot: {p}", file=sys.stderr)
+        log.info("plot: %s", p)
     return 0

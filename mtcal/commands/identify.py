@@ -2,19 +2,21 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
 import numpy as np
 
 from mtcal import fitting
-from mtcal.commands._options import integer, nonnegative, xyz
-from mtcal.identify import identify, parse_positions, print_progress, read_inspire
+from mtcal.commands._options import integer, machine_argument, nonnegative, xyz
 from mtcal.errors import InputError
+from mtcal.identify import identify, parse_positions, read_inspire
 from mtcal.io import dumps, refuse_overwrite
+from mtcal.machine import DEFAULT_MACHINE
 from mtcal.model import save_model
 from mtcal.recordings import read_recording
 
 NAME = "identify"
+log = logging.getLogger("mtcal." + NAME)
 HELP = ("identify the six error motions per axis and position (three-point method, Type A uncertainty over "
         "rounds), squareness and fitted error functions from a laser-tracker recording")
 
@@ -34,7 +36,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--axis", help="with --layout inspire: the axis measured (X, Y, Z, B or C)")
     p.add_argument("--positions", help="with --layout inspire: positions as start:stop:count or a comma list "
                    "(default: the thesis plan of the axis)")
-    p.add_argument("--machine", default="dmu50", help="machine spec (default dmu50)")
+    machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--max-degree", type=integer(0, 15), default=7, help="highest polynomial degree tried (default 7)")
     p.add_argument("--outlier-k", type=nonnegative, default=5.0,
                    help="warn when a round differs from the others by more than k sigma (default 5; 0 = off)")
@@ -72,17 +74,17 @@ def run(args: argparse.Namespace) -> int:
     elif len(args.recording) != 1:
         raise InputError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
     else:
-        rec = read_recording(args.recording[0])
+        rec = read_recording(args.recording[0], args.machine)
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
-                   outlier_k=args.outlier_k, max_degree=args.max_degree, progress=print_progress)
+                   outlier_k=args.outlier_k, max_degree=args.max_degree)
     for w in res.warnings:
-        print(f"mtcal identify: warning: {w}", file=sys.stderr)
+        log.warning("warning: %s", w)
     if args.output:
         save_model(res.model, args.output)
     if args.plots:
         from mtcal.plots_identify import plot_all
         paths = plot_all(res, args.plots)
-        print(f"mtcal identify: wrote {len(paths)} plots to {args.plots}", file=sys.stderr)
+        log.info("wrote %d plots to %s", len(paths), args.plots)
     if args.json:
         out = res.to_json()
         if args.tracker is not None:

@@ -2,12 +2,15 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 from pathlib import Path
 
 from mtcal.io import dumps, read_text, refuse_overwrite
+from mtcal.commands._options import machine_argument
+from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "import-sa"
+log = logging.getLogger("mtcal." + NAME)
 HELP = ("convert a SpatialAnalyzer ASCII point export (Collection Group Target x y z ...) to a tidy recording, "
         "mapping target names to axis, round, position, point by a mapping file or a naming pattern")
 
@@ -25,6 +28,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--name-fields", type=int, choices=(1, 2, 3),
                    help="name fields before x y z (default: the non-numeric leading fields of the first line)")
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="tidy recording to write")
+    machine_argument(p, DEFAULT_MACHINE)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
     text = read_text(path, "SpatialAnalyzer export")
     mapping = read_mapping(args.mapping) if args.mapping else None
     res = import_sa(text, str(path), mapping=mapping, pattern=args.pattern, units=args.units,
-                    skip_unmatched=args.skip_unmatched, name_fields=args.name_fields)
+                    skip_unmatched=args.skip_unmatched, name_fields=args.name_fields, machine=args.machine)
     write_recording(res.recording, args.output)
     out = {"output": args.output, "units": args.units} | res.to_dict()
     if args.json:
@@ -45,5 +49,5 @@ def run(args: argparse.Namespace) -> int:
     print(f"wrote {args.output}: {out['rows']} readings, axes {' '.join(out['axes'])} from {path} "
           f"({out['matched']} targets matched, {out['skipped']} left out; lengths {args.units} -> mm)")
     for n in res.notes:
-        print(f"note: {n}", file=sys.stderr)
+        log.warning("note: %s", n)
     return 0

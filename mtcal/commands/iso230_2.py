@@ -11,6 +11,8 @@ from pathlib import Path
 from mtcal.commands._options import real
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, refuse_overwrite
+from mtcal.commands._options import machine_argument
+from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "iso230-2"
 HELP = ("ISO 230-2:2014 evaluation of an axis from a recording: per target mean deviations up/down, reversal, "
@@ -32,7 +34,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--angle-unit", choices=("arcsec", "urad", "deg"), default="arcsec",
                    help="unit of rotary deviations (default arcsec)")
     p.add_argument("--point", metavar="LABEL", help="use one reflector (default: the centroid of all of them)")
-    p.add_argument("--machine", default="dmu50", help="machine spec (default dmu50)")
+    machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("-o", "--output", metavar="REPORT_DIR",
                    help="write iso230-2_AXIS.csv (targets), iso230-2_AXIS_parameters.csv, iso230-2_AXIS.md, "
                         "iso230-2_AXIS.png per axis")
@@ -58,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("temperature normalisation needs both --temperature-normalise and --alpha PER_K")
     if args.output:
         refuse_overwrite([], args.recording, dirs={args.output: ["iso230-2_*"]})
-    rec = read_recording(args.recording)
+    rec = read_recording(args.recording, args.machine)
     res = evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine,
                    targets=_targets(args.target_points), alpha=args.alpha, angle_unit=args.angle_unit,
                    point=args.point)

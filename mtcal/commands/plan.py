@@ -2,11 +2,12 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
-from mtcal.io import dumps, refuse_overwrite
-from mtcal.commands._options import integer, xyz
+from mtcal.commands._options import integer, machine_argument, xyz
 from mtcal.errors import InputError
+from mtcal.io import dumps, refuse_overwrite
+from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "plan"
 HELP = "predict the uncertainty of the identified errors for a tracker placement (linear propagation + Monte Carlo)"
@@ -14,7 +15,8 @@ HELP = "predict the uncertainty of the identified errors for a tracker placement
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position in mm, machine frame "
-                   "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
+                   "(default: the plan's, else the machine spec's first tracker station)")
+    machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.simulate)")
     p.add_argument("--monte-carlo", type=integer(0), default=0, metavar="N",
                    help="also run N simulated rounds per axis through the estimator (GUM Supplement 1)")
@@ -28,18 +30,19 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.plan import plan_uncertainty, plot_placement_map
+    from mtcal.machine import load_machine
     from mtcal.simulate import Plan, load_plan
 
     if args.monte_carlo == 1:
         raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")
     refuse_overwrite([args.plot], args.plan)
-    plan = load_plan(args.plan) if args.plan else Plan()
+    m = load_machine(args.machine)
+    plan = load_plan(args.plan, m) if args.plan else Plan(m)
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
     res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
-                           weighting=args.weighting, axes=axes, progress=not args.json)
+                           weighting=args.weighting, axes=axes).to_dict()
     if args.plot:
-        if not args.json:
-            print("mtcal plan: computing the placement map ...", file=sys.stderr)
+        logging.getLogger("mtcal.plan").info("computing the placement map ...")
         mp = plot_placement_map(args.plot, plan, tracker=res["tracker"], z=res["tracker"][2])
         res["plot"] = {"path": args.plot, "best_floor_position": mp["best"], "z": res["tracker"][2]}
     if args.json:
@@ -53,11 +56,10 @@ def run(args: argparse.Namespace) -> int:
     mean_label = f"mean of {res['rounds']}"
     head = f"{'error':8s} {'unit':5s} {'1 round':>9s}" + (f" {'MC':>9s}" if mc else "") + f" {mean_label:>11s}"
     for a, vals in res["axes"].items():
-        print(f"\naxis {a} at {res['mid_travel'][a]:g} {'mm' if a in 'XYZ' else 'deg'} (mid-travel)")
+        print(f"\naxis {a} at {res['mid_travel'][a]:g} {m.unit(a)} (mid-travel)")
         print(head)
         for n, v in vals.items():
-            lin = n[2] in "XYZ"
-            f, unit = (1e3, "um") if lin else (1e6, "urad")
+            f, unit = (1e3, "um") if n[2] in "XYZ" else (1e6, "urad")  # E_X.., E_Y.., E_Z..: translations
             line = f"{n:8s} {unit:5s} {v * f:9.2f}"
             if mc:
                 line += f" {mc[a][n] * f:9.2f}"

@@ -2,13 +2,14 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
 from mtcal import effects as fx
 from mtcal.io import dumps, refuse_overwrite
-from mtcal.commands._options import integer, xyz
+from mtcal.commands._options import integer, machine_argument, xyz
 
 NAME = "simulate"
+log = logging.getLogger("mtcal." + NAME)
 HELP = "simulate laser-tracker recordings from an error model, a tracker placement and planted effects"
 
 
@@ -23,19 +24,20 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
-    p.add_argument("--machine", default=None, help="machine (default: the model's, else dmu50)")
+    machine_argument(p)
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="recording to write (+ REC.truth.json)")
 
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.model import load_model
+    from mtcal.machine import DEFAULT_MACHINE
     from mtcal.simulate import load_plan, simulate, truth_path, write_campaign
 
     refuse_overwrite([args.output, truth_path(args.output)], args.model, args.plan)
     effects = [fx.parse_effect(e) for e in args.effect]
     model = load_model(args.model) if args.model else None
-    plan = load_plan(args.plan) if args.plan else None
-    machine = args.machine or (model.machine if model is not None else "dmu50")
+    machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
+    plan = load_plan(args.plan, machine) if args.plan else None
     rec, truth = simulate(model, machine=machine, tracker=args.tracker, rounds=args.rounds, seed=args.seed,
                           effects=effects, noise=not args.no_noise, plan=plan)
     truth["model_file"] = args.model
@@ -53,5 +55,5 @@ def run(args: argparse.Namespace) -> int:
               f"noise {'AT960' if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
-        print(f"truth: {tp}", file=sys.stderr)
+        log.info("truth: %s", tp)
     return 0

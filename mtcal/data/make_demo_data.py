@@ -58,6 +58,39 @@ def build() -> ErrorModel:
     return ErrorModel("dmu50", consts, funcs, {"note": "demo truth: thesis-magnitude errors (invented curves)"})
 
 
+def build_for(machine, seed: int = 20210601) -> ErrorModel:
+    """A synthetic truth of any machine (mtcal.Machine) with the same magnitudes as ``build``: smooth curves of
+    every error motion of every axis over its campaign positions (spec), zero at the reference position (the
+    position closest to zero); harmonic for a rotary axis measured over (nearly) a full turn; squareness
+    ~15 urad, location ~10 um / ~8 urad.  For `mtcal demo --machine NAME` on machines without bundled data."""
+    from mtcal import fitting
+    from mtcal.simulate import default_positions
+    rng = np.random.default_rng(seed)
+    funcs: dict[str, ErrorFunction] = {}
+    for a, pos in default_positions(machine).items():
+        q0 = pos[np.argmin(np.abs(pos))]
+        s = (pos - q0) / np.abs(pos - q0).max()
+        linear = machine.kind(a) == "linear"
+        for n in machine.error_motions(a):
+            trans = n[2] in "XYZ"
+            if linear:
+                amp = (SIZE_UM["pos"] if n == machine.positioning_errors[a] else SIZE_UM["str"]) * 1e-3 if trans \
+                    else SIZE_URAD["lin"] * 1e-6
+            else:
+                amp = 6e-3 if trans else SIZE_URAD["rot"] * 1e-6
+            if not linear and fitting.is_periodic(pos):
+                a1, b1 = rng.normal(size=2) * amp / 2
+                t = np.radians(pos - q0)
+                funcs[n] = ErrorFunction(a, pos, np.round(a1 * (1 - np.cos(t)) + b1 * np.sin(t), 12))
+            else:
+                funcs[n] = ErrorFunction(a, pos, np.round(_curve(rng, s, amp), 9))
+    g = machine.error_groups
+    consts = {n: float(np.round(rng.normal() * 15e-6, 9)) for n in g["squareness"]}
+    consts.update({n: float(np.round(rng.normal() * (0.010 if n[2] in "XY" else 8e-6), 9)) for n in g["location"]})
+    return ErrorModel(machine.name, consts, funcs, {"note": f"demo truth of {machine.name}: thesis-magnitude errors "
+                                                            f"(invented curves)"})
+
+
 DEMO_PLAN = {"axes": {"X": {"start": -250, "stop": 250, "count": 11}, "Y": {"start": -225, "stop": 225, "count": 11},
                       "Z": {"start": -200, "stop": 200, "count": 11}, "B": {"start": 0, "stop": 180, "count": 19},
                       "C": {"start": 0, "stop": 340, "count": 18}},
