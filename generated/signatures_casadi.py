@@ -11,12 +11,12 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'outlier_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature')
 
 
 @functools.cache
 def backlash_model():
-    """backlash: positioning error + d b / 2 (b = reversal value, mm or rad): the increment of the error function (mm or rad), for simulation.
+    """backlash: positioning error + d b / 2 (b = error(+ approach) - error(- approach), mm or rad): the increment of the error function (mm or rad), for simulation.
 
     d (...): approach direction, +1 or -1
     params (..., 1): effect parameters [b]
@@ -34,7 +34,7 @@ def backlash_model():
 
 @functools.cache
 def backlash_signature():
-    """backlash: positioning error + d b / 2 (b = reversal value, mm or rad): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
+    """backlash: positioning error + d b / 2 (b = error(+ approach) - error(- approach), mm or rad): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
 
     column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
         [c_x, c_y, c_z]
@@ -53,6 +53,94 @@ def backlash_signature():
     _out[1, 0] = _x0*c_y
     _out[2, 0] = _x0*c_z
     return ca.Function('signatures_backlash_signature', [column, d], [_out], ['column', 'd'], ['out'])
+
+
+@functools.cache
+def reversal_angular_model():
+    """reversal_angular: angular error of a linear axis + d r / 2 (r = angle(+ approach) - angle(- approach), rad): the increment of the error function (mm or rad), for simulation.
+
+    d (...): approach direction, +1 or -1
+    params (..., 1): effect parameters [r]
+        [r]
+    returns (..., 1)
+    """
+    d = ca.SX.sym('d', 1)
+    d = d[0]
+    params = ca.SX.sym('params', 1)
+    r = params[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = (1/2)*d*r
+    return ca.Function('signatures_reversal_angular_model', [d, params], [_out], ['d', 'params'], ['out'])
+
+
+@functools.cache
+def reversal_angular_signature():
+    """reversal_angular: angular error of a linear axis + d r / 2 (r = angle(+ approach) - angle(- approach), rad): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    d (...): approach direction, +1 or -1
+    returns (..., 3)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    d = ca.SX.sym('d', 1)
+    d = d[0]
+    _x0 = (1/2)*d
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*c_x
+    _out[1, 0] = _x0*c_y
+    _out[2, 0] = _x0*c_z
+    return ca.Function('signatures_reversal_angular_signature', [column, d], [_out], ['column', 'd'], ['out'])
+
+
+@functools.cache
+def thermal_temperature_model():
+    """thermal_temperature: positioning error of a linear axis + 1e-6 k dT q (expansion, k in ppm/K, q in mm): the increment of the error function (mm or rad), for simulation.
+
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    dT (...): temperature rise T - T_ref of the reading, K
+    params (..., 1): effect parameters [k_ppm_per_K]
+        [k_ppm_per_K]
+    returns (..., 1)
+    """
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    dT = ca.SX.sym('dT', 1)
+    dT = dT[0]
+    params = ca.SX.sym('params', 1)
+    k_ppm_per_K = params[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = (1/1000000)*dT*k_ppm_per_K*q
+    return ca.Function('signatures_thermal_temperature_model', [q, dT, params], [_out], ['q', 'dT', 'params'], ['out'])
+
+
+@functools.cache
+def thermal_temperature_signature():
+    """thermal_temperature: positioning error of a linear axis + 1e-6 k dT q (expansion, k in ppm/K, q in mm): d point / d parameters at zero effect = column x d increment / d parameters, mm per parameter unit.
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    dT (...): temperature rise T - T_ref of the reading, K
+    returns (..., 3)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    dT = ca.SX.sym('dT', 1)
+    dT = dT[0]
+    _x0 = (1/1000000)*dT*q
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*c_x
+    _out[1, 0] = _x0*c_y
+    _out[2, 0] = _x0*c_z
+    return ca.Function('signatures_thermal_temperature_signature', [column, q, dT], [_out], ['column', 'q', 'dT'], ['out'])
 
 
 @functools.cache
@@ -368,6 +456,246 @@ def tracker_scale_signature():
     _out[1, 0] = -1/1000000*ty + (1/1000000)*y
     _out[2, 0] = -1/1000000*tz + (1/1000000)*z
     return ca.Function('signatures_tracker_scale_signature', [xyz, tracker], [_out], ['xyz', 'tracker'], ['out'])
+
+
+@functools.cache
+def thermal_temperature_displacement():
+    """thermal_temperature: displacement c dT of a point of the drifting side, mm
+
+    coefficient (..., 3): drift per kelvin of the temperature rise, mm/K
+        [c_x, c_y, c_z]
+    dT (...): temperature rise T - T_ref of the reading, K
+    returns (..., 3)
+    """
+    coefficient = ca.SX.sym('coefficient', 3)
+    c_x = coefficient[0]
+    c_y = coefficient[1]
+    c_z = coefficient[2]
+    dT = ca.SX.sym('dT', 1)
+    dT = dT[0]
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = c_x*dT
+    _out[1, 0] = c_y*dT
+    _out[2, 0] = c_z*dT
+    return ca.Function('signatures_thermal_temperature_displacement', [coefficient, dT], [_out], ['coefficient', 'dT'], ['out'])
+
+
+@functools.cache
+def thermal_temperature_drift_signature():
+    """thermal_temperature: d point / d c (3 x 3), mm per (mm/K)
+
+    dT (...): temperature rise T - T_ref of the reading, K
+    returns (..., 3, 3)
+    """
+    dT = ca.SX.sym('dT', 1)
+    dT = dT[0]
+    _out = ca.SX.zeros(3, 3)
+    _out[0, 0] = dT
+    _out[0, 1] = 0
+    _out[0, 2] = 0
+    _out[1, 0] = 0
+    _out[1, 1] = dT
+    _out[1, 2] = 0
+    _out[2, 0] = 0
+    _out[2, 1] = 0
+    _out[2, 2] = dT
+    return ca.Function('signatures_thermal_temperature_drift_signature', [dT], [_out], ['dT'], ['out'])
+
+
+@functools.cache
+def thermal_temperature_curve():
+    """warm-up curve of the temperature channel: T0 + rise (1 - exp(-dt / tau)), degC
+
+    start_c (...): temperature at the start, degC
+    rise_c (...): final rise of the warm-up, K
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 1)
+    """
+    start_c = ca.SX.sym('start_c', 1)
+    T0 = start_c[0]
+    rise_c = ca.SX.sym('rise_c', 1)
+    rise = rise_c[0]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = T0 + rise*(1 - ca.exp(-dt/tau))
+    return ca.Function('signatures_thermal_temperature_curve', [start_c, rise_c, dt, tau], [_out], ['start_c', 'rise_c', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def nest_creep_model():
+    """nest_creep: displacement v dt of the nest in its side's local frame, mm (for simulation: added to the reflector's local coordinates before the exact kinematics)
+
+    velocity (..., 3): creep velocity of the nest in its side's local frame, mm/s
+        [v_x, v_y, v_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    returns (..., 3)
+    """
+    velocity = ca.SX.sym('velocity', 3)
+    v_x = velocity[0]
+    v_y = velocity[1]
+    v_z = velocity[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = dt*v_x
+    _out[1, 0] = dt*v_y
+    _out[2, 0] = dt*v_z
+    return ca.Function('signatures_nest_creep_model', [velocity, dt], [_out], ['velocity', 'dt'], ['out'])
+
+
+@functools.cache
+def nest_creep_signature():
+    """nest_creep: d reading / d v (3 x 3) = R dt, mm per (mm/s)
+
+    rotation (..., 9): the side's rotation local -> machine frame, row-major (9,)
+        [R_00, R_01, R_02, R_10, R_11, R_12, R_20, R_21, R_22]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    returns (..., 3, 3)
+    """
+    rotation = ca.SX.sym('rotation', 9)
+    R_00 = rotation[0]
+    R_01 = rotation[1]
+    R_02 = rotation[2]
+    R_10 = rotation[3]
+    R_11 = rotation[4]
+    R_12 = rotation[5]
+    R_20 = rotation[6]
+    R_21 = rotation[7]
+    R_22 = rotation[8]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    _out = ca.SX.zeros(3, 3)
+    _out[0, 0] = R_00*dt
+    _out[0, 1] = R_01*dt
+    _out[0, 2] = R_02*dt
+    _out[1, 0] = R_10*dt
+    _out[1, 1] = R_11*dt
+    _out[1, 2] = R_12*dt
+    _out[2, 0] = R_20*dt
+    _out[2, 1] = R_21*dt
+    _out[2, 2] = R_22*dt
+    return ca.Function('signatures_nest_creep_signature', [rotation, dt], [_out], ['rotation', 'dt'], ['out'])
+
+
+@functools.cache
+def tracker_settling_angle():
+    """tracker_settling: tilt angle w dt + a (1 - exp(-dt / tau)), rad
+
+    params (..., 2): [w (rad/s), a (rad)]
+        [w, a]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 1)
+    """
+    params = ca.SX.sym('params', 2)
+    w = params[0]
+    a = params[1]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = a*(1 - ca.exp(-dt/tau)) + dt*w
+    return ca.Function('signatures_tracker_settling_angle', [params, dt, tau], [_out], ['params', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def tracker_settling_reading():
+    """tracker_settling: the reading (mm) of a point when the tracker has turned by theta about the axis u through it (exact rotation)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    about (..., 3): unit vector of the rotation axis through the tracker, machine frame
+        [u_x, u_y, u_z]
+    theta (...): tilt, rad
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    about = ca.SX.sym('about', 3)
+    u_x = about[0]
+    u_y = about[1]
+    u_z = about[2]
+    theta = ca.SX.sym('theta', 1)
+    theta = theta[0]
+    _x0 = -tx + x
+    _x1 = ca.cos(theta)
+    _x2 = 1 - _x1
+    _x3 = -tz + z
+    _x4 = ca.sin(theta)
+    _x5 = _x4*u_y
+    _x6 = _x2*u_x
+    _x7 = _x6*u_z
+    _x8 = -ty + y
+    _x9 = _x4*u_z
+    _x10 = _x6*u_y
+    _x11 = _x4*u_x
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*(_x1 + _x2*u_x**2) + _x3*(_x5 + _x7) + _x8*(_x10 - _x9) + tx
+    _out[1, 0] = _x0*(_x10 + _x9) + _x3*(-_x11 + _x2*u_y*u_z) + _x8*(_x1 + _x2*u_y**2) + ty
+    _out[2, 0] = _x0*(-_x5 + _x7) + _x3*(_x1 + _x2*u_z**2) + _x8*(_x11 + _x2*u_y*u_z) + tz
+    return ca.Function('signatures_tracker_settling_reading', [xyz, tracker, about, theta], [_out], ['xyz', 'tracker', 'about', 'theta'], ['out'])
+
+
+@functools.cache
+def tracker_settling_signature():
+    """tracker_settling: d reading / d [w, a] (3 x 2) = u x (point - T) [dt, 1 - exp(-dt / tau)], mm per (rad/s) and mm per rad
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    about (..., 3): unit vector of the rotation axis through the tracker, machine frame
+        [u_x, u_y, u_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3, 2)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    about = ca.SX.sym('about', 3)
+    u_x = about[0]
+    u_y = about[1]
+    u_z = about[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _x0 = -tz + z
+    _x1 = _x0*u_y
+    _x2 = -ty + y
+    _x3 = _x2*u_z
+    _x4 = 1 - ca.exp(-dt/tau)
+    _x5 = _x0*u_x
+    _x6 = -tx + x
+    _x7 = _x2*u_x
+    _x8 = _x6*u_y
+    _out = ca.SX.zeros(3, 2)
+    _out[0, 0] = _x1*dt - _x3*dt
+    _out[0, 1] = _x1*_x4 - _x3*_x4
+    _out[1, 0] = -_x5*dt + _x6*dt*u_z
+    _out[1, 1] = -_x4*_x5 + _x4*_x6*u_z
+    _out[2, 0] = _x7*dt - _x8*dt
+    _out[2, 1] = _x4*_x7 - _x4*_x8
+    return ca.Function('signatures_tracker_settling_signature', [xyz, tracker, about, dt, tau], [_out], ['xyz', 'tracker', 'about', 'dt', 'tau'], ['out'])
 
 
 @functools.cache

@@ -6,7 +6,8 @@ it to the reflectors) or to the tracker readings themselves.  Units: mm and rad 
 axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
-outlier, second_order, offset, tracker_scale.  API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
+outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
+thermal_temperature.  Parameters are checked (finite, in a physical range) and a bad one is an InputError.  API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
 
 Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s of the reading):
@@ -14,9 +15,30 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  for t > t0_s (exponential warm-up); target "spindle" moves points on the spindle (spindle
                  growth), "table" points on the table, "tracker" every reading (drift of the tracker stand).
                  The temperature_c column rises by temperature_rise_c with the same time law.
-* backlash       reversal (lost motion) of one axis: its positioning error (E_XX for X, E_CC for C ...)
-                 gets + d * amount / 2, so the ISO 230-2 reversal value mean(dev up) - mean(dev down) = amount
-                 (mm for linear, rad for rotary axes).
+* backlash       reversal of one axis: its positioning error (E_XX for X, E_CC for C ...) gets + d * amount / 2,
+                 i.e. amount = error(+ approach) - error(- approach) in the error's own ISO 230-1 sense (mm for
+                 linear, rad for rotary axes).  Against ISO 230-2's reversal value B = mean(dev up) - mean(dev
+                 down) (deviation = actual - target in the commanded sense): B = amount on a linear axis (its
+                 positioning error points along its motion in every shipped spec); on a rotary axis B = s amount,
+                 s = +1 when a positive command turns about +z of the axis' stator frame (the sense of E_C<R>),
+                 -1 otherwise (DMU 50's C, T_0^w = ... Rz(-C): amount = +20 urad reads B = -20 urad).  Classic
+                 lost motion (the axis stops short in the direction of travel: B < 0) is a negative amount on a
+                 linear axis (tests/test_effects_new_physics.py checks both through mtcal.iso230_2).
+* reversal_angular  direction-dependent pitch / yaw / roll of a linear axis: its angular error ``error`` (E_AJ,
+                 E_BJ, E_CJ of a linear axis J) gets + d * amount / 2 on the readings of J's motion, so the angle
+                 differs by amount (rad) between + and - approach (e.g. a carriage rocking on its guides as the
+                 drive force reverses).
+* nest_creep     one reflector's nest (``point`` on ``side``) creeps at rate_mm_s along ``direction`` (the side's
+                 local frame: spindle or workpiece coordinates), linearly from t0_s: local + v (t - t0_s); the
+                 exact kinematics carry it to the machine frame (it turns with the table).  10 um/h = 2.78e-6 mm/s.
+* tracker_settling  the tracker stand settles: every reading turns about the axis ``about`` through the tracker
+                 position by theta = rate_rad_s (t - t0_s) + angle_rad (1 - exp(-(t - t0_s) / tau_s)) (a ramp
+                 and / or a first-order settling); exact rotation, distances to the tracker unchanged.
+* thermal_temperature  thermal drift driven by the recorded temperature_c (T, degC; T_ref = t_ref_c, default the
+                 first reading's): the positioning error of linear ``axis`` gets + 1e-6 ppm_per_k (T - T_ref) q
+                 (expansion of the scale / screw), and the points of ``target`` (spindle or table) move by
+                 drift_mm_per_k (T - T_ref) along ``direction``.  The simulator writes a warm-up temperature
+                 channel (mtcal.simulate.WarmUp, default 2 K with tau 1800 s) when this effect is planted.
 * periodic       ball-screw / worm-gear periodic positioning error: positioning error + amplitude *
                  sin(2 pi q / pitch + phase_deg).  Sampling must resolve the pitch (default 200 mm; a 50 mm
                  step aliases pitches of 100 mm and below).
@@ -62,17 +84,42 @@ def _axis(v: str) -> str:
     return a
 
 
-def _dir(v: str) -> str:
+def _dir(v) -> str | tuple[float, float, float]:
+    """"+X" .. "-Z" (an axis direction), or a vector "a;b;c" (or a sequence) -> its unit vector."""
+    if not isinstance(v, str):
+        v = ";".join(str(c) for c in v)
     a = str(v).strip().upper()
+    if ";" in a:
+        try:
+            u = np.array([float(c) for c in a.split(";")])
+        except ValueError:
+            u = np.zeros(0)
+        if u.shape != (3,) or not np.isfinite(u).all() or np.linalg.norm(u) < 1e-12:
+            raise InputError(f"a direction vector must be three finite numbers a;b;c, not all zero, got {v!r}")
+        return tuple(float(c) for c in u / np.linalg.norm(u))
     if a.lstrip("+-") not in ("X", "Y", "Z"):
-        raise InputError(f"direction must be X, Y, Z, -X, -Y or -Z, got {v!r}")
+        raise InputError(f"direction must be X, Y, Z, -X, -Y, -Z or a vector a;b;c, got {v!r}")
     return a if a[0] in "+-" else "+" + a
 
 
-def _unit(direction: str) -> np.ndarray:
+def _unit(direction) -> np.ndarray:
+    if not isinstance(direction, str):
+        return np.asarray(direction, dtype=float)
     u = np.zeros(3)
     u["XYZ".index(direction[1])] = -1.0 if direction[0] == "-" else 1.0
     return u
+
+
+def _in(lo: float, hi: float, what: str = "") -> Callable[[str], float]:
+    """A finite number in [lo, hi] (``what``: the physical reason for the range, for the message)."""
+    def parse(v) -> float:
+        x = _float(v)
+        if math.isnan(x):  # only a non-string NaN gets here: a default passed on ("not given")
+            return x
+        if not lo <= x <= hi:
+            raise InputError(f"must lie in [{lo:g}, {hi:g}]{' (' + what + ')' if what else ''}")
+        return x
+    return parse
 
 
 def _choice(*options: str) -> Callable[[str], str]:
@@ -123,7 +170,7 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                       "t0_s": (0.0, _float, "s, start of the warm-up"),
                       "temperature_rise_c": (2.0, _float, "degC, rise of the temperature_c column")},
     "backlash": {"axis": (None, _axis, "axis; default the machine's first"),
-                 "amount": (0.004, _float, "reversal value, mm (rad for a rotary axis)")},
+                 "amount": (0.004, _float, "error(+ approach) - error(- approach), mm (rad for a rotary axis)")},
     "periodic": {"axis": (None, _axis, "axis; default the machine's first"),
                  "amplitude": (0.002, _float, "mm (rad for a rotary axis)"),
                  "pitch": (200.0, _positive, "mm (deg for a rotary axis)"),
@@ -150,6 +197,29 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                      "coefficient": (2e-8, _float, "per mm^2 (deg^2 for B, C): 2e-8 -> 5 um at 500 mm")},
     "offset": {"size": (0.020, _float, "mm"), "direction": ("+X", _dir, "X, Y, Z or -X, -Y, -Z"),
                "t_from_s": (math.nan, _float, "s; default: half the campaign's duration")},
+    "reversal_angular": {"error": (None, _error_name, "angular error function of a linear axis (E_A<J>, E_B<J>, "
+                                                      "E_C<J>); default E_B of the first linear axis"),
+                         "amount": (80e-6, _in(-1e-2, 1e-2, "rad"), "rad, angle(+ approach) - angle(- approach)")},
+    "nest_creep": {"point": (None, str, "point label; default the first reflector of the side"),
+                   "side": (None, _choice("tool", "table"), "side carrying the nest; default the first axis' side"),
+                   "rate_mm_s": (10e-3 / 3600, _in(0.0, 1e-3, "mm/s: a creep, at most 3.6 mm/h"),
+                                 "mm/s (10 um/h = 2.78e-6)"),
+                   "direction": ("+Z", _dir, "X, Y, Z, -X, -Y, -Z or a;b;c, the side's local frame"),
+                   "t0_s": (0.0, _in(0.0, 1e7), "s, start of the creep")},
+    "tracker_settling": {"angle_rad": (20e-6, _in(-1e-2, 1e-2, "rad"), "rad, final tilt of the settling"),
+                         "tau_s": (1800.0, _in(1.0, 1e7, "s"), "s, settling time constant"),
+                         "rate_rad_s": (0.0, _in(-1e-5, 1e-5, "rad/s"), "rad/s, steady tilt rate (a ramp)"),
+                         "about": ("+X", _dir, "rotation axis through the tracker, machine frame (horizontal for "
+                                               "a sinking stand): X, Y, Z, -X, -Y, -Z or a;b;c"),
+                         "t0_s": (0.0, _in(0.0, 1e7), "s, start of the settling")},
+    "thermal_temperature": {"axis": (None, _axis, "linear axis that expands; default the first linear axis"),
+                            "ppm_per_k": (10.0, _in(-100.0, 100.0, "ppm/K"), "expansion of the axis' positioning "
+                                                                            "per kelvin, 1e-6/K"),
+                            "drift_mm_per_k": (0.0, _in(-1.0, 1.0, "mm/K"), "drift of the target side per kelvin"),
+                            "direction": ("+Z", _dir, "drift direction: X, Y, Z, -X, -Y, -Z or a;b;c"),
+                            "target": ("spindle", _choice("spindle", "table"), "side that drifts"),
+                            "t_ref_c": (math.nan, _in(-50.0, 100.0, "degC"),
+                                        "degC, temperature of zero effect; default the first reading's")},
     "tracker_scale": {"ppm": (math.nan, _float, "scale of distances, 1e-6; default from dt_c, dp_hpa, drh_pct"),
                       "dt_c": (2.0, _float, "air temperature minus the tracker's assumed, degC"),
                       "dp_hpa": (0.0, _float, "air pressure minus assumed, hPa"),
@@ -171,6 +241,7 @@ class Rows:
     axes: np.ndarray       # (n, n_axes) all axis positions, in the machine's axis order
     side: np.ndarray       # (n,) "tool" or "table"
     local: np.ndarray      # (n, 3) reflector coordinates on its side, mm
+    temperature_c: np.ndarray | None = None  # (n,) degC, the recorded temperature channel (set by simulate)
 
     def __len__(self) -> int:
         return len(self.axis)
@@ -208,6 +279,10 @@ class Effect:
         mtcal.Machine); ``points``: the campaign's reflectors {side: {label: xyz}} (default reflector)."""
         p = dict(self.params)
         lin = machine.linear_axes
+        if self.name == "thermal_temperature":
+            p["axis"] = p["axis"] or lin[0]
+            if machine.kind(p["axis"]) != "linear":
+                self._bad("axis", p["axis"], lin)
         if "axis" in p:
             p["axis"] = p["axis"] or machine.axes[0]
             self._member("axis", p["axis"], machine.axes)
@@ -223,6 +298,14 @@ class Effect:
             self._member("on", p["on"], machine.axes)
         elif self.name == "second_order":
             p["error"] = p["error"] or machine.positioning_errors[machine.axes[0]]
+        elif self.name == "reversal_angular":
+            p["error"] = p["error"] or f"E_B{lin[0]}"
+            self._member("error", p["error"], [f"E_{c}{a}" for a in lin for c in "ABC"])
+        elif self.name == "nest_creep":
+            p["side"] = p["side"] or machine.side(machine.axes[0])
+            labels = list(points[p["side"]]) if points else [k for k, _ in machine.campaign["reflectors"][p["side"]]]
+            p["point"] = p["point"] or labels[0]
+            self._member("point", p["point"], labels)
         if self.name in ("cross_axis", "second_order"):
             funcs = machine.error_groups["linear"] + machine.error_groups["rotary"]
             self._member("error", p["error"], funcs)
@@ -239,8 +322,8 @@ class Effect:
             self._bad(key, value, options)
 
     def _bad(self, key: str, value, options) -> None:
-        raise InputError(f"effect {self.name}: {key} must be one of {', '.join(options)} (this machine's), "
-                         f"got {value!r}")
+        raise InputError(f"effect {self.name}: {key} must be one of {', '.join(options)} (this machine's"
+                         f"{' campaign' if key == 'point' else ''}), got {value!r}")
 
     # -------------------------------------------------------------- errors (mm, rad) per reading
     def add_errors(self, rows: Rows, errors: np.ndarray, machine) -> None:
@@ -273,14 +356,31 @@ class Effect:
             errors[:, idx[p["error"]]] += S.cross_axis_model(q_of(own), q_of(p["on"]), [p["coefficient"]])[:, 0]
         elif n == "second_order":
             errors[:, idx[p["error"]]] += S.second_order_model(q_of(p["error"][-1]), [p["coefficient"]])[:, 0]
+        elif n == "reversal_angular":  # the approach direction is that of the measured axis
+            on = rows.axis == p["error"][-1]
+            errors[on, idx[p["error"]]] += S.reversal_angular_model(rows.direction[on].astype(float),
+                                                                    [p["amount"]])[:, 0]
+        elif n == "thermal_temperature":
+            errors[:, idx[self.error]] += S.thermal_temperature_model(q_of(p["axis"]), self.delta_t(rows),
+                                                                      [p["ppm_per_k"]])[:, 0]
+
+    def move_nests(self, rows: Rows, local: np.ndarray) -> None:
+        """nest_creep: add the creep of the nest to the reflector's local coordinates (n, 3) mm in place, before
+        the exact kinematics carry them to the machine frame."""
+        if self.name != "nest_creep":
+            return
+        p = self.params
+        on = (rows.point == p["point"]) & (rows.side == p["side"])
+        dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
+        local[on] += S.nest_creep_model(p["rate_mm_s"] * _unit(p["direction"]), dt)
+
+    def delta_t(self, rows: Rows) -> np.ndarray:
+        """thermal_temperature: T - T_ref (K) of every reading (T_ref default: the first reading's)."""
+        t = rows.temperature_c
+        ref = self.params["t_ref_c"]
+        return t - (t[0] if math.isnan(ref) else ref)
 
     # -------------------------------------------------------------- readings (mm)
-    def drift(self, t: np.ndarray) -> np.ndarray:
-        """thermal_drift: fraction (0..1) of the final displacement reached at times t (s)."""
-        p = self.params
-        dt = np.maximum(np.asarray(t, dtype=float) - p["t0_s"], 0.0)
-        return 1.0 - np.exp(-dt / p["tau_s"])
-
     def tracker_ppm(self) -> float:
         p = self.params
         if not math.isnan(p["ppm"]):
@@ -322,21 +422,36 @@ class Effect:
             xyz[rows.time_s >= self.offset_time(rows)] += p["size"] * _unit(p["direction"])
         elif n == "tracker_scale":
             xyz[:] = S.tracker_scale_reading(xyz, tracker, self.tracker_ppm())
+        elif n == "thermal_temperature":
+            on = rows.side == {"spindle": "tool", "table": "table"}[p["target"]]
+            xyz[on] += S.thermal_temperature_displacement(p["drift_mm_per_k"] * _unit(p["direction"]),
+                                                          self.delta_t(rows)[on])
+        elif n == "tracker_settling":
+            xyz[:] = S.tracker_settling_reading(xyz, tracker, _unit(p["about"]), self.settling_angle(rows.time_s))
+
+    def settling_angle(self, t: np.ndarray) -> np.ndarray:
+        """tracker_settling: tilt (rad) of the tracker at times t (s)."""
+        p = self.params
+        dt = np.maximum(np.asarray(t, dtype=float) - p["t0_s"], 0.0)
+        return S.tracker_settling_angle([p["rate_rad_s"], p["angle_rad"]], dt, p["tau_s"])[..., 0]
 
     def offset_time(self, rows: Rows) -> float:
         t = self.params["t_from_s"]
         return float(rows.time_s.max() / 2 if math.isnan(t) else t)
 
     def temperature_rise(self, t: np.ndarray) -> np.ndarray:
+        """K added to the temperature channel at times t (s): thermal_drift's warm-up, else 0."""
         if self.name != "thermal_drift":
             return np.zeros(np.shape(t))
-        return self.params["temperature_rise_c"] * self.drift(t)
+        p = self.params
+        return warm_up_rise(t, p["temperature_rise_c"], p["tau_s"], p["t0_s"])
 
     # -------------------------------------------------------------- truth
     def truth(self, rows: Rows | None = None) -> dict:
         """The planted truth: parameters, the affected error / axis, and derived values."""
         p, n = self.params, self.name
-        out: dict[str, Any] = {"name": n, "params": {k: (None if isinstance(v, float) and math.isnan(v) else v)
+        out: dict[str, Any] = {"name": n, "params": {k: (None if isinstance(v, float) and math.isnan(v) else
+                                                          list(v) if isinstance(v, tuple) else v)
                                                       for k, v in p.items()}}
         if n in ("backlash", "periodic", "scale"):
             out.update(axis=p["axis"], error=self.error)
@@ -358,6 +473,25 @@ class Effect:
                                 "direction": int(rows.direction[k])} for k in i]
         elif n == "tracker_scale":
             out["ppm"] = self.tracker_ppm()
+        elif n == "reversal_angular":
+            out.update(error=p["error"], axis=p["error"][-1], reversal=p["amount"])
+        elif n == "nest_creep":
+            out.update(point=p["point"], side=p["side"], rate_mm_s=p["rate_mm_s"], rate_um_h=p["rate_mm_s"] * 3.6e6,
+                       direction=_unit(p["direction"]).tolist())
+            if rows is not None:  # the creep over the record (no extrapolation beyond it)
+                on = (rows.point == p["point"]) & (rows.side == p["side"])
+                span = float(np.maximum(rows.time_s[on] - p["t0_s"], 0.0).max()) if on.any() else 0.0
+                out["displacement_mm"] = p["rate_mm_s"] * span
+        elif n == "tracker_settling":
+            out.update(about=_unit(p["about"]).tolist())
+            if rows is not None:
+                out["angle_at_end_rad"] = float(self.settling_angle(rows.time_s.max()))
+        elif n == "thermal_temperature":
+            out.update(axis=p["axis"], error=self.error, ppm_per_k=p["ppm_per_k"], drift_mm_per_k=p["drift_mm_per_k"])
+            if rows is not None and rows.temperature_c is not None:
+                dT = self.delta_t(rows)
+                out.update(t_ref_c=float(rows.temperature_c[0] if math.isnan(p["t_ref_c"]) else p["t_ref_c"]),
+                           delta_t_range_k=[float(dT.min()), float(dT.max())])
         elif n == "offset":
             out.update(direction=p["direction"], size=p["size"])
             if rows is not None:
@@ -370,17 +504,28 @@ class Effect:
         return out
 
 
+def parse_items(text: str, what: str) -> dict[str, str]:
+    """'key=value,key=value' -> {key: value} (strings); ``what`` names the option in the error message."""
+    params: dict[str, str] = {}
+    for item in filter(None, (s.strip() for s in str(text).split(","))):
+        k, eq, v = item.partition("=")
+        if not eq or not k.strip():
+            raise InputError(f"{what}: expected key=value, got {item!r}")
+        params[k.strip()] = v.strip()
+    return params
+
+
 def parse_effect(text: str) -> Effect:
     """'NAME' or 'NAME:key=value,key=value' (CLI --effect) -> Effect."""
     name, _, rest = str(text).partition(":")
-    name = name.strip()
-    params: dict[str, str] = {}
-    for item in filter(None, (s.strip() for s in rest.split(","))):
-        k, eq, v = item.partition("=")
-        if not eq or not k.strip():
-            raise InputError(f"effect {text!r}: expected key=value, got {item!r}")
-        params[k.strip()] = v.strip()
-    return Effect(name, params)
+    return Effect(name.strip(), parse_items(rest, f"effect {text!r}"))
+
+
+def warm_up_rise(t, rise_c: float, tau_s: float, t0_s: float) -> np.ndarray:
+    """K above the starting temperature at times t (s) of a warm-up rise_c (1 - exp(-(t - t0_s) / tau_s)) for
+    t > t0_s (the generated warm-up curve of derive/signatures.py)."""
+    dt = np.maximum(np.asarray(t, dtype=float) - t0_s, 0.0)
+    return S.thermal_temperature_curve(0.0, rise_c, dt, tau_s)[..., 0]
 
 
 def as_effects(effects: Iterable) -> list[Effect]:

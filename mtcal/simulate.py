@@ -37,13 +37,53 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from mtcal import tracker as trk
-from mtcal.effects import Rows, as_effects
 from mtcal import schema as sc
+from mtcal.effects import Rows, as_effects, parse_items, warm_up_rise
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorModel
 from mtcal.recordings import Recording, make_recording, write_recording
+
+
+@dataclass(frozen=True)
+class WarmUp:
+    """Warm-up curve of the simulated temperature channel (a plausible shop-floor warm-up):
+    temperature_c = plan temperature + rise_c (1 - exp(-(t - t0_s) / tau_s)) for t > t0_s (degC, K, s)."""
+
+    rise_c: float = 2.0
+    tau_s: float = 1800.0
+    t0_s: float = 0.0
+
+    def __post_init__(self) -> None:
+        for k, lo, hi in (("rise_c", -20.0, 20.0), ("tau_s", 1.0, 1e7), ("t0_s", 0.0, 1e7)):
+            v = getattr(self, k)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or not lo <= v <= hi:
+                raise InputError(f"temperature: {k} must be a number in [{lo:g}, {hi:g}], got {v!r}")
+
+    def rise(self, t: np.ndarray) -> np.ndarray:
+        """K above the plan temperature at times t (s)."""
+        return warm_up_rise(t, self.rise_c, self.tau_s, self.t0_s)
+
+
+def parse_warm_up(spec) -> WarmUp:
+    """WarmUp from a WarmUp, a mapping or 'rise_c=2,tau_s=1800,t0_s=0' (CLI --temperature; all keys optional)."""
+    if isinstance(spec, WarmUp):
+        return spec
+    if isinstance(spec, str):
+        spec = parse_items(spec, "temperature")
+        for k, v in spec.items():
+            try:
+                spec[k] = float(v)
+            except ValueError:
+                raise InputError(f"temperature: {k}={v!r} is not a number") from None
+    if not isinstance(spec, Mapping):
+        raise InputError(f"temperature must be 'rise_c=..,tau_s=..,t0_s=..' or a mapping, got {spec!r}")
+    bad = sorted(set(spec) - {"rise_c", "tau_s", "t0_s"})
+    if bad:
+        raise InputError(f"temperature: unknown key(s) {bad}; allowed: rise_c (K), tau_s (s), t0_s (s)")
+    return WarmUp(**spec)
+
 
 MAX_READING_MM = 1e6  # a simulated reading farther than 1 km from the machine origin is no measurement
 
@@ -309,8 +349,11 @@ def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
 # ---------------------------------------------------------------------------------------------- campaign
 def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None = None, tracker=None,
              rounds: int | None = None, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
-             spec: trk.TrackerSpec = trk.AT960) -> tuple[Recording, dict]:
-    """(recording, truth) of one simulated campaign; see ``simulate_campaign``."""
+             spec: trk.TrackerSpec = trk.AT960, temperature=None) -> tuple[Recording, dict]:
+    """(recording, truth) of one simulated campaign; see ``simulate_campaign``.  ``temperature``: a warm-up
+    curve of the temperature channel (WarmUp, mapping or 'rise_c=2,tau_s=1800,t0_s=0'); the default WarmUp()
+    when an effect reads the temperature (thermal_temperature), else a constant channel (thermal_drift adds its
+    own rise)."""
     if machine is None:
         machine = plan.machine if isinstance(plan, Plan) else (model.machine if model is not None else None)
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
@@ -328,6 +371,12 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         raise InputError(f"tracker position must be finite, got {pl.tracker}")
     rows = schedule(pl)
     _check_poses(m, pl, rows)
+    warm = parse_warm_up(temperature) if temperature is not None else (
+        WarmUp() if any(e.name == "thermal_temperature" for e in eff) else None)
+    rows.temperature_c = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff),
+                                                np.zeros(len(rows))) + (0.0 if warm is None else warm.rise(rows.time_s))
+    for e in eff:
+        e.move_nests(rows, rows.local)
     if model is not None and model.machine != m.name:
         raise InputError(f"error model is for machine {model.machine!r}, simulating {m.name!r}")
     errors = (model.errors_at(m, rows.axes) if model is not None
@@ -346,8 +395,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         raise InputError(f"simulated reading of axis {rows.axis[i]} at {rows.position[i]:g} is not finite or beyond "
                          f"{MAX_READING_MM:g} mm: an effect or model value is out of range "
                          f"({', '.join(e.name for e in eff) or 'no effects'})")
-    temp = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff), np.zeros(len(rows)))
-    rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
+    rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction,
+                         rows.temperature_c)
     truth = {
         "machine": m.name,
         "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)", "time": "s"},
@@ -363,6 +412,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         "points": {"tool": {k: list(v) for k, v in pl.tool_points.items()},
                    "table": {k: list(v) for k, v in pl.table_points.items()}},
         "model": None if model is None else model.to_dict(),
+        "temperature": {"start_c": pl.temperature_c, **({} if warm is None else
+                                                         {"rise_c": warm.rise_c, "tau_s": warm.tau_s, "t0_s": warm.t0_s})},
         "effects": [e.truth(rows) for e in eff],
     }
     rec.truth = truth
@@ -370,18 +421,19 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
 
 
 def simulate_campaign(model: ErrorModel | None = None, *, machine=None, tracker=None, rounds=4, seed=0,
-                      effects=(), noise=True, plan=None) -> Recording:
+                      effects=(), noise=True, plan=None, temperature=None) -> Recording:
     """A simulated laser-tracker campaign as a Recording (tidy CSV columns incl. time_s, direction, temperature_c).
 
     model: error model of the simulated machine (None = no errors); machine: name or Machine (default: the
     plan's, else the model's, else the default machine); tracker: (3,) mm or "x,y,z" (None = the plan's, default
     the spec's first tracker station); rounds: overrides the plan's (default 4; pass None to keep the plan's);
     seed: numpy Generator seed; effects: see mtcal.effects;
-    noise: AT960 noise on/off; plan: Plan, dict or PLAN.json path (module docstring).
+    noise: AT960 noise on/off; plan: Plan, dict or PLAN.json path (module docstring); temperature: warm-up
+    curve of the temperature_c channel (see ``simulate``).
     The planted truth is attached as ``recording.truth`` (a dict, also written by ``write_campaign``).
     """
     rec, _ = simulate(model, machine=machine, tracker=tracker, rounds=rounds, seed=seed, effects=effects,
-                      noise=noise, plan=plan)
+                      noise=noise, plan=plan, temperature=temperature)
     return rec
 
 

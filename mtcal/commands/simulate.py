@@ -24,6 +24,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
+    p.add_argument("--temperature", metavar="rise_c=K,tau_s=S,t0_s=S", nargs="?", const="",
+                   help="write a warm-up curve to temperature_c: plan temperature + rise_c (1 - exp(-(t - t0_s) / "
+                        "tau_s)) (defaults 2 K, 1800 s, 0 s; the default curve is also used by thermal_temperature)")
     machine_argument(p)
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="recording to write (+ REC.truth.json)")
 
@@ -39,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     plan = load_plan(args.plan, machine) if args.plan else None
     rec, truth = simulate(model, machine=machine, tracker=args.tracker, rounds=args.rounds, seed=args.seed,
-                          effects=effects, noise=not args.no_noise, plan=plan)
+                          effects=effects, noise=not args.no_noise, plan=plan, temperature=args.temperature)
     truth["model_file"] = args.model
     truth["plan_file"] = args.plan
     tp = write_campaign(rec, truth, args.output)
