@@ -117,7 +117,7 @@ def test_unidirectional_backlash_is_reported_not_separable():
 def test_located_by_direction_for_backlash():
     rec = campaign([("backlash", {"axis": "Y", "amount": 0.003})], ["Y"])
     d = diagnose(rec, tracker=T)
-    assert d.located[0]["axis"] == "Y" and d.located[0]["by"] == "direction"
+    assert d.located[0].axis == "Y" and d.located[0].by == "direction"
 
 
 @pytest.mark.parametrize("how", ["held", "left_out"])
@@ -173,13 +173,13 @@ def test_cli_json(tmp_path, capsys):
     assert (tmp_path / "p" / "residuals_before.png").exists() and (tmp_path / "p" / "residuals_after.png").exists()
 
 
-def test_unweighted_without_tracker_and_given_model_cli(tmp_path, capsys):
+def test_without_tracker_and_given_model_cli(tmp_path, capsys):
     from mtcal.cli import main
     from mtcal.model import save_model
     from mtcal.recordings import write_recording
     rec = campaign([("squareness", {"error": "E_C0Y", "value": 40e-6})], ["Y"])
-    d = diagnose(rec)  # no tracker: unweighted, sigma from the residuals; the fitted base absorbs squareness
-    assert not d.prep.weighted and not any(e["significant"] for e in d.effects)
+    d = diagnose(rec)  # no tracker: the noise model is estimated; the fitted base absorbs squareness
+    assert d.noise.kind == "AT960 (estimated tracker)" and not any(e["significant"] for e in d.effects)
     assert any(e["name"] == "squareness" and e.get("not_separable") for e in d.effects)
     path, model = tmp_path / "r.csv", tmp_path / "m.json"
     write_recording(rec, path)
@@ -237,9 +237,9 @@ def test_engine_f_test_equals_a_plain_least_squares_f_test():
     eng = Engine([(idx_a, xa), (idx_b, xb)], y)
     eng.add(e1)
     sc = eng.score(g)
-    assert sc["k"] == 2 and sc["dof"] == dof
-    assert sc["F"] == pytest.approx(f_plain, rel=1e-10)
-    assert sc["logp"] == pytest.approx(stats.f.logsf(f_plain, 2, dof), rel=1e-9)
+    assert sc.k == 2 and sc.dof == dof
+    assert sc.F == pytest.approx(f_plain, rel=1e-10)
+    assert sc.logp == pytest.approx(stats.f.logsf(f_plain, 2, dof), rel=1e-9)
     assert eng.rss == pytest.approx(rss0, rel=1e-12)
     theta, _ = eng.estimate([g])
     beta = np.linalg.lstsq(np.hstack([base, g]), y, rcond=None)[0]

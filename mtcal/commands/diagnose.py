@@ -16,8 +16,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", metavar="MODEL.json", help="base model = this error model (residuals = recordings "
                    "minus its simulation); default: fit smooth error functions to the recording")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz,
-                   help="tracker position, mm, machine frame: weights readings by "
-                   "the AT960 covariance (default: unweighted, sigma from the residuals)")
+                   help="tracker position, mm, machine frame: weights readings by the AT960 covariance (default: "
+                   "the position estimated from the scatter of the repeated rounds; the JSON key noise_model says "
+                   "which was used)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
     machine_argument(p)
@@ -49,6 +50,7 @@ def run(args: argparse.Namespace) -> int:
         print(dumps(out))
         return 0
     unit = "sigma ratio (1 = AT960 spec)" if d.prep.weighted else "unweighted"
+    print(f"noise model: {d.noise.kind}: {d.noise.how}")
     print(f"{args.recording}: {len(rec)} readings; base model: {d.base['kind']}, degrees "
           f"{', '.join(f'{a}={k}' for a, k in d.base['degrees'].items())}")
     print(f"sigma {d.base_sigma * 1e3:.3f} um before -> {d.sigma_after * 1e3:.3f} um after "
@@ -59,11 +61,19 @@ def run(args: argparse.Namespace) -> int:
     for e in sig:
         ev = e["evidence"]
         print(f"  {e['name']:<14} {e['axis'] or '-':<2} {e.get('where', ''):<28} {_fmt(e):<24} "
-              f"F = {ev['F']:.1f}, p_adj = {ev['p_adjusted']:.2g}, cv gain = {ev['cv_gain']:.3g}, "
+              f"F = {ev['F']:.1f}, p_adj = {ev['p_adjusted']:.2g}, cv gain = "
+              f"{'-' if ev['cv_gain'] is None else format(ev['cv_gain'], '.3g')}, "
               f"sigma after {e['sigma_after'] * 1e3:.3f} um")
+    for e in sig:
+        for c in e.get("confounded_with", []):
+            print(f"    confounded with {c['name']} {c['axis'] or ''} {c['where']}: {c['separate_by']}")
+        if e.get("possible_alias"):
+            print(f"    {e['note']}")
     for loc in d.located[:8]:
-        print(f"  located: axis {loc['axis']} by {loc['by']} = {loc['where']} "
-              f"(score {loc['score']:.1f}, {loc['kind']})")
+        print(f"  located: axis {loc.axis} by {loc.by} = {loc.where} (score {loc.score:.1f}, {loc.kind})")
+    for u in d.unexplained[:8]:
+        size = f", {u.shift_mm * 1e3:.2f} um" if u.kind == "mean" else ""
+        print(f"  UNEXPLAINED: axis {u.axis} by {u.by} = {u.where} ({u.kind}{size}, p_adj = {u.p_adjusted:.2g})")
     ns: dict[tuple[str, str], list[str]] = {}
     for e in d.effects:
         if e.get("not_separable"):

@@ -1,5 +1,5 @@
-"""Diagnosis of laser-tracker recordings (package: prepare, engine, candidates, scans, selection, report,
-plate): fit a quasi-static base model, locate the mismatch, name the effect.
+"""Diagnosis of laser-tracker recordings (package; one job per module): fit a quasi-static base model, locate the
+mismatch, name the effect.
 
 Base model (frames: machine frame = tracker frame, mm; positions mm or deg; errors mm and rad):
 * every reflector reading of axis J is its nominal position plus the first-order effect of J's six error
@@ -16,12 +16,13 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
   trusted.  A shift of one (round, reflector) sequence (a re-seated nest) is the candidate effect "offset",
   and so is a tracker knock (effects.py "offset": every reading from t0 on shifted by one vector; t0 scanned
   over the gaps between reading times, counted in the multiplicity);
-* weights: the AT960 covariance (mtcal.tracker) of every reading when the tracker position is known (whitened
-  least squares; sigma ratio 1 = the tracker's specification), else unweighted with sigma from the residuals;
+* weights: the AT960 covariance (mtcal.tracker) of every reading about the tracker position, given or estimated
+  from the scatter of the repeated rounds (mtcal.diagnose.noise; whitened least squares; sigma ratio 1 = the
+  tracker's specification), else (one round, no tracker shape in the scatter) unweighted;
 * with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets.
 
 Diagnosis: studentized residuals grouped by axis x (direction, round, time, position, point) locate the misfit;
-candidate effects (mtcal.diagnose.candidates, signatures derived in derive/signatures.py) are tested by an F test on
+candidate effects (mtcal.diagnose.effects, signatures derived in derive/signatures.py) are tested by an F test on
 the projected (Frisch-Waugh) columns, with a separability (aliasing) check, Bonferroni control over families x
 members, forward selection, backward elimination and held-out-round cross-validation.  The null hypothesis of
 every test is the quasi-static family itself (every axis at the largest degree, plus the effects selected
@@ -30,17 +31,16 @@ as a quadratic), and a smooth candidate (a periodic error whose pitch is near th
 "found" in the cubic misfit.  An effect is reported only if no error function of the family explains it; the
 reported base (degrees, sigma before and after, estimates, cross-validation) is the BIC base with the selected
 effects.  With ``model`` given the null is that model (plus offsets), as before.
-"""
-from __future__ import annotations
 
-from mtcal.diagnose.candidates import NOT_SEPARABLE, all_candidates
-from mtcal.diagnose.engine import Engine, base_design, engine_for
+Modules: prepare (nominal positions, Jacobians), noise (weights), design (base columns), engine (F tests by
+projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors
+and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), report
+(typed findings, JSON), plate (plate fits), run (``diagnose()``)."""
+from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.plate import diagnose_plate, format_plate_diagnosis
 from mtcal.diagnose.prepare import Prepared, prepare
-from mtcal.diagnose.report import Diagnosis, plot_residuals
-from mtcal.diagnose.scans import locate
-from mtcal.diagnose.selection import MAX_DEGREE, diagnose
+from mtcal.diagnose.report import Diagnosis, Finding, plot_residuals
+from mtcal.diagnose.run import MAX_DEGREE, diagnose
 
-__all__ = ["diagnose", "Diagnosis", "prepare", "Prepared", "all_candidates", "NOT_SEPARABLE", "base_design",
-           "engine_for",
-           "Engine", "locate", "diagnose_plate", "format_plate_diagnosis", "plot_residuals", "MAX_DEGREE"]
+__all__ = ["diagnose", "diagnose_plate", "format_plate_diagnosis", "plot_residuals", "prepare", "Prepared",
+           "Diagnosis", "Finding", "Engine", "Score", "MAX_DEGREE"]

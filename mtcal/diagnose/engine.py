@@ -1,67 +1,34 @@
-"""The base design (smooth error functions vanishing at the reference, reflector positions) and the least-squares
-engine of the diagnosis: projections (Frisch-Waugh), F tests, separability (see mtcal.diagnose)."""
+"""The statistics engine of the diagnosis: least squares on a block-diagonal base plus global columns.
+
+Candidate columns are scored by projection (Frisch-Waugh-Lovell): the F test of adding columns G (whitened,
+N x k) to the fitted base, with the separability of G from the base (sin of the smallest principal angle).
+"""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 from scipy import stats
-
-from mtcal.diagnose.prepare import Prepared, whiten
 
 ALIAS_TOL = 1e-4       # sin of the smallest angle between a candidate and the base below this: not separable
 WEAK_TOL = 0.05        # ... below this: separable only weakly (estimate strongly correlated with the base)
 
 
-# ---------------------------------------------------------------------------------------------- base design
-def _basis(linear: bool, q: np.ndarray, q_ref: float, degree: int, span: float) -> np.ndarray:
-    """(n, k) smooth functions of the position vanishing at the reference position."""
-    if degree == 0:
-        return np.zeros((len(q), 0))
-    if linear:
-        s = (q - q_ref) / max(span, 1e-9)
-        return np.stack([s**k for k in range(1, degree + 1)], axis=1)
-    th, t0 = np.deg2rad(q), np.deg2rad(q_ref)
-    cols = []
-    for k in range(1, degree + 1):
-        cols += [np.cos(k * th) - np.cos(k * t0), np.sin(k * th) - np.sin(k * t0)]
-    return np.stack(cols, axis=1)
+@dataclass(frozen=True)
+class Score:
+    """F test of added columns: ``delta`` = RSS reduction (whitened), ``k`` = separable columns, ``dof`` = residual
+    degrees of freedom with them, ``logp`` = natural log of the p value, ``sep`` = separability (0..1)."""
+
+    separable: bool
+    sep: float
+    k: int = 0
+    dof: int = 1
+    delta: float = 0.0
+    F: float = 0.0
+    logp: float = 0.0
 
 
-@dataclass
-class Base:
-    blocks: dict[str, np.ndarray]   # axis -> (n, 3, p_axis) raw design, mm per parameter (zero off the axis)
-    degrees: dict[str, int]
-
-
-def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | None = None) -> Base:
-    """Per axis: error-function columns J_point[:, e] * basis_k(q) and per-(round, point) offset columns."""
-    g, rec = prep.geometry, prep.rec
-    blocks = {}
-    for a in (axes or prep.axes):
-        on = rec.axis == a
-        pos = rec.position[on]
-        span = float(np.ptp(pos)) or 1.0
-        B = _basis(prep.machine.kind(a) == "linear", rec.position[on], prep.q_ref[a], degrees.get(a, 0), span)
-        cols = []
-        for e in prep.machine.error_motions(a):
-            c = g.col(e)[on]
-            cols += [c * B[:, k:k + 1] for k in range(B.shape[1])]
-        # point positions: d nominal / d point = the rigid motion of the point (identity tool side, R(q) table
-        # side); estimated from every reading of every round, so no single reference reading is trusted
-        for label in np.unique(rec.point[on]):
-            m = rec.point[on] == label
-            for k in range(3):
-                c = np.zeros((int(on.sum()), 3))
-                c[m] = prep.Aoff[on][m][:, :, k]
-                cols.append(c)
-        blocks[a] = np.stack(cols, axis=-1)
-    return Base(blocks, dict(degrees))
-
-
-# ---------------------------------------------------------------------------------------------- statistics
 class Engine:
     """Least squares on a block-diagonal base (one block of rows per axis) plus global columns.
 
@@ -114,6 +81,17 @@ class Engine:
         out[:, pmax:] = self.E
         return out.reshape(self.N // 3, 3, -1)
 
+    def full_rows(self) -> np.ndarray:
+        """Per reading, its three rows of the full Q (every block at its own columns, then E): (n, 3, P)."""
+        widths = [q.shape[1] for _, q in self.blocks]
+        Qf = np.zeros((self.N, sum(widths) + self.E.shape[1]))
+        off = 0
+        for (idx, q), w in zip(self.blocks, widths):
+            Qf[idx, off:off + w] = q
+            off += w
+        Qf[:, off:] = self.E
+        return Qf.reshape(self.N // 3, 3, -1)
+
     @property
     def rss(self) -> float:
         return float(self.r @ self.r)
@@ -126,12 +104,40 @@ class Engine:
     def sigma(self) -> float:
         return math.sqrt(self.rss / max(self.dof, 1))
 
-    def score(self, G: np.ndarray) -> dict:
+    def residualized(self, G: np.ndarray) -> np.ndarray:
+        """An orthonormal basis (N, k) of G with the fitted columns projected out (empty if G is in the base)."""
+        Gp = G - self.project(G)
+        Gp = Gp - self.project(Gp)
+        if not np.any(Gp):
+            return np.zeros((self.N, 0))
+        ref = max(float(np.linalg.norm(G)), 1e-300)
+        u, sv, _ = np.linalg.svd(Gp, full_matrices=False)
+        return u[:, sv > ALIAS_TOL * ref]
+
+    def overlap(self, G1: np.ndarray, G2: np.ndarray) -> float:
+        """|cos| of the smallest principal angle between two column spaces after the fitted base (0..1): near 1,
+        the data cannot tell the two apart."""
+        a, b = self.residualized(G1), self.residualized(G2)
+        if a.shape[1] == 0 or b.shape[1] == 0:
+            return 0.0
+        return float(min(1.0, np.linalg.svd(a.T @ b, compute_uv=False)[0]))
+
+    def shared_fit(self, G1: np.ndarray, G2: np.ndarray) -> float:
+        """The share (0..1, a |cos|) of what G1 explains of the current residual that G2 explains as well: near 1,
+        this campaign cannot tell the two explanations apart."""
+        a, b = self.residualized(G1), self.residualized(G2)
+        fit = a @ (a.T @ self.r)
+        size = float(np.linalg.norm(fit))
+        if a.shape[1] == 0 or b.shape[1] == 0 or size == 0:
+            return 0.0
+        return float(min(1.0, np.linalg.norm(b.T @ fit) / size))
+
+    def score(self, G: np.ndarray) -> Score:
         """F test of adding the columns G (N, k) to the fit; separability = sin of the smallest angle to the base."""
         GtG = G.T @ G
         lam, V = np.linalg.eigh(GtG)
         if lam[-1] <= 0:
-            return {"separable": False, "sep": 0.0, "k": 0}
+            return Score(False, 0.0)
         keep = lam > 1e-12 * lam[-1]
         T = V[:, keep] / np.sqrt(lam[keep])
         QtG = self.qt(G) @ T
@@ -140,15 +146,17 @@ class Engine:
         sep = math.sqrt(max(mu[0], 0.0))
         ok = mu > ALIAS_TOL**2
         if not ok.any():
-            return {"separable": False, "sep": sep, "k": 0}
+            return Score(False, sep)
         b = U[:, ok].T @ (T.T @ (G.T @ self.r))
         delta = float(np.sum(b**2 / mu[ok]))
         k = int(ok.sum())
-        dof = self.dof - k
+        dof = max(self.dof - k, 1)
         rss1 = max(self.rss - delta, 1e-300)
-        F = (delta / k) / (rss1 / max(dof, 1))
-        return {"separable": True, "sep": sep, "k": k, "dof": max(dof, 1), "delta": delta, "F": F,
-                "logp": float(stats.f.logsf(F, k, max(dof, 1)))}
+        F = (delta / k) / (rss1 / dof)
+        logp = float(stats.f.logsf(F, k, dof))
+        if not math.isfinite(logp):  # beyond the float range: the chi^2 tail exponent keeps the order finite
+            logp = -0.5 * k * F
+        return Score(True, sep, k, dof, delta, F, logp)
 
     def add(self, G: np.ndarray) -> None:
         Gp = G - self.project(G)
@@ -174,20 +182,3 @@ class Engine:
         theta, *_ = np.linalg.lstsq(Gp, base.r, rcond=None)
         cov = self.sigma**2 * np.linalg.pinv(Gp.T @ Gp)
         return theta, cov
-
-
-def engine_for(prep: "Prepared", base: "Base", wy: np.ndarray, rows: np.ndarray | None = None) -> Engine:
-    """Engine of the base design (blocks per axis), optionally on a subset of readings ``rows`` (bool (n,))."""
-    n = len(prep.rec)
-    keep = np.ones(n, bool) if rows is None else rows
-    blocks = []
-    sel3 = np.repeat(keep, 3)
-    pos = np.cumsum(sel3) - 1
-    for a, X in base.blocks.items():
-        on = (prep.rec.axis == a) & keep
-        if not on.any():
-            continue
-        Xw = whiten(prep.W[on], X[keep[prep.rec.axis == a]])
-        Xw = Xw[:, np.any(Xw != 0, axis=0)]
-        blocks.append((pos[np.repeat(on, 3)], Xw))
-    return Engine(blocks, wy[sel3])

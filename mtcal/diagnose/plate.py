@@ -1,4 +1,4 @@
-"""Diagnosis of a plate fit (mtcal.plate) in the form of `mtcal diagnose`."""
+"""Diagnosis of a Hocken-Borchardt plate fit (mtcal.plate) in the form of ``mtcal diagnose``."""
 from __future__ import annotations
 
 import math
@@ -9,8 +9,6 @@ import numpy as np
 from mtcal.diagnose.engine import Engine
 from mtcal.errors import InputError
 
-
-# ---------------------------------------------------------------------------------------------- plate
 PLATE_NAMES = {"gamma": "scale", "alpha": "squareness", "ex": "offset", "ey": "offset", "beta": "rotation"}
 
 
@@ -77,7 +75,7 @@ def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> d
     remaining = list(cands)
     while remaining:
         scored = [(c, eng.score(c[2])) for c in remaining]
-        scored = [(c, s) for c, s in scored if s["separable"]]
+        scored = [(c, s) for c, s in scored if s.separable]
         if not scored:
             break
         fams = {}
@@ -85,15 +83,15 @@ def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> d
             fams.setdefault(c[0] if c[0] == "outlier" else c[1], []).append((c, s))
         best = None
         for mem in fams.values():
-            c, s = min(mem, key=lambda cs: cs[1]["logp"])
-            lp = s["logp"] + math.log(len(mem) * len(fams))
+            c, s = min(mem, key=lambda cs: cs[1].logp)
+            lp = s.logp + math.log(len(mem) * len(fams))
             if best is None or lp < best[2]:
                 best = (c, s, lp)
         c, s, lp = best
-        if lp >= math.log(level) or s["k"] >= eng.dof:
+        if lp >= math.log(level) or s.k >= eng.dof:
             effects.append({"name": c[0], "axis": None, "direction": None, "significant": False, "estimate": None,
                             "sigma_after": None, "where": c[1],
-                            "evidence": {"test": "F", "F": s["F"], "p_value": math.exp(s["logp"]),
+                            "evidence": {"test": "F", "F": s.F, "p_value": math.exp(s.logp),
                                          "p_adjusted": min(1.0, math.exp(lp)), "cv_gain": None}})
             break
         eng.add(c[2])
@@ -111,8 +109,8 @@ def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> d
                     "estimate": float(est[0]) if k == 1 else float(np.linalg.norm(est)),
                     "uncertainty": float(u[0]) if k == 1 else float(np.linalg.norm(u)),
                     "parameter": c[1], "sigma_after": sig,
-                    "evidence": {"test": "F", "F": s["F"], "dof": [s["k"], eng.dof],
-                                 "p_value": math.exp(s["logp"]), "p_adjusted": min(1.0, math.exp(lp)),
+                    "evidence": {"test": "F", "F": s.F, "dof": [s.k, eng.dof],
+                                 "p_value": math.exp(s.logp), "p_adjusted": min(1.0, math.exp(lp)),
                                  "cv_gain": None, "multiplicity": "Bonferroni over families x members"},
                     **({"vector": [float(v) for v in est]} if k > 1 else {})})
     located = [{"axis": None, "by": "point", "where": f.get("point"), "score": float(f.get("F", 0.0)),

@@ -1,27 +1,29 @@
-"""Preparation of a recording for the diagnosis: nominal reflector positions (reflectors estimated from all
-readings), point Jacobians, the given model's simulation and the tracker weights (see mtcal.diagnose)."""
+"""Preparation of a recording for the diagnosis: nominal positions, point Jacobians, reading sequences, weights.
+
+Frames and units: machine frame (= tracker frame after alignment), mm; positions mm (linear) or deg (rotary).
+The nominal position of every reflector reading uses the point's position estimated from the reference readings
+(design.md: each round's reading at the position closest to zero); y = reading - nominal (incl. a given model).
+The weights (whitening W, W^T W = covariance^-1) come from mtcal.diagnose.noise.
+"""
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 import numpy as np
 
-from mtcal.diagnose import candidates as fx
+from mtcal.diagnose import effects as fx
+from mtcal.diagnose.noise import NoiseModel, noise_model
 from mtcal.errors import InputError
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.recordings import Recording
-from mtcal.tracker import covariance
 
 
-# ---------------------------------------------------------------------------------------------- preparation
 @dataclass
 class Prepared:
     rec: Recording
     machine: Machine
     geometry: fx.Geometry
     y: np.ndarray            # (n, 3) readings minus nominal (incl. the given model), mm
-    W: np.ndarray            # (n, 3, 3) whitening: W^T W = covariance^-1 (1/mm), or identity
-    weighted: bool
     axes: list[str]
     q_ref: dict[str, float]
     seq: np.ndarray          # (n,) index of the (axis, round, point) sequence of each reading
@@ -29,12 +31,15 @@ class Prepared:
     order: np.ndarray        # (n,) reading order within the recording (time, else file line)
     given_model: bool
     Aoff: np.ndarray         # (n, 3, 3) d nominal / d point position (rigid motion of the reflector)
+    noise: NoiseModel        # the weights: W (n, 3, 3), W^T W = covariance^-1 (1/mm), and how they were obtained
 
-    def white(self, c: fx.Candidate) -> np.ndarray:
-        """The candidate's columns whitened by this recording's weights (computed once per candidate)."""
-        if "_w" not in c.extra:
-            c.extra["_w"] = whiten(self.W, c.G)
-        return c.extra["_w"]
+    @property
+    def W(self) -> np.ndarray:
+        return self.noise.W
+
+    @property
+    def weighted(self) -> bool:
+        return self.noise.weighted
 
 
 def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -46,8 +51,11 @@ def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tupl
     return b, A
 
 
-def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None) -> Prepared:
-    """Nominal positions, point Jacobians and weights of every reading (see module docstring)."""
+def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
+            max_degree: int = 3) -> Prepared:
+    """Nominal positions, point Jacobians and weights of every reading (see module docstring); ``tracker`` (3,)
+    mm or None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise,
+    with the base family at ``max_degree``)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
     if n == 0:
@@ -100,17 +108,12 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
             J[mask] = m.point_jacobian_errors(s, av[mask], local[mask])
     y = rec.xyz - nominal
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
-    if t is not None:
-        L = np.linalg.cholesky(covariance(rec.xyz, t))
-        W = np.linalg.inv(L)
-    else:
-        W = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
-    g = fx.Geometry(rec.axis, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t)
-    return Prepared(rec, m, g, y, W, t is not None, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff)
+    g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
+                    rotation=Aoff, temperature_c=rec.temperature_c)
+    prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff,
+                    NoiseModel.isotropic(n))
+    prep.noise = noise_model(prep, t, max_degree)
+    if t is None and prep.noise.tracker is not None:
+        prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)
+    return prep
 
-
-def whiten(W: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """(n, 3) -> (3n,), or (n, 3, k) -> (3n, k)."""
-    if v.ndim == 2:
-        return np.einsum("nij,nj->ni", W, v).reshape(-1)
-    return np.einsum("nij,njk->nik", W, v).reshape(-1, v.shape[-1])

@@ -1,24 +1,67 @@
-"""The result of a diagnosis (``Diagnosis``) and its residual plots."""
+"""The answer of the diagnosis: typed findings and their JSON form (design.md's contract), headlines of the
+estimates, the alias (Nyquist) check of periodic findings, ramps over the record, and the residual plots.
+
+JSON keys beyond design.md's (documented in the README): "noise_model" (how the readings were weighted),
+"unexplained" (located mismatches no candidate explains), per effect "confounded_with" (candidates this
+campaign cannot tell apart from it, each with "separate_by"), "possible_alias" (periodic: pitches that give
+the same readings), "variant": "ramp over the record" (thermal drift whose time constant exceeds the record).
+"""
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from mtcal.diagnose import effects as fx
+from mtcal.diagnose.engine import Engine
+from mtcal.diagnose.noise import NoiseModel
 from mtcal.diagnose.prepare import Prepared
+from mtcal.diagnose.scans import Located
 from mtcal.io import save_figure
 
 
-# ---------------------------------------------------------------------------------------------- diagnosis
+@dataclass
+class Finding:
+    """One effect of the answer; ``details`` holds the effect-specific keys (estimate's unit, vector, where, ...).
+    Reads like its JSON dict (``f["name"]``, ``f.get("where")``)."""
+
+    name: str
+    axis: str | None
+    direction: str | None
+    significant: bool
+    estimate: float | None
+    sigma_after: float | None
+    evidence: dict | None
+    details: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "axis": self.axis, "direction": self.direction, "significant": self.significant,
+                "estimate": self.estimate, "sigma_after": self.sigma_after, "evidence": self.evidence,
+                **self.details}
+
+    def __getitem__(self, key: str) -> Any:
+        return self.to_dict()[key]
+
+    def get(self, key: str, default: Any = None) -> Any:
+        return self.to_dict().get(key, default)
+
+    def __contains__(self, key: str) -> bool:
+        return key in self.to_dict()
+
+
 @dataclass
 class Diagnosis:
     base_sigma: float
     base_sigma_ratio: float
     sigma_after: float
     sigma_ratio_after: float
-    effects: list[dict]
-    located: list[dict]
+    effects: list[Finding]
+    located: list[Located]
     base: dict
+    noise: NoiseModel
+    unexplained: list[Located] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     residuals_before: np.ndarray | None = None
     residuals_after: np.ndarray | None = None
@@ -27,13 +70,105 @@ class Diagnosis:
     def to_dict(self) -> dict:
         return {"base_sigma": self.base_sigma, "base_sigma_ratio": self.base_sigma_ratio,
                 "sigma_after": self.sigma_after, "sigma_ratio_after": self.sigma_ratio_after,
-                "effects": self.effects, "located": self.located, "base_model": self.base,
+                "effects": [e.to_dict() for e in self.effects], "located": [x.to_dict() for x in self.located],
+                "unexplained": [_unexplained(x) for x in self.unexplained],
+                "base_model": self.base, "noise_model": self.noise.to_dict(),
                 "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)",
-                          "sigma_ratio": "1 = the tracker's specification (AT960) when --tracker is given"},
+                          "sigma_ratio": "1 = the tracker's specification (AT960) when the readings are weighted "
+                                         "by it (noise_model)"},
                 "notes": self.notes}
 
 
-# ---------------------------------------------------------------------------------------------- plots
+def _unexplained(x: Located) -> dict:
+    return {"axis": x.axis, "by": x.by, "where": x.where, "size_mm": x.shift_mm if x.kind == "mean" else None,
+            "kind": x.kind, "p_adjusted": x.p_adjusted, "readings": x.readings,
+            "chi2_per_dof": x.mean_shift_chi2_per_dof if x.kind == "mean" else x.spread_chi2_per_dof,
+            "note": "located but not explained by any candidate effect"}
+
+
+def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
+    """The reported estimate (one number with its unit and standard uncertainty) and all parameters."""
+    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    params = {p: float(v) for p, v in zip(c.params, theta)}
+    if c.name == "periodic":
+        amp = float(np.hypot(*theta))
+        g = theta / amp if amp > 0 else np.zeros(2)
+        u = float(math.sqrt(max(g @ cov @ g, 0.0)))
+        params["phase_deg"] = float(np.degrees(np.arctan2(theta[1], theta[0])))
+        return {"estimate": amp, "uncertainty": u, "unit": c.extra["amplitude_unit"],
+                "parameters": params, "direction": None}
+    if c.extra.get("variant") == "tracker knock":  # the step: its size (mm) along its direction, from t0 on
+        size = float(np.linalg.norm(theta))
+        g = theta / size if size > 0 else np.zeros(3)
+        k = int(np.argmax(np.abs(theta)))
+        return {"estimate": size, "uncertainty": float(math.sqrt(max(g @ cov @ g, 0.0))), "unit": "mm",
+                "parameters": params, "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
+                "unit_vector": [float(v) for v in g], "t0_s": c.extra["t0_s"],
+                "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
+    if c.name == "tracker_settling":  # the rotation reached at the end of the record (no extrapolation), rad
+        dt = c.extra["t_end_s"] - c.extra["t0_s"]
+        M = np.kron(np.eye(3), [[dt, 1.0 - math.exp(-dt / c.extra["tau_s"])]])   # (3, 6): rotation vector
+        rot, rcov = M @ theta, M @ cov @ M.T
+        size = float(np.linalg.norm(rot))
+        gv = rot / size if size > 0 else np.zeros(3)
+        k = int(np.argmax(np.abs(rot)))
+        return {"estimate": size, "uncertainty": float(math.sqrt(max(gv @ rcov @ gv, 0.0))), "unit": "rad",
+                "parameters": params, "direction": ("+" if rot[k] >= 0 else "-") + "XYZ"[k],
+                "rotation_vector": [float(v) for v in rot], "record_s": dt,
+                "note": "rotation of the readings about the tracker reached at the end of the record"}
+    if c.name in ("thermal_drift", "outlier", "offset", "nest_creep") or c.extra.get("variant") == "drift":
+        k = int(np.argmax(np.abs(theta) / np.maximum(sd, 1e-300)))  # the best-determined component
+        unit = {"nest_creep": "mm/s", "thermal_temperature": "mm/K"}.get(c.name, "mm")
+        return {"estimate": float(abs(theta[k])), "uncertainty": float(sd[k]), "unit": unit, "parameters": params,
+                "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
+                "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
+    k = int(np.argmax(np.abs(theta) / np.maximum(sd, 1e-300)))  # several constants: the best-determined
+    unit = c.params[k].split("(")[-1].rstrip(")") if "(" in c.params[k] else c.params[k]
+    return {"estimate": float(theta[k]), "uncertainty": float(sd[k]), "unit": unit, "parameters": params,
+            "direction": None, **({"error": c.params[k].split(" ")[0]} if len(theta) > 1 else {})}
+
+
+def ramp(c: fx.Candidate, head: dict, t: np.ndarray) -> dict:
+    """A warm-up whose time constant exceeds the record is reported as the change over the record (mm), with no
+    final value (an extrapolation beyond the record); else the final value plus the change over the record."""
+    if c.name != "thermal_drift" or not np.isfinite(t).all():
+        return head
+    record = float(np.max(t) - c.extra["t0_s"])
+    frac = 1.0 - math.exp(-record / c.extra["tau_s"])
+    change = [v * frac for v in head["vector"]]
+    if c.extra["tau_s"] <= record:
+        return {**head, "change_over_record": change, "record_s": record}
+    k = int(np.argmax(np.abs(change)))
+    return {**head, "variant": "ramp over the record", "estimate": abs(change[k]),
+            "uncertainty": head["uncertainty"] * frac, "vector": change,
+            "vector_uncertainty": [v * frac for v in head["vector_uncertainty"]], "record_s": record,
+            "parameters": {}, "tau_s": None,
+            "note": f"time constant beyond the record ({c.extra['tau_s']:.0f} s > {record:.0f} s): the change over "
+                    f"the record is reported, no final value"}
+
+
+def possible_aliases(prep: Prepared, c: fx.Candidate, eng: Engine, w) -> list[dict]:
+    """Pitches that the sampled positions cannot tell from the periodic finding ``c`` (Nyquist): for the
+    position step s, 1/p' = |1/p -+ k/s| (k = 1, 2), kept when their columns overlap c's (cos > 0.9)."""
+    if c.name != "periodic":
+        return []
+    u = np.unique(prep.rec.position[prep.rec.axis == c.axis])
+    s = float(np.min(np.diff(u)))
+    p = c.extra["pitch"]
+    out = []
+    for k in (1, 2):
+        for sign in (1, -1):
+            f = abs(1.0 / p + sign * k / s)
+            if f <= 0 or abs(1.0 / f - p) < 1e-6 * p:
+                continue
+            pa = 1.0 / f
+            alt = fx.periodic(prep.geometry, c.axis, pa, (pa, pa))
+            cos = eng.overlap(w(c), w(alt))
+            if cos > 0.9:
+                out.append({"pitch": pa, "overlap_cos": cos, "unit": c.extra["pitch_unit"]})
+    return sorted(out, key=lambda a: a["pitch"])
+
+
 def plot_residuals(diag: Diagnosis, directory) -> list[str]:
     """PNG of the raw residuals (um) of every axis before and after the selected effects."""
     import os
@@ -67,3 +202,72 @@ def plot_residuals(diag: Diagnosis, directory) -> list[str]:
         plt.close(fig)
         paths.append(p)
     return paths
+
+
+
+
+def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str) -> list[Finding]:
+    """Findings of the selected steps: joint estimates on ``eng`` (the reported base), cumulative sigma after
+    each, validation ``cv(step, others) -> (gain or None, how)``, aliases, ramps and confounds."""
+    from mtcal.diagnose.design import raw_sigma
+    from mtcal.diagnose.engine import WEAK_TOL
+    Gs = [w(s.candidate) for s in steps]
+    theta_all, cov_all = eng.estimate(Gs) if steps else (np.zeros(0), np.zeros((0, 0)))
+    cum = eng.copy_base()
+    out, off = [], 0
+    for i, s in enumerate(steps):
+        c, sc = s.candidate, s.score
+        k = c.G.shape[-1]
+        h = ramp(c, headline(c, theta_all[off:off + k], cov_all[off:off + k, off:off + k]), prep.rec.time_s)
+        off += k
+        cum.add(Gs[i])
+        gain, how = cv(s, Gs[:i] + Gs[i + 1:])
+        ev = {"test": "F", "F": sc.F, "dof": [sc.k, sc.dof], "p_value": math.exp(sc.logp),
+              "p_adjusted": min(1.0, math.exp(s.logp_adj)), "log10_p_adjusted": s.logp_adj / math.log(10),
+              "cv_gain": gain, "cv": how, "separability": sc.sep,
+              "multiplicity": "Bonferroni over families x members", "null": null_model}
+        d = h.pop("direction")
+        details = {"uncertainty": h.pop("uncertainty"), "unit": h.pop("unit"),
+                   "sigma_ratio_after": cum.sigma,
+                   "where": (f"step along {d}, {c.label}" if "t0_s" in h and c.name == "offset" else c.label),
+                   **{k2: v for k2, v in c.extra.items() if not k2.startswith("_") and k2 != "rows"}}
+        est = h.pop("estimate")
+        details.update(h)
+        f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details)
+        if s.confounded_with:
+            details["confounded_with"] = s.confounded_with
+        aliases = possible_aliases(prep, c, eng.copy_base(), w)
+        if aliases:
+            details["possible_alias"] = aliases
+            details["where"] = (f"{c.label} or an alias: pitch "
+                                f"{', '.join(format(a['pitch'], '.4g') for a in aliases)} {c.extra['pitch_unit']}")
+            details["note"] = ("possible alias: the positions sample every "
+                               f"{float(np.min(np.diff(np.unique(prep.rec.position[prep.rec.axis == c.axis])))):g} "
+                               f"{c.extra['pitch_unit']}, so pitches "
+                               f"{', '.join(format(a['pitch'], '.4g') for a in aliases)} give the same readings; "
+                               "measure at a finer, non-uniform step")
+        if sc.sep < WEAK_TOL:
+            details["note"] = "weakly separable from the base model: the estimate is correlated with the fitted errors"
+        if gain is not None and not gain > 0:
+            f.significant = False
+            details["note"] = f"significant in the F test but no gain on {how}"
+        out.append(f)
+    return out
+
+
+def rejected_findings(last: dict, chosen: set, notes: list[dict]) -> list[Finding]:
+    """The best candidate of every family not selected (not significant) and the not-separable notes."""
+    out = []
+    for fam, s in sorted(last.items(), key=lambda kv: kv[1].logp_adj):
+        if fam in chosen:
+            continue
+        c, sc = s.candidate, s.score
+        out.append(Finding(c.name, c.axis, None, False, None, None,
+                           {"test": "F", "F": sc.F, "p_value": math.exp(sc.logp),
+                            "p_adjusted": min(1.0, math.exp(s.logp_adj)), "cv_gain": None, "separability": sc.sep},
+                           {"where": c.label}))
+    for nt in notes:
+        out.append(Finding(nt["name"], nt["axis"], None, False, None, None, None,
+                           {"not_separable": nt["not_separable"],
+                            **({"separability": nt["separability"]} if "separability" in nt else {})}))
+    return out

@@ -1,8 +1,13 @@
-"""Where the misfit is (``locate``: studentized residuals grouped by factors) and the scanned candidates (an
-outlier or a bumped nest; a tracker knock at a change point in time), see mtcal.diagnose."""
+"""Scans over the residuals of the diagnosis: where the misfit sits (single factors and pairs of factors), the
+best single-reading / bumped-nest displacement (outlier), and the change point of a tracker knock.
+
+Units: residuals whitened (unit variance at the noise model), sizes reported in mm (machine frame).
+"""
 from __future__ import annotations
 
+import itertools
 import math
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
@@ -11,59 +16,98 @@ from scipy import stats
 from mtcal.diagnose.engine import ALIAS_TOL, Engine
 from mtcal.diagnose.prepare import Prepared
 
+FACTORS = ("direction", "round", "position", "point", "time")
 
-# ---------------------------------------------------------------------------------------------- locate
-def locate(prep: Prepared, eng: Engine, level: float) -> tuple[list[dict], np.ndarray]:
-    """Where the studentized residuals concentrate: groups by axis x (direction, round, time, position, point)."""
+
+@dataclass
+class Located:
+    """A group of readings (one axis, one level of a factor or of a pair of factors) whose residuals are not
+    noise: ``kind`` "mean" (a common shift; ``shift_mm`` its size, mm) or "spread" (a larger scatter)."""
+
+    axis: str
+    by: str                 # "direction", ..., or "direction x point"
+    where: Any
+    score: float            # -log10 p_adjusted
+    p_adjusted: float       # Bonferroni over every group x (mean, spread)
+    kind: str
+    readings: int
+    mean_shift_chi2_per_dof: float
+    spread_chi2_per_dof: float
+    shift_mm: float
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def _levels(prep: Prepared, on: np.ndarray) -> dict[str, list[tuple[Any, np.ndarray]]]:
+    """The levels of every factor on the readings ``on`` (bool (n,)): (label, mask)."""
+    rec, n = prep.rec, len(prep.rec)
+    out: dict[str, list[tuple[Any, np.ndarray]]] = {
+        "direction": [(d, on & (rec.direction == d)) for d in (1, -1)],
+        "round": [(int(r), on & (rec.round == r)) for r in sorted(set(rec.round[on].tolist()))],
+        "position": [(float(p), on & (rec.position == p)) for p in sorted(set(rec.position[on].tolist()))],
+        "point": [(str(p), on & (rec.point == p)) for p in sorted(set(rec.point[on].tolist()))],
+        "time": []}
+    ts = rec.time_s[on]
+    if np.isfinite(ts).all():
+        edges = np.quantile(ts, [0, 1 / 3, 2 / 3, 1])
+        for k in range(3):
+            sel = on & (rec.time_s >= edges[k]) & ((rec.time_s < edges[k + 1]) if k < 2 else np.ones(n, bool))
+            out["time"].append(([round(float(edges[k]), 1), round(float(edges[k + 1]), 1)], sel))
+    return {k: [(w, m) for w, m in v if m.any()] for k, v in out.items()}
+
+
+def _groups(prep: Prepared, pairs: bool):
+    """(axis, by, where, mask) of every single factor level and, with ``pairs``, every cell of two factors."""
+    for a in prep.axes:
+        lv = _levels(prep, prep.rec.axis == a)
+        for f in FACTORS:
+            for w, m in lv[f]:
+                yield a, f, w, m
+        if not pairs:
+            continue
+        for f1, f2 in itertools.combinations(FACTORS, 2):
+            if len(lv[f1]) < 2 or len(lv[f2]) < 2:
+                continue
+            for (w1, m1), (w2, m2) in itertools.product(lv[f1], lv[f2]):
+                yield a, f"{f1} x {f2}", [w1, w2], m1 & m2
+
+
+def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> list[Located]:
+    """Where the studentized residuals concentrate: groups by axis x (direction, round, position, point, time)
+    and, with ``pairs``, by axis x every pair of them (patterns that cancel within one factor, e.g. a pitch error
+    that reverses with the direction of approach and has opposite signs on reflectors either side of the axis).
+    Each group: a chi^2 test of its mean shift (3 dof) and of its spread (3 n_g dof); Bonferroni over groups x 2."""
     n = len(prep.rec)
     r = eng.r.reshape(n, 3)
     Qi = eng.rows()
-    H = np.einsum("nip,njp->nij", Qi, Qi)
-    IH = np.eye(3) - H
+    IH = np.eye(3) - np.einsum("nip,njp->nij", Qi, Qi)
     s2 = eng.sigma**2
     t2 = np.einsum("ni,ni->n", r, np.linalg.solve(IH + 1e-12 * np.eye(3), r[..., None])[..., 0]) / s2
-    rec = prep.rec
+    raw = np.linalg.solve(prep.W, r[..., None])[..., 0]
     tests = []
-    for a in prep.axes:
-        on = rec.axis == a
-        groups: list[tuple[str, Any, np.ndarray]] = []
-        for d in (1, -1):
-            groups.append(("direction", d, on & (rec.direction == d)))
-        for rr in sorted(set(rec.round[on].tolist())):
-            groups.append(("round", int(rr), on & (rec.round == rr)))
-        for p in sorted(set(rec.position[on].tolist())):
-            groups.append(("position", float(p), on & (rec.position == p)))
-        for lab in sorted(set(rec.point[on].tolist())):
-            groups.append(("point", str(lab), on & (rec.point == lab)))
-        ts = rec.time_s[on]
-        if np.isfinite(ts).all():
-            edges = np.quantile(ts, [0, 1 / 3, 2 / 3, 1])
-            for k in range(3):
-                sel = on & (rec.time_s >= edges[k]) & ((rec.time_s < edges[k + 1]) if k < 2 else np.ones(n, bool))
-                groups.append(("time", [round(float(edges[k]), 1), round(float(edges[k + 1]), 1)], sel))
-        for by, where, sel in groups:
-            ng = int(sel.sum())
-            if ng < 2:
-                continue
-            mean = r[sel].sum(axis=0)
-            T_shift = float(mean @ mean) / (ng * s2)
-            p_shift = float(stats.chi2.sf(T_shift, 3))
-            S = float(t2[sel].sum())
-            p_disp = float(stats.chi2.sf(S, 3 * ng))
-            tests.append((a, by, where, ng, min(p_shift, p_disp), "mean" if p_shift <= p_disp else "spread",
-                          T_shift / 3, S / (3 * ng)))
+    for a, by, where, sel in _groups(prep, pairs):
+        ng = int(sel.sum())
+        if ng < 2:
+            continue
+        mean = r[sel].sum(axis=0)
+        T_shift = float(mean @ mean) / (ng * s2)
+        p_shift = float(stats.chi2.sf(T_shift, 3))
+        S = float(t2[sel].sum())
+        p_disp = float(stats.chi2.sf(S, 3 * ng))
+        tests.append((a, by, where, ng, min(p_shift, p_disp), "mean" if p_shift <= p_disp else "spread",
+                      T_shift / 3, S / (3 * ng), float(np.linalg.norm(raw[sel].mean(axis=0)))))
     out = []
-    for a, by, where, ng, p, kind, shift, disp in tests:
-        padj = min(1.0, 2 * p * len(tests))  # Bonferroni over groups x (mean, spread)
+    for a, by, where, ng, p, kind, shift, disp, size in tests:
+        padj = min(1.0, 2 * p * len(tests))
         if padj < level:
-            out.append({"axis": a, "by": by, "where": where, "score": float(-math.log10(max(padj, 1e-300))),
-                        "p_adjusted": padj, "kind": kind, "readings": ng,
-                        "mean_shift_chi2_per_dof": shift, "spread_chi2_per_dof": disp})
-    out.sort(key=lambda d: -d["score"])
-    return out, t2
+            out.append(Located(a, by, where, float(-math.log10(max(padj, 1e-300))), padj, kind, ng, shift, disp,
+                               size))
+    out.sort(key=lambda d: -d.score)
+    return out
 
 
-def _outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
+def outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
     """Best single-reading and bumped-nest (rest of the round) displacement; returns (best, family size)."""
     n = len(prep.rec)
     W = prep.W
@@ -99,7 +143,7 @@ def _outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
     return best, count
 
 
-def _knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
+def knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
     """Change point of a tracker knock: every reading from t0 on (all axes, all reflectors) shifted by one
     vector.  t0 is scanned over the gaps between distinct reading times; each step column (whitened W_i on the
     readings after t0) is scored by running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across
@@ -110,16 +154,7 @@ def _knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
         return None, 0
     W = prep.W
     r = eng.r.reshape(n, 3)
-    # per reading, its three rows of the full Q (every block at its own columns, then E)
-    widths = [q.shape[1] for _, q in eng.blocks]
-    P = sum(widths) + eng.E.shape[1]
-    Qf = np.zeros((3 * n, P))
-    off = 0
-    for (idx, q), w in zip(eng.blocks, widths):
-        Qf[idx, off:off + w] = q
-        off += w
-    Qf[:, off:] = eng.E
-    Qf = Qf.reshape(n, 3, P)
+    Qf = eng.full_rows()
     o = np.argsort(prep.order)
     t = rec.time_s[o]
     Wo = W[o]
@@ -145,7 +180,7 @@ def _knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
             "before_s": float(t[jj - 1]), "after_s": float(t[jj])}, int(ok.sum())
 
 
-def _where(prep: Prepared, rows: np.ndarray) -> dict:
+def where_of(prep: Prepared, rows: np.ndarray) -> dict:
     rec = prep.rec
     i = rows[np.argmin(prep.order[rows])]
     return {"round": int(rec.round[i]), "position": float(rec.position[i]), "point": str(rec.point[i]),

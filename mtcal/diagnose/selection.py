@@ -1,36 +1,206 @@
-"""Forward selection, backward elimination and cross-validation of the candidate effects, and ``diagnose`` itself
-(see mtcal.diagnose)."""
+"""Selection of the diagnosis: forward selection of candidate effects by F test, backward elimination that
+never drops a large effect for a later overlapping smaller one, confounding, degrees by BIC, cross-validation.
+
+Multiplicity: Bonferroni over families x members (scanned families: x the members scanned). Among the significant
+candidates of a step, the strongest evidence (raw p) names the effect; a significant candidate that explains the
+same misfit (the share of the chosen effect's fitted signal, whitened, after the base, that the other's columns also
+explain: |cos| > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates them.
+Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings of every
+sequence in time order) for round-specific and time-dependent ones (re-seated nest, bump, tracker knock, drifts); a
+single-reading outlier has nothing to predict (its test is its studentized displacement)."""
 from __future__ import annotations
 
-import logging
 import math
-from typing import Sequence
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
 
 import numpy as np
 from scipy import optimize
 
-from mtcal.diagnose import candidates as fx
-from mtcal.diagnose.candidates import NOT_SEPARABLE, all_candidates
-from mtcal.diagnose.engine import WEAK_TOL, Base, Engine, base_design, engine_for
-from mtcal.diagnose.prepare import Prepared, prepare, whiten
-from mtcal.diagnose.report import Diagnosis
-from mtcal.diagnose.scans import _knock_scan, _outlier_scan, _where, locate
-from mtcal.errors import InputError
-from mtcal.machine import DEFAULT_MACHINE, Machine
-from mtcal.recordings import Recording
+from mtcal.diagnose import effects as fx
+from mtcal.diagnose.candidates import scanned
+from mtcal.diagnose.design import Base, base_design, engine_for, whiten
+from mtcal.diagnose.engine import Engine, Score
+from mtcal.diagnose.prepare import Prepared
 
-log = logging.getLogger("mtcal.diagnose")
-MAX_DEGREE = 3
+CONFOUND_COS = 0.9
+ROUND_SPECIFIC = ("outlier", "offset")
+# validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
+# alone absorbs most of a drift into its reflector positions)
+ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature")
+
+SEPARATE_BY = {
+    frozenset(("rotary_location", "offset")): "measure the rotary axis again at the end of the campaign, or from a "
+                                              "second tracker station: a location error repeats, a knock does not",
+    frozenset(("thermal_drift", "offset")): "repeat the first axis at the end of the campaign and log the "
+                                            "temperature: a warm-up grows gradually, a tracker knock is a step",
+    frozenset(("backlash", "offset")): "measure the axis bidirectionally in every round: backlash reverses with the "
+                                       "direction of approach, a shift does not",
+    frozenset(("periodic", "second_order")): "measure at a finer, non-uniform position step",
+    frozenset(("thermal_drift", "thermal_temperature")): "record a temperature that does not follow the warm-up "
+                                                         "(e.g. a pause or cool-down): a temperature-driven drift "
+                                                         "follows the temperature, a time-driven one the clock",
+    frozenset(("nest_creep", "thermal_drift")): "measure with a second reflector in the same nest position (or "
+                                                "swap reflectors between nests): a creeping nest moves one point",
+    frozenset(("tracker_settling", "thermal_drift")): "measure a fixed reference nest off the machine at the start "
+                                                      "and end: a settling tracker turns every reading about itself",
+    frozenset(("reversal_angular", "backlash")): "measure with reflectors at several offsets from the axis: an "
+                                                 "angular reversal grows with the offset (Abbe), backlash does not",
+    frozenset(("periodic",)): "measure at a finer, non-uniform position step (below half the shortest pitch)",
+}
+DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
 
 
-def _raw_sigma(prep: Prepared, r_w: np.ndarray, dof: int) -> float:
-    n = len(prep.rec)
-    raw = np.linalg.solve(prep.W, r_w.reshape(n, 3)[..., None])[..., 0]
-    return math.sqrt(float(np.sum(raw**2)) / max(dof, 1))
+def separate_by(a: str, b: str) -> str:
+    """The measurement that would separate effects ``a`` and ``b`` (names of design.md)."""
+    return SEPARATE_BY.get(frozenset((a, b)), DEFAULT_SEPARATE)
 
 
-def _select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, progress,
-                    effects: Sequence[np.ndarray] = ()) -> dict[str, int]:
+class Columns:
+    """Whitened columns (3n, k) of candidates, computed once per candidate (kept on the candidate)."""
+
+    def __init__(self, W: np.ndarray):
+        self.W = W
+
+    def __call__(self, c: fx.Candidate) -> np.ndarray:
+        if "_w" not in c.extra:
+            c.extra["_w"] = whiten(self.W, c.G)
+        return c.extra["_w"]
+
+
+@dataclass
+class Step:
+    """A selected effect: its candidate, F test at entry, Bonferroni-adjusted log p, family size, confounds."""
+
+    candidate: fx.Candidate
+    score: Score
+    logp_adj: float
+    confounded_with: list[dict] = field(default_factory=list)
+
+    @property
+    def log_multiplicity(self) -> float:
+        """log of the Bonferroni factor (members x families) of this step's test."""
+        return self.logp_adj - self.score.logp
+
+
+def refine(c: fx.Candidate, s: Score, eng: Engine, w: Columns) -> tuple[fx.Candidate, Score]:
+    """Refine a continuous parameter (pitch, tau) of the family winner by a bounded 1-D search."""
+    if c.refine is None:
+        return c, s
+    lo, hi = c.refine_range
+    v = c.refine_value
+    a, b = max(lo, v / 1.5), min(hi, v * 1.5)
+    if b <= a:
+        return c, s
+    res = optimize.minimize_scalar(lambda lv: -eng.score(w(c.refine(math.exp(lv)))).delta,
+                                   bounds=(math.log(a), math.log(b)), method="bounded", options={"xatol": 1e-3})
+    cc = c.refine(math.exp(res.x))
+    sc = eng.score(w(cc))
+    return (cc, sc) if sc.separable and sc.delta > s.delta else (c, s)
+
+
+def score_all(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns) -> dict[str, Step]:
+    """Per family, its best member on the current fit (refined), with its Bonferroni-adjusted log p."""
+    fams: dict[str, list[tuple[fx.Candidate, Score]]] = {}
+    for c in cands:
+        sc = eng.score(w(c))
+        if sc.separable:
+            fams.setdefault(c.family, []).append((c, sc))
+    scans = [(f, c, n, eng.score(w(c))) for f, c, n in scanned(prep, eng)]
+    scans = [s for s in scans if s[3].separable]
+    n_fam = len(fams) + len(scans)
+    out = {}
+    for fam, members in fams.items():
+        c, sc = refine(*min(members, key=lambda cs: cs[1].logp), eng, w)
+        out[fam] = Step(c, sc, sc.logp + math.log(len(members) * n_fam))
+    for fam, c, count, sc in scans:
+        out[fam] = Step(c, sc, sc.logp + math.log(count * n_fam))
+    return out
+
+
+def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, level: float, max_effects: int,
+            say: Callable[[str], None]) -> tuple[list[Step], dict[str, Step]]:
+    """Forward selection (adds to ``eng``); returns the selected steps and the last scores of every family."""
+    selected: list[Step] = []
+    last: dict[str, Step] = {}
+    for step in range(max_effects):
+        last = score_all(prep, eng, cands, w)
+        sig = [v for v in last.values() if v.logp_adj < math.log(level)]
+        if not sig:
+            break
+        # the strongest evidence (raw p) names the effect; exact ties (a knock just after a reflector's first
+        # sequence is that nest's offset) go to the smaller family (the adjusted p breaks them)
+        top = min(v.score.logp for v in sig)
+        tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
+        best = min((v for v in sig if v.score.logp <= top + tol), key=lambda v: v.logp_adj)
+        c = best.candidate
+        for v in sig:
+            if v is not best and v.candidate.family != c.family:
+                cos = eng.shared_fit(w(c), w(v.candidate))
+                if cos > CONFOUND_COS:
+                    best.confounded_with.append(_confound(c, v, cos))
+        before = eng.sigma
+        eng.add(w(c))
+        say(f"step {step + 1}: {c.name} {c.axis or ''} {c.label}: F = {best.score.F:.1f}, "
+            f"sigma ratio {before:.3f} -> {eng.sigma:.3f}")
+        selected.append(best)
+        if c.family not in ROUND_SPECIFIC:  # one member per family (outliers and knocks are scanned afresh)
+            cands = [x for x in cands if x.family != c.family]
+    return selected, last
+
+
+def _confound(c: fx.Candidate, v: Step, cos: float) -> dict:
+    o = v.candidate
+    return {"name": o.name, "axis": o.axis, "where": o.label, "overlap_cos": cos,
+            "p_adjusted": min(1.0, math.exp(v.logp_adj)), "separate_by": separate_by(c.name, o.name)}
+
+
+def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
+             say: Callable[[str], None]) -> list[Step]:
+    """Drop a selected effect that the others have made insignificant -- unless a LATER, smaller effect that
+    overlaps it took its signal and dropping that one leaves less misfit: then the later effect goes and is
+    reported as confounded with the kept one (a large effect is never lost to a smaller overlapping one)."""
+    selected = list(selected)
+    while len(selected) > 1:
+        worst = None
+        for j, s in enumerate(selected):
+            e = _with(eng, [o for i, o in enumerate(selected) if i != j], w)
+            s2 = e.score(w(s.candidate))
+            lp2 = (s2.logp + s.log_multiplicity) if s2.separable else 0.0
+            if worst is None or lp2 > worst[1]:
+                worst = (j, lp2)
+        if worst[1] < math.log(level):
+            break
+        j = worst[0]
+        kept = selected[j]
+        # a later, overlapping, smaller effect may have taken j's signal: drop whichever leaves the least misfit
+        rss_j = _with(eng, selected[:j] + selected[j + 1:], w).rss
+        later = [(_with(eng, selected[:i] + selected[i + 1:], w).rss, i) for i, o in enumerate(selected)
+                 if i > j and o.score.delta < kept.score.delta
+                 and eng.copy_base().overlap(w(kept.candidate), w(o.candidate)) > 0.5]
+        rss_o, i = min(later, default=(float("inf"), -1))
+        if rss_o < rss_j:
+            gone = selected.pop(i)
+            cos = eng.copy_base().overlap(w(kept.candidate), w(gone.candidate))
+            kept.confounded_with.append(_confound(kept.candidate, gone, cos))
+            say(f"backward: {gone.candidate.name} {gone.candidate.label} dropped: it overlaps "
+                f"{kept.candidate.name} (cos {cos:.2f}), which explains more")
+        else:
+            gone = selected.pop(j)
+            say(f"backward: {gone.candidate.name} {gone.candidate.axis or ''} {gone.candidate.label} dropped "
+                f"(explained by the other effects)")
+    return selected
+
+
+def _with(eng: Engine, steps: Sequence[Step], w: Columns) -> Engine:
+    e = eng.copy_base()
+    for s in steps:
+        e.add(w(s.candidate))
+    return e
+
+
+def select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, say: Callable[[str], None],
+                   effects: Sequence[np.ndarray] = ()) -> dict[str, int]:
     """Per axis, the degree (1..max) with the least BIC of the axis' own whitened fit, with the whitened
     columns ``effects`` (N, k) of the selected effects in the fit (restricted to the axis' readings): an
     unmodelled effect (backlash) inflates the residual and would make BIC choose too low a degree."""
@@ -46,297 +216,64 @@ def _select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, progress,
             e = engine_for(prep, base_design(prep, {a: d}, [a]), wy, on)
             if G is not None and G.shape[1]:
                 e.add(G)
-            na = e.N
-            bic = na * math.log(e.rss / na) + e.p * math.log(na)
+            bic = e.N * math.log(e.rss / e.N) + e.p * math.log(e.N)
             if best is None or bic < best[0]:
                 best = (bic, d)
         out[a] = best[1]
-        progress(f"axis {a}: degree {best[1]} by BIC" + (" (with the selected effects)" if G is not None else ""))
+        say(f"axis {a}: degree {best[1]} by BIC" + (" (with the selected effects)" if G is not None else ""))
     return out
 
 
-def _headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
-    """The reported estimate (one number with its unit and standard uncertainty) and all parameters."""
-    sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
-    params = {p: float(v) for p, v in zip(c.params, theta)}
-    if c.name == "periodic":
-        amp = float(np.hypot(*theta))
-        g = theta / amp if amp > 0 else np.zeros(2)
-        u = float(math.sqrt(max(g @ cov @ g, 0.0)))
-        params["phase_deg"] = float(np.degrees(np.arctan2(theta[1], theta[0])))
-        return {"estimate": amp, "uncertainty": u, "unit": c.extra["amplitude_unit"],
-                "parameters": params, "direction": None}
-    if c.extra.get("variant") == "tracker knock":  # the step: its size (mm) along its direction, from t0 on
-        size = float(np.linalg.norm(theta))
-        g = theta / size if size > 0 else np.zeros(3)
-        k = int(np.argmax(np.abs(theta)))
-        return {"estimate": size, "uncertainty": float(math.sqrt(max(g @ cov @ g, 0.0))), "unit": "mm",
-                "parameters": params, "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
-                "unit_vector": [float(v) for v in g], "t0_s": c.extra["t0_s"],
-                "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
-    if c.name in ("thermal_drift", "outlier", "offset"):
-        k = int(np.argmax(np.abs(theta) / np.maximum(sd, 1e-300)))  # the best-determined component
-        return {"estimate": float(abs(theta[k])), "uncertainty": float(sd[k]), "unit": "mm", "parameters": params,
-                "direction": ("+" if theta[k] >= 0 else "-") + "XYZ"[k],
-                "vector": [float(v) for v in theta], "vector_uncertainty": [float(v) for v in sd]}
-    unit = c.params[0].split("(")[-1].rstrip(")") if "(" in c.params[0] else c.params[0]
-    return {"estimate": float(theta[0]), "uncertainty": float(sd[0]), "unit": unit, "parameters": params,
-            "direction": None}
+def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
+    """Held-out reading sets (bool (n,)) of the validation of ``c`` and their description."""
+    rec = prep.rec
+    touched = np.any(c.G != 0, axis=(1, 2))
+    rounds = sorted(set(rec.round[touched].tolist()))
+    if c.name not in ALTERNATE_FOLDS and len(rounds) >= 2:
+        return [rec.round == k for k in sorted(set(rec.round.tolist()))], "held-out rounds"
+    if touched.sum() < 2:
+        return [], "one reading: tested by its studentized displacement only"
+    rank = np.empty(len(rec), int)
+    for s in range(len(prep.seq_keys)):
+        idx = np.flatnonzero(prep.seq == s)
+        rank[idx[np.argsort(prep.order[idx])]] = np.arange(len(idx))
+    return [rank % 2 == 0, rank % 2 == 1], "held-out alternate readings"
 
 
-def _refine(prep: Prepared, c: fx.Candidate, eng: Engine, s: dict) -> tuple[fx.Candidate, dict]:
-    """Refine a continuous parameter (pitch, tau) of the family winner by a bounded 1-D search."""
-    if c.refine is None:
-        return c, s
-    lo, hi = c.refine_range
-    v = c.refine_value
-    a, b = max(lo, v / 1.5), min(hi, v * 1.5)
-    if b <= a:
-        return c, s
-
-    def f(logv: float) -> float:
-        cc = c.refine(math.exp(logv))
-        sc = eng.score(prep.white(cc))
-        return -sc.get("delta", 0.0)
-    res = optimize.minimize_scalar(f, bounds=(math.log(a), math.log(b)), method="bounded",
-                                   options={"xatol": 1e-3})
-    cc = c.refine(math.exp(res.x))
-    sc = eng.score(prep.white(cc))
-    if sc.get("separable") and sc["delta"] > s["delta"]:
-        return cc, sc
-    return c, s
-
-
-def _cv(prep: Prepared, base: Base, wy: np.ndarray, Gs: list[np.ndarray]) -> tuple[float, float]:
-    """Held-out-round gain of the effects Gs: estimated on the other rounds, applied to the held-out round
-    after the base model (all its parameters) is fitted to that round alone.  Returns 1 - RSS_with / RSS_without
-    summed over rounds: returns (RSS with, RSS without), both whitened."""
-    rounds = sorted(set(prep.rec.round.tolist()))
-    if len(rounds) < 2 or not Gs:
-        return float("nan"), float("nan")
-    G = np.hstack(Gs)
-    r3 = np.repeat(prep.rec.round, 3)
+def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray], G: np.ndarray,
+            held: list[np.ndarray]) -> float | None:
+    """1 - RSS_with / RSS_without on held-out readings: the effects (others + G) estimated on the rest, applied to
+    the held-out readings after the base model (all its parameters) is fitted to them alone; "without" uses the
+    others only.  A fold where G cannot be estimated (not separable on the training readings) or where the base
+    leaves no residual is skipped; None when no fold is usable."""
     with_, without = 0.0, 0.0
-    for k in rounds:
-        tr = prep.rec.round != k
-        e_tr = engine_for(prep, base, wy, tr)
-        Gtr = G[np.repeat(tr, 3)]
-        if not np.any(Gtr):
+    used = False
+    for te in held:
+        tr = ~te
+        if not te.any() or not tr.any():
             continue
-        theta, _ = e_tr.estimate([Gtr])
-        te = ~tr
-        e_te = engine_for(prep, base, wy, te)
-        pred = G[r3 == k] @ theta
-        res = e_te.r - (pred - e_te.project(pred[:, None])[:, 0])
-        with_ += float(res @ res)
-        without += e_te.rss
-    return with_, without
-
-
-def _screen(prep: Prepared, eng: Engine, cands: list, notes: list[dict]) -> list:
-    """Without a given model, the quasi-static candidates (and the tracker scale) that the base family at its
-    largest degree already contains are not separable: reported as notes, not tested."""
-    if prep.given_model:
-        return cands
-    keep, seen = [], set()
-    for c in cands:
-        if c.name in fx.QUASI_STATIC or c.name == "tracker_scale":
-            sc = eng.score(prep.white(c))
-            if not sc["separable"] or (c.name == "tracker_scale" and sc["sep"] < WEAK_TOL):
-                if (c.name, c.axis) not in seen:
-                    seen.add((c.name, c.axis))
-                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[c.name],
-                                  "separability": sc["sep"]})
+        r3tr, r3te = np.repeat(tr, 3), np.repeat(te, 3)
+        e_tr, e_te = engine_for(prep, base, wy, tr), engine_for(prep, base, wy, te)
+        if e_te.rss <= 0 or e_tr.dof <= 0:
+            continue
+        res = {}
+        for tag, cols in (("with", others + [G]), ("without", others)):
+            if not cols:
+                res[tag] = e_te.rss
                 continue
-        keep.append(c)
-    return keep
-
-
-def _forward(prep: Prepared, eng: Engine, cands: list, level: float, max_effects: int):
-    """Forward selection: per step the best member of every family (refined; outlier and knock scans), penalised
-    for families x members (Bonferroni); the strongest significant one is added.  Returns (selected
-    [(candidate, score, adjusted log p)], the last step's best per family, the engine with the selected)."""
-    say = log.info
-    selected: list[tuple[fx.Candidate, dict, float]] = []
-    last_scores: dict[str, tuple[fx.Candidate, dict, float]] = {}
-    for step in range(max_effects):
-        fams: dict[str, list[tuple[fx.Candidate, dict]]] = {}
-        for c in cands:
-            sc = eng.score(prep.white(c))
-            if sc["separable"]:
-                fams.setdefault(c.family, []).append((c, sc))
-        oscan, ocount = _outlier_scan(prep, eng)
-        kscan, kcount = _knock_scan(prep, eng)
-        n_fam = len(fams) + (1 if ocount else 0) + (1 if kcount else 0)
-        last_scores = {}
-        for fam_name, members in fams.items():
-            c, sc = min(members, key=lambda cs: cs[1]["logp"])
-            c, sc = _refine(prep, c, eng, sc)
-            last_scores[fam_name] = (c, sc, sc["logp"] + math.log(len(members) * n_fam))
-        scanned = []  # (family, best member, members scanned): penalised for the whole scan
-        if ocount:
-            scanned.append(("outlier", fx.outlier(prep.geometry, oscan["rows"], oscan["mode"],
-                                                  _where(prep, oscan["rows"])), ocount))
-        if kcount:  # tracker knock: the change point t0 scanned over the reading times (kcount members)
-            first = kscan["rows"][np.argmin(prep.order[kscan["rows"]])]
-            where = {"from_axis": str(prep.rec.axis[first]), **_where(prep, kscan["rows"]),
-                     "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
-            scanned.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where), kcount))
-        for fam_name, cand, count in scanned:
-            sc = eng.score(prep.white(cand))
-            if sc["separable"]:
-                last_scores[fam_name] = (cand, sc, sc["logp"] + math.log(count * n_fam))
-        if not last_scores or min(v[2] for v in last_scores.values()) >= math.log(level):
-            break
-        # among the significant candidates, the strongest evidence (raw p) names the effect: the multiplicity
-        # penalty decides significance, not which of two correlated explanations wins
-        # exact ties (a knock just after a reflector's first sequence is the same column space as that nest's
-        # offset) go to the smaller family: the adjusted p breaks them
-        sig_c = [v for v in last_scores.values() if v[2] < math.log(level)]
-        top_lp = min(v[1]["logp"] for v in sig_c)
-        tol = 1e-9 * max(1.0, abs(top_lp)) if math.isfinite(top_lp) else 0.0
-        tied = [v for v in sig_c if v[1]["logp"] <= top_lp + tol]
-        c, sc, lp = min(tied, key=lambda v: v[2])
-        sig_before = eng.sigma
-        eng.add(prep.white(c))
-        say(f"step {step + 1}: {c.name} {c.axis or ''} {c.label}: F = {sc['F']:.1f}, "
-            f"sigma ratio {sig_before:.3f} -> {eng.sigma:.3f}")
-        selected.append((c, sc, lp))
-        if c.family not in ("outlier", "offset"):  # one member per family (a second periodic pitch: a new step;
-            # outliers and tracker knocks are scanned afresh every step)
-            cands = [x for x in cands if x.family != c.family]
-
-    return selected, last_scores, eng
-
-
-def _backward(prep: Prepared, eng: Engine, selected: list, level: float):
-    """Backward elimination: drop a selected effect that the others have made insignificant."""
-    say = log.info
-    while len(selected) > 1:
-        worst = None
-        for j, (c, sc, lp) in enumerate(selected):
-            e = eng.copy_base()
-            for i, (o, _, _) in enumerate(selected):
-                if i != j:
-                    e.add(prep.white(o))
-            s2 = e.score(prep.white(c))
-            lp2 = (s2["logp"] + lp - sc["logp"]) if s2["separable"] else 0.0
-            if worst is None or lp2 > worst[1]:
-                worst = (j, lp2)
-        if worst[1] < math.log(level):
-            break
-        c = selected.pop(worst[0])[0]
-        say(f"backward: {c.name} {c.axis or ''} {c.label} dropped (explained by the other effects)")
-        eng = eng.copy_base()
-        for o, _, _ in selected:
-            eng.add(prep.white(o))
-
-    return selected, eng
-
-
-def _report_effects(prep: Prepared, base: Base, wy: np.ndarray, eng: Engine, selected: list, last_scores: dict,
-                    notes: list[dict], null_model: str) -> tuple[list[dict], Engine]:
-    """The reported effects: joint estimates on the reported base, cumulative sigma, held-out-round
-    cross-validation; then the best not-selected member of every family and the not-separable notes.  Returns
-    (effects, the engine with the selected effects ``cum``)."""
-    effects_out: list[dict] = []
-    # final joint estimates, cumulative sigma and held-out-round cross-validation
-    theta_all, cov_all = (eng.estimate([prep.white(c) for c, _, _ in selected]) if selected
-                          else (np.zeros(0), np.zeros((0, 0))))
-    cum = eng.copy_base()
-    Gs: list[np.ndarray] = []
-    off = 0
-    prev_cv = None
-    for c, sc, lp in selected:
-        k = c.G.shape[-1]
-        th, cv = theta_all[off:off + k], cov_all[off:off + k, off:off + k]
-        off += k
-        cum.add(prep.white(c))
-        Gs.append(prep.white(c))
-        with_, without = _cv(prep, base, wy, Gs)
-        if prev_cv is None:
-            prev_cv = without
-        gain = 1.0 - with_ / prev_cv if prev_cv and prev_cv > 0 else float("nan")
-        prev_cv = with_
-        h = _headline(c, th, cv)
-        ev = {"test": "F", "F": sc["F"], "dof": [sc["k"], sc["dof"]], "p_value": math.exp(sc["logp"]),
-              "p_adjusted": min(1.0, math.exp(lp)), "log10_p_adjusted": lp / math.log(10),
-              "cv_gain": gain, "cv": "held-out rounds", "separability": sc["sep"],
-              "multiplicity": "Bonferroni over families x members", "null": null_model}
-        item_dir = h.pop("direction")
-        item = {"name": c.name, "axis": c.axis, "direction": item_dir, "significant": True,
-                "estimate": h.pop("estimate"), "uncertainty": h.pop("uncertainty"), "unit": h.pop("unit"),
-                "sigma_after": _raw_sigma(prep, cum.r, cum.dof), "sigma_ratio_after": cum.sigma,
-                "evidence": ev, "where": (f"step along {item_dir}, {c.label}" if "t0_s" in h else c.label),
-                **{k2: v for k2, v in c.extra.items() if not k2.startswith("_") and k2 != "rows"}, **h}
-        if sc["sep"] < WEAK_TOL:
-            item["note"] = "weakly separable from the base model: the estimate is correlated with the fitted errors"
-        if c.name not in ("outlier", "offset") and not (gain > 0):  # round-specific: nothing to predict
-            item["significant"] = False
-            item["note"] = "significant in the F test but no gain on held-out rounds"
-        effects_out.append(item)
-    effects_out.sort(key=lambda d: (not d["significant"], -d["evidence"]["F"] * d["evidence"]["dof"][0]))
-    chosen = {c.family for c, _, _ in selected}
-    for fam_name, (c, sc, lp) in sorted(last_scores.items(), key=lambda kv: kv[1][2]):
-        if fam_name in chosen:
+            Gall = np.hstack(cols)
+            Gtr = Gall[r3tr]
+            if not e_tr.score(Gtr[:, -G.shape[1]:] if tag == "with" else Gtr).separable:
+                break
+            theta, _ = e_tr.estimate([Gtr])
+            pred = Gall[r3te] @ theta
+            rr = e_te.r - (pred - e_te.project(pred[:, None])[:, 0])
+            res[tag] = float(rr @ rr)
+        if len(res) < 2:
             continue
-        effects_out.append({"name": c.name, "axis": c.axis, "direction": None, "significant": False,
-                            "estimate": None, "sigma_after": None, "where": c.label,
-                            "evidence": {"test": "F", "F": sc["F"], "p_value": math.exp(sc["logp"]),
-                                         "p_adjusted": min(1.0, math.exp(lp)), "cv_gain": None,
-                                         "separability": sc["sep"]}})
-    for nt in notes:
-        effects_out.append({"name": nt["name"], "axis": nt["axis"], "direction": None, "significant": False,
-                            "estimate": None, "sigma_after": None, "evidence": None,
-                            "not_separable": nt["not_separable"],
-                            **({"separability": nt["separability"]} if "separability" in nt else {})})
-    return effects_out, cum
-
-
-def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None, level: float = 0.01,
-             max_degree: int = MAX_DEGREE, max_effects: int = 8) -> Diagnosis:
-    """Diagnose a recording (see the package docstring).  ``level``: family-wise significance level."""
-    say = log.info
-    if not 0 < level < 1:
-        raise InputError(f"level must be in (0, 1), got {level}")
-    prep = prepare(rec, machine, model, tracker)
-    wy = whiten(prep.W, prep.y)
-    # the null hypothesis of every test: the quasi-static family itself (every axis at the largest degree), not
-    # the BIC-selected base: an effect is reported only if no smooth error function of the family explains it
-    # (a cubic misfit of a degree-2 base is not a long-pitch periodic error); BIC picks the reported base after
-    test_degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
-    eng = engine_for(prep, base_design(prep, test_degrees), wy)
-    say(f"null model of the tests: {eng.p} parameters (quasi-static family"
-        f"{', given model' if prep.given_model else f' at degree {max_degree}'}), sigma ratio {eng.sigma:.3f}")
-    cands, notes = all_candidates(prep, max_degree)
-    cands = _screen(prep, eng, cands, notes)
-    say(f"{len(cands)} candidate effects")
-    selected, last_scores, eng = _forward(prep, eng, cands, level, max_effects)
-    selected, eng = _backward(prep, eng, selected, level)
-
-    null_model = ("the given model" if prep.given_model else
-                  f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
-    # the reported base model: degrees by BIC with the selected effects in the fit (an unmodelled effect would
-    # bias BIC low), then the base alone (sigma before, located) and with the effects (estimates, sigma after)
-    degrees = (dict(test_degrees) if prep.given_model
-               else _select_degrees(prep, wy, max_degree, say, [prep.white(c) for c, _, _ in selected]))
-    base = base_design(prep, degrees)
-    eng = engine_for(prep, base, wy)
-    base_sigma = _raw_sigma(prep, eng.r, eng.dof)
-    base_ratio = eng.sigma
-    say(f"base model: {eng.p} parameters, sigma {base_sigma * 1e3:.3f} um (ratio {base_ratio:.3f})")
-    located, _ = locate(prep, eng, level)
-    r_before = eng.r.copy()
-    for c, _, _ in selected:
-        eng.add(prep.white(c))
-    effects_out, cum = _report_effects(prep, base, wy, eng, selected, last_scores, notes, null_model)
-    base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static",
-                 "degrees": degrees, "parameters": int(cum.copy_base().p), "readings": len(rec),
-                 "tests_against": null_model if prep.given_model else
-                 f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
-                 f"selected effects in the fit)",
-                 "weighted": prep.weighted,
-                 "basis": "polynomials in (q - q_ref) for the linear axes; harmonics for the rotary axes; "
-                          "per-(round, point) offsets"}
-    return Diagnosis(base_sigma, base_ratio, _raw_sigma(prep, eng.r, eng.dof), eng.sigma, effects_out, located,
-                     base_info, residuals_before=r_before, residuals_after=eng.r.copy(), prep=prep)
+        used = True
+        with_ += res["with"]
+        without += res["without"]
+    if not used or without <= 0:
+        return None
+    return 1.0 - with_ / without

@@ -1,0 +1,185 @@
+"""The noise model of the diagnosis: the covariance of every reading, given or estimated from the data.
+
+A laser tracker's reading covariance is a small radial part along the beam and a much larger transverse part across
+it (angle encoders; AT960, mtcal.tracker). With the tracker position given (``--tracker``), the AT960 covariance
+about it weights the readings. Without it, the position is estimated from the scatter of the repeated rounds: the
+residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread along the beam;
+each reading's residual is taken about the mean of its cell (axis, position, point, direction) over the rounds, so a
+misfit that repeats every round stays out of the noise model; (1) each reflector's residual scatter (3x3, pooled
+over its readings) gives a beam line through the reflector along its least-spread direction, (2) the point closest
+to all beam lines starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a
+scale c near 1 (prior log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as
+from the convergence of the beams; Nelder-Mead from that start and from 1.5 m along the mean beam on either side),
+(4) twice: the base refitted with the weights of the estimate, and the fit of (3) repeated on its residuals (the
+unweighted fit leaks the large transverse noise into the radial residuals of other readings). The estimate is used
+when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); else (or with one round)
+the readings are weighted equally, sigma from the residuals. Units: mm."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy import optimize, stats
+
+from mtcal.tracker import covariance
+
+if TYPE_CHECKING:
+    from mtcal.diagnose.prepare import Prepared
+
+LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (estimated tracker) vs isotropic
+START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
+MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
+ITERATIONS = 2          # refits of the base with the estimated weights
+SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (AT960)
+
+
+@dataclass
+class NoiseModel:
+    """Whitening W (n, 3, 3) with W^T W = covariance^-1 (1/mm), and how it was obtained."""
+
+    W: np.ndarray
+    kind: str                          # "AT960 (given tracker)", "AT960 (estimated tracker)", "isotropic"
+    how: str
+    tracker: list[float] | None = None  # mm, machine frame
+    details: dict = field(default_factory=dict)
+
+    @property
+    def weighted(self) -> bool:
+        return self.kind != "isotropic"
+
+    @classmethod
+    def isotropic(cls, n: int, how: str = "") -> "NoiseModel":
+        return cls(np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), "isotropic", how)
+
+    @classmethod
+    def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, **details) -> "NoiseModel":
+        W = np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
+        return cls(W, kind, how, [float(v) for v in tracker], dict(details))
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
+
+
+def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -> NoiseModel:
+    """The noise model of ``prep``'s readings (see module docstring)."""
+    xyz = prep.rec.xyz
+    n = len(xyz)
+    if tracker is not None:
+        return NoiseModel.at960(xyz, tracker, "AT960 (given tracker)", "tracker position given (--tracker)")
+    if len(set(prep.rec.round.tolist())) < 2:
+        return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
+    r = _base_residuals(prep, max_degree)
+    starts = [s for s in (_beam_intersection(prep, r),) if s is not None]
+    c = xyz.mean(axis=0)
+    u = _mean_beam(prep, r)
+    starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
+    starts = [s for s in starts if math.isfinite(_nll(xyz, r, np.append(s, 0.0)))]
+    if not starts:  # the beams give no usable start: try the six directions around the machine
+        starts = [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
+    t, nll = min((_refine(xyz, r, s) for s in starts), key=lambda v: v[1])
+    for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
+        # large transverse noise into the radial residuals of other readings
+        r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "").W)
+        t, nll = _refine(xyz, r, t)
+    live = int(np.any(r != 0, axis=1).sum())
+    nll_iso = 1.5 * live * (math.log(float(np.sum(r**2)) / (3 * live)) + 1.0)
+    lr = 2.0 * (nll_iso - nll)
+    p = float(stats.chi2.sf(max(lr, 0.0), 3))
+    details = {"likelihood_ratio": lr, "p_isotropic": p,
+               "distance_mm": float(np.linalg.norm(t - c))}
+    if p >= LR_LEVEL:
+        return NoiseModel.isotropic(n, f"the scatter of the repeated rounds shows no tracker shape (likelihood "
+                                       f"ratio {lr:.1f}, p = {p:.2g}): equal weights, sigma from the residuals")
+    return NoiseModel.at960(xyz, t, "AT960 (estimated tracker)",
+                            "tracker position estimated from the shape of the scatter of the repeated rounds "
+                            "(beam lines of the least spread, then maximum likelihood under the AT960 shape)",
+                            **details)
+
+
+def _base_residuals(prep: "Prepared", max_degree: int, W: np.ndarray | None = None) -> np.ndarray:
+    """(n, 3) residuals (mm) of the quasi-static base family (or the given model), fitted with the whitening W
+    (None: unweighted)."""
+    from dataclasses import replace
+
+    from mtcal.diagnose.design import base_design, engine_for, whiten
+    n = len(prep.rec)
+    if W is not None:
+        prep = replace(prep, noise=NoiseModel(W, "AT960", ""))
+    degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
+    eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
+    raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]
+    return _round_scatter(prep, raw)
+
+
+def _round_scatter(prep: "Prepared", raw: np.ndarray) -> np.ndarray:
+    """The scatter of the repeated rounds: each reading's residual minus the mean of its cell (axis, position,
+    point, direction) over the rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased), so that a
+    misfit that repeats in every round (an effect the base lacks) does not enter the noise model; cells of one
+    reading get 0 (they carry no scatter)."""
+    rec = prep.rec
+    keys = list(zip(rec.axis.tolist(), rec.position.tolist(), rec.point.tolist(), rec.direction.tolist()))
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    cell = np.array([index[k] for k in keys])
+    m = np.bincount(cell)[cell].astype(float)
+    mean = np.stack([np.bincount(cell, raw[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
+    return np.where(m[:, None] > 1, (raw - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
+
+
+def _groups(prep: "Prepared"):
+    rec = prep.rec
+    for a in prep.axes:
+        for lab in np.unique(rec.point[rec.axis == a]):
+            sel = (rec.axis == a) & (rec.point == lab)
+            if sel.sum() >= 6:
+                yield sel
+
+
+def _least_spread(r: np.ndarray) -> np.ndarray:
+    return np.linalg.eigh(r.T @ r)[1][:, 0]
+
+
+def _beam_intersection(prep: "Prepared", r: np.ndarray) -> np.ndarray | None:
+    """The point closest (least squares) to the beam lines of every reflector (mm), None if they are parallel."""
+    A, b = np.zeros((3, 3)), np.zeros(3)
+    for sel in _groups(prep):
+        u = _least_spread(r[sel])
+        P = np.eye(3) - np.outer(u, u)
+        A += P
+        b += P @ prep.rec.xyz[sel].mean(axis=0)
+    lam = np.linalg.eigvalsh(A)
+    if lam[-1] <= 0 or lam[0] < 1e-3 * lam[-1]:
+        return None
+    return np.linalg.solve(A, b)
+
+
+def _mean_beam(prep: "Prepared", r: np.ndarray) -> np.ndarray:
+    """The mean least-spread direction (sign-aligned), a unit vector."""
+    us = [_least_spread(r[sel]) for sel in _groups(prep)] or [_least_spread(r)]
+    M = sum(np.outer(u, u) for u in us)
+    return np.linalg.eigh(M)[1][:, -1]
+
+
+def _nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
+    """Negative log-likelihood (up to a constant) of the residuals under c * AT960 covariance about the tracker
+    t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
+    it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
+    t, logc = v[:3], float(v[3])
+    d = np.linalg.norm(xyz - t, axis=1)
+    if not np.all(np.isfinite(v)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
+        return math.inf
+    C = covariance(xyz, t)
+    q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
+    live = np.any(r != 0, axis=1)
+    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * int(live.sum()) * logc
+                  + float(np.sum(np.linalg.slogdet(C[live])[1]))
+                  + (logc / SCALE_PRIOR) ** 2)
+
+
+def _refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float]:
+    x0 = np.append(np.asarray(start, float), 0.0)
+    simplex = x0 + np.vstack([np.zeros(4), np.diag([300.0, 300.0, 300.0, 0.3])])
+    res = optimize.minimize(lambda v: _nll(xyz, r, v), x0, method="Nelder-Mead",
+                            options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 1500})
+    return res.x[:3], float(res.fun)

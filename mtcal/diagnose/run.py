@@ -1,0 +1,71 @@
+"""``diagnose()``: the orchestration of prepare -> candidates -> selection -> report (see mtcal.diagnose)."""
+from __future__ import annotations
+
+import logging
+
+from mtcal.diagnose.candidates import candidates, screen
+from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
+from mtcal.diagnose.prepare import prepare
+from mtcal.diagnose.report import Diagnosis, rejected_findings, selected_findings
+from mtcal.diagnose.scans import locate
+from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward, select_degrees
+from mtcal.errors import InputError
+from mtcal.machine import DEFAULT_MACHINE, Machine
+from mtcal.recordings import Recording
+
+log = logging.getLogger("mtcal.diagnose")
+MAX_DEGREE = 3
+
+
+def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None,
+             level: float = 0.01, max_degree: int = MAX_DEGREE, max_effects: int = 8) -> Diagnosis:
+    """Diagnose a recording (see mtcal.diagnose).  ``level``: family-wise significance level; ``tracker`` (3,)
+    mm or None (noise model estimated from the data)."""
+    say = log.info
+    if not 0 < level < 1:
+        raise InputError(f"level must be in (0, 1), got {level}")
+    prep = prepare(rec, machine, model, tracker, max_degree)
+    say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
+    wy, w = whiten(prep.W, prep.y), Columns(prep.W)
+    # the null of every test: the quasi-static family at its largest degree (or the given model), not the
+    # BIC-selected base: an effect is reported only if no smooth error function of the family explains it
+    test_degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
+    eng = engine_for(prep, base_design(prep, test_degrees), wy)
+    cands, notes = candidates(prep, max_degree)
+    if not prep.given_model:
+        cands = screen(cands, notes, eng, w)
+    say(f"{len(cands)} candidate effects; null model {eng.p} parameters, sigma ratio {eng.sigma:.3f}")
+    steps, last = forward(prep, eng, cands, w, level, max_effects, say)
+    steps = backward(eng, steps, w, level, say)
+    null = ("the given model" if prep.given_model else
+            f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
+
+    # the reported base: degrees by BIC with the selected effects in the fit, then base alone and with effects
+    degrees = (dict(test_degrees) if prep.given_model
+               else select_degrees(prep, wy, max_degree, say, [w(s.candidate) for s in steps]))
+    base = base_design(prep, degrees)
+    eng = engine_for(prep, base, wy)
+    base_sigma, base_ratio, r_before = raw_sigma(prep, eng.r, eng.dof), eng.sigma, eng.r.copy()
+    located = locate(prep, eng, level)
+    after = eng.copy_base()
+    for s in steps:
+        after.add(w(s.candidate))
+
+    def cv(step, others):
+        held, how = folds(prep, step.candidate)
+        return (cv_gain(prep, base, wy, others, w(step.candidate), held) if held else None), how
+
+    effects = selected_findings(prep, eng, steps, w, cv, null)
+    effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
+    effects += rejected_findings(last, {s.candidate.family for s in steps}, notes)
+    unexplained = locate(prep, after, level)
+    base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
+                 "parameters": int(after.copy_base().p), "readings": len(rec),
+                 "tests_against": null if prep.given_model else
+                 f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
+                 f"selected effects in the fit)", "weighted": prep.weighted,
+                 "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
+                          "per-(axis, point) positions"}
+    return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
+                     base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
+                     prep=prep)
