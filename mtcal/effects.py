@@ -7,7 +7,8 @@ axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
 outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
-thermal_temperature.  Parameters are checked (finite, in a physical range) and a bad one is an InputError.  API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
+thermal_temperature.  Parameters are checked (finite, in a physical range) and a bad one is an InputError.
+API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
 
 Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s of the reading):

@@ -412,8 +412,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         "points": {"tool": {k: list(v) for k, v in pl.tool_points.items()},
                    "table": {k: list(v) for k, v in pl.table_points.items()}},
         "model": None if model is None else model.to_dict(),
-        "temperature": {"start_c": pl.temperature_c, **({} if warm is None else
-                                                         {"rise_c": warm.rise_c, "tau_s": warm.tau_s, "t0_s": warm.t0_s})},
+        "temperature": {"start_c": pl.temperature_c,
+                        **({} if warm is None else {"rise_c": warm.rise_c, "tau_s": warm.tau_s, "t0_s": warm.t0_s})},
         "effects": [e.truth(rows) for e in eff],
     }
     rec.truth = truth
