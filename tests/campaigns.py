@@ -24,7 +24,6 @@ Units as everywhere: mm, rad, deg (rotary positions), s.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
