@@ -96,7 +96,7 @@ def test_reversal_angular_is_the_reversal_law_on_an_angular_error():
     up, down = S.reversal_angular_model(1.0, [80e-6]), S.reversal_angular_model(-1.0, [80e-6])
     assert up - down == pytest.approx(80e-6, abs=1e-18) and up == pytest.approx(40e-6, abs=1e-18)
     for d in (1.0, -1.0):
-        fd = _central(lambda r: col * S.reversal_angular_model(d, r)[0], [0.0], 1e-6)[:, 0]
+        fd = _central(lambda r, d=d: col * S.reversal_angular_model(d, r)[0], [0.0], 1e-6)[:, 0]
         assert np.allclose(S.reversal_angular_signature(col, d), fd, rtol=1e-12, atol=1e-15)
         assert np.allclose(S.reversal_angular_signature(col, d), col * d / 2, rtol=1e-15)
 
