@@ -31,7 +31,11 @@ from mtcal.recordings import Recording
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
-MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
+MAX_DEVIATION_MM = 1.0
+METHODS = ("three-point", "joint")
+METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all equations",
+               "joint": "joint weighted fit of all readings and stations (error motions, reflectors, station "
+                        "alignments; mtcal.identify_joint)"}  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
 
 
 def error_names(axis: str) -> tuple[str, ...]:
@@ -174,6 +178,7 @@ class AxisResult:
     lines: dict[str, dict] = field(default_factory=dict)  # reference straight lines of straightness errors
     reversal: np.ndarray | None = None  # (n_positions, 6): mean over rounds of (+ pass) - (- pass), if bidirectional
     fits: dict[str, dict] = field(default_factory=dict)
+    covariance: np.ndarray | None = None  # (n_positions * 6, n_positions * 6) of the joint fit's estimate, else None
 
     @property
     def n(self) -> np.ndarray:
@@ -192,7 +197,12 @@ class AxisResult:
 
     @property
     def std_mean(self) -> np.ndarray:
-        return self.std / np.sqrt(self.n[:, None])
+        """Type A over rounds; for the joint fit at least its propagated standard deviation."""
+        sm = self.std / np.sqrt(self.n[:, None])
+        if self.covariance is not None:
+            sj = np.sqrt(np.diagonal(self.covariance).reshape(len(self.positions), 6))
+            sm = np.where(np.isfinite(sm), np.maximum(sm, sj), sj)
+        return sm
 
     def values(self, name: str, corrected: bool = True) -> np.ndarray:
         """Mean per position of one error; straightness with its reference-line slope removed if ``corrected``."""
@@ -223,9 +233,12 @@ class IdentifyResult:
     weighted: bool
     source: str
     squareness_stats: dict = field(default_factory=dict)  # Type A over rounds: {name: {rounds, std, std_mean}}
+    method: str = "three-point"
+    joint: dict | None = None  # joint fit: stations (tracker, alignment), reflectors, chi2, dof (JointResult.summary)
 
     def to_json(self) -> dict:
-        return {"source": self.source, "units": {"length": "mm", "angle": "rad", "position": "mm or deg"},
+        return {"source": self.source, "method": self.method, **({"joint": self.joint} if self.joint else {}),
+                "units": {"length": "mm", "angle": "rad", "position": "mm or deg"},
                 "weighted": self.weighted, "reference": self.reference,
                 "axes": {a: r.to_json() for a, r in self.axes.items()},
                 "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
@@ -297,11 +310,15 @@ def _passes(rec: Recording, axis: str):
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None) -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None, method: str = "three-point") -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
-    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``."""
+    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
+    method: "three-point" (per position, this module) or "joint" (one weighted fit of all readings of all
+    stations, mtcal.identify_joint)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
+    if method not in METHODS:
+        raise InputError(f"--method must be one of {METHODS}, got {method!r}")
     if reference not in fitting.REFERENCE_METHODS:
         raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
@@ -310,6 +327,19 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
+    joint = None
+    if method == "joint" or len(set(rec.stations().tolist())) > 1:
+        if method != "joint":
+            raise InputError(f"{rec.source}: several tracker stations need the joint fit (--method joint)")
+        from mtcal import identify_joint
+        if progress:
+            progress(f"joint weighted fit of {len(rec)} readings from {len(set(rec.stations().tolist()))} station(s)")
+        for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
+            _passes(rec.select(rec.axis == axis), axis)
+        joint = identify_joint.joint_fit(rec, m, t)
+        warnings += joint.warnings
+        results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
+    for axis in ([] if joint is not None else rec.axes()):
         if progress:
             progress(f"identifying axis {axis}")
         results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
@@ -328,11 +358,16 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     lin = [a for a, k in zip(m.axes, m.axis_kinds) if k == "linear"]
     if set(lin) <= set(results) and len(sq) < 3:
         warnings.append("squareness: some straightness records are missing; only " + ", ".join(sorted(sq)) + " found")
-    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None)
+    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None or joint is not None)
+    model.meta["method"] = METHOD_TEXT[method]
     model.meta["warnings"] = list(warnings)
     if sq_stats:
         model.meta["squareness_type_a"] = sq_stats
-    return IdentifyResult(results, sq, model, warnings, reference, t is not None, rec.source, sq_stats)
+    res = IdentifyResult(results, sq, model, warnings, reference, t is not None or joint is not None, rec.source,
+                         sq_stats, method)
+    if joint is not None:
+        res.joint = joint.summary()
+    return res
 
 
 def _squareness_type_a(results: dict[str, AxisResult], m: Machine, reference: str, sq: dict) -> dict:
