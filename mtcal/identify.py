@@ -32,7 +32,7 @@ from mtcal.recordings import Recording
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
 MAX_DEVIATION_MM = 1.0
-METHODS = ("three-point", "joint")
+METHODS = ("auto", "three-point", "joint")
 METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all equations",
                "joint": "joint weighted fit of all readings and stations (error motions, reflectors, station "
                         "alignments; mtcal.identify_joint)"}  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
@@ -310,15 +310,17 @@ def _passes(rec: Recording, axis: str):
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None, method: str = "three-point") -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None, method: str = "auto") -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
-    method: "three-point" (per position, this module) or "joint" (one weighted fit of all readings of all
-    stations, mtcal.identify_joint)."""
+    method: "three-point" (per position, this module), "joint" (one weighted fit of all readings of all
+    stations, mtcal.identify_joint) or "auto" (joint when the tracker position is known, else three-point)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     if method not in METHODS:
         raise InputError(f"--method must be one of {METHODS}, got {method!r}")
+    if method == "auto":
+        method = "joint" if tracker is not None or rec.tracker_xyz is not None else "three-point"
     if reference not in fitting.REFERENCE_METHODS:
         raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
