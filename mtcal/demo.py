@@ -12,8 +12,8 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import logging
 import shutil
-import sys
 import time
 from importlib import resources
 from pathlib import Path
@@ -23,6 +23,7 @@ import numpy as np
 from mtcal.io import atomic_write_text, dumps
 
 STEPS = 6
+log = logging.getLogger(__name__)
 
 
 def data_path(name: str) -> Path:
@@ -33,21 +34,24 @@ def _cli(args: list[str]) -> dict:
     """Run one `mtcal ... --json` command in-process and return its JSON answer (stderr passes through)."""
     from mtcal.cli import main
     buf = io.StringIO()
+    quiet = [] if logging.getLogger("mtcal").isEnabledFor(logging.INFO) else ["-q"]
     with contextlib.redirect_stdout(buf):
-        code = main(args + ["--json"])
+        code = main(args + ["--json"] + quiet)
     if code:
         raise RuntimeError(f"`mtcal {' '.join(args)}` failed with exit code {code}")
     return json.loads(buf.getvalue())
 
 
 class Progress:
-    def __init__(self, quiet: bool):
-        self.quiet, self.t0, self.k = quiet, time.perf_counter(), 0
+    """Numbered steps through `logging` (logger mtcal.demo); the commands run in-process log their own progress
+    unless ``quiet``."""
+
+    def __init__(self):
+        self.t0, self.k = time.perf_counter(), 0
 
     def step(self, msg: str) -> None:
         self.k += 1
-        if not self.quiet:
-            print(f"[{self.k}/{STEPS}] {msg} ({time.perf_counter() - self.t0:.1f} s)", file=sys.stderr, flush=True)
+        log.info("[%d/%d] %s (%.1f s)", self.k, STEPS, msg, time.perf_counter() - self.t0)
 
 
 def _um(v: float) -> str:
@@ -87,14 +91,15 @@ def _sample_grid(m, n: int, rng: np.random.Generator) -> np.ndarray:
     return np.column_stack([rng.uniform(pos[a].min(), pos[a].max(), n) for a in m.axes])
 
 
-def run_demo(out: Path, quiet: bool = False, machine: str | None = None) -> dict:
+def run_demo(out: Path, machine: str | None = None) -> dict:
+    """The demo into ``out``; progress through logging (mtcal.demo and the commands; `mtcal -q` silences it)."""
     import mtcal
     from mtcal.model import load_model
 
     out.mkdir(parents=True, exist_ok=True)
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
-    prog = Progress(quiet)
+    prog = Progress()
     m = mtcal.load_machine(machine or BUNDLED)
     summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
     mach = ["--machine", m.name]

@@ -32,6 +32,7 @@ effects.  With ``model`` given the null is that model (plus offsets), as before.
 """
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
@@ -45,6 +46,7 @@ from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.recordings import Recording
 from mtcal.tracker import covariance
 
+log = logging.getLogger(__name__)
 MAX_DEGREE = 3
 ALIAS_TOL = 1e-4       # sin of the smallest angle between a candidate and the base below this: not separable
 WEAK_TOL = 0.05        # ... below this: separable only weakly (estimate strongly correlated with the base)
@@ -671,10 +673,10 @@ def _cv(prep: Prepared, base: Base, wy: np.ndarray, Gs: list[np.ndarray]) -> tup
 
 
 def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None, level: float = 0.01,
-             max_degree: int = MAX_DEGREE, max_effects: int = 8, progress=None) -> Diagnosis:
+             max_degree: int = MAX_DEGREE, max_effects: int = 8) -> Diagnosis:
     """Diagnose a recording (see module docstring).  ``level``: family-wise significance level."""
     global _PREP
-    say = progress or (lambda msg: None)
+    say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
     prep = prepare(rec, machine, model, tracker)

@@ -14,7 +14,7 @@ rotary axes: B is measured at C = 0, C at B = 0); errors are zero at the referen
 """
 from __future__ import annotations
 
-import sys
+import logging
 import warnings as _warnings
 from dataclasses import dataclass, field
 from typing import Iterable
@@ -30,12 +30,13 @@ from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
+log = logging.getLogger(__name__)
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
-MAX_DEVIATION_MM = 1.0
+MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
 METHODS = ("auto", "three-point", "joint")
 METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all equations",
                "joint": "joint weighted fit of all readings and stations (error motions, reflectors, station "
-                        "alignments; mtcal.identify_joint)"}  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
+                        "alignments; mtcal.identify_joint)"}
 
 
 def error_names(axis: str) -> tuple[str, ...]:
@@ -310,7 +311,7 @@ def _passes(rec: Recording, axis: str):
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, progress=None, method: str = "auto") -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto") -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
@@ -334,16 +335,14 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         if method != "joint":
             raise InputError(f"{rec.source}: several tracker stations need the joint fit (--method joint)")
         from mtcal import identify_joint
-        if progress:
-            progress(f"joint weighted fit of {len(rec)} readings from {len(set(rec.stations().tolist()))} station(s)")
+        log.info("joint weighted fit of %d readings from %d station(s)", len(rec), len(set(rec.stations().tolist())))
         for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
             _passes(rec.select(rec.axis == axis), axis)
         joint = identify_joint.joint_fit(rec, m, t)
         warnings += joint.warnings
         results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
     for axis in ([] if joint is not None else rec.axes()):
-        if progress:
-            progress(f"identifying axis {axis}")
+        log.info("identifying axis %s", axis)
         results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
     slopes = {}
     for axis, ar in results.items():
@@ -624,6 +623,3 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
     rec.line = np.array(rows["line"])
     return rec
 
-
-def print_progress(msg: str) -> None:
-    print(f"mtcal identify: {msg}", file=sys.stderr, flush=True)

@@ -71,19 +71,13 @@ class ErrorModel:
         return sorted(set(self.constants) | set(self.functions))
 
     def errors_at(self, machine, axes, extrapolate: str = "error") -> np.ndarray:
-        """Error vector (..., n_errors) of ``machine`` (a mtcal.Machine) at axis positions (..., n_axes)."""
+        """Error vector (..., n_errors) of ``machine`` (a mtcal.Machine) at axis positions (..., n_axes);
+        ``extrapolate``: "error" (a position outside a function's table is an InputError) or "hold" / "clamp"
+        (end values held).  Evaluated by ``ErrorEvaluator`` (the one evaluator of error functions)."""
         a = machine.check_axes(axes)
-        unknown = sorted(set(self.names()) - set(machine.error_names))
-        if unknown:
-            raise InputError(f"error model has names unknown to machine {machine.name}: {unknown}")
-        e = np.zeros(a.shape[:-1] + (len(machine.error_names),))
-        for name, v in self.constants.items():
-            e[..., machine.error_names.index(name)] = v
-        for name, f in self.functions.items():
-            if f.axis not in machine.axes:
-                raise InputError(f"error function {name} refers to axis {f.axis!r}, not an axis of {machine.name}")
-            e[..., machine.error_names.index(name)] += f(a[..., machine.axes.index(f.axis)], extrapolate)
-        return e
+        ev = ErrorEvaluator(self, machine, "error" if extrapolate == "error" else "hold")
+        flat = a.reshape(-1, a.shape[-1])
+        return ev(flat).reshape(a.shape[:-1] + (len(machine.error_names),))
 
     def is_zero(self) -> bool:
         return all(v == 0 for v in self.constants.values()) and all(
@@ -101,6 +95,119 @@ class ErrorModel:
             funcs[n] = d
         return {"machine": self.machine, "units": {"length": "mm", "angle": "rad"},
                 "constants": dict(sorted(self.constants.items())), "functions": funcs, **self.meta}
+
+
+class ErrorEvaluator:
+    """The one evaluator of an error model's functions for a machine, batched for speed: tables of one axis on
+    the same positions share one segment search (values gathered as a block, uniform grids indexed directly),
+    harmonic fits of one axis and period share their sines and cosines (multiples by recurrence), anything else
+    (polynomial fits) function by function; constants folded in.  ``outside``: "hold" (end values held; counts
+    per function in ``outside_counts``) or "error" (InputError naming the axis, position and function)."""
+
+    def __init__(self, model: ErrorModel, machine, outside: str = "hold"):
+        if outside not in ("hold", "error"):
+            raise InputError(f"outside must be 'hold' or 'error', got {outside!r}")
+        m = self.machine = machine
+        self.outside = outside
+        unknown = sorted(set(model.names()) - set(m.error_names))
+        if unknown:
+            raise InputError(f"error model has names unknown to machine {m.name}: {unknown}")
+        self.const = np.zeros(len(m.error_names))
+        for n, v in model.constants.items():
+            self.const[m.error_names.index(n)] = v
+        self.funcs: list[tuple[str, int, int, ErrorFunction, float, float]] = []
+        for n, f in model.functions.items():
+            if f.axis not in m.axes:
+                raise InputError(f"error function {n} refers to axis {f.axis!r}, not an axis of {m.name}")
+            periodic = (f.fit or {}).get("kind") == "harmonic"
+            lo, hi = (-np.inf, np.inf) if periodic else (float(f.positions.min()), float(f.positions.max()))
+            self.funcs.append((n, m.error_names.index(n), m.axes.index(f.axis), f, lo, hi))
+        self.plan = self._plan()
+        self.outside_counts: dict[str, int] = {}
+
+    def _plan(self) -> list[tuple]:
+        tables: dict[tuple, list] = {}
+        harm: dict[tuple, list] = {}
+        plan: list[tuple] = []
+        for name, ei, ai, f, lo, hi in self.funcs:
+            fit = f.fit or {}
+            kind = fit.get("kind")
+            if kind in (None, "table") and len(f.positions) >= 2 and np.all(np.diff(f.positions) > 0):
+                tables.setdefault((ai, f.positions.tobytes()), []).append((name, ei, f))
+            elif kind == "harmonic":
+                harm.setdefault((ai, float(fit.get("period", 360.0))), []).append((name, ei, f))
+            else:
+                plan.append(("single", ai, [name], np.array([ei]), f, lo, hi))
+        for (ai, _), members in tables.items():
+            xp = members[0][2].positions.astype(float)
+            fp = np.array([f.values for _, _, f in members], dtype=float)  # (k, npts)
+            cols = np.array([ei for _, ei, _ in members])
+            slopes = np.diff(fp, axis=1) / np.diff(xp)
+            fp = fp + self.const[cols, None]
+            # per segment j: value = a_j + s_j x (rows a then s, one gather for both)
+            coef = np.vstack([fp[:, :-1] - slopes * xp[:-1], slopes])
+            dx = np.diff(xp)
+            step = float(dx[0]) if np.all(np.abs(dx - dx[0]) <= 1e-12 * abs(dx[0])) else 0.0  # uniform grid
+            plan.append(("table", ai, [n for n, _, _ in members], cols, xp, step, coef))
+        for (ai, period), members in harm.items():
+            nh = max(min(len(f.fit.get("cos", [])), len(f.fit.get("sin", []))) for _, _, f in members)
+            a0 = np.array([float(f.fit.get("a0", 0.0)) for _, _, f in members])
+            ca, sa = np.zeros((len(members), nh)), np.zeros((len(members), nh))
+            for r, (_, _, f) in enumerate(members):
+                h = min(len(f.fit.get("cos", [])), len(f.fit.get("sin", [])))
+                ca[r, :h], sa[r, :h] = f.fit["cos"][:h], f.fit["sin"][:h]
+            cols = np.array([ei for _, ei, _ in members])
+            plan.append(("harmonic", ai, [n for n, _, _ in members], cols, period, a0 + self.const[cols], ca, sa))
+        return plan
+
+    def __call__(self, q: np.ndarray) -> np.ndarray:
+        """Error vector (n, n_errors) at axis positions (n, n_axes), Fortran-ordered (column-contiguous: the
+        generated functions read it by column)."""
+        q = np.asarray(q, dtype=float)
+        et = np.empty((len(self.const), len(q)))  # (n_errors, n): rows contiguous
+        et[:] = self.const[:, None]
+        self._check_ranges(q)
+        for item in self.plan:
+            kind, x = item[0], q[:, item[1]]
+            if kind == "table":  # piecewise linear, end values held (as np.interp)
+                _, _, _, cols, xp, step, coef = item
+                xc = np.clip(x, xp[0], xp[-1])
+                j = ((xc - xp[0]) * (1.0 / step)).astype(np.intp) if step else np.searchsorted(xp, xc, "right") - 1
+                np.clip(j, 0, len(xp) - 2, out=j)
+                c = coef[:, j]
+                et[cols] = c[:len(cols)] + c[len(cols):] * xc
+            elif kind == "harmonic":  # a0 + sum a_h cos(h w) + b_h sin(h w)
+                _, _, _, cols, period, a0, ca, sa = item
+                w = (2 * np.pi / period) * x
+                c1, s1 = np.cos(w), np.sin(w)
+                acc = a0[:, None] + (ca[:, :1] * c1 + sa[:, :1] * s1 if ca.shape[1] else 0.0)
+                ch, sh = c1, s1
+                for h in range(1, ca.shape[1]):
+                    ch, sh = ch * c1 - sh * s1, sh * c1 + ch * s1
+                    acc += ca[:, h: h + 1] * ch + sa[:, h: h + 1] * sh
+                et[cols] = acc
+            else:
+                _, _, _, cols, f, lo, hi = item
+                et[cols[0]] += f(x, "hold")
+        return et.T
+
+    def _check_ranges(self, q: np.ndarray) -> None:
+        """Counts (or refuses) axis positions outside each error function's range (one check per axis and range)."""
+        checked: dict[tuple[int, float, float], int] = {}
+        for name, ei, ai, f, lo, hi in self.funcs:
+            if not np.isfinite(lo):
+                continue
+            key = (ai, lo, hi)
+            if key not in checked:
+                x = q[:, ai]
+                checked[key] = int(np.count_nonzero((x < lo - 1e-9) | (x > hi + 1e-9)))
+            if checked[key]:
+                if self.outside == "error":
+                    x = q[:, ai]
+                    bad = x[(x < lo - 1e-9) | (x > hi + 1e-9)][0]
+                    raise InputError(f"{self.machine.axes[ai]} = {float(bad):g} is outside the measured range "
+                                     f"[{lo:g}, {hi:g}] of {name} (use extrapolate='hold' to hold the end values)")
+                self.outside_counts[name] = self.outside_counts.get(name, 0) + checked[key]
 
 
 def _scale(name: str, units: dict) -> float:

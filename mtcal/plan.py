@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import Iterable
 
 import numpy as np
@@ -119,9 +119,12 @@ def monte_carlo(machine: Machine, plan: Plan, axis: str, positions, tracker, n: 
 
 
 def mid_position(plan: Plan, axis: str) -> float:
-    """The plan position closest to mid-travel."""
+    """The plan position closest to mid-travel, other than the reference position (where the errors are zero by
+    definition: a travel symmetric about zero would otherwise report the reference)."""
     p = plan.positions[axis]
-    return float(p[np.argmin(np.abs(p - (p.min() + p.max()) / 2))])
+    mid = (p.min() + p.max()) / 2
+    p = p[p != plan.reference_position(axis)]
+    return float(p[np.argmin(np.abs(p - mid))])
 
 
 def _machine_and_plan(machine, plan) -> tuple[Machine, Plan]:
@@ -132,48 +135,67 @@ def _machine_and_plan(machine, plan) -> tuple[Machine, Plan]:
     return m, as_plan(plan, m)
 
 
+@dataclass
+class PlanResult:
+    """The answer of `mtcal plan` (mm and rad): per axis the predicted standard uncertainty of one round of each
+    error motion at mid-travel (``axes``), of the mean of ``rounds`` rounds, and at every planned position."""
+
+    tracker: list[float]
+    machine: str
+    weighting: str
+    rounds: int
+    approaches_per_round: int
+    estimator: str
+    mid_travel: dict[str, float] = field(default_factory=dict)
+    axes: dict[str, dict[str, float]] = field(default_factory=dict)
+    mean_of_rounds: dict[str, dict[str, float]] = field(default_factory=dict)
+    by_position: dict[str, dict] = field(default_factory=dict)
+    monte_carlo: dict | None = None
+
+    def to_dict(self) -> dict:
+        out = {"units": {"length": "mm", "angle": "rad"}, **asdict(self)}
+        if self.monte_carlo is None:
+            del out["monte_carlo"]
+        return out
+
+
 def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None = None, monte_carlo_n: int = 0,
-                     seed: int = 0, weighting: str = "tracker", axes: Iterable[str] | None = None) -> dict:
-    """The answer of `mtcal plan`: {"tracker", "axes": {AXIS: {NAME: sigma at mid-travel}}, ...} in mm and rad."""
+                     seed: int = 0, weighting: str = "tracker", axes: Iterable[str] | None = None) -> PlanResult:
+    """The answer of `mtcal plan` (see PlanResult) for a tracker position (3,) mm (default: the plan's)."""
     m, pl = _machine_and_plan(machine, plan)
     if tracker is not None:
         pl = replace(pl, tracker=tuple(float(c) for c in np.asarray(tracker, dtype=float).reshape(3)))
     t = np.asarray(pl.tracker, dtype=float)
     names = list(axes) if axes is not None else list(pl.positions)
     approaches = 2 if pl.bidirectional else 1
-    out: dict = {"tracker": t.tolist(), "machine": m.name, "units": {"length": "mm", "angle": "rad"},
-                 "estimator": "one round as mtcal identify reports it: per pass one reading per reflector at the "
-                              "position and the round's reference reading (position closest to zero, first approach), "
-                              "3 equations per reflector (mtcal.identify.estimate), " +
-                              ("generalised LS weighted by the AT960 covariance" if weighting == "tracker"
-                               else "ordinary LS") + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds",
-                 "approaches_per_round": approaches,
-                 "weighting": weighting, "rounds": pl.rounds, "mid_travel": {}, "axes": {}, "mean_of_rounds": {},
-                 "by_position": {}}
+    res = PlanResult(t.tolist(), m.name, weighting, pl.rounds, approaches,
+                     "one round as mtcal identify reports it: per pass one reading per reflector at the position and "
+                     "the round's reference reading (position closest to zero, first approach), 3 equations per "
+                     "reflector (mtcal.identify.estimate), " +
+                     ("generalised LS weighted by the AT960 covariance" if weighting == "tracker" else "ordinary LS")
+                     + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds")
     if monte_carlo_n:
-        out["monte_carlo"] = {"n": int(monte_carlo_n), "seed": seed, "axes": {}}
+        res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.estimate", "axes": {}}
     for a in names:
         if a not in pl.positions:
             raise InputError(f"axis {a!r} is not in the plan (axes: {', '.join(pl.positions)})")
         mid = mid_position(pl, a)
         pos = pl.positions[a]
-        cov = linear_covariance(m, pl, a, pos, t, weighting, approaches=approaches)
-        sd = np.sqrt(np.einsum("pii->pi", cov))
+        sd = np.sqrt(np.einsum("pii->pi", linear_covariance(m, pl, a, pos, t, weighting, approaches=approaches)))
         i_mid = int(np.argmin(np.abs(pos - mid)))
         en = m.error_motions(a)
-        out["mid_travel"][a] = mid
-        out["axes"][a] = {n: float(sd[i_mid, j]) for j, n in enumerate(en)}
-        out["mean_of_rounds"][a] = {n: float(sd[i_mid, j] / math.sqrt(pl.rounds)) for j, n in enumerate(en)}
         ref = pl.reference_position(a)
-        out["by_position"][a] = {"positions": pos.tolist(),
-                                 **{n: [None if p == ref else float(v) for p, v in zip(pos, sd[:, j])]
-                                    for j, n in enumerate(en)}}
+        res.mid_travel[a] = mid
+        res.axes[a] = {n: float(sd[i_mid, j]) for j, n in enumerate(en)}
+        res.mean_of_rounds[a] = {n: float(sd[i_mid, j] / math.sqrt(pl.rounds)) for j, n in enumerate(en)}
+        res.by_position[a] = {"positions": pos.tolist(), **{n: [None if p == ref else float(v)
+                                                                  for p, v in zip(pos, sd[:, j])]
+                                                             for j, n in enumerate(en)}}
         if monte_carlo_n:
             log.info("Monte Carlo %d rounds of axis %s", monte_carlo_n, a)
-            out["monte_carlo"]["solver"] = "mtcal.identify.estimate"
             est = monte_carlo(m, pl, a, [mid], t, int(monte_carlo_n), seed, weighting, approaches=approaches)
-            out["monte_carlo"]["axes"][a] = {n: float(v) for n, v in zip(en, est[:, 0].std(axis=0, ddof=1))}
-    return out
+            res.monte_carlo["axes"][a] = {n: float(v) for n, v in zip(en, est[:, 0].std(axis=0, ddof=1))}
+    return res
 
 
 # ---------------------------------------------------------------------------------------------- placement map

@@ -113,7 +113,7 @@ def test_diagnose_finds_a_planted_backlash_and_keeps_a_clean_campaign_clean(name
 @pytest.mark.parametrize("name", SPECS)
 def test_plan_covers_every_axis_of_the_spec(name):
     m = mtcal.load_machine(name)
-    r = plan_uncertainty(machine=m)
+    r = plan_uncertainty(machine=m).to_dict()
     assert list(r["axes"]) == list(m.axes) and r["machine"] == name
     for a, sig in r["axes"].items():
         assert list(sig) == list(m.error_motions(a))

@@ -78,7 +78,7 @@ def test_thesis_table_5_1_pattern_at_pos1_and_table_5_2_with_pos2_pos3():
     """Table 5.1 (Pos. 1, beam ~ along Y): E_YX, E_YY, E_YZ have low tracker influence, the other six
     translational errors high.  Fig. 5.1/Table 5.2: from Pos. 2 (beam ~ along X) the E_X* errors and from Pos. 3
     (beam ~ along Z) the E_Z* errors become low, so the best placement of each translational error is low."""
-    res = {k: plan_uncertainty(t, axes=["X", "Y", "Z"])["axes"] for k, t in TRACKER_POSITIONS.items()}
+    res = {k: plan_uncertainty(t, axes=["X", "Y", "Z"]).axes for k, t in TRACKER_POSITIONS.items()}
     trans = {k: {n: v for a in r.values() for n, v in a.items() if n[2] in "XYZ"} for k, r in res.items()}
     for pos, direction in (("pos1", "Y"), ("pos2", "X"), ("pos3", "Z")):
         low = [v for n, v in trans[pos].items() if n[2] == direction]
@@ -104,7 +104,7 @@ def test_weighted_estimator_beats_ordinary_least_squares():
 def test_mid_travel_and_output_units():
     pl = Plan()
     assert [mid_position(pl, a) for a in "XYZBC"] == [250.0, 225.0, 200.0, 90.0, 160.0]
-    r = plan_uncertainty(POS1, monte_carlo_n=500, axes=["Y"])
+    r = plan_uncertainty(POS1, monte_carlo_n=500, axes=["Y"]).to_dict()
     assert r["tracker"] == POS1.tolist() and list(r["axes"]["Y"]) == list(M.error_motions("Y"))
     assert 0.001 < r["axes"]["Y"]["E_XY"] < 0.05 and 1e-5 < r["axes"]["Y"]["E_AY"] < 1e-3  # mm, rad
     assert r["by_position"]["Y"]["E_XY"][0] is None  # the reference position

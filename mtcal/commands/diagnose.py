@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from mtcal.commands._options import machine_argument
 
 NAME = "diagnose"
 HELP = "fit a quasi-static base model to tracker recordings, locate the misfit, name and model left-out effects"
@@ -16,7 +17,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "the AT960 covariance (default: unweighted, sigma from the residuals)")
     p.add_argument("--level", type=float, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
-    p.add_argument("--machine", default=None, help="machine (default: the model's, else dmu50)")
+    machine_argument(p)
 
 
 def _fmt(e: dict) -> str:
@@ -38,8 +39,7 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model) if args.model else None
     tracker = parse_xyz(args.tracker) if args.tracker else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
-    d = diagnose(rec, model, machine=machine, tracker=tracker, level=args.level,
-                 progress=lambda m: print(f"diagnose: {m}", file=sys.stderr, flush=True))
+    d = diagnose(rec, model, machine=machine, tracker=tracker, level=args.level)
     out = d.to_dict()
     if args.plots:
         out["plots"] = plot_residuals(d, args.plots)

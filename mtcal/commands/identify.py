@@ -7,11 +7,13 @@ import sys
 import numpy as np
 
 from mtcal import fitting
-from mtcal.identify import identify, parse_positions, print_progress, read_inspire
+from mtcal.identify import identify, parse_positions, read_inspire
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import save_model
 from mtcal.recordings import read_recording
 from mtcal.tracker import parse_xyz
+from mtcal.commands._options import machine_argument
+from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "identify"
 HELP = ("identify the six error motions per axis and position (three-point method, Type A uncertainty over "
@@ -37,7 +39,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="joint: one weighted fit of all readings and stations (error motions, reflector positions, "
                         "station alignments; needs the tracker position); three-point: per position (Zhang & Hu); "
                         "auto (default): joint when the tracker position is known, else three-point")
-    p.add_argument("--machine", default="dmu50", help="machine spec (default dmu50)")
+    machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--max-degree", type=int, default=7, help="highest polynomial degree tried (default 7)")
     p.add_argument("--outlier-k", type=float, default=5.0,
                    help="warn when a round differs from the others by more than k sigma (default 5; 0 = off)")
@@ -77,8 +79,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         rec = read_recording(args.recording[0])
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
-                   outlier_k=args.outlier_k, max_degree=args.max_degree, progress=print_progress,
-                   method=args.method)
+                   outlier_k=args.outlier_k, max_degree=args.max_degree, method=args.method)
     for w in res.warnings:
         print(f"mtcal identify: warning: {w}", file=sys.stderr)
     if args.output:

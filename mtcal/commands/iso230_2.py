@@ -9,6 +9,8 @@ import math
 from pathlib import Path
 
 from mtcal.io import atomic_write_text, dumps, refuse_overwrite
+from mtcal.commands._options import machine_argument
+from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "iso230-2"
 HELP = ("ISO 230-2:2014 evaluation of an axis from a recording: per target mean deviations up/down, reversal, "
@@ -30,7 +32,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--angle-unit", choices=("arcsec", "urad", "deg"), default="arcsec",
                    help="unit of rotary deviations (default arcsec)")
     p.add_argument("--point", metavar="LABEL", help="use one reflector (default: the centroid of all of them)")
-    p.add_argument("--machine", default="dmu50", help="machine spec (default dmu50)")
+    machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("-o", "--output", metavar="REPORT_DIR",
                    help="write iso230-2_AXIS.csv (targets), iso230-2_AXIS_parameters.csv, iso230-2_AXIS.md, "
                         "iso230-2_AXIS.png per axis")

@@ -2,10 +2,12 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
 from mtcal.io import dumps
 from mtcal.tracker import parse_xyz
+from mtcal.commands._options import machine_argument
+from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "plan"
 HELP = "predict the uncertainty of the identified errors for a tracker placement (linear propagation + Monte Carlo)"
@@ -14,7 +16,7 @@ HELP = "predict the uncertainty of the identified errors for a tracker placement
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tracker", metavar="x,y,z", help="tracker position in mm, machine frame "
                    "(default: the plan's, else the machine spec's first tracker station)")
-    p.add_argument("--machine", default=None, help="machine (default dmu50); one of the specs in derive/machines/")
+    machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.simulate)")
     p.add_argument("--monte-carlo", type=int, default=0, metavar="N",
                    help="also run N simulated rounds per axis through the estimator (GUM Supplement 1)")
@@ -34,15 +36,14 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--monte-carlo must be >= 0, got {args.monte_carlo}")
     if args.monte_carlo == 1:
         raise ValueError("--monte-carlo needs at least 2 rounds for a standard deviation")
-    m = load_machine(args.machine) if getattr(args, "machine", None) else load_machine()
+    m = load_machine(args.machine)
     plan = load_plan(args.plan, m) if args.plan else Plan(m)
     tracker = parse_xyz(args.tracker) if args.tracker is not None else None
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
     res = plan_uncertainty(tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
-                           weighting=args.weighting, axes=axes)
+                           weighting=args.weighting, axes=axes).to_dict()
     if args.plot:
-        if not args.json:
-            print("mtcal plan: computing the placement map ...", file=sys.stderr)
+        logging.getLogger("mtcal.plan").info("computing the placement map ...")
         mp = plot_placement_map(args.plot, plan, tracker=res["tracker"], z=res["tracker"][2])
         res["plot"] = {"path": args.plot, "best_floor_position": mp["best"], "z": res["tracker"][2]}
     if args.json:

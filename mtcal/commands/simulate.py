@@ -7,6 +7,7 @@ import sys
 from mtcal import effects as fx
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.tracker import parse_xyz
+from mtcal.commands._options import machine_argument
 
 NAME = "simulate"
 HELP = "simulate laser-tracker recordings from an error model, a tracker placement and planted effects"
@@ -23,8 +24,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
-    p.add_argument("--machine", default=None, help="machine (default: the model's, else dmu50); "
-                   "one of the specs in derive/machines/")
+    machine_argument(p)
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="recording to write (+ REC.truth.json)")
 
 

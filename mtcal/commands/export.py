@@ -1,0 +1,72 @@
+"""`mtcal export`: controller compensation tables from an error model (formatting only; see mtcal/export/)."""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from mtcal.errors import InputError
+from mtcal.export import FORMATS, export_model
+from mtcal.io import dumps, read_json, refuse_overwrite
+from mtcal.machine import load_machine
+from mtcal.model import load_model
+
+NAME = "export"
+HELP = "write an error model as controller compensation tables (LinuxCNC, Siemens 840D sl, Heidenhain, TF5280)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("model", help="error model JSON (mtcal identify)")
+    p.add_argument("--format", required=True, choices=sorted(FORMATS),
+                   help="linuxcnc: folder of COMP_FILEs + INI snippet; siemens: one MPF (LEC + CEC); heidenhain: "
+                        "folder of *.COM + CONFIG.CMA; tf5280: ISG CSV file; etalon: Etalon exchange file")
+    p.add_argument("-o", "--output", required=True, help="output folder (linuxcnc, heidenhain) or file")
+    p.add_argument("--step", type=float, default=None, metavar="MM_OR_DEG",
+                   help="table spacing (mm for linear, deg for rotary axes; default: the finest 1/2/2.5/5 x 10^k "
+                        "that covers each axis' range within the format's point limit)")
+    p.add_argument("--max-points", type=int, default=None, metavar="N",
+                   help="points per table (default: the format's limit: 256; tf5280/etalon 1000)")
+    p.add_argument("--diagnosis", metavar="DIAG.json",
+                   help="`mtcal diagnose --json` answer: significant backlash findings give direction-dependent tables")
+    p.add_argument("--comp-file-type", type=int, choices=(0, 1), default=0,
+                   help="linuxcnc COMP_FILE_TYPE: 0 = nominal, forward, reverse positions; 1 = nominal and trims "
+                        "(default 0)")
+    p.add_argument("--require", default="", metavar="NAMES",
+                   help="comma-separated error names (e.g. E_XX,E_YX) that must be held; refused if the format cannot")
+    p.add_argument("--kinematics-comp", action="store_true",
+                   help="heidenhain: also write KinematicsComp tables KC_<axis>.COM (C1..C6 = ISO 230-1 errors)")
+
+
+def run(args: argparse.Namespace) -> int:
+    refuse_overwrite(args.output, args.model, args.diagnosis)
+    if FORMATS[args.format][1] == "dir" and Path(args.output).exists() and not Path(args.output).is_dir():
+        raise InputError(f"{args.output}: format {args.format} writes a folder, and this is a file")
+    model = load_model(args.model)
+    machine = load_machine(model.machine)
+    diag = read_json(args.diagnosis, "diagnosis") if args.diagnosis else None
+    require = [n.strip() for n in args.require.split(",") if n.strip()]
+    res = export_model(model, machine, args.format, args.output, args.model, args.step, args.max_points, diag,
+                       args.comp_file_type, require, args.kinematics_comp,
+                       protect=tuple(p for p in (args.model, args.diagnosis) if p))
+    out = {"format": res.format, "files": res.files, "sign": res.sign, "held": res.held, "not_held": res.not_held,
+           "tables": res.tables, "warnings": res.warnings,
+           "units": {"positions": "mm (linear axes), deg (rotary axes)",
+                     "corrections": "unit of the output axis (mm or deg)"}}
+    if args.json:
+        print(dumps(out))
+        return 0
+    print(f"{args.model} -> {args.format}: {len(res.files)} file(s)")
+    print(f"sign: {res.sign}")
+    for t in res.tables:
+        outs = ", ".join(f"{o} from {'+'.join(v['errors'])} (max {v['max_abs_correction']:.4g} {v['unit']})"
+                         for o, v in t["outputs"].items())
+        print(f"  axis {t['axis']}: {t['points']} points, step {t['step']:g} {t['unit']}, "
+              f"[{t['from']:g}, {t['to']:g}]: {outs}" + (f"; reversal {t['reversal']:.4g}" if t["reversal"] else ""))
+    if res.not_held:
+        print(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
+              f"{', '.join(res.not_held)}", file=sys.stderr)
+    for w in res.warnings:
+        print(f"warning: {w}", file=sys.stderr)
+    for f in res.files:
+        print(f"wrote {f}")
+    return 0

@@ -1,0 +1,89 @@
+"""HEIDENHAIN nonlinear axis error compensation: `*.COM` value tables and the `*.CMA` table that activates them;
+KinematicsComp layout of the ISO 230-1 component errors.
+
+Source: HEIDENHAIN Technical Manual MANUALplus 620 (01/2012) sec. 6.10.3 "Nonlinear axis error compensation":
+*.COM columns AXISPOS (compensation points, machine datum), one column per compensated axis named as in
+CfgAxes/axisList, BACKLASH (values measured in the negative direction of traverse); *.CMA: one column per axis,
+the COM file entered in the column of the axis it depends on ([axis column of the COM] = F(axis column of the CMA)),
+a line made active with `*` in ACTIVE; at most 256 entries per COM (TNC 407 Technical Manual, module 9095 error 3).
+KinematicsComp: iTNC 530 HSCI Technical Manual, "Recommendation" for COM files: columns C1..C6 of a linear axis X
+= EXX, EYX, EZX, EAX, EBX, ECX, of a rotary axis A = EXA, EYA, EZA, EAA, EBA, ECA.
+Units and spacing: mm (linear) and deg (rotary axes and, ASSUMED, angular KinematicsComp columns), regular step.
+Sign: the tables hold the error (joint-equivalent deviation actual - nominal = minus the correction), as the TNC 407
+Technical Manual's example plots "Error in Z" over the compensation points; this sign, the BACKLASH meaning (written
+as the value in the negative direction) and the table file syntax (BEGIN/[END], fixed columns) are ASSUMED from
+those pages, not from a TNC 640 manual: verify one point on the machine before use.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mtcal.export import isg
+from mtcal.export.sampling import AxisTable
+from mtcal.model import ErrorModel
+
+NAME = "heidenhain"
+MAX_POINTS = 256
+HARD_LIMIT = True   # the controller cannot take more points
+CROSS = True
+SIGN = ("the COM tables hold the error (actual - nominal, joint-equivalent; = -correction); ASSUMED from the TNC "
+        "407 / MANUALplus 620 Technical Manuals (not confirmed for TNC 640): verify on the machine")
+
+
+def _table(name: str, unit: str, cols: list[str], rows: list[list[str]]) -> str:
+    """A TNC table: BEGIN line, fixed-width columns (14 characters; an empty field stays blank), [END]."""
+    w = 14
+    out = [f"BEGIN {name} {unit}", "".join(c.ljust(w) for c in ["NR"] + cols).rstrip()]
+    out += ["".join(c.ljust(w) for c in [str(i)] + r).rstrip() for i, r in enumerate(rows)]
+    return "\n".join(out + ["[END]", ""])
+
+
+def _v(x: float) -> str:
+    return f"{x:+.6f}"
+
+
+def com_file(t: AxisTable) -> tuple[str, str]:
+    """(file name, text) of the COM table of input axis ``t.axis``: error columns per compensated axis; with a
+    reversal the own column holds the error moving in the positive direction and BACKLASH the negative one."""
+    name = f"{t.axis}.COM"
+    outs = list(t.corrections)
+    cols = {o: -t.corrections[o] for o in outs}
+    if t.reversal:
+        cols[t.axis], cols["BACKLASH"] = -t.directional(+1), -t.directional(-1)
+    rows = [[_v(p)] + [_v(c[i]) for c in cols.values()] for i, p in enumerate(t.positions)]
+    return name, _table(name, "MM", ["AXISPOS"] + list(cols), rows)
+
+
+def cma_file(tables: list[AxisTable], machine) -> str:
+    axes = list(machine.axes)
+    row = ["*"] + [next((f"{t.axis}.COM" for t in tables if t.axis == a), "") for a in axes]
+    return _table("CONFIG.CMA", "", ["ACTIVE"] + axes, [row])
+
+
+def kc_files(model: ErrorModel, machine, step: float | None, max_points: int) -> dict[str, str]:
+    """KinematicsComp COM per axis with error functions: C1..C6 = E_X?, E_Y?, E_Z? (mm), E_A?, E_B?, E_C? (deg,
+    assumed), sampled on the axis' grid."""
+    files = {}
+    for ax, (q, vals, _) in isg.samples(model, machine, step, max_points).items():
+        cols = [vals.get(f"E_{c}{ax}", np.zeros(len(q))) for c in "XYZABC"]
+        cols[3:] = [np.degrees(v) for v in cols[3:]]
+        rows = [[_v(p)] + [f"{v[i]:+.9f}" for v in cols] for i, p in enumerate(q)]
+        name = f"KC_{ax}.COM"
+        files[name] = _table(name, "MM", ["AXISPOS", "C1", "C2", "C3", "C4", "C5", "C6"], rows)
+    return files
+
+
+def kc_held(model: ErrorModel) -> set[str]:
+    """Names the KinematicsComp tables hold: the component errors (functions) of every axis."""
+    return {n for n in model.functions if n[3] != "0"}
+
+
+def render(tables: list[AxisTable], machine, model: ErrorModel, model_path: str,
+           kinematics_comp: bool, step: float | None = None, max_points: int = MAX_POINTS) -> dict[str, str]:
+    files = dict(com_file(t) for t in tables)
+    files["CONFIG.CMA"] = cma_file(tables, machine)
+    if kinematics_comp:
+        files.update(kc_files(model, machine, step, max_points))
+    files["README.txt"] = (f"mtcal export {model_path} --format heidenhain\nsign: {SIGN}\nunits: mm (linear), deg "
+                           "(rotary); AXISPOS from the machine datum\n")
+    return files
