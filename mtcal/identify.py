@@ -368,6 +368,8 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
                          sq_stats, method)
     if joint is not None:
         res.joint = joint.summary()
+        res.joint["squareness_sigma"] = squareness_sigma(results, reference)
+        model.meta["squareness_sigma"] = res.joint["squareness_sigma"]
     return res
 
 
@@ -553,8 +555,9 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
                 pr = pr - ar.lines[nm]["slope"] * ar.positions
             if len(ar.positions) < 2:
                 continue
-            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics, ar.reference_position) if periodic
-                   else fitting.fit_polynomial(ar.positions, pr, max_degree, ar.reference_position))
+            cov = _value_covariance(ar, i, nm, reference)
+            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics, ar.reference_position, cov) if periodic
+                   else fitting.fit_polynomial(ar.positions, pr, max_degree, ar.reference_position, cov))
             extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "n": ar.n.tolist()}
             if nm in ar.lines:
                 extra["reference_line"] = ar.lines[nm]
@@ -564,6 +567,33 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
             "weighted": weighted, "reference_line": reference,
             "squareness_convention": fitting.SQUARENESS_CONVENTION}
     return ErrorModel(m.name, dict(sq), funcs, meta)
+
+
+def _value_covariance(ar: AxisResult, i: int, name: str, reference: str) -> np.ndarray | None:
+    """Covariance (n_pos, n_pos) of error ``i``'s values as fitted (reference-line slope removed) from the
+    joint fit's covariance; None for the per-position method."""
+    if ar.covariance is None:
+        return None
+    c = ar.covariance[i::6, i::6]
+    if name in ar.lines:
+        t = np.eye(len(ar.positions)) - np.outer(ar.positions, fitting.slope_weights(ar.positions, reference))
+        c = t @ c @ t.T
+    return c
+
+
+def squareness_sigma(results: dict[str, AxisResult], reference: str) -> dict[str, float]:
+    """Standard deviation (rad) of each squareness from the joint covariance of the straightness slopes it sums
+    (in the ISO frame the slopes it pairs with are zero by the gauge, so the axes' slopes are independent)."""
+    var: dict[str, float] = {}
+    for ar in results.values():
+        if ar.covariance is None:
+            return {}
+        g = fitting.slope_weights(ar.positions, reference)
+        for nm in ar.lines:
+            i = ar.names.index(nm)
+            var[nm] = float(g @ ar.covariance[i::6, i::6] @ g)
+    pairs = {"E_C0Y": ("E_XY", "E_YX"), "E_B0Z": ("E_XZ", "E_ZX"), "E_A0Z": ("E_YZ", "E_ZY")}
+    return {k: float(np.sqrt(var[a] + var[b])) for k, (a, b) in pairs.items() if a in var and b in var}
 
 
 # ----------------------------------------------------------------------------- Inspire export layout
