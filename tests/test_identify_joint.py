@@ -130,3 +130,59 @@ def test_joint_beats_three_point_on_one_station_and_four_stations_beat_one():
     v4 = _vol(identify(four, machine=M).model, truth, grid)
     assert vj < v3
     assert v4 < 0.6 * vj
+
+
+# ----------------------------------------------------------------------------- the demo machine, four stations
+STATIONS4 = [("front", FRONT), ("left", LEFT), ("front-right", FRONT_RIGHT), ("elevated", HIGH)]
+WIDE = {"tool": {"P": [210, 0, 30], "Q": [-105, 180, 120], "K": [-105, -180, 210]},  # 3x the spec's layout
+        "table": {"P": [450, 0, 40], "Q": [-225, 390, 80], "K": [-225, -390, 120]}}
+
+
+@pytest.fixture(scope="module")
+def demo():
+    """(ISO-framed demo truth, its campaign plan, 2000 poses over the demo's work volume, true deviations).
+    The truth is the bundled demo truth with the linear part of E_YX, E_ZX and E_ZY removed: the estimate is in
+    the ISO frame of the linear axes (design.md gauge) and a tracker cannot see the frame's rotation relative to
+    the table, so a truth outside that frame would differ from any estimate by it (2.6 um on this metric)."""
+    from mtcal.data.make_demo_data import DEMO_PLAN
+    from mtcal.demo import data_path
+    from mtcal.model import load_model
+    truth = load_model(data_path("demo_truth.json"))
+    for nm in ("E_YX", "E_ZX", "E_ZY"):
+        f = truth.functions[nm]
+        xs = np.linspace(f.positions.min(), f.positions.max(), 201)
+        v = f(xs)
+        slope = np.polyfit(xs, v, 1)[0]
+        truth.functions[nm] = ErrorFunction(f.axis, xs, v - slope * xs)
+    rng = np.random.default_rng(0)
+    grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000),
+                            rng.uniform(-150, 150, 2000), rng.uniform(0, 120, 2000), rng.uniform(0, 360, 2000)])
+    return truth, DEMO_PLAN, grid
+
+
+def _demo_vol(demo, stations, rounds, points=None, seed=1):
+    truth, plan, grid = demo
+    pl = {**plan, **({"points": points} if points else {})}
+    rec, _ = simulate_stations(truth, stations, machine=M, rounds=rounds, seed=seed, plan=pl)
+    return _vol(identify(rec, machine=M).model, truth, grid)
+
+
+def test_four_stations_one_round_each_within_3_um_volumetric(demo):
+    """Issue 14: front, left, front-right, elevated at 1.2 m; 1 round per station; stations misaligned by
+    ~20 um / 30 urad (seeded): model - truth RMS over the work volume <= 3 um (measured 1.9 um)."""
+    assert _demo_vol(demo, STATIONS4, 1) < 3.0
+
+
+@pytest.mark.parametrize("rounds, points", [(2, None), (1, WIDE)], ids=["2-rounds", "wide-reflectors"])
+def test_four_stations_two_rounds_or_wide_reflectors_within_2_2_um(demo, rounds, points):
+    assert _demo_vol(demo, STATIONS4, rounds, points) < 2.2
+
+
+def test_one_station_joint_no_worse_than_three_point(demo):
+    """The thesis campaign (one station at Pos. 1, 4 rounds, mtcal.simulate): joint <= three-point."""
+    from mtcal.simulate import simulate
+    truth, plan, grid = demo
+    rec, _ = simulate(truth, machine=M, seed=1, plan=plan, rounds=None)
+    v3 = _vol(identify(rec, tracker=FRONT, machine=M, method="three-point").model, truth, grid)
+    vj = _vol(identify(rec, tracker=FRONT, machine=M).model, truth, grid)
+    assert vj <= v3
