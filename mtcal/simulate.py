@@ -23,6 +23,8 @@ PLAN.json (all keys optional; values replace the defaults):
  "axes": {"X": {"positions": [0, 50, ...]} | {"start": 0, "stop": 500, "count": 11},
           "Y": {..., "at": {"X": 250}}, ...},   measured axes in order; "at": other axes' positions (default 0)
  "points": {"tool": {"P": [x, y, z], ...}, "table": {"P": [x, y, z], ...}},   mm, >= 3 non-collinear each
+ "stations": {"front": [x, y, z], "left": [x, y, z], ...},   several tracker stations (mm; mtcal.simulate_stations:
+                                            the campaign from each in turn, "rounds" per station)
  "bidirectional": true,
  "feed_mm_s": 50, "feed_deg_s": 20, "settle_s": 3, "measure_s": 2, "reflector_change_s": 30,
  "round_pause_s": 60, "axis_change_s": 300, "temperature_c": 20.0}
@@ -80,6 +82,7 @@ class Plan:
     round_pause_s: float = 60.0
     axis_change_s: float = 300.0
     temperature_c: float = 20.0
+    stations: dict[str, tuple[float, float, float]] | None = None  # several tracker stations (mm), in order
 
     def __post_init__(self) -> None:
         m = self.machine = self.machine if isinstance(self.machine, Machine) else load_machine(self.machine)
@@ -109,7 +112,7 @@ class Plan:
         return float(p[np.argmin(np.abs(p))])
 
 
-_PLAN_KEYS = {"tracker", "rounds", "axes", "points", "bidirectional", "feed_mm_s", "feed_deg_s", "settle_s",
+_PLAN_KEYS = {"tracker", "stations", "rounds", "axes", "points", "bidirectional", "feed_mm_s", "feed_deg_s", "settle_s",
               "measure_s", "reflector_change_s", "round_pause_s", "axis_change_s", "temperature_c"}
 
 
@@ -152,6 +155,19 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
         if len(t) != 3 or not all(math.isfinite(c) for c in t):
             raise InputError(f"{source}: tracker must be [x, y, z] in mm, got {raw['tracker']!r}")
         kw["tracker"] = t
+    if "stations" in raw:
+        st = raw["stations"]
+        if not isinstance(st, Mapping) or not st:
+            raise InputError(f"{source}: stations must be an object {{label: [x, y, z]}} (mm)")
+        kw["stations"] = {}
+        for k, v in st.items():
+            try:
+                t = tuple(float(c) for c in v)
+            except (TypeError, ValueError):
+                t = ()
+            if len(t) != 3 or not all(math.isfinite(c) for c in t):
+                raise InputError(f"{source}: stations.{k} must be [x, y, z] in mm, got {v!r}")
+            kw["stations"][str(k)] = t
     if "rounds" in raw:
         r = raw["rounds"]
         if not isinstance(r, int) or isinstance(r, bool) or r < 1:

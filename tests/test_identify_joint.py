@@ -186,3 +186,22 @@ def test_one_station_joint_no_worse_than_three_point(demo):
     v3 = _vol(identify(rec, tracker=FRONT, machine=M, method="three-point").model, truth, grid)
     vj = _vol(identify(rec, tracker=FRONT, machine=M).model, truth, grid)
     assert vj <= v3
+
+
+def test_cli_simulate_several_stations_then_identify(tmp_path, capsys):
+    """mtcal simulate --tracker repeated writes station and tracker columns and the stations' alignment truth;
+    mtcal identify fits them jointly (default) and estimates each station's alignment within 4 sigma."""
+    from mtcal.cli import main
+    import json
+    rec = tmp_path / "ms.csv"
+    assert main(["simulate", "--tracker", "250,-1500,150", "--tracker=-1500,0,150", "--tracker=-1000,-1000,1200",
+                 "--seed", "3", "-o", str(rec), "--json"]) == 0
+    truth = json.loads((tmp_path / "ms.truth.json").read_text())
+    capsys.readouterr()
+    assert main(["identify", str(rec), "-o", str(tmp_path / "m.json"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "joint" and 0.9 < out["joint"]["birge_ratio"] < 1.1
+    for st in truth["stations"]:
+        est = out["joint"]["stations"][st["label"]]
+        z = (np.array(est["alignment"]) - st["alignment"]) / np.maximum(est["alignment_sigma"], 1e-12)
+        assert np.all(np.abs(z[np.array(est["alignment_sigma"]) > 0]) < 4), z
