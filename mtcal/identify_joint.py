@@ -247,9 +247,9 @@ def _initial(m: Machine, rec: Recording, lay: Layout, q, keys, sides) -> np.ndar
 
 
 def joint_fit(rec: Recording, m: Machine, tracker=None, spec: trk.TrackerSpec = trk.AT960,
-              per_round: bool = True) -> JointResult:
+              per_round: bool = True, steps: int = GN_STEPS) -> JointResult:
     """The joint weighted estimate of a recording (see module docstring); tracker (3,) mm when the recording has
-    no tracker columns (one station)."""
+    no tracker columns (one station); ``steps`` Gauss-Newton steps."""
     for a in rec.axes():
         m.index(a)
     sides = np.array([m.side(str(a)) for a in rec.axis])
@@ -265,7 +265,7 @@ def joint_fit(rec: Recording, m: Machine, tracker=None, spec: trk.TrackerSpec = 
     warnings: list[str] = []
     c_rows = _gauge(m, rec, lay, warnings)
     x = _initial(m, rec, lay, q, keys, sides)
-    for _ in range(GN_STEPS):
+    for _ in range(steps):
         model, *blocks = _state(m, rec, lay, q, keys, sides, x)
         jw = _jacobian(rec, lay, sides, blocks, whiten)
         rw = np.einsum("nij,nj->ni", whiten, rec.xyz - model).ravel()
