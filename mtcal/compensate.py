@@ -38,6 +38,13 @@ SCOPES = ("position", "full")
 BLOCK = 4096  # rows per numeric block: keeps the generated functions' temporaries in cache
 _P10 = 10.0 ** np.arange(23)
 RESIDUAL_EVERY = 20  # default: the exact residual of every 20th move (and of every inserted point)
+# plausibility bounds of a correction (see Guard): 1 mm is 20-50 times the largest volumetric error the thesis
+# measured on the DMU 50 (43 um; positioning ~20 um), yet 1000 times below a model typed in um under "mm";
+# 0.1 deg (1.7 mrad) is 10-50 times the largest angular errors of a rotary axis (thesis: tens of urad; ISO 230-1
+# typical rotary positioning errors 10-30 arcsec = 50-150 urad)
+MAX_CORRECTION_MM = 1.0
+MAX_ROTARY_CORRECTION_DEG = 0.1
+FEED_DECIMALS = 4  # inverse-time F (1/min) written on split G93 moves
 
 # ISO/TR 16907 compensation types and the ISO 230-1 errors they act on (DMU 50: linear X Y Z, rotary B C)
 ISO_TYPES: dict[str, tuple[str, ...]] = {
@@ -113,6 +120,9 @@ class Compensator:
             raise InputError(f"iterations must be >= 1, got {iterations}")
         if outside not in ("hold", "error"):
             raise InputError(f"outside must be 'hold' or 'error', got {outside!r}")
+        for name, v in (("tool_length", tool_length), ("cone", cone)):
+            if not np.isfinite(float(v)):
+                raise InputError(f"{name} must be a finite number, got {v}")
         self.model = model
         self.machine = machine or load_machine(model.machine)
         self.scope, self.tool_length, self.iterations = scope, float(tool_length), int(iterations)
@@ -372,6 +382,14 @@ class Compensator:
         rot = np.radians(dq[:, 3] + dq[:, 4])
         return 0.5 * dq @ self._slopes() + 0.2 * rot * rot / 8
 
+    def largest_errors(self, q: np.ndarray, k: int = 3) -> str:
+        """The k largest model errors at axes q (5,) (mm and rad; angles ranked at a 1 m lever), for messages."""
+        e = self.errors(np.asarray(q, dtype=float)[None])[0]
+        length = np.array([n[2] in "XYZ" for n in self.machine.error_names])
+        size = np.abs(e) * np.where(length, 1.0, 1000.0)
+        top = [i for i in np.argsort(-size, kind="stable")[:k].tolist() if size[i] > 0]
+        return ", ".join(f"{self.machine.error_names[i]} = {e[i]:.6g} {'mm' if length[i] else 'rad'}" for i in top)
+
     def residual(self, q_cmd: np.ndarray, q_nom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Exact error-inclusive residual of commands: tool-tip error (n, 3) mm and tool-axis angle (n,) rad."""
         q_cmd, q_nom = np.atleast_2d(q_cmd), np.atleast_2d(q_nom)
@@ -446,6 +464,53 @@ def _read_blocks(fin, size: int):
 
 
 @dataclass
+class Guard:
+    """Plausibility guard on what is written (nothing implausible reaches a machine): every written axis value is
+    finite, every correction (written minus nominal command) is within ``max_mm`` on a linear axis (mm) and
+    ``max_deg`` on a rotary axis (deg), and every evaluated predicted residual of the exact model (tool tip at the
+    written points, mid-segment of feed moves after subdivision) is finite and within ``tolerance`` (mm).  A
+    violation raises InputError naming the file, the line and the values; the caller raises it before the output
+    is renamed into place, so no output file appears.  Defaults: ``MAX_CORRECTION_MM``,
+    ``MAX_ROTARY_CORRECTION_DEG`` (justified there)."""
+
+    max_mm: float
+    max_deg: float
+    tolerance: float
+
+    def written(self, comp: Compensator, q_w: np.ndarray, q_nom: np.ndarray, src: str, lines: np.ndarray) -> None:
+        """Refuse non-finite written axes or corrections beyond the bounds (q_w, q_nom (n, 5), mm and deg; ``lines``:
+        the 1-based line of each row in ``src``)."""
+        m = comp.machine
+        linear = np.array([k == "linear" for k in m.axis_kinds])
+        bound = np.where(linear, self.max_mm, self.max_deg)
+        bad = ~(np.abs(q_w - q_nom) <= bound)  # NaN and inf included
+        if not bad.any():
+            return
+        r, a = (int(v[0]) for v in np.nonzero(bad))
+        ax, unit = m.axes[a], "mm" if linear[a] else "deg"
+        if not np.isfinite(q_w[r, a]):
+            msg = f"the corrected {ax} would be {q_w[r, a]} (not a finite number; tool length {comp.tool_length})"
+        else:
+            opt = "--max-correction" if linear[a] else "--max-rotary-correction"
+            msg = (f"the correction of {ax} by {q_w[r, a] - q_nom[r, a]:+.4f} {unit} ({ax}{q_nom[r, a]:.4f} -> "
+                   f"{ax}{q_w[r, a]:.4f}) exceeds the plausibility bound {bound[a]:g} {unit} ({opt})")
+        errs = comp.largest_errors(q_nom[r]) if np.isfinite(q_nom[r]).all() else ""
+        raise InputError(f"{src}, line {lines[r]}: {msg}; largest model errors there: {errs or 'none'} (are the "
+                         "model's values in its stated units?); nothing written")
+
+    def residual(self, err: np.ndarray, src: str, lines: np.ndarray, what: str) -> None:
+        """Refuse a predicted residual (mm, (n,)) above the tolerance or not finite."""
+        bad = ~(err <= self.tolerance)
+        if not bad.any():
+            return
+        r = int(np.flatnonzero(bad)[0])
+        raise InputError(f"{src}, line {lines[r]}: the predicted {what} error of the compensated program would be "
+                         f"{err[r] * 1e3:.4g} um, above the tolerance {self.tolerance * 1e3:g} um (too few decimals "
+                         "written (--precision), a tolerance below what they can hold, or an implausible model); "
+                         "nothing written")
+
+
+@dataclass
 class Report:
     """What a compensation run did and the predicted (model) accuracy of the written commands."""
 
@@ -485,10 +550,18 @@ class ProgramCompensator:
 
     def __init__(self, comp: Compensator, tolerance: float = 0.001, precision: int | None = None,
                  chunk_lines: int = 20000, max_subdivisions: int = 256,
-                 progress: Callable[[int, int], None] | None = None, residual_every: int = RESIDUAL_EVERY):
+                 progress: Callable[[int, int], None] | None = None, residual_every: int = RESIDUAL_EVERY,
+                 max_correction: float = MAX_CORRECTION_MM, max_rotary_correction: float = MAX_ROTARY_CORRECTION_DEG):
         self.comp = comp
         self.tolerance = float(tolerance)
         p = 4 if precision is None else int(precision)
+        for name, v in (("tolerance", self.tolerance), ("max_correction", max_correction),
+                        ("max_rotary_correction", max_rotary_correction)):
+            if not (np.isfinite(v) and v > 0):
+                raise InputError(f"{name} must be a positive finite number, got {v}")
+        if p < 0:
+            raise InputError(f"precision must be >= 0 decimals, got {p}")
+        self.guard = Guard(float(max_correction), float(max_rotary_correction), self.tolerance)
         self.min_decimals = (p, p + 1, p)  # mm, inch, deg
         self.chunk_lines = int(chunk_lines)
         self.chunk_chars = max(1024, 48 * self.chunk_lines)  # G-code blocks: about chunk_lines lines
@@ -513,6 +586,7 @@ class ProgramCompensator:
             self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
             self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
             self._src, self._done, self._moves_seen = str(src), 0, 0
+            self._cl_lines: np.ndarray | None = None  # CL data: the file line of each generated block
             first = 1
             if kind == "cl":
                 fout.write(f"%\n(mtcal compensate: CL data {src.name}, scope {self.comp.scope})\nG90 G21\n"
@@ -522,6 +596,7 @@ class ProgramCompensator:
                     lines = list(itertools.islice(fin, self.chunk_lines))
                     if not lines:
                         break
+                    self._refuse_binary("".join(lines), first)
                     fout.write(self._cl_chunk(lines, first).encode(enc))
                     first += len(lines)
                     self.report.lines += len(lines)
@@ -531,13 +606,25 @@ class ProgramCompensator:
                 fout.write(b"M30\n%\n")
             else:
                 for _, text, n, size in _read_blocks(fin, self.chunk_chars):
+                    self._refuse_binary(text, first)
                     fout.write(self._gcode_block(text, first))
                     first += n
                     self.report.lines += n
                     self._done += size
                     if self.progress:
                         self.progress(self._done, total)
+            if self.report.moves == 0:  # raised before the output is renamed into place: no file appears
+                what = "CL points (x y z i j k)" if kind == "cl" else "moves (G0/G1 blocks with axis words)"
+                raise InputError(f"{src}: no {what} found{' (empty file)' if total == 0 else ''}; nothing to "
+                                 "compensate, nothing written")
         return self.report
+
+    def _refuse_binary(self, text: str, first: int) -> None:
+        """A NUL byte: not a text program (a binary or corrupted file)."""
+        k = text.find("\x00")
+        if k >= 0:
+            raise InputError(f"{self._src}, line {first + gcode.count_lines(text[:k + 1]) - 1}: NUL byte: not a text "
+                             "NC program (binary or corrupted file)")
 
     # ---------------------------------------------------------------- G-code
     def _gcode_block(self, text: str, first: int) -> bytes:
@@ -568,11 +655,12 @@ class ProgramCompensator:
             ch.axes[:] = exact
         rep.moves += m
         q_nom = ch.axes
+        lines = self._cl_lines if self._cl_lines is not None else first + ch.rows
         lim = comp.machine.limits[3]
         bad = (q_nom[:, 3] < lim[0]) | (q_nom[:, 3] > lim[1])
         if bad.any():
             r = int(np.flatnonzero(bad)[0])
-            raise InputError(f"{self._src}, line {first + ch.rows[r]}: B = {q_nom[r, 3]:g} deg is outside its range "
+            raise InputError(f"{self._src}, line {lines[r]}: B = {q_nom[r, 3]:g} deg is outside its range "
                              f"[{lim[0]:g}, {lim[1]:g}]")
         unknown = np.isnan(q_nom).any(axis=1)
         if unknown.any():
@@ -580,9 +668,9 @@ class ProgramCompensator:
             if feed.any():
                 r = int(np.flatnonzero(feed)[0])
                 miss = "".join(a for a, u in zip(gcode.AXES, np.isnan(q_nom[r])) if u)
-                raise InputError(f"{self._src}, line {first + ch.rows[r]}: feed move while {miss} is not known yet "
+                raise InputError(f"{self._src}, line {lines[r]}: feed move while {miss} is not known yet "
                                  "(program every linear axis before the first G1)")
-            rep.uncompensated_rapids.extend((first + ch.rows[unknown]).tolist())
+            rep.uncompensated_rapids.extend(lines[unknown].tolist())
         known = ~unknown
         all_known = bool(known.all())
         if ch.inch.any():
@@ -617,8 +705,9 @@ class ProgramCompensator:
             q_w = np.where(hold, filled[ix, np.arange(5)][1:], q_w)
             units = np.where(hold, q_w / scale, units)
         self._hold = hold
+        self.guard.written(comp, q_w[known], q_nom[known], self._src, lines[known])
         # subdivision of feed moves whose mid-segment error exceeds the tolerance
-        subs = self._subdivide(ch, q_nom, q_w, known, scale, f)
+        subs = self._subdivide(ch, q_nom, q_w, known, scale, f, lines)
         # residual of what is written: every k-th move (global count) and every inserted point
         k = rep.residual_every
         kn = np.flatnonzero(known)
@@ -628,7 +717,10 @@ class ProgramCompensator:
         qn = np.concatenate([q_nom[ev]] + [s[0] for s in subs.values()])
         if len(qw):
             dp, ang = comp.residual(qw, qn)
-            rep.position.add(np.sqrt(np.einsum("ij,ij->i", dp, dp)))
+            err = np.sqrt(np.einsum("ij,ij->i", dp, dp))
+            self.guard.residual(err, self._src, np.concatenate([lines[ev]] + [np.full(len(s[1]), lines[r])
+                                                                            for r, s in subs.items()]), "tool-tip")
+            rep.position.add(err)
             rep.orientation_all.add(ang)
         if comp.scope == "full" and (len(kn) or subs):
             qw_all = np.concatenate([q_w[kn]] + [s[1] for s in subs.values()])
@@ -642,14 +734,18 @@ class ProgramCompensator:
                 rep.orientation.add(ang[w >= 1])
         return units, q_w, known, subs, scale, f
 
-    def _subdivide(self, ch, q_nom, q_w, known, scale, f) -> dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    def _subdivide(self, ch, q_nom, q_w, known, scale, f, lines
+                   ) -> dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """{row: (nominal (n, 5), written mm (n, 5), written units (n, 5))} for feed moves split into n pieces
-        (the last piece ends at the row's own point)."""
+        (the last piece ends at the row's own point).  Moves that start after a machine-coordinate line (G28, G53:
+        start unknown) are not split."""
         comp, rep = self.comp, self.report
         prev_n = np.vstack([self._prev[0][None] if self._prev else np.full((1, 5), np.nan), q_nom[:-1]])
         prev_w = np.vstack([self._prev[1][None] if self._prev else np.full((1, 5), np.nan), q_w[:-1]])
         self._prev = (q_nom[-1].copy(), q_w[-1].copy(), None)
         cand = (ch.motion == 1) & known & ~np.isnan(prev_n).any(axis=1)
+        if ch.fresh is not None:
+            cand &= ~ch.fresh
         subs: dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]] = {}
         if comp.zero or not cand.any():
             return subs
@@ -698,6 +794,9 @@ class ProgramCompensator:
             rows, ns = rows[~fin], np.minimum(self.max_sub, 2 * ns[~fin])
         for r in sorted(done):
             em, sn, sw, su = done[r]
+            at = np.full(len(em), lines[r])
+            self.guard.written(comp, sw, sn, self._src, at)
+            self.guard.residual(em, self._src, at, f"mid-segment (move split into {len(em)} pieces)")
             rep.mid_position.add(em)
             rep.subdivided_moves += 1
             subs[r] = (sn[:-1], sw[:-1], su)
@@ -740,9 +839,11 @@ class ProgramCompensator:
         HOLD = self._hold.tolist() if rows_slow else []
         for r in rows_slow:
             line = ch.lines[int(ch.rows[r])]
-            new, add, cont, sep = self._slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs)
+            new, add, cont, sep, feed = self._slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs)
             if new or add or cont:
                 gcode.edit(ch, r, new, add, sep, cont)
+                if feed:
+                    gcode.replace_feed(ch, r, feed)
                 rep.lines_changed += 1
                 rep.lines_inserted += len(cont)
         self._prev_mm = q_w[-1].copy()
@@ -751,7 +852,9 @@ class ProgramCompensator:
     @staticmethod
     def _slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs):
         """Words of an incremental row or a subdivided move, row by row: (new numbers {axis: text}, added words,
-        continuation lines, separator)."""
+        continuation lines, separator, new F of the row or None).  Inverse-time feed (G93, F = 1/minutes per
+        block): the n pieces of a split move are equal fractions 1/n of it, so each block carries F * n (a piece
+        merged into the next, having no word of its own, adds its fraction there)."""
         F = gcode.fmt
         sep = " " if " " in line else ""
         pts = [U[r]] if r not in subs else subs[r][2].tolist()
@@ -774,17 +877,22 @@ class ProgramCompensator:
                     add.append((a, F(v, dec[a])))
             elif not HOLD[r][a] and (absolute or v != 0):
                 add.append((a, F(v, dec[a])))
-        cont, last = [], first_pt
+        inv = ch.feed[r] if ch.feed is not None and r in subs and ch.feed[r] == ch.feed[r] else None
+        cont, last, pieces = [], first_pt, 0
         for p in pts[1:]:
             words = []
+            pieces += 1
             for a in range(5):
                 if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
                     v = p[a] if absolute else p[a] - last[a]
                     words.append(f"{gcode.AXES[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
             last = p
             if words:
+                if inv is not None:
+                    words.append(f"F{F(inv * len(pts) / pieces, FEED_DECIMALS)}")
+                    pieces = 0
                 cont.append((sep or " ").join(words))
-        return new, add, cont, sep
+        return new, add, cont, sep, None if inv is None else F(inv * len(pts), FEED_DECIMALS)
 
     def _render_fast(self, blk, units, q_w, known, subs, scale, f) -> bytes:
         """Output bytes of a block (byte-level path): the same edits as ``_render``, changed numbers written from
@@ -825,7 +933,7 @@ class ProgramCompensator:
                 li = int(blk.rows[r])
                 line = blk.line(li)
                 if r in subs:
-                    new, add, cont, sep = self._slow_row(blk, r, line, U, D, Pm, HOLD, scale, subs)
+                    new, add, cont, sep, _ = self._slow_row(blk, r, line, U, D, Pm, HOLD, scale, subs)
                     if not (new or add or cont):
                         continue
                     rep.lines_changed += 1
@@ -868,7 +976,11 @@ class ProgramCompensator:
             words = " ".join(f"{a}{gcode.fmt(v, p)}" for a, v in zip(gcode.AXES, q))
             text.append(("G1 " if self._first_cl else "") + words + "\n")
             self._first_cl = False
-        return self._gcode_chunk(text, first, exact=q_nom)
+        self._cl_lines = nos
+        try:
+            return self._gcode_chunk(text, first, exact=q_nom)
+        finally:
+            self._cl_lines = None
 
 
 # ---------------------------------------------------------------------------------------------- tables

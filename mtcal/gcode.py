@@ -27,7 +27,7 @@ ENCODING = "latin-1"  # byte-transparent
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)"
 # coordinate numbers: an axis letter, optional blanks, a number; the letter stays in the preceding text piece
 _SPLIT = re.compile(r"(?<=[XYZBCxyzbc])([ \t]*)(" + _NUM + ")")
-_COMMENT = re.compile(r"\([^)\n]*\)?|;[^\n]*")
+_COMMENT = re.compile(r"\([^)\r\n]*\)?|;[^\r\n]*")  # a comment ends at its line end (LF, CRLF or lone CR)
 _GWORD = re.compile(r"[Gg][ \t]*(\d+(?:\.\d*)?)")
 _NWORD = re.compile(r"^[ \t/]*[Nn][ \t]*(\d+)")
 # checks run once per chunk on the comment-masked text (C speed); each names the offending line
@@ -44,17 +44,77 @@ _CHECKS = (
 )
 
 _SUSPECT = set("AUVWIJKRauvwijkr=#[")
+_TCPM = ("tool centre point management (TCPM) moves the tool tip itself: axis commands of this program are not "
+         "machine axis positions, so they cannot be compensated; post-process without TCPM (machine axes)")
+_CYCLE = ("is a canned cycle: the controller generates its moves, which cannot be compensated; expand it into "
+          "G0/G1 moves in the CAM system")
+_FRAME = ("rotates, scales or shifts the coordinate system (tilted working plane): program coordinates are no "
+          "longer machine axis positions; post-process to machine axes without it")
+# multi-letter words and M codes with a meaning the compensation cannot follow (controller families: Heidenhain
+# M128 / PLANE, Siemens TRAORI / CYCLE800 / CYCLEnn / ROT / TRANS, Fanuc G43.4 / G68.2 / G8x are G codes below)
+_SPECIAL = re.compile(r"(?i)(?P<tcpm>TRAORI|(?<![A-Z])M[ \t]*0*128(?![\d.]))|(?P<frame>CYCLE[ \t]*800|PLANE|A?ROT|"
+                      r"A?TRANS|A?SCALE|A?MIRROR)|(?P<cycle>CYCLE[ \t]*\d+)")
+# a word's number must end where the word ends: not followed by a point, an exponent, a sign or (after blanks)
+# another number; the number itself is matched atomically so that it cannot give back digits
+_BADNUM = re.compile(r"[A-Za-z][ \t]*(?>[-+]?(?:\d+\.?\d*|\.\d+))(?:[ \t]*[-+.\d]|[eE][-+]?\d)\S*")
+
+
+def _badnum_reason(word: str) -> str:
+    tail = word.lstrip("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz \t+-")
+    if re.match(r"[\d.]*[eE]", tail):
+        return "exponent notation is not G-code"
+    if re.match(r"[\d.]+[ \t]+[-+.\d]", tail):
+        return ("blanks inside a number: Fanuc ignores them (X1 0.5 = X10.5), other controllers read a second "
+                "number; write the number without blanks")
+    if tail.count(".") > 1:
+        return "more than one decimal point"
+    return "stray characters after the number"
+
+
+def _g_refusal(gs: str) -> str | None:
+    """Why the G code ``gs`` (its number as written) is refused, or None when it is handled or passed through."""
+    v = float(gs)
+    if v in (2.0, 3.0):
+        return f"G{gs}: circular arcs cannot be compensated; linearise the toolpath (G1) in the CAM system"
+    if v in (43.4, 43.5):
+        return f"G{gs}: {_TCPM}"
+    if v in (73.0, 74.0, 76.0) or 81.0 <= v <= 89.0:
+        return f"G{gs} {_CYCLE}"
+    if v in (51.0, 51.1, 52.0, 92.0) or 68.0 <= v < 69.0:
+        return f"G{gs} {_FRAME}"
+    if v in _HANDLED_G or v in _PASS_G:
+        return None
+    return f"G{gs} is not supported (it moves in another frame, runs a cycle or changes how coordinates are read)"
 
 
 def _check(code: str, first_line: int, source: str, machine: str) -> None:
+    """Raise for the first problem found in ``code`` (comments masked): words with a meaning the compensation
+    cannot follow (TCPM, cycles, frames, refused G codes), numbers that are not one token, then the generic
+    checks."""
+    m = _SPECIAL.search(code)
+    if m:
+        msg = f": {_TCPM}" if m.group("tcpm") else f" {_CYCLE}" if m.group("cycle") else f" {_FRAME}"
+        raise _error(source, _line_of(code, m.start(), first_line), f"{m.group()!r}{msg}")
+    for g in _GWORD.finditer(code):
+        msg = _g_refusal(g.group(1))
+        if msg:
+            raise _error(source, _line_of(code, g.start(), first_line), msg)
+    m = _BADNUM.search(code)
+    if m:
+        raise _error(source, _line_of(code, m.start(), first_line),
+                     f"{m.group()!r} is not one number ({_badnum_reason(m.group())})")
     for rx, msg in _CHECKS:
         m = rx.search(code)
         if m:
             raise _error(source, _line_of(code, m.start(), first_line), msg.format(word=m.group(), machine=machine))
 
+
 # G codes that do not change how coordinates are interpreted (passed through)
-_PASS_G = {4.0, 9.0, 15.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 43.0, 49.0, 54.0, 55.0, 56.0, 57.0, 58.0, 59.0,
-           54.1, 61.0, 64.0, 80.0, 93.0, 94.0, 95.0, 96.0, 97.0}
+_PASS_G = {9.0, 15.0, 17.0, 18.0, 19.0, 40.0, 41.0, 42.0, 43.0, 49.0, 50.0, 50.1, 54.0, 55.0, 56.0, 57.0, 58.0,
+           59.0, 54.1, 61.0, 64.0, 69.0, 80.0, 94.0, 95.0, 96.0, 97.0}  # 49, 50, 50.1, 69, 80: cancels
+# G codes parse_chunk handles: motion, G90/G91, G20/G21, dwell, reference-point return, machine coordinates,
+# inverse-time feed
+_HANDLED_G = {0.0, 1.0, 4.0, 20.0, 21.0, 28.0, 30.0, 53.0, 90.0, 91.0, 93.0}
 _HOME_G = {28.0, 30.0}  # reference-point return: allowed without axis words, positions unknown afterwards
 
 
@@ -67,6 +127,8 @@ class ModalState:
     inch: bool = False       # G20 / G21
     position: np.ndarray = field(default_factory=lambda: np.array([np.nan, np.nan, np.nan, 0.0, 0.0]))
     decimals: np.ndarray = field(default_factory=lambda: np.full(5, -1, dtype=np.int64))
+    inverse_time: bool = False  # G93 (F = 1 / minutes per block) until G94 / G95
+    fresh: bool = False      # a machine-coordinate move (G28 / G30 / G53) since the last motion row
 
 
 @dataclass
@@ -89,6 +151,8 @@ class Chunk:
     motion: np.ndarray                   # (m,) 0 rapid / 1 feed
     absolute: np.ndarray                 # (m,) bool
     inch: np.ndarray                     # (m,) bool
+    fresh: np.ndarray | None = None      # (m,) bool: a machine-coordinate move before the row (start unknown)
+    feed: np.ndarray | None = None       # (m,) F of inverse-time (G93) feed rows, NaN elsewhere; None: no G93
 
 
 def _mask_comments(text: str) -> str:
@@ -96,7 +160,8 @@ def _mask_comments(text: str) -> str:
 
 
 def _line_of(text: str, pos: int, first_line: int) -> int:
-    return first_line + text.count("\n", 0, pos)
+    """1-based line of character ``pos`` (LF, CRLF and lone CR end a line)."""
+    return first_line + count_lines(text[:pos]) - (pos > 0 and text[pos - 1] not in "\r\n")
 
 
 def _error(source: str, line: int, msg: str) -> InputError:
@@ -116,6 +181,71 @@ def _decimals(nums: list[str]) -> np.ndarray:
     return np.where(has, length - dot - 1, 0).astype(np.int64)
 
 
+@dataclass
+class _Modes:
+    """Per-line modal changes of a chunk from its G words ({line index: value})."""
+
+    motion: dict[int, int] = field(default_factory=dict)
+    absolute: dict[int, bool] = field(default_factory=dict)
+    inch: dict[int, bool] = field(default_factory=dict)
+    inverse_time: dict[int, bool] = field(default_factory=dict)
+    machine: dict[int, float] = field(default_factory=dict)  # G28 / G30 / G53 lines: their axis words are no move
+    dwell: set[int] = field(default_factory=set)              # G4 lines: X is a time
+
+    def plain(self) -> bool:
+        return not (self.motion or self.absolute or self.inch or self.inverse_time or self.machine)
+
+
+def _g_modes(code: str, starts: np.ndarray, first_line: int, source: str) -> _Modes:
+    """The G words of a chunk (comments masked), line by line; a refused G code raises naming its line."""
+    md = _Modes()
+    if "G" not in code and "g" not in code:
+        return md
+    gm = list(_GWORD.finditer(code))
+    gl = np.searchsorted(starts, [g.start() for g in gm], "right") - 1
+    for g, i in zip(gm, gl.tolist()):
+        v, gs = float(g.group(1)), g.group(1)
+        if v == 0 or v == 1:
+            md.motion[i] = int(v)
+        elif v == 90 or v == 91:
+            md.absolute[i] = v == 90
+        elif v == 20 or v == 21:
+            md.inch[i] = v == 20
+        elif v in (93.0, 94.0, 95.0):
+            md.inverse_time[i] = v == 93
+        elif v == 4:
+            md.dwell.add(i)
+        elif v in _HOME_G or v == 53:
+            md.machine[i] = v
+        else:
+            msg = _g_refusal(gs)
+            if msg:
+                raise _error(source, first_line + i, msg)
+    return md
+
+
+def _machine_move(g: float, words: list[tuple[int, float]], pos: np.ndarray, absolute: bool, source: str,
+                  line: int) -> np.ndarray:
+    """Position (mm, deg; NaN = unknown) after a machine-coordinate line, which is passed through uncompensated:
+    G53 (a move in machine coordinates, this block only) or G28 / G30 (reference-point return).  The named axes (for
+    G28 / G30 without axis words: X Y Z) are afterwards at a machine position whose workpiece coordinates this
+    program does not tell: unknown until programmed again.  G28 / G30 words name an intermediate point; only
+    zero increments (G91 G28 Z0: no intermediate move) are accepted, as the move to it could not be compensated."""
+    name = f"G{g:g}"
+    if g == 53 and not absolute:
+        raise _error(source, line, "G53 under G91: machine coordinates are absolute; program G90 before G53")
+    if g != 53 and words and (absolute or any(v != 0 for _, v in words)):
+        w = " ".join(f"{AXES[a]}{v:g}" for a, v in words)
+        raise _error(source, line, f"{name} {w} moves to an intermediate point first, which cannot be compensated; "
+                                   f"write it with zero increments (e.g. G91 {name} Z0)")
+    pos = pos.copy()
+    if words:
+        pos[[a for a, _ in words]] = np.nan
+    elif g != 53:
+        pos[:3] = np.nan
+    return pos
+
+
 def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: str,
                 min_decimals: tuple[int, int, int] = (4, 5, 4), machine: str = "dmu50") -> Chunk:
     """Parse ``lines`` (with their line ends) starting from ``state``; ``state`` is advanced to the chunk end.
@@ -127,39 +257,14 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     commented = "(" in text or ";" in text
     code = _mask_comments(text) if commented else text
     chars = set(code)
-    suspect = bool(chars & _SUSPECT) or _CHECKS[4][0].search(code) is not None
+    suspect = (bool(chars & _SUSPECT) or _CHECKS[-1][0].search(code) is not None or "128" in code
+               or _BADNUM.search(code) is not None)
     if suspect:  # find which check, for the message
         _check(code, first_line, source, machine)
     n = len(lines)
     starts = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.fromiter(map(len, lines), np.int64, n), out=starts[1:])
-    # per-line modal changes from the G words (C-speed search, Python only per G word)
-    motion_set: dict[int, int] = {}
-    abs_set: dict[int, bool] = {}
-    inch_set: dict[int, bool] = {}
-    home: set[int] = set()
-    dwell: set[int] = set()
-    if "G" in code or "g" in code:
-        gm = list(_GWORD.finditer(code))
-        gl = np.searchsorted(starts, [g.start() for g in gm], "right") - 1
-        for g, i in zip(gm, gl.tolist()):
-            v, gs = float(g.group(1)), g.group(1)
-            if v == 0 or v == 1:
-                motion_set[i] = int(v)
-            elif v == 2 or v == 3:
-                raise _error(source, first_line + i, f"G{gs}: circular arcs cannot be compensated; linearise the "
-                                                     "toolpath (G1) in the CAM system")
-            elif v == 90 or v == 91:
-                abs_set[i] = v == 90
-            elif v == 20 or v == 21:
-                inch_set[i] = v == 20
-            elif v == 4:
-                dwell.add(i)
-            elif v in _HOME_G:
-                home.add(i)
-            elif v not in _PASS_G:
-                raise _error(source, first_line + i, f"G{gs} is not supported (it moves in another frame, runs a "
-                                                     "cycle or changes how coordinates are read)")
+    md = _g_modes(code, starts, first_line, source)
     # one split of the whole chunk: [text, ws, number, text, ws, number, ..., text]
     pieces = _SPLIT.split(code)
     nn = (len(pieces) - 1) // 3
@@ -174,15 +279,17 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     numpiece = np.arange(nn, dtype=np.int64) * 3 + 2
     line_of = np.searchsorted(starts, off[numpiece], "right") - 1
     nums = pieces[2::3]
-    if dwell:  # G4 X...: a dwell time, not a coordinate
-        keep = ~np.isin(line_of, list(dwell))
+    special: dict[int, list[tuple[int, float]]] = {}  # axis words of machine-coordinate lines
+    if md.dwell or md.machine:  # G4 X...: a dwell time; G28 / G53 words: machine positions, not coordinates
+        drop = np.isin(line_of, list(md.dwell | set(md.machine)))
+        for k in np.flatnonzero(drop).tolist():
+            i = int(line_of[k])
+            if i in md.machine:
+                a = AXES.index(code[off[numpiece[k] - 1] - 1].upper())
+                special.setdefault(i, []).append((a, float(nums[k])))
+        keep = ~drop
         numpiece, line_of = numpiece[keep], line_of[keep]
         nums = [nums[k] for k in np.flatnonzero(keep).tolist()]
-    if home:
-        bad = np.isin(line_of, list(home))
-        if bad.any():
-            raise _error(source, first_line + int(line_of[bad][0]), "a reference-point return (G28/G30) with axis "
-                                                                    "words cannot be compensated")
     buf = np.frombuffer(code.encode(ENCODING), dtype=np.uint8)
     ax = buf[off[numpiece - 1] - 1] & 0xDF  # the letter before the blanks, upper case
     newrow = np.ones(len(line_of), dtype=bool)
@@ -201,6 +308,9 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
         lut[ord(c)] = j
     axi = lut[ax]
     vals = np.array(nums, dtype=np.float64) if nums else np.zeros(0)
+    if not np.isfinite(vals).all():  # hundreds of digits read as inf
+        k = int(np.flatnonzero(~np.isfinite(vals))[0])
+        raise _error(source, first_line + int(line_of[k]), f"number {nums[k][:20]}... is too large")
     decs = _decimals(nums)
 
     given = np.full((m, 5), np.nan)
@@ -223,7 +333,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     axes = np.empty((m, 5))
     decimals = np.empty((m, 5), dtype=np.int64)
     mins = np.array(min_decimals)
-    simple = not (abs_set or inch_set or home or motion_set) and state.absolute and not state.inch
+    simple = md.plain() and state.absolute and not state.inch and not state.inverse_time and not state.fresh
     if simple:  # the common case: one vectorised forward fill
         motion[:] = state.motion
         absolute[:] = True
@@ -247,17 +357,22 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     r = 0
     pos_ = state.position.copy()
     dmax = state.decimals.copy()
+    fresh = np.zeros(m, dtype=bool)
+    inverse = np.zeros(m, dtype=bool)
     for i in range(n):
-        if i in motion_set:
-            state.motion = motion_set[i]
-        if i in abs_set:
-            state.absolute = abs_set[i]
-        if i in inch_set:
-            if inch_set[i] != state.inch:
+        if i in md.motion:
+            state.motion = md.motion[i]
+        if i in md.absolute:
+            state.absolute = md.absolute[i]
+        if i in md.inch:
+            if md.inch[i] != state.inch:
                 dmax = np.where(LINEAR, -1, dmax)  # decimals of inch and mm words are not comparable
-            state.inch = inch_set[i]
-        if i in home:
-            pos_ = np.array([np.nan, np.nan, np.nan, pos_[3], pos_[4]])
+            state.inch = md.inch[i]
+        if i in md.inverse_time:
+            state.inverse_time = md.inverse_time[i]
+        if i in md.machine:
+            pos_ = _machine_move(md.machine[i], special.get(i, []), pos_, state.absolute, source, first_line + i)
+            state.fresh = True
         if r < m and rows[r] == i:
             g = given[r]
             scale = np.where(LINEAR, INCH if state.inch else 1.0, 1.0)
@@ -277,11 +392,32 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
             motion[r] = state.motion
             absolute[r] = state.absolute
             inch[r] = state.inch
+            fresh[r], state.fresh = state.fresh, False
+            inverse[r] = state.inverse_time
             r += 1
     state.position = pos_
     state.decimals = dmax
+    feed = _inverse_feeds(code, starts, rows_a, inverse & (motion == 1), first_line, source) if inverse.any() else None
     return Chunk(lines, first_line, pieces, numidx, tail, rows_a, axes, present, given, decimals, motion,
-                     absolute, inch)
+                 absolute, inch, fresh, feed)
+
+
+_FWORD = re.compile(r"[Ff][ \t]*(" + _NUM + ")")
+
+
+def _inverse_feeds(code: str, starts: np.ndarray, rows: np.ndarray, sel: np.ndarray, first_line: int,
+                   source: str) -> np.ndarray:
+    """F (1/min) of the inverse-time (G93) feed rows ``sel`` (NaN elsewhere); every such block needs its own F
+    (ISO 6983 / Fanuc / LinuxCNC: inverse-time F is not modal)."""
+    feed = np.full(len(rows), np.nan)
+    for r in np.flatnonzero(sel).tolist():
+        i = int(rows[r])
+        f = _FWORD.search(code, int(starts[i]), int(starts[i + 1]))
+        if f is None or not float(f.group(1)) > 0:
+            raise _error(source, first_line + i, "inverse-time feed (G93) move without a positive F word: each G93 "
+                                                 "feed block needs its own F (1/min)")
+        feed[r] = float(f.group(1))
+    return feed
 
 
 def fmt(value: float, decimals: int) -> str:
@@ -324,15 +460,39 @@ def edit(ch: Chunk, r: int, new: dict[int, str], added: list[tuple[int, str]], s
         if m:
             eol = m.group()
             tp = tp[: m.end()] + "".join(c + eol for c in cont) + tp[m.end():]
-        else:  # last line of the file without a line end
-            tp = tp + "".join("\n" + c for c in cont)
+        else:  # last line of the file without a line end: the file's own line end
+            eol = next((e for e in map(line_end, ch.lines) if e), "\n")
+            tp = tp + "".join(eol + c for c in cont)
     p[t] = tp
+
+
+_FEED_SCAN = re.compile(r"\([^)\r\n]*\)?|;[^\r\n]*|[Ff][ \t]*(" + _NUM + ")")
+
+
+def replace_feed(ch: Chunk, r: int, value: str) -> None:
+    """Replace the number of motion row r's F word (outside comments) by ``value``, in place."""
+    p = ch.pieces
+    idx = ch.numidx[r][ch.numidx[r] >= 0]
+    head, tail = int(idx.min()) - 2, int(ch.tail[r])
+    for j in range(head, tail + 1, 3):  # the row's text pieces: before, between and after its numbers
+        t = p[j]
+        a = max(t.rfind("\n"), t.rfind("\r")) + 1 if j == head else 0
+        e = _EOL.search(t) if j == tail else None
+        for m in _FEED_SCAN.finditer(t, a, e.start() if e else len(t)):
+            if m.group(1):
+                p[j] = t[: m.start(1)] + value + t[m.end(1):]
+                return
+    raise RuntimeError(f"row {r} has no F word")  # parse_chunk refuses G93 feed rows without F: a bug
+
+
+CL_UNIT_TOLERANCE = 1e-3  # allowed |(i, j, k)| - 1: unit vectors written to 3 decimals or more
 
 
 def parse_cl(lines: list[str], first_line: int, source: str) -> tuple[np.ndarray, np.ndarray]:
     """CL data, one point a line: ``x y z i j k`` (workpiece frame, mm; tool axis) separated by blanks or commas,
-    optionally after ``GOTO/``; blank lines and lines starting with ``#``, ``(``, ``;`` or ``$$`` are skipped.
-    Returns (poses (m, 6), 1-based line numbers (m,))."""
+    optionally after ``GOTO/``; blank lines and lines starting with ``#``, ``(``, ``;`` or ``$$`` are skipped;
+    numbers must be finite and (i, j, k) a unit vector within ``CL_UNIT_TOLERANCE`` (then normalised: the digits
+    written are the only error; a longer or shorter vector is not a tool axis).  Returns (poses (m, 6), 1-based line numbers (m,))."""
     poses, nos = [], []
     for i, ln in enumerate(lines):
         s = ln.strip()
@@ -347,7 +507,13 @@ def parse_cl(lines: list[str], first_line: int, source: str) -> tuple[np.ndarray
             raise _error(source, first_line + i, f"CL data must be 'x y z i j k' numbers, got {ln.strip()!r}") from None
         if len(v) != 6:
             raise _error(source, first_line + i, f"CL data needs 6 numbers (x y z i j k), got {len(v)}")
-        poses.append(v)
+        if not np.isfinite(v).all():
+            raise _error(source, first_line + i, f"CL data must be finite numbers, got {ln.strip()!r}")
+        norm = float(np.linalg.norm(v[3:]))
+        if abs(norm - 1) > CL_UNIT_TOLERANCE:
+            raise _error(source, first_line + i, f"tool axis (i, j, k) = {tuple(v[3:])} is not a unit vector "
+                                                 f"(length {norm:.6g})")
+        poses.append(v[:3] + [c / norm for c in v[3:]])
         nos.append(first_line + i)
     return np.array(poses, dtype=float).reshape(-1, 6), np.array(nos, dtype=np.int64)
 
@@ -434,6 +600,8 @@ class Block:
     motion: np.ndarray
     absolute: np.ndarray
     inch: np.ndarray
+    fresh = None                         # never on this path (G28 / G53 / G93 go through parse_chunk)
+    feed = None
 
     @property
     def n_lines(self) -> int:
@@ -459,17 +627,20 @@ def _comment_spans(text: str) -> list[tuple[int, int]]:
     spans: list[tuple[int, int]] = []
     n, i = len(text), 0
     find = text.find
+
+    def eol(k: int) -> int:  # where the line of character k ends (its CR of a CR LF; no lone CR here)
+        e = find("\n", k)
+        return n if e < 0 else e - (text[e - 1] == "\r")
+
     a, b = find("("), find(";")
     while a >= 0 or b >= 0:
         if b < 0 or 0 <= a < b:  # ( ... ) or ( ... to the line end
-            e = find("\n", a)
-            e = n if e < 0 else e
+            e = eol(a)
             c = find(")", a, e)
             end = c + 1 if c >= 0 else e
             spans.append((a, end))
         else:  # ; ... to the line end
-            e = find("\n", b)
-            end = n if e < 0 else e
+            end = eol(b)
             spans.append((b, end))
         i = end
         if a >= 0 and a < i:
@@ -562,11 +733,26 @@ def _numbers(v: np.ndarray, words: np.ndarray, start: np.ndarray, signed: bool) 
     return val, dec, body + run
 
 
+def _ends_clean(v: np.ndarray, code: np.ndarray, end: np.ndarray) -> bool:
+    """No number ends in a sign, a point or (after blanks) another number, and none runs on into an exponent
+    (``v``: byte codes, padded; ``code``: the bytes; ``end``: where each number ends)."""
+    nb = end.copy()
+    blank = v[nb] == 12
+    while blank.any():
+        nb += blank
+        blank = v[nb] == 12
+    c = v[nb]
+    if ((c <= 11) | (c == 22)).any():
+        return False
+    e = end[end < len(code)]
+    return not (((code[e] | 0x20) == ord("e")) & ((v[e + 1] <= 11) | (v[e + 1] == 22))).any()
+
+
 def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tuple[int, int, int] = (4, 5, 4)
                ) -> Block | None:
     """Parse a block of whole lines on the fast path, or None if it needs ``parse_chunk`` (see above).  ``state``
     is advanced only when a Block is returned."""
-    if not state.absolute or state.inch or not text:
+    if not state.absolute or state.inch or state.inverse_time or state.fresh or not text:
         return None
     if "\r" in text and text.count("\r") != text.count("\r\n"):
         return None  # lone CR line ends
@@ -634,6 +820,13 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
     if nums is None:
         return None
     vals, decs, nend = nums
+    # every word's number ends where the word ends (no 'X1.2.3', 'X1e2', 'X1 0.5', 'X1-2'): else parse_chunk refuses
+    osel = lc == 19
+    other = _numbers(v, words, nxt[osel], True) if osel.any() else (None, None, nend[:0])
+    if other is None or not _ends_clean(v, code_b, np.concatenate([nend, other[2], g[2] if gsel.any() else nend[:0]])):
+        return None
+    if osel.any() and (((code_b[pos[osel]] | 0x20) == ord("m")) & (other[0] == 128)).any():
+        return None  # M128 (TCPM): parse_chunk refuses it
     axi = lc[asel] - np.uint8(13)
     line_of = line_no[asel]
     k = len(apos)

@@ -193,34 +193,47 @@ class Machine:
         return e
 
     # ------------------------------------------------------------------ kinematics
-    def forward(self, axes, errors=None, tool_length: float = 0.0) -> np.ndarray:
-        """Pose (..., 6) = [x, y, z (mm), i, j, k] in the workpiece frame; exact error-inclusive when ``errors``."""
+    # ``check=False`` skips the input checks (limits, NaN, error names) for batch code that checked its input
+    # already (compensation of long programs): axes (..., n_axes) and errors (..., n_errors) arrays, as generated.
+    def _in(self, axes, errors, check: bool, want_errors: bool = True):
+        if not check:
+            return axes, errors
         a = self.check_axes(axes)
+        return a, (self.error_vector(errors, a.shape[:-1]) if want_errors else None)
+
+    def forward(self, axes, errors=None, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+        """Pose (..., 6) = [x, y, z (mm), i, j, k] in the workpiece frame; exact error-inclusive when ``errors``."""
+        a, e = self._in(axes, errors, check, errors is not None)
         if errors is None:
             return self._np.forward(a, tool_length)
-        return self._np.forward_errors(a, self.error_vector(errors, a.shape[:-1]), tool_length)
+        return self._np.forward_errors(a, e, tool_length)
 
-    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0) -> np.ndarray:
+    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
         """Pose deviation (..., 6) caused by the errors: first order (order=1) or exact (order=None)."""
-        a = self.check_axes(axes)
-        e = self.error_vector(errors, a.shape[:-1])
+        a, e = self._in(axes, errors, check)
         if order == 1:
             return self._np.deviation_first_order(a, e, tool_length)
         if order is None:
             return self._np.forward_errors(a, e, tool_length) - self._np.forward(a, tool_length)
         raise InputError(f"order must be 1 (first order) or None (exact), got {order!r}")
 
-    def jacobian_axes(self, axes, errors=None, tool_length: float = 0.0) -> np.ndarray:
-        """d pose / d axes (..., 6, n_axes): per mm and per degree; at the given errors (held fixed) if any."""
-        a = self.check_axes(axes)
-        if errors is None:
-            return self._np.jacobian_axes(a, tool_length)
-        return self.forward_with_jacobian(a, errors, tool_length)[1]
+    def correction_first_order(self, axes, errors, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+        """(..., 6): the linear-axis step (mm) that cancels the first-order tool-tip deviation, and the tool-axis
+        deviation in the machine frame (derive/kinematics.py, generated ``correction_first_order``)."""
+        a, e = self._in(axes, errors, check)
+        return self._np.correction_first_order(a, e, tool_length)
 
-    def forward_with_jacobian(self, axes, errors=None, tool_length: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    def jacobian_axes(self, axes, errors=None, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+        """d pose / d axes (..., 6, n_axes): per mm and per degree; at the given errors (held fixed) if any."""
+        if errors is None:
+            return self._np.jacobian_axes(self._in(axes, None, check, False)[0], tool_length)
+        return self.forward_with_jacobian(axes, errors, tool_length, check)[1]
+
+    def forward_with_jacobian(self, axes, errors=None, tool_length: float = 0.0,
+                              check: bool = True) -> tuple[np.ndarray, np.ndarray]:
         """(pose (..., 6), d pose / d axes (..., 6, n_axes)) of the exact error-inclusive model in one pass."""
-        a = self.check_axes(axes)
-        out = self._np.forward_errors_with_jacobian(a, self.error_vector(errors, a.shape[:-1]), tool_length)
+        a, e = self._in(axes, errors, check)
+        out = self._np.forward_errors_with_jacobian(a, e, tool_length)
         return out[..., 0], out[..., 1:]
 
     def jacobian_errors(self, axes, tool_length: float = 0.0) -> np.ndarray:

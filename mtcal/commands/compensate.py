@@ -5,7 +5,15 @@ import argparse
 import sys
 import time
 
-from mtcal.compensate import RESIDUAL_EVERY, Compensator, ProgramCompensator, iso_types, write_tables
+from mtcal.compensate import (
+    MAX_CORRECTION_MM,
+    MAX_ROTARY_CORRECTION_DEG,
+    RESIDUAL_EVERY,
+    Compensator,
+    ProgramCompensator,
+    iso_types,
+    write_tables,
+)
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
 
@@ -37,6 +45,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="input kind (default: by extension, .cl/.cls/.apt = CL data)")
     p.add_argument("--outside", choices=("hold", "error"), default="hold",
                    help="axis positions outside an error table: hold the end values and count them, or stop")
+    p.add_argument("--max-correction", type=float, default=MAX_CORRECTION_MM, metavar="MM",
+                   help="refuse to write a program with a linear-axis correction larger than MM: a model in the wrong "
+                        f"units (default {MAX_CORRECTION_MM:g})")
+    p.add_argument("--max-rotary-correction", type=float, default=MAX_ROTARY_CORRECTION_DEG, metavar="DEG",
+                   help=f"the same for rotary axes (default {MAX_ROTARY_CORRECTION_DEG:g})")
     p.add_argument("--tables", metavar="DIR", help="also write per-axis compensation tables (CSV) to DIR")
     p.add_argument("--residual-every", type=int, default=RESIDUAL_EVERY, metavar="K",
                    help="evaluate the exact error-inclusive residual of what is written on every K-th move (and on "
@@ -60,7 +73,8 @@ def run(args: argparse.Namespace) -> int:
             print(f"mtcal compensate: {done / total:6.1%} of {args.program}", file=sys.stderr)
 
     pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress,
-                            residual_every=args.residual_every)
+                            residual_every=args.residual_every, max_correction=args.max_correction,
+                            max_rotary_correction=args.max_rotary_correction)
     rep = pc.run(args.program, args.output, args.input)
     dt = time.perf_counter() - t0
     tables = write_tables(model, comp.machine, args.tables) if args.tables else []
