@@ -22,7 +22,7 @@ import numpy as np
 
 from mtcal.io import atomic_write_text, dumps
 
-STEPS = 6
+STEPS = 7
 log = logging.getLogger(__name__)
 
 
@@ -159,6 +159,26 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     _plot_compensation(plots / "compensation_before_after.png", before, after)
     prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
 
+    # 4b. several stations -------------------------------------------------------------------------------
+    from mtcal.demo_stations import run_stations
+
+    def volumetric(mdl) -> float:
+        d = m.deviation(grid, mdl.errors_at(m, grid, "hold"), order=None)[:, :3] - dev_true
+        return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
+
+    def compensate(mdl):
+        from mtcal.model import save_model
+        p = out / "model_stations.json"
+        save_model(mdl, p)
+        if m.name == BUNDLED:
+            return _compensate_program(m, truth, p, out)[:2]
+        return _compensate_path(m, truth, mdl, np.random.default_rng(0))[:2]
+    summary["stations"] = run_stations(m, truth, planted, volumetric, compensate)
+    st = summary["stations"]
+    prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
+              f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
+              f"stations, joint fit) at equal measuring time")
+
     # 5. diagnose ----------------------------------------------------------------------------------------
     diag = _cli(["diagnose", str(rec_path), f"--tracker={tracker}", "--plots", str(plots), *mach])
     summary["diagnose"] = {"base_sigma": diag["base_sigma"],
@@ -263,6 +283,9 @@ def report(s: dict, out: Path) -> str:
              f"identified model minus truth: RMS {i['volumetric_model_minus_true_rms_um']:.1f} um.", ""]
     for png in sorted((out / "plots").glob("identify_*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
+    if "stations" in s:
+        from mtcal.demo_stations import report_lines
+        lines += report_lines(s["stations"])
     lines += ["", "## Plan: predicted vs observed uncertainty of one round", "",
               "`mtcal plan` at the campaign's tracker position predicts the standard uncertainty of one round; the "
               "campaign's experimental standard deviation over its 4 rounds (itself uncertain by about 40 %) at the "
@@ -338,6 +361,14 @@ def print_summary(s: dict) -> None:
     print(f"  compensate: tool tip on the true machine max {c['true_error_before_max_um']:.1f} -> "
           f"{c['true_error_after_max_um']:.1f} um, RMS {c['true_error_before_rms_um']:.1f} -> "
           f"{c['true_error_after_rms_um']:.1f} um ({', '.join(c['iso_16907'].get('covered', []))})")
+    if "stations" in s:
+        st = s["stations"]
+        print("  stations : model - truth RMS " + ", ".join(
+            f"{lab} {st[k]['model_minus_true_rms_um']:.1f} um" for lab, k in (
+                ("one station three-point", "one_station_three_point"), ("joint", "one_station_joint"),
+                ("four stations", "four_stations_joint")))
+              + f"; compensated program RMS {st['one_station_three_point']['compensated_rms_um']:.1f} -> "
+                f"{st['four_stations_joint']['compensated_rms_um']:.1f} um")
     print(f"  diagnose : base sigma {d['base_sigma'] * 1e3:.2f} um; "
           + ("; ".join(f"{e['name']} {e.get('axis') or ''} {_estimate(e)}" for e in d["effects"]) or
              "nothing significant") + "  (planted: " + "; ".join(_planted(e) for e in d["planted"]) + ")")
