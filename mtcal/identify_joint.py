@@ -96,9 +96,9 @@ class JointResult:
 # ----------------------------------------------------------------------------------------------- layout
 def _axes_matrix(m: Machine, rec: Recording) -> np.ndarray:
     """All axis positions (n_rows, n_axes): the measured axis at ``position``, others from pos_<AXIS> or zero."""
-    q = m.axis_vector({a: v for a, v in (rec.other_positions or {}).items() if a in m.axes}, lead=(len(rec),)) \
-        if rec.other_positions else np.zeros((len(rec), len(m.axes)))
-    q = np.array(q, dtype=float)
+    q = np.zeros((len(rec), len(m.axes)))
+    for a, v in (rec.other_positions or {}).items():
+        q[:, m.index(a)] = v
     for a in np.unique(rec.axis):
         rows = rec.axis == a
         q[rows, m.index(str(a))] = rec.position[rows]

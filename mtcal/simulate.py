@@ -116,18 +116,21 @@ _PLAN_KEYS = {"tracker", "stations", "rounds", "axes", "points", "bidirectional"
               "measure_s", "reflector_change_s", "round_pause_s", "axis_change_s", "temperature_c"}
 
 
+def _xyz(v: Any, what: str) -> tuple[float, float, float]:
+    """[x, y, z] (three finite numbers, mm) or an InputError naming ``what``."""
+    try:
+        xyz = tuple(float(c) for c in v)
+    except (TypeError, ValueError):
+        xyz = ()
+    if len(xyz) != 3 or not all(math.isfinite(c) for c in xyz):
+        raise InputError(f"{what} must be [x, y, z] in mm, got {v!r}")
+    return xyz
+
+
 def _points(raw: Any, where: str) -> dict[str, tuple]:
     if not isinstance(raw, Mapping) or len(raw) < 3:
         raise InputError(f"{where}: needs >= 3 labelled points {{label: [x, y, z]}}, got {raw!r}")
-    out = {}
-    for k, v in raw.items():
-        try:
-            xyz = tuple(float(c) for c in v)
-        except (TypeError, ValueError):
-            xyz = ()
-        if len(xyz) != 3 or not all(math.isfinite(c) for c in xyz):
-            raise InputError(f"{where}: point {k!r} must be [x, y, z] in mm, got {v!r}")
-        out[str(k)] = xyz
+    out = {str(k): _xyz(v, f"{where}: point {k!r}") for k, v in raw.items()}
     pts = np.array(list(out.values()))
     c = pts - pts.mean(axis=0)
     if np.linalg.matrix_rank(c, tol=1e-6 * max(1.0, np.abs(c).max())) < 2:
@@ -148,26 +151,12 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
     defaults = default_positions(m)
     kw: dict[str, Any] = {}
     if "tracker" in raw:
-        try:
-            t = tuple(float(c) for c in raw["tracker"])
-        except (TypeError, ValueError):
-            t = ()
-        if len(t) != 3 or not all(math.isfinite(c) for c in t):
-            raise InputError(f"{source}: tracker must be [x, y, z] in mm, got {raw['tracker']!r}")
-        kw["tracker"] = t
+        kw["tracker"] = _xyz(raw["tracker"], f"{source}: tracker")
     if "stations" in raw:
         st = raw["stations"]
         if not isinstance(st, Mapping) or not st:
             raise InputError(f"{source}: stations must be an object {{label: [x, y, z]}} (mm)")
-        kw["stations"] = {}
-        for k, v in st.items():
-            try:
-                t = tuple(float(c) for c in v)
-            except (TypeError, ValueError):
-                t = ()
-            if len(t) != 3 or not all(math.isfinite(c) for c in t):
-                raise InputError(f"{source}: stations.{k} must be [x, y, z] in mm, got {v!r}")
-            kw["stations"][str(k)] = t
+        kw["stations"] = {str(k): _xyz(v, f"{source}: stations.{k}") for k, v in st.items()}
     if "rounds" in raw:
         r = raw["rounds"]
         if not isinstance(r, int) or isinstance(r, bool) or r < 1:
@@ -345,6 +334,9 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         xyz = xyz + trk.sample(xyz, t_pos, rng, spec)
     temp = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff), np.zeros(len(rows)))
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
+    moved = [a for a in m.axes if np.any(rows.axes[rows.axis != a, m.index(a)] != 0)]
+    if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (design.md)
+        rec.other_positions = {a: rows.axes[:, m.index(a)].copy() for a in moved}
     truth = {
         "machine": m.name,
         "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)", "time": "s"},

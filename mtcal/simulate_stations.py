@@ -65,6 +65,8 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
                          cat(lambda p: p[2].direction), cat(lambda p: p[2].temperature_c))
     out.station = cat(lambda p: np.full(len(p[2]), p[0], dtype=object))
     out.tracker_xyz = cat(lambda p: np.tile(p[1], (len(p[2]), 1)))
+    if parts[0][2].other_positions:
+        out.other_positions = {a: cat(lambda p: p[2].other_positions[a]) for a in parts[0][2].other_positions}
     truth = {**truth, "tracker": None, "noise": bool(noise), "seed": seed, "rounds": int(rounds) * len(named),
              "stations": st_truth,
              "alignment_convention": "reading = rigid_point(true point, alignment): Trans(tx, ty, tz mm) "

@@ -205,3 +205,16 @@ def test_cli_simulate_several_stations_then_identify(tmp_path, capsys):
         est = out["joint"]["stations"][st["label"]]
         z = (np.array(est["alignment"]) - st["alignment"]) / np.maximum(est["alignment_sigma"], 1e-12)
         assert np.all(np.abs(z[np.array(est["alignment_sigma"]) > 0]) < 4), z
+
+
+def test_other_axes_positions_move_the_carrier():
+    """pos_<AXIS> columns: a C campaign simulated with B at 30 deg (its table reflectors carried by both) writes
+    pos_B and is fitted with it; read as if B were at zero it is rejected by chi^2 (Birge ratio >> 1)."""
+    plan = {"axes": {"C": {"start": 0, "stop": 300, "count": 6, "at": {"B": 30}}}, "bidirectional": False}
+    rec, _ = simulate_stations(None, [FRONT, LEFT], machine=M, rounds=1, seed=2, plan=plan)
+    assert "pos_B" in format_recording(rec).splitlines()[0]
+    back = parse_recording(format_recording(rec), "rec.csv")
+    assert np.allclose(back.other_positions["B"], 30.0)
+    assert joint_fit(back, M, per_round=False).birge < 1.3
+    back.other_positions = None
+    assert joint_fit(back, M, per_round=False).birge > 10
