@@ -198,12 +198,11 @@ class AxisResult:
 
     @property
     def std_mean(self) -> np.ndarray:
-        """Type A over rounds; for the joint fit at least its propagated standard deviation."""
-        sm = self.std / np.sqrt(self.n[:, None])
+        """Type A over rounds (eq. 2.49); for the joint fit its covariance (Birge-scaled), since its rounds may come
+        from stations of different precision and share the reflectors' and alignments' estimate."""
         if self.covariance is not None:
-            sj = np.sqrt(np.diagonal(self.covariance).reshape(len(self.positions), 6))
-            sm = np.where(np.isfinite(sm), np.maximum(sm, sj), sj)
-        return sm
+            return np.sqrt(np.diagonal(self.covariance).reshape(len(self.positions), 6))
+        return self.std / np.sqrt(self.n[:, None])
 
     def values(self, name: str, corrected: bool = True) -> np.ndarray:
         """Mean per position of one error; straightness with its reference-line slope removed if ``corrected``."""

@@ -218,3 +218,11 @@ def test_other_axes_positions_move_the_carrier():
     assert joint_fit(back, M, per_round=False).birge < 1.3
     back.other_positions = None
     assert joint_fit(back, M, per_round=False).birge > 10
+
+
+def test_plan_json_stations_and_their_bad_values():
+    from mtcal.simulate import plan_from_dict
+    pl = plan_from_dict({"stations": {"front": [250, -1500, 150], "left": [-1500, 0, 150]}}, "p.json", M)
+    assert list(pl.stations) == ["front", "left"] and pl.stations["left"] == (-1500.0, 0.0, 150.0)
+    with pytest.raises(InputError, match=r"p.json: stations.left must be \[x, y, z\] in mm"):
+        plan_from_dict({"stations": {"left": [1, 2]}}, "p.json", M)
