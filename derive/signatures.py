@@ -6,7 +6,8 @@ it adds to the design.  Each effect is written here once as a physical model of 
 parameters at zero effect (all models below are linear in their amplitudes, so the signature is exact, not
 just first order).  Where an effect acts through an error function of the machine, its model takes ``column``:
 the generated point Jacobian column of that error (Machine.point_jacobian_errors: the machine's
-``tool_point_jacobian_errors`` / ``table_point_jacobian_errors``, mm per mm or mm per rad), so the kinematics stays in derive/kinematics.py.
+``tool_point_jacobian_errors`` / ``table_point_jacobian_errors``, mm per mm or mm per rad), so the kinematics
+stays in derive/kinematics.py.
 
 The same model is emitted for simulation (mtcal.effects): ``<effect>_model`` gives the increment of the affected
 error function (mm or rad), which the simulator adds to the machine's errors and carries to the reflectors

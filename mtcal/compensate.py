@@ -32,7 +32,7 @@ from mtcal import gcode
 from mtcal.errors import InputError
 from mtcal.io import atomic_open, atomic_write_text
 from mtcal.machine import Machine, load_machine
-from mtcal.model import ErrorFunction, ErrorModel
+from mtcal.model import ErrorEvaluator, ErrorFunction, ErrorModel
 
 SCOPES = ("position", "full")
 BLOCK = 4096  # rows per numeric block: keeps the generated functions' temporaries in cache
@@ -127,130 +127,32 @@ class Compensator:
         self.machine = machine or load_machine(model.machine)
         self.scope, self.tool_length, self.iterations = scope, float(tool_length), int(iterations)
         self.cone, self.outside = float(cone), outside
-        self.np = self.machine._np
         m = self.machine
-        unknown = sorted(set(model.names()) - set(m.error_names))
-        if unknown:
-            raise InputError(f"error model has names unknown to machine {m.name}: {unknown}")
-        self._const = np.zeros(len(m.error_names))
-        for n, v in model.constants.items():
-            self._const[m.error_names.index(n)] = v
-        self._funcs: list[tuple[str, int, int, ErrorFunction, float, float]] = []
-        for n, f in model.functions.items():
-            if f.axis not in m.axes:
-                raise InputError(f"error function {n} refers to axis {f.axis!r}, not an axis of {m.name}")
-            periodic = (f.fit or {}).get("kind") == "harmonic"
-            lo, hi = (-np.inf, np.inf) if periodic else (float(f.positions.min()), float(f.positions.max()))
-            self._funcs.append((n, m.error_names.index(n), m.axes.index(f.axis), f, lo, hi))
-        self._plan = self._evaluation_plan()
-        self.outside_counts: dict[str, int] = {}
-        self.zero = not present_errors(model)
-        self.clipped_b = 0
-        # scope position, first order: one generated pass gives the linear-axis step and both deviations
-        self._fused = (scope == "position" and self.iterations == 1
-                       and hasattr(self.np, "correction_first_order"))
+        self._ev = ErrorEvaluator(model, m, outside)  # the one evaluator of error functions (mtcal.model)
         self._lin = [i for i, k in enumerate(m.axis_kinds) if k == "linear"]
+        # the orientation axes: the tilt and rotary axes of the inverse kinematics (spec [ik])
+        self._rot = [m.index(m.ik_info["tilt_axis"]), m.index(m.ik_info["rotary_axis"])]
+        self.zero = not present_errors(model)
+        self.clipped_b = 0  # orientation steps clipped at the tilt axis' limits
+        # scope position, first order: one generated pass gives the linear-axis step and both deviations
+        self._fused = scope == "position" and self.iterations == 1
         if self._fused:  # |tool-tip deviation| = |J_lin step|: = |step| where the linear axes are orthonormal
             qs = np.random.default_rng(0).uniform(-300, 300, (16, len(m.axes)))
             for i, lim in enumerate(m.limits):
                 if lim is not None:
                     qs[:, i] = np.random.default_rng(i).uniform(lim[0], lim[1], 16)
-            jl = self.np.jacobian_axes(qs, self.tool_length)[:, :3, self._lin]
+            jl = m.jacobian_axes(qs, None, self.tool_length, check=False)[:, :3, self._lin]
             self._lin_orthonormal = bool(np.abs(np.einsum("nki,nkj->nij", jl, jl) - np.eye(3)).max() < 1e-12)
-
-    def _evaluation_plan(self) -> list[tuple]:
-        """Error functions grouped for evaluation: tables of one axis on the same positions share one search
-        (values gathered as a block), harmonic fits of one axis and period share their sines and cosines;
-        anything else is evaluated function by function.  Constants of the same names are folded in."""
-        tables: dict[tuple, list] = {}
-        harm: dict[tuple, list] = {}
-        plan: list[tuple] = []
-        for name, ei, ai, f, lo, hi in self._funcs:
-            fit = f.fit or {}
-            kind = fit.get("kind")
-            if kind in (None, "table") and len(f.positions) >= 2 and np.all(np.diff(f.positions) > 0):
-                tables.setdefault((ai, f.positions.tobytes()), []).append((name, ei, f))
-            elif kind == "harmonic":
-                harm.setdefault((ai, float(fit.get("period", 360.0))), []).append((name, ei, f))
-            else:
-                plan.append(("single", ai, [name], np.array([ei]), f, lo, hi))
-        for (ai, _), members in tables.items():
-            xp = members[0][2].positions.astype(float)
-            fp = np.array([f.values for _, _, f in members], dtype=float)  # (k, npts)
-            cols = np.array([ei for _, ei, _ in members])
-            slopes = np.diff(fp, axis=1) / np.diff(xp)
-            fp = fp + self._const[cols, None]
-            # per segment j: value = a_j + s_j x (rows a then s, one gather for both)
-            coef = np.vstack([fp[:, :-1] - slopes * xp[:-1], slopes])
-            dx = np.diff(xp)
-            step = float(dx[0]) if np.all(np.abs(dx - dx[0]) <= 1e-12 * abs(dx[0])) else 0.0  # uniform grid
-            plan.append(("table", ai, [n for n, _, _ in members], cols, xp, step, coef))
-        for (ai, period), members in harm.items():
-            nh = max(min(len(f.fit.get("cos", [])), len(f.fit.get("sin", []))) for _, _, f in members)
-            a0 = np.array([float(f.fit.get("a0", 0.0)) for _, _, f in members])
-            ca, sa = np.zeros((len(members), nh)), np.zeros((len(members), nh))
-            for r, (_, _, f) in enumerate(members):
-                h = min(len(f.fit.get("cos", [])), len(f.fit.get("sin", [])))
-                ca[r, :h], sa[r, :h] = f.fit["cos"][:h], f.fit["sin"][:h]
-            cols = np.array([ei for _, ei, _ in members])
-            plan.append(("harmonic", ai, [n for n, _, _ in members], cols, period, a0 + self._const[cols], ca, sa))
-        return plan
 
     # ------------------------------------------------------------------ errors
     def errors(self, q: np.ndarray) -> np.ndarray:
-        """Error vector (n, 41) at commanded axes (n, 5), functions as stored; outside their range: held / error.
-        The result is a Fortran-ordered (column-contiguous) array: the generated functions read it by column."""
-        q = np.asarray(q, dtype=float)
-        n = len(q)
-        et = np.empty((len(self._const), n))  # (41, n): rows contiguous
-        et[:] = self._const[:, None]
-        self._check_ranges(q)
-        for item in self._plan:
-            kind, x = item[0], q[:, item[1]]
-            if kind == "table":  # piecewise linear, end values held (as np.interp)
-                _, _, _, cols, xp, step, coef = item
-                xc = np.clip(x, xp[0], xp[-1])
-                if step:
-                    j = ((xc - xp[0]) * (1.0 / step)).astype(np.intp)
-                else:
-                    j = np.searchsorted(xp, xc, "right") - 1
-                np.clip(j, 0, len(xp) - 2, out=j)
-                c = coef[:, j]
-                k = len(cols)
-                et[cols] = c[:k] + c[k:] * xc
-            elif kind == "harmonic":  # a0 + sum a_h cos(h w) + b_h sin(h w), multiples by recurrence
-                _, _, _, cols, period, a0, ca, sa = item
-                w = (2 * np.pi / period) * x
-                c1, s1 = np.cos(w), np.sin(w)
-                acc = a0[:, None] + (ca[:, :1] * c1 + sa[:, :1] * s1 if ca.shape[1] else 0.0)
-                ch, sh = c1, s1
-                for h in range(1, ca.shape[1]):
-                    ch, sh = ch * c1 - sh * s1, sh * c1 + ch * s1
-                    acc += ca[:, h: h + 1] * ch + sa[:, h: h + 1] * sh
-                et[cols] = acc
-            else:
-                _, _, _, cols, f, lo, hi = item
-                et[cols[0]] += f(x, "hold")
-        return et.T
+        """Error vector (n, n_errors) at commanded axes (n, n_axes) by mtcal.model.ErrorEvaluator (Fortran-ordered);
+        outside a function's range: held (counted in ``outside_counts``) or an error."""
+        return self._ev(q)
 
-    def _check_ranges(self, q: np.ndarray) -> None:
-        """Counts (or refuses) axis positions outside each error function's range (one check per axis and range)."""
-        checked: dict[tuple[int, float, float], int] = {}
-        for name, ei, ai, f, lo, hi in self._funcs:
-            if not np.isfinite(lo):
-                continue
-            key = (ai, lo, hi)
-            if key not in checked:
-                x = q[:, ai]
-                checked[key] = int(np.count_nonzero((x < lo - 1e-9) | (x > hi + 1e-9)))
-            nout = checked[key]
-            if nout:
-                if self.outside == "error":
-                    x = q[:, ai]
-                    bad = x[(x < lo - 1e-9) | (x > hi + 1e-9)][0]
-                    raise InputError(f"{self.machine.axes[ai]} = {float(bad):g} is outside the measured range "
-                                     f"[{lo:g}, {hi:g}] of {name}")
-                self.outside_counts[name] = self.outside_counts.get(name, 0) + nout
+    @property
+    def outside_counts(self) -> dict[str, int]:
+        return self._ev.outside_counts
 
     # ------------------------------------------------------------------ correction
     def weight(self, q_nom: np.ndarray) -> np.ndarray:
@@ -260,7 +162,7 @@ class Compensator:
         cone, k = 0) it vanishes as well.  0: position only, 1: full correction."""
         if self.cone <= 0:
             return np.ones(len(q_nom))
-        J = self.np.jacobian_axes(q_nom, self.tool_length)[:, 3:, 3:5]
+        J = self.machine.jacobian_axes(q_nom, None, self.tool_length, check=False)[:, 3:, self._rot]
         smin = np.linalg.svd(J, compute_uv=False)[:, -1] / (np.pi / 180)
         sc = np.sin(np.radians(self.cone))
         return _smoothstep((smin - sc) / sc)
@@ -280,11 +182,12 @@ class Compensator:
             out[:] = q_nom
             for s in range(0, len(q_nom), BLOCK):
                 qb = qf[s: s + BLOCK]
-                r = self.np.correction_first_order(qb, e0[s: s + BLOCK], self.tool_length)
+                r = self.machine.correction_first_order(qb, e0[s: s + BLOCK], self.tool_length, check=False)
                 step = r[:, :3]
                 out[s: s + BLOCK, self._lin] += step
                 if not self._lin_orthonormal:
-                    step = np.einsum("nij,nj->ni", self.np.jacobian_axes(qb, self.tool_length)[:, :3, self._lin],
+                    jq = self.machine.jacobian_axes(qb, None, self.tool_length, check=False)
+                    step = np.einsum("nij,nj->ni", jq[:, :3, self._lin],
                                      step)
                 dev0[s: s + BLOCK, 0] = np.sqrt(np.einsum("ij,ij->i", step, step))
                 dev0[s: s + BLOCK, 1] = np.sqrt(np.einsum("ij,ij->i", r[:, 3:], r[:, 3:]))
@@ -308,63 +211,65 @@ class Compensator:
         dev0 = None
         for it in range(self.iterations):
             if it == 0:  # first order: generated deviation and nominal Jacobian at the nominal command
-                r = self.np.deviation_first_order(q0, e0, tl)
-                J = self.np.jacobian_axes(q0, tl)
+                r = self.machine.deviation(q0, e0, 1, tl, check=False)
+                J = self.machine.jacobian_axes(q0, None, tl, check=False)
                 dev0 = r
             else:  # exact pose and Jacobian with the errors at the current command
                 if target is None:
-                    target = self.np.forward(q0, tl)
-                fj = self.np.forward_errors_with_jacobian(q, self.errors(q), tl)
-                r = fj[..., 0] - target
-                J = fj[..., 1:]
+                    target = self.machine.forward(q0, None, tl, check=False)
+                pose, J = self.machine.forward_with_jacobian(q, self.errors(q), tl, check=False)
+                r = pose - target
             if self.scope == "full":
                 # B, C first (first order; the blend weight on the first step, later steps only where w = 1);
                 # then X, Y, Z from the exact pose at the new B, C: a C step of up to ~1e-3 rad swings a point
                 # 300 mm off the C axis by ~0.1 um to second order
                 q = q + self._step(q, J, r, w if it == 0 else (w >= 1).astype(float), position=False)
                 r = self._exact(q, q0)
-                J = self.np.jacobian_axes(q, tl)
+                J = self.machine.jacobian_axes(q, None, tl, check=False)
             q = q + self._step(q, J, r, None)
         return q, dev0
 
     def _exact(self, q: np.ndarray, q0: np.ndarray) -> np.ndarray:
         """Exact pose residual (n, 6) of commands q against the nominal pose of q0."""
-        return self.np.forward_errors(q, self.errors(q), self.tool_length) - self.np.forward(q0, self.tool_length)
+        m, tl = self.machine, self.tool_length
+        return m.forward(q, self.errors(q), tl, check=False) - m.forward(q0, None, tl, check=False)
 
     def _step(self, q: np.ndarray, J: np.ndarray, r: np.ndarray, w: np.ndarray | None,
               position: bool = True) -> np.ndarray:
         """Axis step that cancels the pose residual r (n, 6) to first order (J (n, 6, 5)): B, C from the
-        orientation rows when w (orientation weights) is given, X, Y, Z from the position rows if ``position``."""
+        orientation rows when w (orientation weights) is given, X, Y, Z from the position rows if ``position``
+        (B, C: the machine's tilt and rotary axes; X, Y, Z its linear axes)."""
         d = np.zeros_like(q)
         rp = r[:, :3]
+        ti, rot = self._rot[0], self._rot
         if w is not None:
-            Jo = J[:, 3:, 3:5]  # d(i, j, k) / d(B, C): two columns, both orthogonal to the tool axis
+            Jo = J[:, 3:][:, :, rot]  # d(i, j, k) / d(B, C): two columns, both orthogonal to the tool axis
             Q, R = np.linalg.qr(Jo)  # least squares: R dBC = Q^T (-r_o)
             rhs = -np.einsum("nij,ni->nj", Q, r[:, 3:])
             ok = w > 0
             dbc = np.zeros((len(q), 2))
             if ok.any():
                 dbc[ok] = np.linalg.solve(R[ok], rhs[ok][..., None])[..., 0] * w[ok, None]
-            lo, hi = self.machine.limits[3]
-            nb = np.clip(q[:, 3] + dbc[:, 0], lo, hi)
-            clipped = nb != q[:, 3] + dbc[:, 0]
+            lo, hi = self.machine.limits[ti] or (-np.inf, np.inf)
+            nb = np.clip(q[:, ti] + dbc[:, 0], lo, hi)
+            clipped = nb != q[:, ti] + dbc[:, 0]
             if clipped.any():
                 self.clipped_b += int(clipped.sum())
-                dbc[:, 0] = nb - q[:, 3]
-            d[:, 3:5] = dbc
-            rp = rp + np.einsum("nij,nj->ni", J[:, :3, 3:5], dbc)
+                dbc[:, 0] = nb - q[:, ti]
+            d[:, rot] = dbc
+            rp = rp + np.einsum("nij,nj->ni", J[:, :3][:, :, rot], dbc)
         if not position:
             return d
-        d[:, :3] = np.linalg.solve(J[:, :3, :3], -rp[..., None])[..., 0]  # 3x3 block, a rotation: cond = 1
+        d[:, self._lin] = np.linalg.solve(J[:, :3][:, :, self._lin], -rp[..., None])[..., 0]  # a rotation: cond = 1
         return d
 
     def _slopes(self) -> np.ndarray:
-        """Per axis (5,): bound on d|correction|/d(axis) from the model's error slopes (mm per mm or per deg)."""
+        """Per axis (n_axes,): bound on d|correction|/d(axis) from the model's error slopes (mm per mm or per deg)."""
         if hasattr(self, "_slope_cache"):
             return self._slope_cache
         lever = 800.0 + abs(self.tool_length)  # mm: largest distance of the tool tip from an angular error's origin
-        out = np.zeros(5)
-        for name, ei, ai, f, lo, hi in self._funcs:
+        out = np.zeros(len(self.machine.axes))
+        for name, ei, ai, f, lo, hi in self._ev.funcs:
             a, b = (0.0, 360.0) if not np.isfinite(lo) else (lo, hi)
             x = np.union1d(np.linspace(a, b, 4001), f.positions[(f.positions >= a) & (f.positions <= b)])
             s = np.abs(np.diff(f(x, "hold")) / np.diff(x)).max()
@@ -379,11 +284,11 @@ class Compensator:
         deviation vector turned by the rotary step dphi (rad).  Moves under the tolerance by this bound skip
         the exact mid-segment evaluation."""
         dq = np.abs(qb - qa)
-        rot = np.radians(dq[:, 3] + dq[:, 4])
+        rot = np.radians(dq[:, self._rot].sum(axis=1))
         return 0.5 * dq @ self._slopes() + 0.2 * rot * rot / 8
 
     def largest_errors(self, q: np.ndarray, k: int = 3) -> str:
-        """The k largest model errors at axes q (5,) (mm and rad; angles ranked at a 1 m lever), for messages."""
+        """The k largest model errors at axes q (n_axes,) (mm and rad; angles ranked at a 1 m lever), for messages."""
         e = self.errors(np.asarray(q, dtype=float)[None])[0]
         length = np.array([n[2] in "XYZ" for n in self.machine.error_names])
         size = np.abs(e) * np.where(length, 1.0, 1000.0)
@@ -398,8 +303,8 @@ class Compensator:
         e = self.errors(q_cmd)
         for s in range(0, len(q_cmd), BLOCK):
             a, b = q_cmd[s: s + BLOCK], q_nom[s: s + BLOCK]
-            p = self.np.forward_errors(a, e[s: s + BLOCK], self.tool_length)
-            t = self.np.forward(b, self.tool_length)
+            p = self.machine.forward(a, e[s: s + BLOCK], self.tool_length, check=False)
+            t = self.machine.forward(b, None, self.tool_length, check=False)
             dp[s: s + BLOCK] = p[:, :3] - t[:, :3]
             ang[s: s + BLOCK] = 2 * np.arcsin(np.clip(np.linalg.norm(p[:, 3:] - t[:, 3:], axis=1) / 2, 0, 1))
         return dp, ang
@@ -415,39 +320,50 @@ def thesis_model(model: ErrorModel) -> ErrorModel:
 def example_model(machine: Machine | None = None, seed: int = 6) -> ErrorModel:
     """A synthetic error model of the thesis' magnitudes (tens of um, tens of urad) for demos, tests, benchmarks.
 
-    Linear axes: tables over [-400, 400] mm every 25 mm (smooth random curves, zero at 0); B: table over
-    [0, 180] deg every 15 deg; C: harmonic fits (periodic); squareness and location constants.
+    Linear axes: tables over [-400, 400] mm every 25 mm (smooth random curves, zero at 0); a rotary axis with
+    limits: a table over its limits every 15 deg; one without: harmonic fits (periodic); the machine's
+    squareness and location constants.  (DMU 50: B table over [0, 180], C harmonic.)
     """
-    m = machine or load_machine("dmu50")
+    m = machine or load_machine()
     rng = np.random.default_rng(seed)
     funcs, consts = {}, {}
+    parts = "XYZABC"  # ISO components of the six error motions
 
     def curve(x, amp, period):
         ph = rng.uniform(0, 2 * np.pi, 3)
         y = sum(a * np.sin(2 * np.pi * x / (period / (h + 1)) + p) for h, (a, p) in
                 enumerate(zip(amp * rng.uniform(0.3, 1.0, 3) / np.arange(1, 4), ph)))
-        y = y + amp * rng.uniform(-1, 1) * x / x.max()
+        y = y + amp * rng.uniform(-1, 1) * x / np.abs(x).max()
         return y - np.interp(0.0, x, y)
 
     xl = np.arange(-400.0, 400.0 + 1e-9, 25.0)
-    for ax in "XYZ":
-        for c in "XYZ":
-            funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 0.015 if c == ax else 0.008, 900.0))
-        for c in "ABC":
+    for ax in m.linear_axes:
+        own = m.positioning_errors[ax][2]
+        for c in parts[:3]:
+            funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 0.015 if c == own else 0.008, 900.0))
+        for c in parts[3:]:
             funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 30e-6, 900.0))
-    xb = np.arange(0.0, 180.0 + 1e-9, 15.0)
-    for c, amp in zip("XYZABC", (0.012, 0.012, 0.008, 30e-6, 30e-6, 40e-6)):
-        funcs[f"E_{c}B"] = ErrorFunction("B", xb, curve(xb, amp, 360.0))
-    xc = np.arange(0.0, 360.0 + 1e-9, 15.0)
-    for c, amp in zip("XYZABC", (0.010, 0.010, 0.006, 25e-6, 25e-6, 35e-6)):
-        a0 = float(rng.normal(0, amp / 3))
-        cos, sin = (amp * rng.uniform(-0.5, 0.5, 3)).tolist(), (amp * rng.uniform(-0.5, 0.5, 3)).tolist()
-        fit = {"kind": "harmonic", "period": 360.0, "a0": a0, "cos": cos, "sin": sin}
-        f = ErrorFunction("C", xc, np.zeros_like(xc), fit)
-        f.values = f(xc)
-        funcs[f"E_{c}C"] = f
-    consts.update({"E_C0Y": 25e-6, "E_B0Z": -18e-6, "E_A0Z": 12e-6, "E_X0B": 0.008, "E_Y0B": -0.006,
-                   "E_A0B": 20e-6, "E_B0B": -15e-6, "E_X0C": 0.010, "E_Y0C": 0.007, "E_A0C": -12e-6, "E_B0C": 18e-6})
+    for ax in m.rotary_axes:
+        lim = m.limits[m.index(ax)]
+        if lim:
+            xb = np.arange(lim[0], lim[1] + 1e-9, 15.0)
+            for c, amp in zip(parts, (0.012, 0.012, 0.008, 30e-6, 30e-6, 40e-6)):
+                funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xb, curve(xb, amp, 360.0))
+            continue
+        xc = np.arange(0.0, 360.0 + 1e-9, 15.0)
+        for c, amp in zip(parts, (0.010, 0.010, 0.006, 25e-6, 25e-6, 35e-6)):
+            a0 = float(rng.normal(0, amp / 3))
+            cos, sin = (amp * rng.uniform(-0.5, 0.5, 3)).tolist(), (amp * rng.uniform(-0.5, 0.5, 3)).tolist()
+            fit = {"kind": "harmonic", "period": 360.0, "a0": a0, "cos": cos, "sin": sin}
+            f = ErrorFunction(ax, xc, np.zeros_like(xc), fit)
+            f.values = f(xc)
+            funcs[f"E_{c}{ax}"] = f
+    sizes = {"E_C0Y": 25e-6, "E_B0Z": -18e-6, "E_A0Z": 12e-6}  # the DMU 50's; others by their place in the group
+    for i, n in enumerate(m.error_groups["squareness"]):
+        consts[n] = sizes.get(n, (25e-6, -18e-6, 12e-6)[i % 3])
+    for i, n in enumerate(m.error_groups["location"]):  # E_X0R, E_Y0R (mm), E_A0R, E_B0R (rad) per rotary axis
+        k, r = i % 4, i // 4
+        consts[n] = ((0.008, -0.006, 20e-6, -15e-6), (0.010, 0.007, -12e-6, 18e-6))[r % 2][k]
     return ErrorModel(m.name, consts, funcs, {"source": f"mtcal.compensate.example_model(seed={seed})"})
 
 
@@ -571,6 +487,9 @@ class ProgramCompensator:
             raise InputError(f"residual_every must be >= 1, got {residual_every}")
         self.report = Report(residual_every=int(residual_every))
         self.fast = True  # byte-level path for plain blocks (False: every block through parse_chunk)
+        m = comp.machine
+        self.words = gcode.words(m)  # the machine's axis words (its axis names)
+        self._ti, self._ri = m.index(m.ik_info["tilt_axis"]), m.index(m.ik_info["rotary_axis"])
 
     # ---------------------------------------------------------------- driver
     def run(self, src: str | os.PathLike, dst: str | os.PathLike, kind: str = "auto") -> Report:
@@ -582,9 +501,9 @@ class ProgramCompensator:
         total = src.stat().st_size
         enc = gcode.ENCODING
         with open(src, encoding=enc, newline="") as fin, atomic_open(dst, "wb") as fout:
-            self._state = gcode.ModalState()
+            self._state = gcode.ModalState.for_words(self.words)
             self._prev: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # nominal, written mm, units
-            self._prev_mm = np.array([np.nan, np.nan, np.nan, 0.0, 0.0])
+            self._prev_mm = self._state.position.copy()  # linear axes unknown, rotary at 0
             self._src, self._done, self._moves_seen = str(src), 0, 0
             self._cl_lines: np.ndarray | None = None  # CL data: the file line of each generated block
             first = 1
@@ -629,7 +548,7 @@ class ProgramCompensator:
     # ---------------------------------------------------------------- G-code
     def _gcode_block(self, text: str, first: int) -> bytes:
         """Output bytes of a block of whole lines: the byte-level path when the block is plain, else by lines."""
-        blk = gcode.scan_block(text, self._state, first, self.min_decimals) if self.fast else None
+        blk = gcode.scan_block(text, self._state, first, self.min_decimals, self.words) if self.fast else None
         if blk is None:
             return self._gcode_chunk(io.StringIO(text, newline="").readlines(), first).encode(gcode.ENCODING)
         out = self._compensate_rows(blk, first)
@@ -638,7 +557,7 @@ class ProgramCompensator:
         return self._render_fast(blk, *out)
 
     def _gcode_chunk(self, lines: list[str], first: int, exact: np.ndarray | None = None) -> str:
-        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, self.comp.machine.name)
+        ch = gcode.parse_chunk(lines, self._state, first, self._src, self.min_decimals, self.words)
         out = self._compensate_rows(ch, first, exact)
         if out is None:
             return "".join(lines)
@@ -656,25 +575,28 @@ class ProgramCompensator:
         rep.moves += m
         q_nom = ch.axes
         lines = self._cl_lines if self._cl_lines is not None else first + ch.rows
-        lim = comp.machine.limits[3]
-        bad = (q_nom[:, 3] < lim[0]) | (q_nom[:, 3] > lim[1])
-        if bad.any():
-            r = int(np.flatnonzero(bad)[0])
-            raise InputError(f"{self._src}, line {lines[r]}: B = {q_nom[r, 3]:g} deg is outside its range "
-                             f"[{lim[0]:g}, {lim[1]:g}]")
+        for i, lim in enumerate(comp.machine.limits):  # the spec's soft limits (the tilt axis on the shipped specs)
+            if lim is None:
+                continue
+            bad = (q_nom[:, i] < lim[0]) | (q_nom[:, i] > lim[1])
+            if bad.any():
+                r = int(np.flatnonzero(bad)[0])
+                raise InputError(f"{self._src}, line {lines[r]}: {comp.machine.axes[i]} = {q_nom[r, i]:g} "
+                                 f"{comp.machine.unit(comp.machine.axes[i])} is outside its range "
+                                 f"[{lim[0]:g}, {lim[1]:g}]")
         unknown = np.isnan(q_nom).any(axis=1)
         if unknown.any():
             feed = unknown & (ch.motion == 1)
             if feed.any():
                 r = int(np.flatnonzero(feed)[0])
-                miss = "".join(a for a, u in zip(gcode.AXES, np.isnan(q_nom[r])) if u)
+                miss = "".join(a for a, u in zip(self.words.letters, np.isnan(q_nom[r])) if u)
                 raise InputError(f"{self._src}, line {lines[r]}: feed move while {miss} is not known yet "
                                  "(program every linear axis before the first G1)")
             rep.uncompensated_rapids.extend(lines[unknown].tolist())
         known = ~unknown
         all_known = bool(known.all())
         if ch.inch.any():
-            scale = np.where(ch.inch[:, None] & gcode.LINEAR, gcode.INCH, 1.0)
+            scale = np.where(ch.inch[:, None] & self.words.linear, gcode.INCH, 1.0)
         else:
             scale = np.ones((m, 5))
         f = _P10[ch.decimals] if ch.decimals.max() < len(_P10) else 10.0 ** ch.decimals
@@ -728,7 +650,7 @@ class ProgramCompensator:
             w_all = comp.weight(qn_all)
             rep.in_cone += int((w_all <= 0).sum())
             rep.blended += int(((w_all > 0) & (w_all < 1)).sum())
-            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, 4] - qn_all[:, 4]).max()))
+            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, self._ri] - qn_all[:, self._ri]).max()))
             if len(qw):
                 w = w_all if k == 1 else comp.weight(qn)
                 rep.orientation.add(ang[w >= 1])
@@ -849,8 +771,7 @@ class ProgramCompensator:
         self._prev_mm = q_w[-1].copy()
         return "".join(pieces)
 
-    @staticmethod
-    def _slow_row(ch, r, line, U, D, Pm, HOLD, scale, subs):
+    def _slow_row(self, ch, r, line, U, D, Pm, HOLD, scale, subs):
         """Words of an incremental row or a subdivided move, row by row: (new numbers {axis: text}, added words,
         continuation lines, separator, new F of the row or None).  Inverse-time feed (G93, F = 1/minutes per
         block): the n pieces of a split move are equal fractions 1/n of it, so each block carries F * n (a piece
@@ -885,7 +806,7 @@ class ProgramCompensator:
             for a in range(5):
                 if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
                     v = p[a] if absolute else p[a] - last[a]
-                    words.append(f"{gcode.AXES[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
+                    words.append(f"{self.words.letters[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
             last = p
             if words:
                 if inv is not None:
@@ -943,7 +864,7 @@ class ProgramCompensator:
                     new = {a: "%.*f" % (d[a], u[a]) for a in np.flatnonzero(changed[r]).tolist()}
                     add = [(a, "%.*f" % (d[a], u[a])) for a in np.flatnonzero(added[r]).tolist()]
                     cont, sep = None, " " if " " in line else ""
-                line_text[li] = gcode.edit_line(line, blk.code_line(li), new, add, sep, cont)
+                line_text[li] = gcode.edit_line(line, blk.code_line(li), new, add, sep, cont, self.words)
         self._prev_mm = q_w[-1].copy()
         return gcode.render_block(blk, num_text, line_text)
 
@@ -960,20 +881,21 @@ class ProgramCompensator:
             raise InputError(f"{self._src}: {exc}") from None
         # C continuity: at the singularity take the previous C, elsewhere the 360-deg multiple nearest the previous
         sing = np.hypot(poses[:, 3], poses[:, 4]) < 1e-9
-        c = q0[:, 4].copy()
-        prev_c = self._prev[0][4] if self._prev else 0.0
+        ri = self._ri
+        c = q0[:, ri].copy()
+        prev_c = self._prev[0][ri] if self._prev else 0.0
         seq = np.concatenate([[prev_c], c])
         for i in np.flatnonzero(sing):
             seq[i + 1] = seq[i]
         seq = np.unwrap(seq, period=360.0)
         hint = q0.copy()
-        hint[:, 4] = seq[1:]
+        hint[:, ri] = seq[1:]
         q_nom = m.inverse(poses, hint=hint)
         # render as G-code, all five words a block, and compensate it with the unrounded nominal axes
         p = self.min_decimals[0]
         text = []
         for q in q_nom.tolist():
-            words = " ".join(f"{a}{gcode.fmt(v, p)}" for a, v in zip(gcode.AXES, q))
+            words = " ".join(f"{a}{gcode.fmt(v, p)}" for a, v in zip(self.words.letters, q))
             text.append(("G1 " if self._first_cl else "") + words + "\n")
             self._first_cl = False
         self._cl_lines = nos

@@ -1,17 +1,20 @@
-"""G-code (ISO 6983 subset of the DMU 50) and CL data: streaming, vectorised chunk parser and line writer.
+"""G-code (ISO 6983 subset) and CL data of a five-axis machine: streaming, vectorised chunk parser and line writer.
 
-Scope: G0/G1 moves with X Y Z (mm or inch) and B C (deg) words, modal values carried between blocks, G90/G91,
+The axis words are the machine's axis names (``Words``, from the Machine: the DMU 50's X Y Z B C, the trunnion's
+X Y Z A C, ...); linear axes in mm or inch, rotary axes in deg.
+Scope: G0/G1 moves with the axis words, modal values carried between blocks, G90/G91,
 G20/G21, line numbers (N), comments ``( ... )`` and ``; ...``.  Every other word and every byte outside the
 coordinate numbers is kept as it is: a line is stored as the list returned by ``re.split`` on the coordinate
 numbers, ``[text, ws, number, text, ws, number, ..., tail]``, so writing it back is a ``"".join``.
 
 What cannot be compensated raises ``InputError`` naming the file and line: arcs (G2/G3, I J K R words), axis
-words this machine does not have (A U V W), parameters and expressions (``#``, ``=``, ``[``), coordinate
+words this machine does not have (A B C U V W that are not its axes), parameters and expressions (``#``, ``=``, ``[``), coordinate
 transformations and cycles (G28 with axis words, G53, G68, G51, G81.., G92, ...).  Files are read and written as
 latin-1 with ``newline=""``, so any byte (including UTF-8 comments and CRLF line ends) passes through unchanged.
 """
 from __future__ import annotations
 
+import functools
 import re
 from dataclasses import dataclass, field
 
@@ -19,31 +22,64 @@ import numpy as np
 
 from mtcal.errors import InputError
 
-AXES = "XYZBC"
-LINEAR = np.array([True, True, True, False, False])
 INCH = 25.4  # mm
 ENCODING = "latin-1"  # byte-transparent
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)"
-# coordinate numbers: an axis letter, optional blanks, a number; the letter stays in the preceding text piece
-_SPLIT = re.compile(r"(?<=[XYZBCxyzbc])([ \t]*)(" + _NUM + ")")
 _COMMENT = re.compile(r"\([^)\r\n]*\)?|;[^\r\n]*")  # a comment ends at its line end (LF, CRLF or lone CR)
 _GWORD = re.compile(r"[Gg][ \t]*(\d+(?:\.\d*)?)")
 _NWORD = re.compile(r"^[ \t/]*[Nn][ \t]*(\d+)")
 # checks run once per chunk on the comment-masked text (C speed); each names the offending line
-_CHECKS = (
-    (re.compile(r"[AUVWauvw][ \t]*[-+.\d]"), "axis word {word!r}: the {machine} has no such axis"),
-    (re.compile(r"[IJKRijkr][ \t]*[-+.\d]"),
-     "word {word!r}: arcs (G2/G3 with I J K R) and tool-vector words cannot be compensated; "
-     "linearise the toolpath (G1) in the CAM system"),
-    (re.compile(r"[XYZBCxyzbc](?![ \t]*[-+]?(?:\d|\.\d))\S*"),
-     "{word!r}: an axis letter must be followed by a number (parameters, expressions and cycles are not supported)"),
-    (re.compile(r"[=#\[]\S*"), "{word!r}: parameters and expressions are not supported"),
-    (re.compile(r"[A-Za-z][ \t]*[A-Za-z]\S*"),
-     "{word!r}: unsupported word (ISO 6983 words are one letter and a number)"),
-)
+_OTHER_AXES = "ABCUVW"  # axis letters of ISO 6983 a machine may not have
+_NOT_AXES = "DEFGHIJKLMNOPQRST"  # ISO 6983 letters with other meanings: never an axis word here
 
-_SUSPECT = set("AUVWIJKRauvwijkr=#[")
+
+@dataclass(frozen=True)
+class Words:
+    """The axis words of one machine's G-code (from its spec, via ``words``): ``letters`` in the machine's axis
+    order, which of them are linear, and the patterns and byte table the parsers use for them."""
+
+    machine: str
+    letters: str
+    linear: np.ndarray
+    split: re.Pattern      # coordinate numbers: an axis letter, blanks, a number (the letter stays before)
+    checks: tuple          # (pattern, message) run on suspect chunks, in order
+    suspect: frozenset     # characters that send a chunk through the checks
+    table: bytes           # byte codes of the fast path (see _byte_table)
+
+
+@functools.cache
+def _words(name: str, letters: str, kinds: tuple[str, ...]) -> Words:
+    cls = letters + letters.lower()
+    other = "".join(c for c in _OTHER_AXES if c not in letters)
+    checks = (
+        (re.compile(rf"[{other}{other.lower()}][ \t]*[-+.\d]"), "axis word {word!r}: the {machine} has no such axis"),
+        (re.compile(r"[IJKRijkr][ \t]*[-+.\d]"),
+         "word {word!r}: arcs (G2/G3 with I J K R) and tool-vector words cannot be compensated; "
+         "linearise the toolpath (G1) in the CAM system"),
+        (re.compile(rf"[{cls}](?![ \t]*[-+]?(?:\d|\.\d))\S*"),
+         "{word!r}: an axis letter must be followed by a number (parameters, expressions and cycles are not "
+         "supported)"),
+        (re.compile(r"[=#\[]\S*"), "{word!r}: parameters and expressions are not supported"),
+        (re.compile(r"[A-Za-z][ \t]*[A-Za-z]\S*"),
+         "{word!r}: unsupported word (ISO 6983 words are one letter and a number)"),
+    )
+    suspect = frozenset(other + other.lower() + "IJKRijkr=#[")
+    return Words(name, letters, np.array([k == "linear" for k in kinds]),
+                 re.compile(rf"(?<=[{cls}])([ \t]*)(" + _NUM + ")"), checks, suspect, _byte_table(letters, suspect))
+
+
+def words(machine=None) -> Words:
+    """The axis words of a machine (mtcal.Machine or name; default: the default machine).  G-code needs five axes
+    named by single letters that are not ISO 6983 words of another meaning (G, N, F, I, J, K, ...)."""
+    from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
+    m = machine if isinstance(machine, Machine) else load_machine(machine or DEFAULT_MACHINE)
+    letters = "".join(m.axes)
+    if len(m.axes) != 5 or len(letters) != 5 or not letters.isascii() or not letters.isalpha() or any(
+            c in _NOT_AXES for c in letters.upper()):
+        raise InputError(f"machine {m.name}: G-code needs five axes named by single letters other than "
+                         f"{', '.join(_NOT_AXES)}; its axes are {', '.join(m.axes)}")
+    return _words(m.name, letters.upper(), tuple(m.axis_kinds))
 _TCPM = ("tool centre point management (TCPM) moves the tool tip itself: axis commands of this program are not "
          "machine axis positions, so they cannot be compensated; post-process without TCPM (machine axes)")
 _CYCLE = ("is a canned cycle: the controller generates its moves, which cannot be compensated; expand it into "
@@ -87,7 +123,7 @@ def _g_refusal(gs: str) -> str | None:
     return f"G{gs} is not supported (it moves in another frame, runs a cycle or changes how coordinates are read)"
 
 
-def _check(code: str, first_line: int, source: str, machine: str) -> None:
+def _check(code: str, first_line: int, source: str, w: Words) -> None:
     """Raise for the first problem found in ``code`` (comments masked): words with a meaning the compensation
     cannot follow (TCPM, cycles, frames, refused G codes), numbers that are not one token, then the generic
     checks."""
@@ -103,10 +139,10 @@ def _check(code: str, first_line: int, source: str, machine: str) -> None:
     if m:
         raise _error(source, _line_of(code, m.start(), first_line),
                      f"{m.group()!r} is not one number ({_badnum_reason(m.group())})")
-    for rx, msg in _CHECKS:
+    for rx, msg in w.checks:
         m = rx.search(code)
         if m:
-            raise _error(source, _line_of(code, m.start(), first_line), msg.format(word=m.group(), machine=machine))
+            raise _error(source, _line_of(code, m.start(), first_line), msg.format(word=m.group(), machine=w.machine))
 
 
 # G codes that do not change how coordinates are interpreted (passed through)
@@ -125,10 +161,20 @@ class ModalState:
     motion: int = 1          # 0 rapid, 1 feed (assumed G1 until a motion code is read)
     absolute: bool = True    # G90 / G91
     inch: bool = False       # G20 / G21
-    position: np.ndarray = field(default_factory=lambda: np.array([np.nan, np.nan, np.nan, 0.0, 0.0]))
+    # linear axes unknown until programmed, rotary axes at 0 (the default machine's words; ``for_words``: any)
+    position: np.ndarray = field(default_factory=lambda: _start(words()))
     decimals: np.ndarray = field(default_factory=lambda: np.full(5, -1, dtype=np.int64))
     inverse_time: bool = False  # G93 (F = 1 / minutes per block) until G94 / G95
     fresh: bool = False      # a machine-coordinate move (G28 / G30 / G53) since the last motion row
+
+
+    @classmethod
+    def for_words(cls, w: Words) -> "ModalState":
+        return cls(position=_start(w))
+
+
+def _start(w: Words) -> np.ndarray:
+    return np.where(w.linear, np.nan, 0.0)
 
 
 @dataclass
@@ -153,6 +199,7 @@ class Chunk:
     inch: np.ndarray                     # (m,) bool
     fresh: np.ndarray | None = None      # (m,) bool: a machine-coordinate move before the row (start unknown)
     feed: np.ndarray | None = None       # (m,) F of inverse-time (G93) feed rows, NaN elsewhere; None: no G93
+    letters: str = ""                    # the machine's axis words (Words.letters), for inserted words
 
 
 def _mask_comments(text: str) -> str:
@@ -225,7 +272,7 @@ def _g_modes(code: str, starts: np.ndarray, first_line: int, source: str) -> _Mo
 
 
 def _machine_move(g: float, words: list[tuple[int, float]], pos: np.ndarray, absolute: bool, source: str,
-                  line: int) -> np.ndarray:
+                  line: int, ww: Words) -> np.ndarray:
     """Position (mm, deg; NaN = unknown) after a machine-coordinate line, which is passed through uncompensated:
     G53 (a move in machine coordinates, this block only) or G28 / G30 (reference-point return).  The named axes (for
     G28 / G30 without axis words: X Y Z) are afterwards at a machine position whose workpiece coordinates this
@@ -235,38 +282,40 @@ def _machine_move(g: float, words: list[tuple[int, float]], pos: np.ndarray, abs
     if g == 53 and not absolute:
         raise _error(source, line, "G53 under G91: machine coordinates are absolute; program G90 before G53")
     if g != 53 and words and (absolute or any(v != 0 for _, v in words)):
-        w = " ".join(f"{AXES[a]}{v:g}" for a, v in words)
+        w = " ".join(f"{ww.letters[a]}{v:g}" for a, v in words)
         raise _error(source, line, f"{name} {w} moves to an intermediate point first, which cannot be compensated; "
                                    f"write it with zero increments (e.g. G91 {name} Z0)")
     pos = pos.copy()
     if words:
         pos[[a for a, _ in words]] = np.nan
     elif g != 53:
-        pos[:3] = np.nan
+        pos[ww.linear] = np.nan
     return pos
 
 
 def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: str,
-                min_decimals: tuple[int, int, int] = (4, 5, 4), machine: str = "dmu50") -> Chunk:
+                min_decimals: tuple[int, int, int] = (4, 5, 4), w: Words | None = None) -> Chunk:
     """Parse ``lines`` (with their line ends) starting from ``state``; ``state`` is advanced to the chunk end.
+    ``w``: the machine's axis words (default: the default machine's).
 
     min_decimals = (mm, inch, deg): the least number of decimals written for a linear word in mm, in inch and a
     rotary word; more when the input carries more.
     """
+    w = w or words()
     text = "".join(lines)
     commented = "(" in text or ";" in text
     code = _mask_comments(text) if commented else text
     chars = set(code)
-    suspect = (bool(chars & _SUSPECT) or _CHECKS[-1][0].search(code) is not None or "128" in code
+    suspect = (bool(chars & w.suspect) or w.checks[-1][0].search(code) is not None or "128" in code
                or _BADNUM.search(code) is not None)
     if suspect:  # find which check, for the message
-        _check(code, first_line, source, machine)
+        _check(code, first_line, source, w)
     n = len(lines)
     starts = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.fromiter(map(len, lines), np.int64, n), out=starts[1:])
     md = _g_modes(code, starts, first_line, source)
     # one split of the whole chunk: [text, ws, number, text, ws, number, ..., text]
-    pieces = _SPLIT.split(code)
+    pieces = w.split.split(code)
     nn = (len(pieces) - 1) // 3
     lens = np.fromiter(map(len, pieces), np.int64, len(pieces))
     off = np.zeros(len(pieces) + 1, dtype=np.int64)
@@ -274,8 +323,8 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     if commented:  # the same pieces of the original text (masking keeps lengths)
         o = off.tolist()
         pieces = [text[o[j]: o[j + 1]] for j in range(len(pieces))]
-    if sum(code.count(c) for c in "XYZBCxyzbc") != nn:  # an axis letter without a number somewhere
-        _check(code, first_line, source, machine)
+    if sum(code.count(c) for c in w.letters + w.letters.lower()) != nn:  # an axis letter without a number
+        _check(code, first_line, source, w)
     numpiece = np.arange(nn, dtype=np.int64) * 3 + 2
     line_of = np.searchsorted(starts, off[numpiece], "right") - 1
     nums = pieces[2::3]
@@ -285,7 +334,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
         for k in np.flatnonzero(drop).tolist():
             i = int(line_of[k])
             if i in md.machine:
-                a = AXES.index(code[off[numpiece[k] - 1] - 1].upper())
+                a = w.letters.index(code[off[numpiece[k] - 1] - 1].upper())
                 special.setdefault(i, []).append((a, float(nums[k])))
         keep = ~drop
         numpiece, line_of = numpiece[keep], line_of[keep]
@@ -304,7 +353,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
         last[:-1] = newrow[1:]
         tail[:] = numpiece[last] + 1
     lut = np.full(256, -1, dtype=np.int64)
-    for j, c in enumerate(AXES):
+    for j, c in enumerate(w.letters):
         lut[ord(c)] = j
     axi = lut[ax]
     vals = np.array(nums, dtype=np.float64) if nums else np.zeros(0)
@@ -320,7 +369,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     if present.sum() != len(axi):  # an axis twice on one line
         per = np.bincount(flat_rows * 5 + axi, minlength=5 * m).reshape(m, 5)
         r, a = (int(v[0]) for v in np.nonzero(per > 1))
-        raise _error(source, first_line + rows[r], f"axis {AXES[a]} appears twice in one block")
+        raise _error(source, first_line + rows[r], f"axis {w.letters[a]} appears twice in one block")
     wdec = np.full((m, 5), -1, dtype=np.int64)
     wdec[flat_rows, axi] = decs
     numidx = np.full((m, 5), -1, dtype=np.int64)
@@ -345,13 +394,13 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
         axes[:] = filled[idx, np.arange(5)][1:]
         dfill = np.vstack([state.decimals[None, :], wdec])
         np.maximum.accumulate(dfill, axis=0, out=dfill)
-        floor = np.where(LINEAR, mins[0], mins[2])
+        floor = np.where(w.linear, mins[0], mins[2])
         decimals[:] = np.maximum(dfill[1:], floor)
         if m:
             state.position = axes[-1].copy()
             state.decimals = dfill[-1].copy()
         return Chunk(lines, first_line, pieces, numidx, tail, rows_a, axes, present, given, decimals, motion,
-                     absolute, inch)
+                     absolute, inch, letters=w.letters)
 
     # general case: a short Python loop over lines that change modes, rows in between in one go
     r = 0
@@ -366,27 +415,27 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
             state.absolute = md.absolute[i]
         if i in md.inch:
             if md.inch[i] != state.inch:
-                dmax = np.where(LINEAR, -1, dmax)  # decimals of inch and mm words are not comparable
+                dmax = np.where(w.linear, -1, dmax)  # decimals of inch and mm words are not comparable
             state.inch = md.inch[i]
         if i in md.inverse_time:
             state.inverse_time = md.inverse_time[i]
         if i in md.machine:
-            pos_ = _machine_move(md.machine[i], special.get(i, []), pos_, state.absolute, source, first_line + i)
+            pos_ = _machine_move(md.machine[i], special.get(i, []), pos_, state.absolute, source, first_line + i, w)
             state.fresh = True
         if r < m and rows[r] == i:
             g = given[r]
-            scale = np.where(LINEAR, INCH if state.inch else 1.0, 1.0)
+            scale = np.where(w.linear, INCH if state.inch else 1.0, 1.0)
             pres = present[r]
             if state.absolute:
                 pos_ = np.where(pres, g * scale, pos_)
             else:
                 if np.isnan(pos_[pres]).any():
                     j = int(np.flatnonzero(pres & np.isnan(pos_))[0])
-                    raise _error(source, first_line + i, f"incremental move (G91) of {AXES[j]} before its absolute "
+                    raise _error(source, first_line + i, f"incremental move (G91) of {w.letters[j]} before its absolute "
                                                          "position is known")
                 pos_ = np.where(pres, pos_ + g * scale, pos_)
             dmax = np.maximum(dmax, wdec[r])
-            floor = np.where(LINEAR, mins[1] if state.inch else mins[0], mins[2])
+            floor = np.where(w.linear, mins[1] if state.inch else mins[0], mins[2])
             axes[r] = pos_
             decimals[r] = np.maximum(dmax, floor)
             motion[r] = state.motion
@@ -399,7 +448,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     state.decimals = dmax
     feed = _inverse_feeds(code, starts, rows_a, inverse & (motion == 1), first_line, source) if inverse.any() else None
     return Chunk(lines, first_line, pieces, numidx, tail, rows_a, axes, present, given, decimals, motion,
-                 absolute, inch, fresh, feed)
+                 absolute, inch, fresh, feed, w.letters)
 
 
 _FWORD = re.compile(r"[Ff][ \t]*(" + _NUM + ")")
@@ -451,7 +500,7 @@ def edit(ch: Chunk, r: int, new: dict[int, str], added: list[tuple[int, str]], s
     t = int(ch.tail[r])
     tp = p[t]
     if added:
-        ins = "".join(f"{sep}{AXES[a]}{s}" for a, s in added)
+        ins = "".join(f"{sep}{ch.letters[a]}{s}" for a, s in added)
         if sep and tp[:1] not in (" ", "\t", "\r", "\n", ""):
             ins += sep  # keep the words after the inserted ones separated
         tp = ins + tp
@@ -524,16 +573,17 @@ def line_number(line: str) -> str | None:
     return m.group(1) if m else None
 
 
-def read_moves(path, chunk_lines: int = 20000) -> np.ndarray:
-    """Absolute nominal axes (n, 5) in mm and deg of every motion block of a G-code file whose X, Y, Z are known
-    (blocks before the first full position are skipped), in file order."""
-    out, state, first = [], ModalState(), 1
+def read_moves(path, chunk_lines: int = 20000, machine=None) -> np.ndarray:
+    """Absolute nominal axes (n, 5) in mm and deg of every motion block of a G-code file of ``machine`` (default:
+    the default machine) whose linear axes are known (blocks before the first full position are skipped)."""
+    w = words(machine)
+    out, state, first = [], ModalState.for_words(w), 1
     with open(path, encoding=ENCODING, newline="") as fh:
         while True:
             lines = [ln for _, ln in zip(range(chunk_lines), fh)]
             if not lines:
                 break
-            ch = parse_chunk(lines, state, first, str(path))
+            ch = parse_chunk(lines, state, first, str(path), w=w)
             out.append(ch.axes[np.isfinite(ch.axes).all(axis=1)])
             first += len(lines)
     return np.concatenate(out) if out else np.zeros((0, 5))
@@ -548,32 +598,34 @@ def read_moves(path, chunk_lines: int = 20000) -> np.ndarray:
 # coordinates are read, comments, any other words.  Everything else (G91, G20, G28, G4, arcs, unsupported words,
 # lone CR line ends, numbers of more than 15 digits, ...) makes ``scan_block`` return None and the block goes
 # through ``parse_chunk`` (which also raises the errors), so both paths give the same result.
-# byte codes: 0-9 digit value, 10 dot, 11 minus, 22 plus, 12 blank, 13-17 axis letter X Y Z B C (either case), 18 G,
+# byte codes: 0-9 digit value, 10 dot, 11 minus, 22 plus, 12 blank, 13-17 the five axis letters (either case), 18 G,
 # 19 other letter, 20 a character that cannot be compensated (parse_chunk names it), 23 line feed, 21 anything else
-_V = np.full(256, 21, dtype=np.uint8)
-for _c in range(256):
-    _ch = chr(_c)
-    if "0" <= _ch <= "9":
-        _V[_c] = _c - 48
-    elif _ch == ".":
-        _V[_c] = 10
-    elif _ch == "-":
-        _V[_c] = 11
-    elif _ch == "+":
-        _V[_c] = 22
-    elif _ch in " \t":
-        _V[_c] = 12
-    elif _ch.upper() in AXES and _ch.isascii():
-        _V[_c] = 13 + AXES.index(_ch.upper())
-    elif _ch in "Gg":
-        _V[_c] = 18
-    elif _ch in _SUSPECT:
-        _V[_c] = 20
-    elif _ch.isascii() and _ch.isalpha():
-        _V[_c] = 19
-    elif _ch == "\n":
-        _V[_c] = 23
-_V_TABLE = bytes(_V.tolist())
+def _byte_table(letters: str, suspect) -> bytes:
+    """The byte codes above for a machine's five axis letters (``bytes.translate`` table)."""
+    v = np.full(256, 21, dtype=np.uint8)
+    for c in range(256):
+        ch = chr(c)
+        if "0" <= ch <= "9":
+            v[c] = c - 48
+        elif ch == ".":
+            v[c] = 10
+        elif ch == "-":
+            v[c] = 11
+        elif ch == "+":
+            v[c] = 22
+        elif ch in " \t":
+            v[c] = 12
+        elif ch.isascii() and ch.upper() in letters:
+            v[c] = 13 + letters.index(ch.upper())
+        elif ch in "Gg":
+            v[c] = 18
+        elif ch in suspect:
+            v[c] = 20
+        elif ch.isascii() and ch.isalpha():
+            v[c] = 19
+        elif ch == "\n":
+            v[c] = 23
+    return bytes(v.tolist())
 _P10 = 10.0 ** np.arange(23)
 _PASS_G_ARR = np.array(sorted(_PASS_G))
 _PAD = 48  # bytes after a block: two 8-byte words past any letter and its blanks
@@ -748,8 +800,8 @@ def _ends_clean(v: np.ndarray, code: np.ndarray, end: np.ndarray) -> bool:
     return not (((code[e] | 0x20) == ord("e")) & ((v[e + 1] <= 11) | (v[e + 1] == 22))).any()
 
 
-def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tuple[int, int, int] = (4, 5, 4)
-               ) -> Block | None:
+def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tuple[int, int, int] = (4, 5, 4),
+               w: Words | None = None) -> Block | None:
     """Parse a block of whole lines on the fast path, or None if it needs ``parse_chunk`` (see above).  ``state``
     is advanced only when a Block is returned."""
     if not state.absolute or state.inch or state.inverse_time or state.fresh or not text:
@@ -769,12 +821,13 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
         craw = code_b.tobytes()
     else:
         code_b, craw = buf, raw
-    vraw = craw.translate(_V_TABLE)
+    w = w or words()
+    vraw = craw.translate(w.table)
     if b"\x14" in vraw:
         return None  # words that cannot be compensated: parse_chunk names them
     vpad = vraw + _PAD_BYTES
     v = np.frombuffer(vpad, dtype=np.uint8)
-    words = np.ndarray((len(vpad) - 7,), dtype="<u8", buffer=vpad, strides=(1,))
+    word8 = np.ndarray((len(vpad) - 7,), dtype="<u8", buffer=vpad, strides=(1,))
     vl = v[:L]
     sel = np.flatnonzero(((vl - np.uint8(13)) <= 6) | (vl == 23))  # letters and line feeds
     isnl = v[sel] == 23
@@ -801,7 +854,7 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
     gsel = lc == 18
     motion_line = None
     if gsel.any():
-        g = _numbers(v, words, nxt[gsel], False)
+        g = _numbers(v, word8, nxt[gsel], False)
         if g is None:
             return None
         gv = g[0]
@@ -816,13 +869,13 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
     asel = lc <= 17
     apos = pos[asel]
     nstart = nxt[asel]
-    nums = _numbers(v, words, nstart, True)
+    nums = _numbers(v, word8, nstart, True)
     if nums is None:
         return None
     vals, decs, nend = nums
     # every word's number ends where the word ends (no 'X1.2.3', 'X1e2', 'X1 0.5', 'X1-2'): else parse_chunk refuses
     osel = lc == 19
-    other = _numbers(v, words, nxt[osel], True) if osel.any() else (None, None, nend[:0])
+    other = _numbers(v, word8, nxt[osel], True) if osel.any() else (None, None, nend[:0])
     if other is None or not _ends_clean(v, code_b, np.concatenate([nend, other[2], g[2] if gsel.any() else nend[:0]])):
         return None
     if osel.any() and (((code_b[pos[osel]] | 0x20) == ord("m")) & (other[0] == 128)).any():
@@ -860,7 +913,7 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
         axes = np.take_along_axis(filled, idx, axis=0)[1:]
     dfill = np.vstack([state.decimals[None, :], wdec])
     np.maximum.accumulate(dfill, axis=0, out=dfill)
-    decimals = np.maximum(dfill[1:], np.where(LINEAR, min_decimals[0], min_decimals[2]))
+    decimals = np.maximum(dfill[1:], np.where(w.linear, min_decimals[0], min_decimals[2]))
     if motion_line is not None:
         j = np.searchsorted(motion_line, rows, "right") - 1
         motion = np.where(j >= 0, motion_val[np.maximum(j, 0)], state.motion)
@@ -875,19 +928,20 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
 
 
 def edit_line(line: str, code_line: str, new: dict[int, str], added: list[tuple[int, str]], sep: str,
-              cont: list[str] | None = None) -> str:
+              cont: list[str] | None = None, w: Words | None = None) -> str:
     """``edit`` for one line of its own (``code_line``: the line with comments blanked)."""
-    pieces = _SPLIT.split(code_line)
+    w = w or words()
+    pieces = w.split.split(code_line)
     if line != code_line:
         o = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).tolist()
         pieces = [line[o[j]: o[j + 1]] for j in range(len(pieces))]
     nn = (len(pieces) - 1) // 3
     numidx = np.full((1, 5), -1, dtype=np.int64)
     for t in range(nn):
-        numidx[0, AXES.index(code_line[sum(len(p) for p in pieces[: 3 * t + 1]) - 1].upper())] = 3 * t + 2
+        numidx[0, w.letters.index(code_line[sum(len(p) for p in pieces[: 3 * t + 1]) - 1].upper())] = 3 * t + 2
     ch = Chunk([line], 0, pieces, numidx, np.array([3 * nn], dtype=np.int64), np.zeros(1, dtype=np.int64),
                np.zeros((1, 5)), numidx >= 0, np.zeros((1, 5)), np.zeros((1, 5), dtype=np.int64),
-               np.zeros(1, dtype=np.int64), np.ones(1, dtype=bool), np.zeros(1, dtype=bool))
+               np.zeros(1, dtype=np.int64), np.ones(1, dtype=bool), np.zeros(1, dtype=bool), letters=w.letters)
     edit(ch, 0, new, added, sep, cont)
     return "".join(ch.pieces)
 

@@ -364,7 +364,8 @@ def simulate_campaign(model: ErrorModel | None = None, *, machine=None, tracker=
 
     model: error model of the simulated machine (None = no errors); machine: name or Machine (default: the
     plan's, else the model's, else the default machine); tracker: (3,) mm or "x,y,z" (None = the plan's, default
-    the spec's first tracker station); rounds: overrides the plan's (default 4; pass None to keep the plan's); seed: numpy Generator seed; effects: see mtcal.effects;
+    the spec's first tracker station); rounds: overrides the plan's (default 4; pass None to keep the plan's);
+    seed: numpy Generator seed; effects: see mtcal.effects;
     noise: AT960 noise on/off; plan: Plan, dict or PLAN.json path (module docstring).
     The planted truth is attached as ``recording.truth`` (a dict, also written by ``write_campaign``).
     """

@@ -20,7 +20,7 @@ from derive.spec import load_spec
 ROOT = Path(__file__).resolve().parent.parent
 
 
-@pytest.fixture(scope="module", params=["dmu50", "headbc", "xyzac"])
+@pytest.fixture(scope="module", params=sorted(p.stem for p in (ROOT / "derive" / "machines").glob("*.toml")))
 def derived(request):
     return derive_machine(load_spec(request.param))
 

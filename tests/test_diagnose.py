@@ -209,3 +209,38 @@ def test_bundled_demo_campaign_finds_only_the_planted_backlash():
     assert [e for e in d.effects if e["significant"]] == [top], [
         (e["name"], e["axis"], e.get("where")) for e in d.effects if e["significant"]]
     assert d.base["degrees"]["X"] == 3  # the truth's E_XX is cubic
+
+
+def test_engine_f_test_equals_a_plain_least_squares_f_test():
+    """mtcal.diagnose.engine.Engine (projections, block-diagonal base, columns added across blocks) against the
+    textbook F test written here with numpy.linalg.lstsq on the full design: same F, dof, p-value and estimate."""
+    from scipy import stats
+
+    from mtcal.diagnose.engine import Engine
+    rng = np.random.default_rng(17)
+    n = 300
+    idx_a, idx_b = np.arange(0, 150), np.arange(150, 300)
+    xa, xb = rng.normal(size=(150, 3)), rng.normal(size=(150, 4))
+    e1 = rng.normal(size=(n, 1))                      # a column across both blocks (a selected effect)
+    g = rng.normal(size=(n, 2))                       # the candidate
+    y = rng.normal(size=n) + 0.3 * g[:, 0]
+    base = np.zeros((n, 7))
+    base[idx_a, :3], base[idx_b, 3:] = xa, xb
+    x0 = np.hstack([base, e1])
+
+    def rss(x):
+        beta = np.linalg.lstsq(x, y, rcond=None)[0]
+        return float(np.sum((y - x @ beta) ** 2))
+    rss0, rss1 = rss(x0), rss(np.hstack([x0, g]))
+    dof = n - x0.shape[1] - 2
+    f_plain = ((rss0 - rss1) / 2) / (rss1 / dof)
+    eng = Engine([(idx_a, xa), (idx_b, xb)], y)
+    eng.add(e1)
+    sc = eng.score(g)
+    assert sc["k"] == 2 and sc["dof"] == dof
+    assert sc["F"] == pytest.approx(f_plain, rel=1e-10)
+    assert sc["logp"] == pytest.approx(stats.f.logsf(f_plain, 2, dof), rel=1e-9)
+    assert eng.rss == pytest.approx(rss0, rel=1e-12)
+    theta, _ = eng.estimate([g])
+    beta = np.linalg.lstsq(np.hstack([base, g]), y, rcond=None)[0]
+    assert np.allclose(theta, beta[-2:], rtol=1e-10, atol=1e-12)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal import diagnose_effects as fx
+from mtcal.diagnose import candidates as fx
 from mtcal.diagnose import prepare
 from mtcal.generated import signatures_numpy as S
 from mtcal.simulate import Plan, default_positions, simulate

@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from mtcal import gcode
 from mtcal.errors import InputError
 
-AXES = "XYZBC"  # this machine's axis words (the parser under test: gcode.AXES)
+AXES = "XYZBC"  # this machine's axis words (the parser under test: gcode.words("dmu50").letters)
 INCH = 25.4
 
 

@@ -1,6 +1,8 @@
 """Foundation (issue 2): generated kinematics vs the thesis closed form, inverse, CasADi, Jacobians, first order."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -10,7 +12,7 @@ from hypothesis import strategies as st
 import mtcal
 from mtcal.errors import InputError
 
-MACHINES = ["dmu50", "headbc", "xyzac"]
+MACHINES = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 D = 154.996  # mm, DMU 50 (design.md)
 
 
@@ -325,3 +327,38 @@ def test_broadcasting_of_leading_shapes():
     assert m.jacobian_errors(ax).shape == (3, 4, 6, 41)
     flat = m.forward(ax.reshape(12, 5), {"E_XX": 0.01})
     assert np.array_equal(m.forward(ax, {"E_XX": 0.01}).reshape(12, 6), flat)
+
+
+@pytest.mark.parametrize("name", MACHINES)
+def test_machine_geometry_api(name):
+    """The public geometry API: rigid motions are rotations + translations that reproduce the reflector points;
+    turning a rotary axis moves the points of its side about the z axis of its stator frame (axis_frame): the
+    displacement is orthogonal to that axis and the distance from it is kept; facts of the spec."""
+    m = mtcal.load_machine(name)
+    rng = np.random.default_rng(31)
+    ax = random_axes(m, 50, rng)
+    for k, lim in enumerate(m.limits):
+        if lim:
+            ax[:, k] = rng.uniform(lim[0] + 2, lim[1] - 2, 50)
+    local = rng.normal(size=(50, 3)) * 100
+    for side in ("tool", "table"):
+        b, rot = m.rigid_motion(side, ax)
+        assert np.abs(rot @ np.swapaxes(rot, 1, 2) - np.eye(3)).max() < 1e-12
+        assert np.abs(np.linalg.det(rot) - 1).max() < 1e-12
+        assert np.abs(m.points(side, ax, local) - (b + np.einsum("nij,nj->ni", rot, local))).max() < 1e-9
+    for a in m.rotary_axes:
+        r_f, o = m.axis_frame(a, ax)
+        z = r_f[..., 2]
+        k = m.index(a)
+        moved = ax.copy()
+        moved[:, k] += 1.5
+        p0, p1 = m.points(a, ax, local), m.points(a, moved, local)
+        assert np.abs(np.einsum("ni,ni->n", p1 - p0, z)).max() < 1e-9  # in the plane normal to the axis
+        dist = lambda p: np.linalg.norm(np.cross(p - o, z), axis=1)  # noqa: E731
+        assert np.abs(dist(p1) - dist(p0)).max() < 1e-9
+        assert np.abs(p1 - p0).max() > 0.1  # and it did move
+    assert set(m.sides.values()) <= {"tool", "table"}
+    assert m.sides[m.ik_info["rotary_axis"]] == "table"
+    if name in ("headbc", "dmu50"):  # the head's B moves the spindle, the DMU 50's B the table
+        assert m.sides["B"] == ("tool" if name == "headbc" else "table")
+    assert all(m.positioning_errors[a] == f"E_C{a}" for a in m.rotary_axes)

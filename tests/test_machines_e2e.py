@@ -118,3 +118,39 @@ def test_plan_covers_every_axis_of_the_spec(name):
     for a, sig in r["axes"].items():
         assert list(sig) == list(m.error_motions(a))
         assert all(0 < v < 0.05 for v in sig.values())  # mm / rad: finite, positive, plausible
+
+
+def test_nc_program_compensated_on_every_machine(identified, tmp_path):
+    """`mtcal compensate` on G-code written with the machine's own axis words (X Y Z A C on the trunnion, the
+    head's B on headbc), scope full (position and orientation, FOR through a head axis): the written program,
+    read back and run on the true machine (exact kinematics), reaches the targets; another machine's axis word
+    is refused with its line."""
+    from mtcal.compensate import ProgramCompensator
+    from mtcal.errors import InputError
+    from mtcal.gcode import read_moves
+    m, truth, res = identified
+    rng = np.random.default_rng(5)
+    lo = {a: p.min() for a, p in default_positions(m).items()}
+    hi = {a: p.max() for a, p in default_positions(m).items()}
+    q = np.column_stack([rng.uniform(lo[a], hi[a], 60) for a in m.axes])
+    q[:, m.index(m.ik_info["tilt_axis"])] = np.clip(q[:, m.index(m.ik_info["tilt_axis"])], 10, None)  # off B = 0
+    src, dst = tmp_path / "p.nc", tmp_path / "out.nc"
+    src.write_text("G90 G21\n" + "".join("G1 " + " ".join(f"{a}{v:.4f}" for a, v in zip(m.axes, row)) + "\n"
+                                         for row in q))
+    # tolerance 1 mm: no subdivision of the long random moves, so the written lines are the program's end points
+    comp = Compensator(truth, m, "full", iterations=2)
+    ProgramCompensator(comp, tolerance=1.0, precision=6).run(src, dst)
+    q_nom, q_cmd = read_moves(src, machine=m), read_moves(dst, machine=m)
+    assert len(q_cmd) == len(q_nom) == 60
+    want = m.forward(q_nom)
+    got = m.forward(q_cmd, truth.errors_at(m, q_cmd, "hold"))
+    before = m.forward(q_nom, truth.errors_at(m, q_nom, "hold"))
+    assert np.linalg.norm(before[:, :3] - want[:, :3], axis=1).max() > 5e-3  # ~10 um off uncompensated (mm)
+    assert np.linalg.norm(got[:, :3] - want[:, :3], axis=1).max() < 1e-4  # mm: exact iterations, 6 decimals
+    full = comp.weight(q_nom) >= 1  # orientation corrected in full outside the singular cones (blended inside)
+    assert full.sum() > 40 and np.linalg.norm(got[full, 3:] - want[full, 3:], axis=1).max() < 2e-6  # rad
+    foreign = next(c for c in "ABUVW" if c not in m.axes)
+    bad = tmp_path / "bad.nc"
+    bad.write_text(f"G1 X1 Y2 Z3\nG1 {foreign}5\n")
+    with pytest.raises(InputError, match=rf"bad.nc, line 2: axis word '{foreign}5'"):
+        ProgramCompensator(Compensator(truth, m)).run(bad, tmp_path / "bad_out.nc")

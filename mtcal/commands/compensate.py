@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 import time
 
@@ -18,6 +19,7 @@ from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
 
 NAME = "compensate"
+log = logging.getLogger("mtcal." + NAME)
 HELP = "compensate an NC program (G-code or CL data) for the errors in a model, exactly to first order"
 
 
@@ -70,7 +72,7 @@ def run(args: argparse.Namespace) -> int:
         now = time.perf_counter()
         if total > 2_000_000 and (now - last[0] > 1.0 or done >= total):
             last[0] = now
-            print(f"mtcal compensate: {done / total:6.1%} of {args.program}", file=sys.stderr)
+            log.info("%5.1f%% of %s", 100 * done / total, args.program)
 
     pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress,
                             residual_every=args.residual_every, max_correction=args.max_correction,

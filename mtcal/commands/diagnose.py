@@ -2,10 +2,11 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 from mtcal.commands._options import machine_argument
 
 NAME = "diagnose"
+log = logging.getLogger("mtcal." + NAME)
 HELP = "fit a quasi-static base model to tracker recordings, locate the misfit, name and model left-out effects"
 
 
@@ -69,5 +70,5 @@ def run(args: argparse.Namespace) -> int:
         where = f" ({' '.join(a for a in axes if a)})" if any(axes) else ""
         print(f"  not separable: {name}{where}: {why}")
     for p in out.get("plots", []):
-        print(f"plot: {p}", file=sys.stderr)
+        log.info("plot: %s", p)
     return 0

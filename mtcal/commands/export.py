@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import logging
 import sys
 from pathlib import Path
 
@@ -12,6 +13,7 @@ from mtcal.machine import load_machine
 from mtcal.model import load_model
 
 NAME = "export"
+log = logging.getLogger("mtcal." + NAME)
 HELP = "write an error model as controller compensation tables (LinuxCNC, Siemens 840D sl, Heidenhain, TF5280)"
 
 
@@ -66,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
               f"{', '.join(res.not_held)}", file=sys.stderr)
     for w in res.warnings:
-        print(f"warning: {w}", file=sys.stderr)
+        log.warning("warning: %s", w)
     for f in res.files:
         print(f"wrote {f}")
     return 0

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
 import numpy as np
 
@@ -16,6 +16,7 @@ from mtcal.commands._options import machine_argument
 from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "identify"
+log = logging.getLogger("mtcal." + NAME)
 HELP = ("identify the six error motions per axis and position (three-point method, Type A uncertainty over "
         "rounds), squareness and fitted error functions from a laser-tracker recording")
 
@@ -81,13 +82,13 @@ def run(args: argparse.Namespace) -> int:
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
                    outlier_k=args.outlier_k, max_degree=args.max_degree, method=args.method)
     for w in res.warnings:
-        print(f"mtcal identify: warning: {w}", file=sys.stderr)
+        log.warning("warning: %s", w)
     if args.output:
         save_model(res.model, args.output)
     if args.plots:
         from mtcal.plots_identify import plot_all
         paths = plot_all(res, args.plots)
-        print(f"mtcal identify: wrote {len(paths)} plots to {args.plots}", file=sys.stderr)
+        log.info("wrote %d plots to %s", len(paths), args.plots)
     if args.json:
         out = res.to_json()
         if args.tracker is not None:

@@ -2,12 +2,13 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 from pathlib import Path
 
 from mtcal.io import dumps, refuse_overwrite
 
 NAME = "import-sa"
+log = logging.getLogger("mtcal." + NAME)
 HELP = ("convert a SpatialAnalyzer ASCII point export (Collection Group Target x y z ...) to a tidy recording, "
         "mapping target names to axis, round, position, point by a mapping file or a naming pattern")
 
@@ -47,5 +48,5 @@ def run(args: argparse.Namespace) -> int:
     print(f"wrote {args.output}: {out['rows']} readings, axes {' '.join(out['axes'])} from {path} "
           f"({out['matched']} targets matched, {out['skipped']} left out; lengths {args.units} -> mm)")
     for n in res.notes:
-        print(f"note: {n}", file=sys.stderr)
+        log.warning("note: %s", n)
     return 0

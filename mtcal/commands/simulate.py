@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import argparse
-import sys
+import logging
 
 from mtcal import effects as fx
 from mtcal.io import dumps, refuse_overwrite
@@ -10,6 +10,7 @@ from mtcal.tracker import parse_xyz
 from mtcal.commands._options import machine_argument
 
 NAME = "simulate"
+log = logging.getLogger("mtcal." + NAME)
 HELP = "simulate laser-tracker recordings from an error model, a tracker placement and planted effects"
 
 
@@ -81,5 +82,5 @@ def run(args: argparse.Namespace) -> int:
               f"{summary['duration_s'] / 3600:.2f} h simulated; " + _where(truth) + f"; noise {'AT960' if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
-        print(f"truth: {tp}", file=sys.stderr)
+        log.info("truth: %s", tp)
     return 0

@@ -1,4 +1,5 @@
-"""The candidate effects of the diagnosis: their design columns in the measured coordinates.
+"""The candidate effects of the diagnosis: their design columns in the measured coordinates, and the list
+of candidates a recording offers (``candidates``).
 
 Each candidate is one effect at one place (an axis, an error function, a warm-up time constant, a pitch) with
 its columns G (n readings, 3 coordinates, k parameters) = d(measured point, machine frame, mm) / d(parameters),
@@ -13,13 +14,17 @@ functions of the measured axis' position (part of the fitted base model's family
 """
 from __future__ import annotations
 
+
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from mtcal.generated import signatures_numpy as S
 from mtcal.machine import Machine
+
+if TYPE_CHECKING:
+    from mtcal.diagnose.prepare import Prepared
 
 VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
               "cross_axis", "second_order", "tracker_scale", "offset")
@@ -183,3 +188,64 @@ def tracker_knock(g: Geometry, t0: float, where: dict) -> Candidate:
              f"{where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
     return Candidate("offset", None, label, G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="offset",
                      extra={"variant": "tracker knock", "t0_s": float(t0), **where})
+
+NOT_SEPARABLE = {
+    "scale": "a linear positioning error is part of the fitted error function E_JJ; compare with a reference model "
+             "(--model) or measure a length standard / a second tracker station",
+    "second_order": "a quadratic error term is part of the fitted smooth error function; compare with a reference "
+                    "model (--model)",
+    "squareness": "with each axis measured alone, a squareness is a linear straightness slope of the fitted "
+                  "error functions; measure a diagonal or a plate reversal (mtcal plate) to separate it",
+    "rotary_location": "with the reference at the zero position, a location error is a first harmonic of the fitted "
+                       "rotary error motions; measure at several positions of the other rotary axis, or compare "
+                       "with a reference model (--model)",
+    "cross_axis": "the recording holds every axis with the other axes at zero; measure the axis again with the "
+                  "other axis at a second position (plan 'at')",
+    "offset": "one (round, reflector) sequence only: a shift of it is the reflector's position itself",
+    "tracker_scale": "with one tracker station a radial scale of the tracker looks like axis scale and rotary "
+                     "location errors; measure from a second tracker station or against a length standard",
+    "backlash": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
+    "thermal_drift": "the recording has no time_s column",
+    "periodic": "the positions do not resolve a pitch shorter than the travel",
+}
+
+
+# ---------------------------------------------------------------------------------------------- candidates
+def all_candidates(prep: "Prepared", max_degree: int) -> tuple[list[Candidate], list[dict]]:
+    """All candidates that can be tested, and notes on the ones this recording cannot show."""
+    g, rec = prep.geometry, prep.rec
+    out: list[Candidate] = []
+    notes: list[dict] = []
+    for a in prep.axes:
+        on = rec.axis == a
+        dirs = set(rec.direction[on].tolist())
+        if {1, -1} <= dirs:
+            out.append(backlash(g, a))
+        else:
+            notes.append({"name": "backlash", "axis": a, "not_separable": NOT_SEPARABLE["backlash"]})
+        grid, span = pitch_grid(rec.position[on], g.linear(a), max_degree)
+        for pitch in grid:
+            out.append(periodic(g, a, pitch, span))
+        out.append(scale(g, a))
+        for e in prep.machine.error_motions(a):
+            out.append(second_order(g, a, e))
+        notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})
+    for e, (name, a) in constants(prep.machine).items():
+        if a in prep.axes:
+            out.append(constant(g, name, e))
+    if np.isfinite(rec.time_s).all():
+        t0 = float(np.min(rec.time_s))
+        sides = set(g.side.tolist())
+        targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else []) + (
+            ["tracker"] if len(sides) > 1 else [])
+        for target in targets:
+            for tau in TAUS_S:
+                out.append(thermal_drift(g, target, tau, t0))
+    else:
+        notes.append({"name": "thermal_drift", "axis": None, "not_separable": NOT_SEPARABLE["thermal_drift"]})
+    if g.tracker is not None:
+        out.append(tracker_scale(g))
+    for s, (a, r, label) in enumerate(prep.seq_keys):
+        rows = np.flatnonzero(prep.seq == s)
+        out.append(offset(g, rows, {"round": int(r), "point": str(label)}))
+    return out, notes

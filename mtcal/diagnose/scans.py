@@ -1,0 +1,152 @@
+"""Where the misfit is (``locate``: studentized residuals grouped by factors) and the scanned candidates (an
+outlier or a bumped nest; a tracker knock at a change point in time), see mtcal.diagnose."""
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from mtcal.diagnose.engine import ALIAS_TOL, Engine
+from mtcal.diagnose.prepare import Prepared
+
+
+# ---------------------------------------------------------------------------------------------- locate
+def locate(prep: Prepared, eng: Engine, level: float) -> tuple[list[dict], np.ndarray]:
+    """Where the studentized residuals concentrate: groups by axis x (direction, round, time, position, point)."""
+    n = len(prep.rec)
+    r = eng.r.reshape(n, 3)
+    Qi = eng.rows()
+    H = np.einsum("nip,njp->nij", Qi, Qi)
+    IH = np.eye(3) - H
+    s2 = eng.sigma**2
+    t2 = np.einsum("ni,ni->n", r, np.linalg.solve(IH + 1e-12 * np.eye(3), r[..., None])[..., 0]) / s2
+    rec = prep.rec
+    tests = []
+    for a in prep.axes:
+        on = rec.axis == a
+        groups: list[tuple[str, Any, np.ndarray]] = []
+        for d in (1, -1):
+            groups.append(("direction", d, on & (rec.direction == d)))
+        for rr in sorted(set(rec.round[on].tolist())):
+            groups.append(("round", int(rr), on & (rec.round == rr)))
+        for p in sorted(set(rec.position[on].tolist())):
+            groups.append(("position", float(p), on & (rec.position == p)))
+        for lab in sorted(set(rec.point[on].tolist())):
+            groups.append(("point", str(lab), on & (rec.point == lab)))
+        ts = rec.time_s[on]
+        if np.isfinite(ts).all():
+            edges = np.quantile(ts, [0, 1 / 3, 2 / 3, 1])
+            for k in range(3):
+                sel = on & (rec.time_s >= edges[k]) & ((rec.time_s < edges[k + 1]) if k < 2 else np.ones(n, bool))
+                groups.append(("time", [round(float(edges[k]), 1), round(float(edges[k + 1]), 1)], sel))
+        for by, where, sel in groups:
+            ng = int(sel.sum())
+            if ng < 2:
+                continue
+            mean = r[sel].sum(axis=0)
+            T_shift = float(mean @ mean) / (ng * s2)
+            p_shift = float(stats.chi2.sf(T_shift, 3))
+            S = float(t2[sel].sum())
+            p_disp = float(stats.chi2.sf(S, 3 * ng))
+            tests.append((a, by, where, ng, min(p_shift, p_disp), "mean" if p_shift <= p_disp else "spread",
+                          T_shift / 3, S / (3 * ng)))
+    out = []
+    for a, by, where, ng, p, kind, shift, disp in tests:
+        padj = min(1.0, 2 * p * len(tests))  # Bonferroni over groups x (mean, spread)
+        if padj < level:
+            out.append({"axis": a, "by": by, "where": where, "score": float(-math.log10(max(padj, 1e-300))),
+                        "p_adjusted": padj, "kind": kind, "readings": ng,
+                        "mean_shift_chi2_per_dof": shift, "spread_chi2_per_dof": disp})
+    out.sort(key=lambda d: -d["score"])
+    return out, t2
+
+
+def _outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
+    """Best single-reading and bumped-nest (rest of the round) displacement; returns (best, family size)."""
+    n = len(prep.rec)
+    W = prep.W
+    r = eng.r.reshape(n, 3)
+    Qi = eng.rows()
+    # one reading: span of the three whitened unit columns
+    M = np.eye(3) - np.einsum("nip,njp->nij", Qi, Qi)
+    ok = np.linalg.eigvalsh(M)[:, 0] > ALIAS_TOL**2
+    delta = np.zeros(n)
+    delta[ok] = np.einsum("ni,ni->n", r[ok], np.linalg.solve(M[ok], r[ok][..., None])[..., 0])
+    i = int(np.argmax(delta))
+    best = {"delta": float(delta[i]), "rows": np.array([i]), "mode": "reading"}
+    count = int(ok.sum())
+    # bumped nest: readings s.. of one (axis, round, point) sequence in time order
+    for s in range(len(prep.seq_keys)):
+        idx = np.flatnonzero(prep.seq == s)
+        idx = idx[np.argsort(prep.order[idx])]
+        if len(idx) < 3:
+            continue
+        Wi = W[idx]
+        A = np.cumsum((Wi.transpose(0, 2, 1) @ Wi)[::-1], axis=0)[::-1]          # sum W^T W
+        B = np.cumsum(np.einsum("npk,nkj->npj", Qi[idx].transpose(0, 2, 1), Wi)[::-1], axis=0)[::-1]  # Q^T G
+        b = np.cumsum(np.einsum("nki,nk->ni", Wi, r[idx])[::-1], axis=0)[::-1]   # G^T r
+        for j in range(1, len(idx) - 1):
+            GpGp = A[j] - B[j].T @ B[j]
+            lam = np.linalg.eigvalsh(GpGp)
+            if lam[0] <= ALIAS_TOL**2 * np.linalg.eigvalsh(A[j])[-1]:
+                continue
+            d = float(b[j] @ np.linalg.solve(GpGp, b[j]))
+            count += 1
+            if d > best["delta"]:
+                best = {"delta": d, "rows": idx[j:], "mode": "bump"}
+    return best, count
+
+
+def _knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
+    """Change point of a tracker knock: every reading from t0 on (all axes, all reflectors) shifted by one
+    vector.  t0 is scanned over the gaps between distinct reading times; each step column (whitened W_i on the
+    readings after t0) is scored by running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across
+    the base blocks.  Returns (best {"delta", "t0", "rows"}, number of separable change points scanned)."""
+    rec = prep.rec
+    n = len(rec)
+    if n < 3 or not np.isfinite(rec.time_s).all():
+        return None, 0
+    W = prep.W
+    r = eng.r.reshape(n, 3)
+    # per reading, its three rows of the full Q (every block at its own columns, then E)
+    widths = [q.shape[1] for _, q in eng.blocks]
+    P = sum(widths) + eng.E.shape[1]
+    Qf = np.zeros((3 * n, P))
+    off = 0
+    for (idx, q), w in zip(eng.blocks, widths):
+        Qf[idx, off:off + w] = q
+        off += w
+    Qf[:, off:] = eng.E
+    Qf = Qf.reshape(n, 3, P)
+    o = np.argsort(prep.order)
+    t = rec.time_s[o]
+    Wo = W[o]
+    A = np.cumsum((Wo.transpose(0, 2, 1) @ Wo)[::-1], axis=0)[::-1]                  # G^T G
+    B = np.cumsum(np.einsum("nkp,nkj->npj", Qf[o], Wo)[::-1], axis=0)[::-1]          # Q^T G
+    b = np.cumsum(np.einsum("nki,nk->ni", Wo, r[o])[::-1], axis=0)[::-1]             # G^T r
+    j = np.flatnonzero(np.diff(t) > 0) + 1       # the step starts at reading j (distinct times only)
+    if len(j) == 0:
+        return None, 0
+    M = A[j] - np.einsum("npi,npj->nij", B[j], B[j])
+    # separability as in Engine.score: sin^2 of the angles between G and the base, relative to G^T G
+    L = np.linalg.cholesky(A[j])
+    Li = np.linalg.inv(L)
+    mu = np.linalg.eigvalsh(Li @ M @ Li.transpose(0, 2, 1))
+    ok = mu[:, 0] > ALIAS_TOL**2
+    if not ok.any():
+        return None, 0
+    delta = np.full(len(j), -np.inf)
+    delta[ok] = np.einsum("ni,ni->n", b[j][ok], np.linalg.solve(M[ok], b[j][ok][..., None])[..., 0])
+    k = int(np.argmax(delta))
+    jj = int(j[k])
+    return {"delta": float(delta[k]), "t0": 0.5 * float(t[jj - 1] + t[jj]), "rows": o[jj:],
+            "before_s": float(t[jj - 1]), "after_s": float(t[jj])}, int(ok.sum())
+
+
+def _where(prep: Prepared, rows: np.ndarray) -> dict:
+    rec = prep.rec
+    i = rows[np.argmin(prep.order[rows])]
+    return {"round": int(rec.round[i]), "position": float(rec.position[i]), "point": str(rec.point[i]),
+            "approach": int(rec.direction[i]), "line": int(rec.line[i]), "readings": int(len(rows))}
