@@ -164,13 +164,13 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
         d = m.deviation(grid, mdl.errors_at(m, grid, "hold"), order=None)[:, :3] - dev_true
         return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
 
-    def compensate(mdl):
+    def compensate(mdl, name: str):  # the same sample program, in out/stations/ (the step's own files)
         from mtcal.model import save_model
-        p = out / "model_stations.json"
+        (out / "stations").mkdir(exist_ok=True)
+        p = out / "stations" / f"model_{name}.json"
         save_model(mdl, p)
-        if m.name == BUNDLED:
-            return _compensate_program(m, truth, p, out)[:2]
-        return _compensate_path(m, truth, mdl, np.random.default_rng(0))[:2]
+        return compensate_file(m, truth, p, out / "sample_5axis.nc",
+                               out / "stations" / f"sample_5axis_compensated_{name}.nc")[:2]
     summary["stations"] = run_stations(m, truth, planted, volumetric, compensate)
     st = summary["stations"]
     prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
@@ -203,13 +203,17 @@ def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Ge
                         ) -> tuple[np.ndarray, np.ndarray, dict]:
     """`mtcal compensate` on a five-axis program (DMU 50: the bundled one; other machines: ``_sample_program``);
     tool-tip errors on the true machine before / after."""
-    from mtcal.gcode import read_moves
     nc_in = out / "sample_5axis.nc"
     if m.name == BUNDLED:
         shutil.copyfile(data_path("sample_5axis.nc"), nc_in)
     else:
         atomic_write_text(nc_in, _sample_program(m, rng))
-    nc_out = out / "sample_5axis_compensated.nc"
+    return compensate_file(m, truth, model_path, nc_in, out / "sample_5axis_compensated.nc")
+
+
+def compensate_file(m, truth, model_path: Path, nc_in: Path, nc_out: Path) -> tuple[np.ndarray, np.ndarray, dict]:
+    """`mtcal compensate` NC_IN -> NC_OUT with a model; tool-tip errors (mm) on the true machine before / after."""
+    from mtcal.gcode import read_moves
     comp = _cli(["compensate", str(nc_in), "--model", str(model_path), "-o", str(nc_out)])
     q_nom, q_cmd = read_moves(nc_in, machine=m), read_moves(nc_out, machine=m)
     targets = m.forward(q_nom)

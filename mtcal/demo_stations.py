@@ -38,7 +38,7 @@ def four_stations(plan) -> list[tuple[str, tuple[float, float, float]]]:
 
 
 def run_stations(m, truth, planted: dict, volumetric, compensate, seed: int = 1) -> dict:
-    """Summary dict of the step; ``volumetric(model)`` -> model - truth RMS um, ``compensate(model)`` ->
+    """Summary dict of the step; ``volumetric(model)`` -> model - truth RMS um, ``compensate(model, name)`` ->
     (before, after) tool-tip errors (mm) of the sample program on the true machine."""
     plan = campaign_plan(m, planted)
     one, _ = simulate(truth, machine=m, plan=plan, rounds=None, seed=seed)
@@ -54,7 +54,7 @@ def run_stations(m, truth, planted: dict, volumetric, compensate, seed: int = 1)
            "predicted_four_stations_um": predict(plan, stations, max(1, plan.rounds // len(stations))).model_um,
            "predicted_one_station_um": predict(plan, [("one", t)], plan.rounds).model_um}
     for name, model in cases.items():
-        before, after = compensate(model)
+        before, after = compensate(model, name)
         out[name] = {"model_minus_true_rms_um": volumetric(model),
                      "compensated_rms_um": float(np.sqrt(np.mean(after**2)) * 1e3),
                      "compensated_max_um": float(after.max() * 1e3),
