@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.io import atomic_write_text, dumps
+from mtcal.io import atomic_write_text, dumps, save_figure
 
 STEPS = 7
 log = logging.getLogger(__name__)
@@ -32,11 +32,11 @@ def data_path(name: str) -> Path:
 
 def _cli(args: list[str]) -> dict:
     """Run one `mtcal ... --json` command in-process and return its JSON answer (stderr passes through)."""
-    from mtcal.cli import main
+    from mtcal.cli import parse_args
     buf = io.StringIO()
-    quiet = [] if logging.getLogger("mtcal").isEnabledFor(logging.INFO) else ["-q"]
+    ns = parse_args(args + ["--json"])
     with contextlib.redirect_stdout(buf):
-        code = main(args + ["--json"] + quiet)
+        code = ns._run(ns)
     if code:
         raise RuntimeError(f"`mtcal {' '.join(args)}` failed with exit code {code}")
     return json.loads(buf.getvalue())
@@ -260,7 +260,7 @@ def _plot_compensation(path: Path, before: np.ndarray, after: np.ndarray) -> Non
     ax.grid(alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -309,7 +309,8 @@ def report(s: dict, out: Path) -> str:
               "What is left is the identification uncertainty (see the plan table): compensation is only as good "
               "as the model.", "", "![compensation](plots/compensation_before_after.png)", "",
               "## Diagnosis", "", f"Base model sigma: {d['base_sigma'] * 1e3:.2f} um.", "",
-              "| rank | effect | axis | significant | estimate | sigma after | evidence |", "|---|---|---|---|---|---|---|"]
+              "| rank | effect | axis | significant | estimate | sigma after | evidence |",
+              "|---|---|---|---|---|---|---|"]
     for k, e in enumerate(d["effects"], 1):
         ev = e.get("evidence") or {}
         evs = ", ".join(f"{a} = {b:.3g}" for a, b in ev.items() if isinstance(b, (int, float)))

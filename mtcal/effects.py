@@ -58,14 +58,14 @@ def _axis(v: str) -> str:
     """An axis name (checked against the machine in ``Effect.bind``)."""
     a = str(v).strip().upper()
     if not a.isalpha():
-        raise ValueError(f"axis must be an axis name, got {v!r}")
+        raise InputError(f"axis must be an axis name, got {v!r}")
     return a
 
 
 def _dir(v: str) -> str:
     a = str(v).strip().upper()
     if a.lstrip("+-") not in ("X", "Y", "Z"):
-        raise ValueError(f"direction must be X, Y, Z, -X, -Y or -Z, got {v!r}")
+        raise InputError(f"direction must be X, Y, Z, -X, -Y or -Z, got {v!r}")
     return a if a[0] in "+-" else "+" + a
 
 
@@ -79,7 +79,7 @@ def _choice(*options: str) -> Callable[[str], str]:
     def parse(v: str) -> str:
         s = str(v).strip().lower()
         if s not in options:
-            raise ValueError(f"must be one of {', '.join(options)}, got {v!r}")
+            raise InputError(f"must be one of {', '.join(options)}, got {v!r}")
         return s
     return parse
 
@@ -87,30 +87,37 @@ def _choice(*options: str) -> Callable[[str], str]:
 def _error_name(v: str) -> str:
     s = str(v).strip()
     if not (len(s) in (4, 5) and s.startswith("E_")):
-        raise ValueError(f"not an ISO 230-1 error name: {v!r}")
+        raise InputError(f"not an ISO 230-1 error name: {v!r}")
     return s.upper().replace("E_", "E_", 1)
 
 
 def _float(v) -> float:
     x = float(v)
     if math.isnan(x) and isinstance(v, str):
-        raise ValueError(f"not a number: {v!r}")
+        raise InputError(f"not a number: {v!r}")
     if math.isinf(x):
-        raise ValueError(f"must be finite, got {v!r}")
+        raise InputError(f"must be finite, got {v!r}")
+    return x
+
+
+def _positive(v) -> float:
+    x = _float(v)
+    if not x > 0:
+        raise InputError(f"must be positive, got {v!r}")
     return x
 
 
 def _int(v) -> int:
     x = float(v)
     if x != int(x):
-        raise ValueError(f"must be an integer, got {v!r}")
+        raise InputError(f"must be an integer, got {v!r}")
     return int(x)
 
 
 # name -> {key: (default, parser, doc)}
 PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
     "thermal_drift": {"amplitude": (0.010, _float, "mm, final displacement"),
-                      "tau_s": (1800.0, _float, "s, warm-up time constant"),
+                      "tau_s": (1800.0, _positive, "s, warm-up time constant"),
                       "direction": ("+Z", _dir, "X, Y, Z or -X, -Y, -Z"),
                       "target": ("spindle", _choice("spindle", "table", "tracker"), "what drifts"),
                       "t0_s": (0.0, _float, "s, start of the warm-up"),
@@ -119,7 +126,7 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                  "amount": (0.004, _float, "reversal value, mm (rad for a rotary axis)")},
     "periodic": {"axis": (None, _axis, "axis; default the machine's first"),
                  "amplitude": (0.002, _float, "mm (rad for a rotary axis)"),
-                 "pitch": (200.0, _float, "mm (deg for a rotary axis)"),
+                 "pitch": (200.0, _positive, "mm (deg for a rotary axis)"),
                  "phase_deg": (0.0, _float, "deg")},
     "scale": {"axis": (None, _axis, "axis; default the machine's first"), "ppm": (20.0, _float, "1e-6 of the position")},
     "squareness": {"error": (None, _error_name, "a squareness constant of the machine; default its first"),
@@ -185,7 +192,7 @@ class Effect:
             raise InputError(f"effect {self.name}: unknown key(s) {unknown}; allowed: "
                              + ", ".join(f"{k} ({d[2]}, default {d[0]})" for k, d in spec.items()))
         full = {}
-        for k, (default, parse, doc) in spec.items():
+        for k, (default, parse, _doc) in spec.items():
             v = self.params.get(k, default)
             try:
                 full[k] = parse(v) if k in self.params and v is not None else v
@@ -303,8 +310,8 @@ class Effect:
         """Modify the readings (n, 3) in place."""
         p, n = self.params, self.name
         if n == "thermal_drift":
-            on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == {"spindle": "tool",
-                                                                                            "table": "table"}[p["target"]]
+            side = {"spindle": "tool", "table": "table"}.get(p["target"])
+            on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == side
             dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
             xyz[on] += S.thermal_drift_displacement(p["amplitude"] * _unit(p["direction"]), dt, p["tau_s"])
         elif n == "outlier":
@@ -391,6 +398,7 @@ def as_effects(effects: Iterable) -> list[Effect]:
             try:
                 name, params = e
             except (TypeError, ValueError):
-                raise InputError(f"an effect must be Effect, (name, params), 'name:key=value' or a dict, got {e!r}") from None
+                raise InputError(f"an effect must be Effect, (name, params), 'name:key=value' or a dict, "
+                                 f"got {e!r}") from None
             out.append(Effect(str(name), dict(params or {})))
     return out

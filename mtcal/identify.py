@@ -25,6 +25,7 @@ from mtcal import fitting
 from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
+from mtcal.io import read_text
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
@@ -604,10 +605,15 @@ def parse_positions(text: str) -> np.ndarray:
     try:
         if ":" in text:
             a, b, n = text.split(":")
-            return np.linspace(float(a), float(b), int(n))
-        return np.array([float(v) for v in text.split(",")])
+            p = np.linspace(float(a), float(b), int(n))
+        else:
+            p = np.array([float(v) for v in text.split(",")])
     except ValueError:
-        raise InputError(f"positions must be start:stop:count or a comma list, got {text!r}") from None
+        p = np.array([])
+    if len(p) < 2 or not np.isfinite(p).all():
+        raise InputError(f"--positions must be start:stop:count (count >= 2) or a comma list of >= 2 finite numbers, "
+                         f"got {text!r}")
+    return p
 
 
 def read_inspire(paths, axis: str, positions=None) -> Recording:
@@ -620,22 +626,22 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
     axis = axis.upper()
     rows: dict[str, list] = {k: [] for k in ("round", "position", "point", "xyz", "line", "file")}
     for r, path in enumerate(paths, start=1):
-        text = open(path).read()
+        text = read_text(path, "Inspire export")
         data = []
         for ln, line in enumerate(text.splitlines(), start=1):
             if not line.strip():
                 continue
             f = [c.strip() for c in line.split(",")]
             try:
-                if len(f) < 4:
-                    raise ValueError
-                xyz = [float(v) for v in f[1:4]]
+                xyz = [float(v) for v in f[1:4]] if len(f) >= 4 else None
             except ValueError:
+                xyz = None
+            if xyz is None:
                 if not data and ln == 1:
                     continue  # header
-                raise InputError(f"{path}, line {ln}: expected 'label, x, y, z' in mm, got {line.strip()!r}") from None
+                raise InputError(f"{path}:{ln}: expected 'label, x, y, z' in mm, got {line.strip()!r}") from None
             if not np.isfinite(xyz).all():
-                raise InputError(f"{path}, line {ln}: NaN/inf is not a measurement")
+                raise InputError(f"{path}:{ln}: NaN/inf is not a measurement")
             data.append((ln, xyz))
         if len(data) % 3 or not data:
             raise InputError(f"{path}: {len(data)} readings is not three equal blocks (K, P, Q) of one per position")

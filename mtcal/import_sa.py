@@ -37,7 +37,8 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.recordings import LINEAR, ROTARY, Recording, make_recording
+from mtcal.io import read_text
+from mtcal.recordings import Recording, make_recording
 
 UNITS_MM = {"mm": 1.0, "in": 25.4, "m": 1000.0}
 GROUPS = ("axis", "round", "position", "point")  # required names of a mapping
@@ -171,12 +172,12 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
         line = raw.strip().lstrip("\ufeff")
         if not line or line.startswith("//"):
             continue
-        where, fields = f"{source}, line {n}", _split(line)
+        where, fields = f"{source}:{n}", _split(line)
         if not points and col is None and (h := _header(fields)) is not None:
             col, width = h, len(fields)
             unknown = [f for f in fields if f.strip().lower() not in HEADER_NAMES]
             if unknown:
-                notes.append(f"{source}, line {n}: column(s) {unknown} not used")
+                notes.append(f"{source}:{n}: column(s) {unknown} not used")
             continue
         if col is not None:
             p = _by_header(fields, col, width, where)
@@ -187,7 +188,7 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
                     raise InputError(f"{where}: expected 1-3 name fields (Collection Group Target) before x y z, "
                                      f"found {k}; numeric target names need name_fields (--name-fields)")
                 if k < 3 and "::" not in fields[0]:
-                    notes.append(f"{source}, line {n}: {k} name field(s) before x y z taken from the first "
+                    notes.append(f"{source}:{n}: {k} name field(s) before x y z taken from the first "
                                  f"non-number; numbered targets need --name-fields 3")
             p = _positional(fields, k, where)
         p.line = n
@@ -204,29 +205,26 @@ TargetMap = dict[str, dict[str, str]]  # target name -> {axis, round, position, 
 def read_mapping(path: str | Path) -> TargetMap:
     """Mapping CSV: header target,axis,round,position,point[,direction]; one row per target name."""
     p = Path(path)
-    try:
-        rows = list(csv.reader(io.StringIO(p.read_text())))
-    except FileNotFoundError:
-        raise FileNotFoundError(f"mapping file not found: {p}") from None
+    rows = list(csv.reader(io.StringIO(read_text(p, "mapping"))))
     rows = [(i + 1, r) for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")]
     if not rows:
         raise InputError(f"{p}: empty mapping file")
     header = [h.strip().lower() for h in rows[0][1]]
     need = ("target",) + GROUPS
     if not set(need) <= set(header) or not set(header) <= set(need + ("direction",)):
-        raise InputError(f"{p}, line {rows[0][0]}: header must be target,axis,round,position,point[,direction], "
+        raise InputError(f"{p}:{rows[0][0]}: header must be target,axis,round,position,point[,direction], "
                          f"got {','.join(header)}")
     out: TargetMap = {}
     seen: dict[str, int] = {}
     for line, r in rows[1:]:
         if len(r) != len(header):
-            raise InputError(f"{p}, line {line}: {len(r)} fields, header has {len(header)}")
+            raise InputError(f"{p}:{line}: {len(r)} fields, header has {len(header)}")
         row = {h: v.strip() for h, v in zip(header, r)}
         name = row.pop("target")
         if name in seen:
-            raise InputError(f"{p}, line {line}: target {name!r} mapped again (first at line {seen[name]})")
+            raise InputError(f"{p}:{line}: target {name!r} mapped again (first at line {seen[name]})")
         seen[name] = line
-        out[name] = row | {"_where": f"{p}, line {line}"}
+        out[name] = row | {"_where": f"{p}:{line}"}
     return out
 
 
@@ -250,11 +248,11 @@ def _lookup(p: SAPoint, mapping: TargetMap | None, rx: re.Pattern | None) -> dic
     return None if m is None else {k: v for k, v in m.groupdict().items() if v is not None}
 
 
-def _keys(found: dict[str, str], where: str) -> tuple[str, int, float, str, int]:
+def _keys(found: dict[str, str], where: str, axes: tuple[str, ...]) -> tuple[str, int, float, str, int]:
     """axis, round, position, point, direction (0 = not given) from mapped text, checked."""
     ax = found["axis"].strip().upper()
-    if ax not in LINEAR + ROTARY:
-        raise InputError(f"{where}: axis {found['axis']!r} is not one of X, Y, Z, A, B, C")
+    if ax not in axes:
+        raise InputError(f"{where}: axis {found['axis']!r} is not one of the machine's axes ({', '.join(axes)})")
     rnd, pos = _number(found["round"]), _number(found["position"])
     if rnd is None or rnd != int(rnd):
         raise InputError(f"{where}: round must be an integer, got {found['round']!r}")
@@ -282,8 +280,12 @@ def _times(points: list[SAPoint], source: str) -> np.ndarray:
 
 
 def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = None, pattern: str | None = None,
-              units: str = "mm", skip_unmatched: bool = False, name_fields: int | None = None) -> ImportResult:
-    """SpatialAnalyzer export text -> tidy Recording (xyz in mm); exactly one of ``mapping`` / ``pattern``."""
+              units: str = "mm", skip_unmatched: bool = False, name_fields: int | None = None,
+              machine=None) -> ImportResult:
+    """SpatialAnalyzer export text -> tidy Recording (xyz in mm); exactly one of ``mapping`` / ``pattern``;
+    the axes must be axes of ``machine`` (mtcal.Machine or name; default: the default machine)."""
+    from mtcal.machine import Machine, load_machine
+    axes = (machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))).axes
     if (mapping is None) == (pattern is None):
         raise InputError("give exactly one of a mapping file (--mapping) or a naming pattern (--pattern)")
     if units not in UNITS_MM:
@@ -297,9 +299,9 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
         if found is None:
             skipped.append((p.full_name, p.line))
             continue
-        where = f"{source}, line {p.line}" + (f" (mapping: {found['_where']})" if "_where" in found else "")
+        where = f"{source}:{p.line}" + (f" (mapping: {found['_where']})" if "_where" in found else "")
         keep.append(p)
-        keys.append(_keys(found, where))
+        keys.append(_keys(found, where, axes))
     if skipped and not skip_unmatched:
         shown = "; ".join(f"{n} (line {ln})" for n, ln in skipped[:10])
         hint = "".join(f"; {n}" for n in notes if "name field(s)" in n)
@@ -325,7 +327,7 @@ def _check_duplicates(points: list[SAPoint], keys: list[tuple], source: str) -> 
     for p, k in zip(points, keys):
         key = k + (p.time if isinstance(p.time, float) else str(p.time),)
         if key in seen:
-            raise InputError(f"{source}, line {p.line}: target {p.full_name} maps to the same reading as line "
+            raise InputError(f"{source}:{p.line}: target {p.full_name} maps to the same reading as line "
                              f"{seen[key]} (axis {k[0]}, round {k[1]}, position {k[2]:g}, point {k[3]}); repeated "
                              f"readings need a direction or a time stamp")
         seen[key] = p.line

@@ -2,21 +2,72 @@
 from __future__ import annotations
 
 import contextlib
+import csv
+import errno
+import fnmatch
 import json
 import os
-import tempfile
+import re
+import secrets
+import warnings
 from pathlib import Path
-from typing import IO, Any, Iterator
+from typing import IO, Any, Iterable, Iterator, Mapping, Sequence
 
 import numpy as np
 
+from mtcal.errors import InputError, InputWarning
 
-def refuse_overwrite(out: str | os.PathLike, *inputs: str | os.PathLike | None) -> None:
-    """Raise if the output path is one of the inputs (inputs are never overwritten)."""
-    o = Path(out).resolve()
-    for i in inputs:
-        if i is not None and Path(i).exists() and Path(i).resolve() == o:
-            raise ValueError(f"output {out} is also an input; choose another output path")
+
+def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.PathLike,
+                     *inputs: str | os.PathLike | None,
+                     dirs: Mapping[str | os.PathLike | None, Sequence[str]] | None = None) -> None:
+    """Raise InputError when a planned output would overwrite an input of the same run.
+
+    ``outputs``: output file paths (one path or several; None entries are skipped); ``inputs``: the run's input
+    files; ``dirs``: output directories -> glob patterns of the files the command writes there (e.g.
+    ``{"plots": ["*.png"]}``): an input inside such a directory matching a pattern is refused too.
+    Same file = same resolved path or the same inode (symlinks, hard links).
+    """
+    outs = [outputs] if isinstance(outputs, (str, os.PathLike)) else list(outputs)
+    ins = [Path(i) for i in inputs if i is not None and Path(i).exists()]
+    for out in outs:
+        if out is None:
+            continue
+        if Path(out).is_dir():
+            raise InputError("is a directory; give an output file name", out)
+        _check_parents(Path(out))
+        for i in ins:
+            if _same(Path(out), i):
+                raise InputError(f"output {out} is also an input of this run; choose another output path")
+    for d, patterns in (dirs or {}).items():
+        if d is None:
+            continue
+        if Path(d).exists() and not Path(d).is_dir():
+            raise InputError("exists and is not a directory; give an output directory", d)
+        _check_parents(Path(d))
+        dd = Path(d).resolve()
+        for i in ins:
+            if i.resolve().parent == dd and any(fnmatch.fnmatch(i.name, pat) for pat in patterns):
+                raise InputError(f"output directory {d} would overwrite the input {i} (it writes "
+                                 f"{', '.join(patterns)} there); choose another directory")
+
+
+def _check_parents(p: Path) -> None:
+    """The nearest existing parent of an output path must be a directory."""
+    for q in p.absolute().parents:
+        if q.exists():
+            if not q.is_dir():
+                raise InputError(f"cannot write here: {q} is a file, not a directory", p)
+            return
+
+
+def _same(a: Path, b: Path) -> bool:
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return a.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
 
 
 _UMASK = os.umask(0)
@@ -28,16 +79,52 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
     """Open a temporary file beside ``path`` for writing (streaming is fine); on success it is renamed onto
     ``path`` with the permissions open() would give, on failure removed: readers never see half a file."""
     p = Path(path)
+    if p.is_dir():
+        raise IsADirectoryError(errno.EISDIR, "is a directory", str(p))
     p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", dir=p.parent)
+    tmp = None
     try:
+        tmp, fd = _create_temporary(p)
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
-        os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes 0600
+        os.chmod(tmp, 0o666 & ~_UMASK)  # created 0600
         os.replace(tmp, p)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        if tmp is not None:
+            Path(tmp).unlink(missing_ok=True)
         raise
+    finally:
+        _ACTIVE.discard(tmp)
+
+
+_ACTIVE: set[str] = set()  # temporaries of atomic_open calls under way
+
+
+def _create_temporary(p: Path) -> tuple[str, int]:
+    """A new ``.NAME.XXXXXXXX`` beside ``p`` (0600, exclusive), registered in _ACTIVE *before* it exists: a Ctrl-C or
+    SIGTERM raised at any point (Python runs signal handlers between any two calls) cannot leave an unknown file."""
+    for _ in range(100):
+        tmp = str(p.parent / f".{p.name}.{secrets.token_hex(4)}")
+        _ACTIVE.add(tmp)
+        try:
+            return tmp, os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o600)
+        except FileExistsError:
+            _ACTIVE.discard(tmp)
+    raise FileExistsError(errno.EEXIST, "no free temporary name", str(p))
+
+
+def remove_temporaries() -> None:
+    """Remove the temporaries of every atomic_open still under way (the CLI calls this when a run is interrupted:
+    an exception raised between a generator's ``yield`` and the ``with`` taking it over never reaches it)."""
+    for tmp in list(_ACTIVE):
+        Path(tmp).unlink(missing_ok=True)
+        _ACTIVE.discard(tmp)
+
+
+def save_figure(fig, path: str | os.PathLike, dpi: int = 110) -> None:
+    """A matplotlib figure as PNG, written atomically (see ``atomic_open``)."""
+    with atomic_open(path, "wb") as fh:
+        fig.savefig(fh, format="png", dpi=dpi)
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> None:
@@ -46,16 +133,72 @@ def atomic_write_text(path: str | os.PathLike, text: str) -> None:
         fh.write(text)
 
 
+def read_text(path: str | os.PathLike, what: str = "input") -> str:
+    """Text of an input file for people's exports: UTF-8 (a byte-order mark is dropped), else Windows-1252 /
+    Latin-1 (said in a warning); missing, directory, empty and binary (NUL bytes) files are errors naming the
+    file.  Line ends are kept as they are."""
+    p = Path(path)
+    if not p.exists():
+        raise InputError(f"{what} file not found", p)
+    if p.is_dir():
+        raise InputError(f"is a directory, expected a {what} file", p)
+    data = p.read_bytes()
+    if not data.strip():
+        raise InputError(f"empty {what} file", p)
+    if b"\0" in data:
+        line = data[:data.index(b"\0")].count(b"\n") + 1
+        raise InputError(f"NUL byte: a binary file, not a {what} file", p, line)
+    data = data.removeprefix(b"\xef\xbb\xbf")  # UTF-8 byte-order mark (Excel "CSV UTF-8")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+    for enc in ("cp1252", "latin-1"):
+        try:
+            text = data.decode(enc)
+        except UnicodeDecodeError:
+            continue
+        warnings.warn(InputWarning(f"{p}:{line}: not UTF-8; read as {enc} (Windows-1252/Latin-1)"), stacklevel=2)
+        return text
+    raise AssertionError("latin-1 decodes every byte")  # pragma: no cover
+
+
+_DECIMAL_COMMA = re.compile(r"^\s*[+-]?\d*,\d+(?:[eE][+-]?\d+)?\s*$")
+
+
+def read_csv_rows(path: str | os.PathLike, what: str) -> list[tuple[int, list[str]]]:
+    """Non-empty, non-comment (``#``) rows of a CSV input as (file line, fields); see ``read_text`` for encodings.
+
+    The separator is ``,``; a header with ``;`` and no ``,`` is a spreadsheet export with ``;`` separators, whose
+    decimal commas (``1,25``) are read as decimal points: said in a warning naming the file."""
+    text = read_text(path, what)
+    lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise InputError(f"empty {what} file (only comments or blank lines)", path)
+    head = lines[0][1]
+    sep = ";" if ";" in head and "," not in head else ","
+    rows = [(i, next(csv.reader([ln], delimiter=sep))) for i, ln in lines]
+    if sep == ";":
+        commas = 0
+        for _, r in rows[1:]:
+            for k, f in enumerate(r):
+                if _DECIMAL_COMMA.match(f):
+                    r[k] = f.replace(",", ".")
+                    commas += 1
+        warnings.warn(InputWarning(f"{path}: ';'-separated (spreadsheet export)"
+                                   + (f"; {commas} decimal comma(s) read as decimal points" if commas else "")),
+                      stacklevel=2)
+    return rows
+
+
 def read_json(path: str | os.PathLike, what: str) -> Any:
     """Parsed JSON of an input file; a missing file or bad JSON is an error naming the file (``what``: e.g. "model")."""
-    from mtcal.errors import InputError
     p = Path(path)
+    text = read_text(p, what)
     try:
-        return json.loads(p.read_text())
-    except FileNotFoundError:
-        raise FileNotFoundError(f"{what} file not found: {p}") from None
+        return json.loads(text)
     except json.JSONDecodeError as exc:
-        raise InputError(f"{p}: not valid JSON ({exc})") from None
+        raise InputError(f"not valid JSON ({exc.msg}, column {exc.colno})", p, exc.lineno) from None
 
 
 def _default(o: Any):

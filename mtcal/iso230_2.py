@@ -20,7 +20,8 @@ expansion coefficient alpha (1/K) of the axis' scale / the part it stands for an
 position: the deviation the axis would show at 20 C.
 
 Statistics (ISO 230-2:2014 terms and definitions, computed per target over the runs that exist, so unequal
-numbers of runs per target and direction are fine): x_mean_up/down (mean unidirectional positional deviation), x_mean_i =
+numbers of runs per target and direction are fine): x_mean_up/down (mean unidirectional positional deviation),
+x_mean_i =
 (up + down)/2, B_i = up - down (reversal value), s_up/down (unidirectional standard uncertainty estimate, n - 1),
 R_up/down_i = 4 s, R_i = max(2 s_up + 2 s_down + |B_i|, R_up_i, R_down_i); axis: B = max |B_i|, B_mean = mean B_i,
 E_up/down = max - min of the unidirectional means, E = max - min over both, M = max - min of x_mean_i,

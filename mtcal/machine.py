@@ -187,7 +187,8 @@ class Machine:
         else:
             e = np.asarray(errors, dtype=float)
             if e.ndim == 0 or e.shape[-1] != n:
-                raise InputError(f"error vector must have shape (..., {n}) ordered as Machine.error_names, got {e.shape}")
+                raise InputError(f"error vector must have shape (..., {n}) ordered as Machine.error_names, "
+                                 f"got {e.shape}")
         if not np.isfinite(e).all():
             raise InputError("error values contain NaN/inf")
         return e

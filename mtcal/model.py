@@ -19,10 +19,11 @@ from typing import Any
 
 import numpy as np
 
+from mtcal import schema as sc
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 
-LENGTH_UNITS = {"mm": 1.0, "um": 1e-3, "m": 1e3}
+LENGTH_UNITS = {"mm": 1.0, "um": 1e-3, "m": 1e3, "inch": 25.4}
 ANGLE_UNITS = {"rad": 1.0, "urad": 1e-6, "mrad": 1e-3, "deg": np.pi / 180, "arcsec": np.pi / 180 / 3600}
 
 
@@ -80,10 +81,11 @@ class ErrorModel:
         return ev(flat).reshape(a.shape[:-1] + (len(machine.error_names),))
 
     def is_zero(self) -> bool:
+        def fit_zero(fit: dict | None) -> bool:
+            return not fit or not any(np.any(np.asarray(v, dtype=float) != 0) for k, v in fit.items()
+                                      if k in ("coefficients", "a0", "cos", "sin"))
         return all(v == 0 for v in self.constants.values()) and all(
-            not np.any(f.values) and not (f.fit and any(np.any(np.asarray(v, dtype=float) != 0)
-                                                         for k, v in f.fit.items() if k in ("coefficients", "a0", "cos", "sin")))
-            for f in self.functions.values())
+            not np.any(f.values) and fit_zero(f.fit) for f in self.functions.values())
 
     def to_dict(self) -> dict:
         funcs = {}
@@ -212,10 +214,7 @@ class ErrorEvaluator:
 
 def _scale(name: str, units: dict) -> float:
     """Factor to mm (translational names E_X.., E_Y.., E_Z..) or rad (E_A.., E_B.., E_C..)."""
-    lu, au = units.get("length", "mm"), units.get("angle", "rad")
-    if lu not in LENGTH_UNITS or au not in ANGLE_UNITS:
-        raise InputError(f"units must be length in {list(LENGTH_UNITS)} and angle in {list(ANGLE_UNITS)}, got {units}")
-    return LENGTH_UNITS[lu] if name[2] in "XYZ" else ANGLE_UNITS[au]
+    return LENGTH_UNITS[units["length"]] if name[2] in "XYZ" else ANGLE_UNITS[units["angle"]]
 
 
 def load_model(path: str | Path) -> ErrorModel:
@@ -223,34 +222,99 @@ def load_model(path: str | Path) -> ErrorModel:
     return model_from_dict(read_json(path, "model"), str(path))
 
 
-def model_from_dict(raw: dict, source: str = "<model>") -> ErrorModel:
-    units = raw.get("units", {"length": "mm", "angle": "rad"})
+def model_from_dict(raw: Any, source: str = "<model>") -> ErrorModel:
+    """Check an error model (module docstring) against its machine and convert it to mm and rad.
+
+    Names come from the machine (``machine.error_names``); a function's axis must be the axis its error moves
+    with (ISO 230-1: the last letter, E_XX over X), constants are any error name; every number finite."""
+    from mtcal.machine import load_machine
+    sc.obj(raw, source, "the model")
+    machine = raw.get("machine", "dmu50")
+    if not isinstance(machine, str):
+        raise InputError(f"machine must be a machine name, got {machine!r}", source)
+    try:
+        m = load_machine(machine)
+    except InputError as exc:
+        raise InputError(f"machine: {exc.problem}", source) from None
+    units = _units(raw.get("units", {"length": "mm", "angle": "rad"}), source)
     consts = {}
-    for n, v in raw.get("constants", {}).items():
-        if not isinstance(v, (int, float)) or not np.isfinite(v):
-            raise InputError(f"{source}: constant {n} must be a finite number, got {v!r}")
-        consts[n] = float(v) * _scale(n, units)
+    for n, v in sc.obj(raw.get("constants", {}), source, "constants").items():
+        _known_name(n, m, source, "constants")
+        consts[n] = sc.number(v, source, f"constants.{n}") * _scale(n, units)
     funcs = {}
-    for n, f in raw.get("functions", {}).items():
-        try:
-            pos = np.asarray(f["positions"], dtype=float)
-            val = np.asarray(f["values"], dtype=float) * _scale(n, units)
-            axis = f["axis"]
-        except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"{source}: function {n} needs axis, positions and values ({exc})") from None
-        if pos.ndim != 1 or pos.shape != val.shape or len(pos) < 2:
-            raise InputError(f"{source}: function {n}: positions and values must be equal-length lists (>= 2)")
-        if not (np.isfinite(pos).all() and np.isfinite(val).all()):
-            raise InputError(f"{source}: function {n} contains NaN/inf")
-        if np.any(np.diff(pos) <= 0):
-            raise InputError(f"{source}: function {n}: positions must increase strictly")
-        fit = f.get("fit")
-        if fit and _scale(n, units) != 1.0:
-            raise InputError(f"{source}: function {n}: fits must be stored in mm and rad")
-        extra = {k: v for k, v in f.items() if k not in ("axis", "positions", "values", "fit")}
-        funcs[n] = ErrorFunction(axis, pos, val, fit, extra)
+    for n, f in sc.obj(raw.get("functions", {}), source, "functions").items():
+        funcs[n] = _function(n, f, m, units, source)
     meta = {k: v for k, v in raw.items() if k not in ("machine", "units", "constants", "functions")}
-    return ErrorModel(raw.get("machine", "dmu50"), consts, funcs, meta)
+    return ErrorModel(m.name, consts, funcs, meta)
+
+
+def _units(u: Any, source: str) -> dict:
+    sc.obj(u, source, "units")
+    sc.known_keys(u, ("length", "angle"), source, "units")
+    out = {"length": u.get("length", "mm"), "angle": u.get("angle", "rad")}
+    if out["length"] not in LENGTH_UNITS or out["angle"] not in ANGLE_UNITS:
+        raise InputError(f"units: length must be one of {list(LENGTH_UNITS)} and angle one of {list(ANGLE_UNITS)}, "
+                         f"got {dict(u)}", source)
+    return out
+
+
+def _known_name(n: str, m, source: str, where: str) -> None:
+    if n not in m.error_names:
+        raise InputError(f"{where}: {n!r} is not an error of machine {m.name} (names: {', '.join(m.error_names)})",
+                         source)
+
+
+def _function(n: str, f: Any, m, units: dict, source: str) -> ErrorFunction:
+    """One error function: axis, positions (strictly increasing), values (same length), optional fit."""
+    where = f"functions.{n}"
+    _known_name(n, m, source, "functions")
+    motion = set(m.error_groups.get("linear", [])) | set(m.error_groups.get("rotary", []))
+    if n not in motion:
+        raise InputError(f"{where}: {n} is a constant (squareness or axis location), not a function of an axis; "
+                         "give it under constants", source)
+    sc.obj(f, source, where)
+    axis = f.get("axis")
+    if axis != n[-1]:
+        raise InputError(f"{where}: axis must be {n[-1]!r} ({n} is a function of {n[-1]}), got {axis!r}", source)
+    pos = sc.numbers(f.get("positions"), source, f"{where}.positions", 2)
+    val = sc.numbers(f.get("values"), source, f"{where}.values", 2) * _scale(n, units)
+    if pos.shape != val.shape:
+        raise InputError(f"{where}: {len(pos)} positions but {len(val)} values", source)
+    if np.any(np.diff(pos) <= 0):
+        raise InputError(f"{where}.positions must increase strictly", source)
+    fit = f.get("fit")
+    if fit is not None:
+        _check_fit(fit, source, f"{where}.fit")
+        if _scale(n, units) != 1.0:
+            raise InputError(f"{where}: fits must be stored in mm and rad (units length mm, angle rad)", source)
+    extra = {k: v for k, v in f.items() if k not in ("axis", "positions", "values", "fit")}
+    return ErrorFunction(axis, pos, val, fit, extra)
+
+
+FIT_KEYS = {"polynomial": ("coefficients", "domain"), "harmonic": ("period", "a0", "cos", "sin"), "table": ()}
+
+
+def _check_fit(fit: Any, source: str, where: str) -> None:
+    sc.obj(fit, source, where)
+    kind = fit.get("kind")
+    if kind not in FIT_KEYS:
+        raise InputError(f"{where}.kind must be one of {list(FIT_KEYS)}, got {kind!r}", source)
+    missing = [k for k in FIT_KEYS[kind] if k not in fit]
+    if missing:
+        raise InputError(f"{where}: a {kind} fit needs {', '.join(FIT_KEYS[kind])}; missing {', '.join(missing)}",
+                         source)
+    if kind == "polynomial":
+        sc.numbers(fit["coefficients"], source, f"{where}.coefficients", 1)
+        lo, hi = sc.numbers(fit["domain"], source, f"{where}.domain", 2)[:2]
+        if len(fit["domain"]) != 2 or not lo < hi:
+            raise InputError(f"{where}.domain must be [lo, hi] with lo < hi, got {fit['domain']!r}", source)
+    elif kind == "harmonic":
+        sc.number(fit["period"], source, f"{where}.period", positive=True)
+        sc.number(fit["a0"], source, f"{where}.a0")
+        c = sc.numbers(fit["cos"], source, f"{where}.cos")
+        s = sc.numbers(fit["sin"], source, f"{where}.sin")
+        if len(c) != len(s):
+            raise InputError(f"{where}: cos and sin need the same number of terms ({len(c)} vs {len(s)})", source)
 
 
 def save_model(model: ErrorModel, path: str | Path) -> None:

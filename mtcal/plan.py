@@ -26,6 +26,7 @@ from mtcal import tracker as trk
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
 from mtcal.identify import delta_covariance, estimate, frame_data
+from mtcal.io import save_figure
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.simulate import Plan, as_plan, tracker_positions
 
@@ -46,7 +47,6 @@ def _design(machine: Machine, plan: Plan, axis: str, positions, tracker, spec: t
     reading's share of the deltas in F (P, k, 3, 3) each)."""
     pos = np.atleast_1d(np.asarray(positions, dtype=float))
     local = np.array(list(plan.points_for(axis).values()), dtype=float)          # (k, 3)
-    k = len(local)
     ax = plan.axis_values(axis, pos)                                             # (P, n_axes)
     ax0 = plan.axis_values(axis, plan.reference_position(axis))
     r = nominal_points(machine, axis, ax[:, None, :], local)                     # (P, k, 3)
@@ -270,7 +270,7 @@ def plot_placement_map(path, plan=None, *, tracker=None, z: float | None = None,
         ax.set_aspect("equal")
         ax.set_title(f"{key} errors of {', '.join(m.linear_axes)} (mid-travel), tracker z = {z:g} mm", fontsize=10)
     fig.suptitle("Predicted one-round uncertainty vs tracker floor position (x: best grid cell, *: given)")
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     mp["best"] = {}
     for key in ("translational", "angular"):

@@ -12,7 +12,6 @@ bookkeeping: sums, least squares on generated design matrices, statistics, the g
 """
 from __future__ import annotations
 
-import csv
 import math
 import os
 from dataclasses import dataclass, field
@@ -22,12 +21,15 @@ from typing import Sequence
 import numpy as np
 
 from mtcal.errors import InputError
+from mtcal.io import read_csv_rows, save_figure
 from mtcal.generated import plate_numpy as G
 
 METRICS = ("split", "x", "y", "none")  # paper options 3, 1, 2, 4
 PAPER_OPTION = {"x": 1, "y": 2, "split": 3, "none": 4}
 NOMINAL_TURN = (0.0, math.pi / 2, math.pi, 3 * math.pi / 2)  # positions 1..4, clockwise
-MAX_TURN_ERROR = math.radians(45.0)  # beyond this the turn is not "about 90 degrees": refuse
+MAX_TURN_ERROR = math.radians(45.0)  # positions 3, 4: beyond this the turn is not "about 180/270 degrees": refuse
+MIN_TURN = math.radians(10.0)  # position 2: the reversal needs a turn at least this far from 0 and 180 degrees
+FIRST_ORDER_TURN = math.radians(1.0)  # beyond this deviation from nominal the first-order model is not used
 UNIT_RATIOS = (25.4, 1 / 25.4, 1000.0, 1e-3, 10.0, 0.1, 2.54, 1 / 2.54, 12.0, 1 / 12.0)
 DATA_DIR = Path(__file__).resolve().parent / "data"
 
@@ -46,69 +48,62 @@ class PlateData:
     def n(self) -> int:
         return len(self.ids)
 
-    def row_of(self, i: int) -> str:
-        return f"line {self.rows[i]}" if self.rows else f"row {i + 1}"
+    def where(self, i: int) -> str:
+        """``FILE:LINE`` of point i (``SOURCE: row N`` for arrays)."""
+        return f"{self.source}:{self.rows[i]}" if self.rows else f"{self.source}: row {i + 1}"
 
 
 def _num(text: str, src: str, line: int, col: str) -> float:
     try:
         val = float(text)
     except ValueError:
-        raise InputError(f"{src}: line {line}: column {col}: {text.strip()!r} is not a number") from None
+        raise InputError(f"{src}:{line}: column {col}: {text.strip()!r} is not a number") from None
     if not math.isfinite(val):
-        raise InputError(f"{src}: line {line}: column {col}: {text.strip()!r} is not a finite number")
+        raise InputError(f"{src}:{line}: column {col}: {text.strip()!r} is not a finite number")
     return val
 
 
 def read_plate_csv(path: str | os.PathLike) -> PlateData:
     """Read ``point,x1,y1,x2,y2[,x3,y3[,x4,y4]]`` (lines starting with # are comments); validate."""
     src = str(path)
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{src}: no such file")
-    with p.open(newline="") as fh:
-        lines = [(i + 1, ln) for i, ln in enumerate(fh.read().splitlines())]
-    body = [(i, ln) for i, ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
-    if not body:
-        raise InputError(f"{src}: empty file (expected a header point,x1,y1,x2,y2)")
+    body = read_csv_rows(path, "plate")
     hline, header = body[0]
-    cols = [c.strip().lower() for c in next(csv.reader([header]))]
+    cols = [c.strip().lower() for c in header]
     need = ["point", "x1", "y1", "x2", "y2"]
     missing = [c for c in need if c not in cols]
     if missing:
-        raise InputError(f"{src}: line {hline}: header lacks column(s) {', '.join(missing)} "
+        raise InputError(f"{src}:{hline}: header lacks column(s) {', '.join(missing)} "
                          f"(expected point,x1,y1,x2,y2 and optionally x3,y3,x4,y4)")
     dup = sorted({c for c in cols if cols.count(c) > 1})
     if dup:
-        raise InputError(f"{src}: line {hline}: duplicate column(s) {', '.join(dup)}")
+        raise InputError(f"{src}:{hline}: duplicate column(s) {', '.join(dup)}")
     k_max = 2
     for k in (3, 4):
         have = [f"x{k}" in cols, f"y{k}" in cols]
         if any(have) and not all(have):
-            raise InputError(f"{src}: line {hline}: column x{k} needs y{k} and vice versa")
+            raise InputError(f"{src}:{hline}: column x{k} needs y{k} and vice versa")
         if all(have):
             if k != k_max + 1:
-                raise InputError(f"{src}: line {hline}: columns x{k},y{k} need x{k - 1},y{k - 1}")
+                raise InputError(f"{src}:{hline}: columns x{k},y{k} need x{k - 1},y{k - 1}")
             k_max = k
     idx = {c: cols.index(c) for c in cols}
     ids: list[str] = []
     rows: list[int] = []
     pos: list[list[tuple[float, float]]] = [[] for _ in range(k_max)]
     seen: dict[str, int] = {}
-    for line, text in body[1:]:
-        rec = next(csv.reader([text]))
+    for line, rec in body[1:]:
         if len(rec) != len(cols):
-            raise InputError(f"{src}: line {line}: {len(rec)} fields, header has {len(cols)}")
+            raise InputError(f"{src}:{line}: {len(rec)} fields, header has {len(cols)}")
         pid = rec[idx["point"]].strip()
         if not pid:
-            raise InputError(f"{src}: line {line}: empty point id")
+            raise InputError(f"{src}:{line}: empty point id")
         if pid in seen:
-            raise InputError(f"{src}: line {line}: duplicate point id {pid!r} (first on line {seen[pid]})")
+            raise InputError(f"{src}:{line}: duplicate point id {pid!r} (first on line {seen[pid]})")
         seen[pid] = line
         for k in range(k_max):
             xs, ys = rec[idx[f"x{k + 1}"]], rec[idx[f"y{k + 1}"]]
             if not xs.strip() or not ys.strip():
-                raise InputError(f"{src}: line {line}: point {pid!r} has no position-{k + 1} values "
+                raise InputError(f"{src}:{line}: point {pid!r} has no position-{k + 1} values "
                                  f"(x{k + 1},y{k + 1}); every point must be measured in every position")
             pos[k].append((_num(xs, src, line, f"x{k + 1}"), _num(ys, src, line, f"y{k + 1}")))
         ids.append(pid)
@@ -169,11 +164,11 @@ def validate(data: PlateData) -> None:
             raise InputError(f"{src}: position {k + 1}: the {data.n} points are collinear "
                              "(all on one line); a 2-D plate needs points off that line")
     # mixed units: rotation keeps distances, so each point's distance from the (robust) centre must agree
-    c1 = np.median(data.positions[0], axis=0)
+    c1 = _spatial_median(data.positions[0])
     r1 = np.hypot(*(data.positions[0] - c1).T)
     for k in range(1, len(data.positions)):
         pk = data.positions[k]
-        rk = np.hypot(*(pk - np.median(pk, axis=0)).T)
+        rk = np.hypot(*(pk - _spatial_median(pk)).T)
         ok = r1 > 0.05 * np.median(r1[r1 > 0]) if np.any(r1 > 0) else r1 > 0
         ratio = np.where(ok, rk / np.where(ok, r1, 1.0), 1.0)
         med = float(np.median(ratio[ok])) if np.any(ok) else 1.0
@@ -184,7 +179,7 @@ def validate(data: PlateData) -> None:
         # plate origin, as the paper does): a row typed in other units scales its coordinates
         o1, ok_o = np.hypot(*data.positions[0].T), None
         nz = o1 > 0.05 * (np.max(o1) or 1.0)
-        if np.any(nz):
+        if np.any(nz) and _turned_about_origin(data.positions[0], pk):
             ratio_o = np.where(nz, np.hypot(*pk.T) / np.where(nz, o1, 1.0), 1.0)
             if abs(float(np.median(ratio_o[nz])) - 1) < 0.02:
                 ok_o = ratio_o
@@ -192,9 +187,33 @@ def validate(data: PlateData) -> None:
             for q, where in ((ratio[i] if ok[i] else 1.0, "the plate centre"),
                              (ok_o[i] if ok_o is not None and nz[i] else 1.0, "the coordinate origin")):
                 if abs(q - 1) > 0.02 and any(abs(q / u - 1) < 0.05 for u in UNIT_RATIOS):
-                    raise InputError(f"{src}: {data.row_of(i)}: point {data.ids[i]!r}: position {k + 1} lies "
+                    raise InputError(f"{data.where(i)}: point {data.ids[i]!r}: position {k + 1} lies "
                                      f"{q:.4g} times as far from {where} as in position 1 "
                                      f"(mixed units?{_unit_hint(q)})")
+
+
+def _spatial_median(p: np.ndarray, iterations: int = 100) -> np.ndarray:
+    """Geometric median of points (N, 2) (Weiszfeld): robust to a mistyped point and, unlike the coordinate-wise
+    median, turns with the plate, so distances from it are kept by a turn of any angle."""
+    c = np.median(p, axis=0)
+    for _ in range(iterations):
+        d = np.maximum(np.hypot(*(p - c).T), 1e-12 * (1.0 + np.abs(p).max()))
+        c_new = (p / d[:, None]).sum(axis=0) / (1.0 / d).sum()
+        if np.allclose(c_new, c, rtol=0, atol=1e-13 * (1.0 + np.abs(p).max())):
+            return c_new
+        c = c_new
+    return c
+
+
+def _turned_about_origin(p1: np.ndarray, pk: np.ndarray) -> bool:
+    """True when position k is (mostly) position 1 turned about the coordinate origin: then each point's distance
+    from the origin must be kept, whatever the turn angle (a plate turned about another centre moves them)."""
+    s = G.procrustes_terms(p1, pk).sum(axis=0)
+    t = math.atan2(s[0], s[1])
+    c, sn = math.cos(t), math.sin(t)
+    pred = p1 @ np.array([[c, -sn], [sn, c]])  # clockwise turn by t (B(t) applied to row vectors)
+    size = float(np.median(np.hypot(*p1.T))) or 1.0
+    return float(np.median(np.hypot(*(pk - pred).T))) < 0.02 * size
 
 
 def _unit_hint(q: float) -> str:
@@ -244,7 +263,8 @@ class PlateFit:
 
     def to_dict(self) -> dict:
         """The JSON answer of ``mtcal plate`` (design.md)."""
-        d = {"file": self.data.source, "scale_fitted": "gamma" in self.names, "units": {"length": "input unit", "angle": "rad", "gamma": "1"},
+        d = {"file": self.data.source, "scale_fitted": "gamma" in self.names,
+             "units": {"length": "input unit", "angle": "rad", "gamma": "1"},
              "metric": self.metric, "paper_option": PAPER_OPTION[self.metric], "offsets": self.offsets,
              "method": self.method, "n_points": self.data.n, "n_positions": len(self.data.positions),
              "dof": self.dof}
@@ -442,6 +462,23 @@ def _gage_frame(est: np.ndarray, ids: list[str], origin: str | None, align: str 
     return q, (ids[io] if translate else "(coordinate origin)"), ids[ia], axis
 
 
+def _check_turns(data: PlateData, turns: list[float], exact: bool | None) -> None:
+    """Position 2 may be turned by any angle the reversal can use (exact fit): not within MIN_TURN of 0 or
+    180 deg, where C = A B^-1 A^-1 no longer depends on the machine metric A; the optional positions 3 and 4
+    (Reeve-style redundancy) must be about 180 and 270 deg; a forced first-order fit needs a turn near nominal."""
+    for k, t in enumerate(turns, start=2):
+        dev = _wrap(t - NOMINAL_TURN[k - 1])
+        where = f"position {k} is turned {math.degrees(t) % 360:.3f} deg clockwise from position 1"
+        if k == 2 and abs(math.sin(t)) < math.sin(MIN_TURN):
+            raise InputError(f"{where}: a reversal needs a turn away from 0 and 180 deg (at least "
+                             f"{math.degrees(MIN_TURN):g} deg away; about 90 deg is best) to separate the machine's "
+                             "non-orthogonality from the plate's", data.source)
+        if (k > 2 and abs(dev) > MAX_TURN_ERROR) or (exact is False and abs(dev) > FIRST_ORDER_TURN):
+            raise InputError(f"{where}; expected about {math.degrees(NOMINAL_TURN[k - 1]):.0f} deg (clockwise, viewed "
+                             f"from the top){' for the first-order fit (use the exact fit)' if k == 2 else ''}",
+                             data.source)
+
+
 def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exact: bool | None = None,
               origin: str | None = None, align: str | None = None, align_axis: str = "x",
               level: float = 0.01, translate: bool = True, scale: bool = True) -> PlateFit:
@@ -460,12 +497,7 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     kk = len(data.positions)
     notes: list[str] = []
     turns = measured_turns(data)
-    for k, t in enumerate(turns, start=2):
-        dev = _wrap(t - NOMINAL_TURN[k - 1])
-        if abs(dev) > MAX_TURN_ERROR:
-            raise InputError(f"{data.source}: position {k} is turned {math.degrees(t) % 360:.3f} deg clockwise "
-                             f"from position 1; expected about {math.degrees(NOMINAL_TURN[k - 1]):.0f} deg "
-                             "(clockwise, viewed from the top)")
+    _check_turns(data, turns, exact)
     names, cols = _param_layout(kk, offsets, scale)
     w = float(G.METRIC_SHARE[metric])
 
@@ -479,6 +511,10 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     dof = J.shape[0] * J.shape[1] - len(names)
     sigma1 = math.sqrt(float(np.sum(R**2)) / dof) if dof > 0 else 0.0
     method = "first_order"
+    if exact is None and any(abs(_wrap(t - NOMINAL_TURN[k])) > FIRST_ORDER_TURN for k, t in enumerate(turns, 1)):
+        exact = True
+        notes.append(f"turn(s) {', '.join(f'{math.degrees(t):.3f}' for t in turns)} deg are more than "
+                     f"{math.degrees(FIRST_ORDER_TURN):g} deg from nominal: exact fit used")
     if exact is None:
         worst = 0.0
         for k in range(1, kk):
@@ -489,7 +525,8 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
         if worst > 0.5 * sigma1:
             exact = True
             notes.append(f"first-order model error beta^2 R / 2 = {worst:.3g} exceeds sigma / 2 = "
-                         f"{0.5 * sigma1:.3g} (turn off 90 deg by {math.degrees(abs(_wrap(turns[0] - NOMINAL_TURN[1]))) * 3600:.1f} "
+                         f"{0.5 * sigma1:.3g} (turn off 90 deg by "
+                         f"{math.degrees(abs(_wrap(turns[0] - NOMINAL_TURN[1]))) * 3600:.1f} "
                          "arcsec; the paper asks for about 10 arcsec): exact fit used")
     if exact:
         start = values.copy()
@@ -556,6 +593,6 @@ def plot_plate(fit: PlateFit, path: str | os.PathLike, magnify: float | None = N
                  f"alpha = {fit.value('alpha'):.3g} rad\nred: flagged ({len(flagged)})", fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
     return mag

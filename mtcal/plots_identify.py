@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.model import ErrorFunction
+from mtcal.io import save_figure
 
 
 def _plt():
@@ -38,7 +39,8 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
             eb = panel.errorbar(x, v, yerr=2 * np.nan_to_num(s), fmt="o", ms=3.5, capsize=3, label=f"{nm} (mean, +-2s)")
             f: ErrorFunction | None = model.functions.get(nm)
             if f is not None and f.fit:
-                lab = (f"degree {f.fit['degree']}" if f.fit["kind"] == "polynomial" else f"{f.fit['harmonics']} harmonics")
+                lab = (f"degree {f.fit['degree']}" if f.fit["kind"] == "polynomial"
+                       else f"{f.fit['harmonics']} harmonics")
                 panel.plot(xs, f(xs) * scale, "-", color=eb[0].get_color(), lw=1.2, label=f"{nm} fit ({lab})")
         panel.axhline(0, color="0.6", lw=0.6)
         panel.set_xlabel(f"{ar.axis} ({unit})")
@@ -49,7 +51,7 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
     fig.suptitle(f"Axis {ar.axis}: identified error motions, {int(ar.n.max())} rounds{sl}")
     fig.tight_layout()
     paths = [out / f"identify_{ar.axis}.png"]
-    fig.savefig(paths[0], dpi=120)
+    save_figure(fig, paths[0], dpi=120)
     plt.close(fig)
     if ar.lines:
         fig, axs = plt.subplots(1, len(ar.lines), figsize=(5.5 * len(ar.lines), 4))
@@ -68,7 +70,7 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
         fig.suptitle(f"Axis {ar.axis}: straightness and reference straight lines (thesis fig. 3.7)")
         fig.tight_layout()
         p = out / f"identify_{ar.axis}_straightness.png"
-        fig.savefig(p, dpi=120)
+        save_figure(fig, p, dpi=120)
         plt.close(fig)
         paths.append(p)
     return paths

@@ -19,12 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.io import atomic_write_text
+from mtcal.io import atomic_write_text, read_csv_rows
 
 REQUIRED = ("axis", "round", "position", "point", "x", "y", "z")
 OPTIONAL = ("time_s", "direction", "temperature_c")
 STATION_COLUMNS = ("station", "tracker_x", "tracker_y", "tracker_z")
-LINEAR, ROTARY = ("X", "Y", "Z"), ("A", "B", "C")
 
 
 @dataclass
@@ -61,10 +60,11 @@ class Recording:
         return np.full(len(self), "", dtype=object) if self.station is None else self.station
 
     def axes(self) -> list[str]:
-        return [a for a in ("X", "Y", "Z", "A", "B", "C") if a in set(self.axis.tolist())]
+        """The measured axes in the order they first appear in the file."""
+        return list(dict.fromkeys(self.axis.tolist()))
 
     def where(self, i: int) -> str:
-        return f"{self.source}, line {int(self.line[i])}"
+        return f"{self.source}:{int(self.line[i])}"
 
 
 _FIELDS = ("axis", "round", "position", "point", "xyz", "time_s", "direction", "temperature_c", "line")
@@ -80,46 +80,53 @@ def _float(text: str, col: str, where: str) -> float:
     return v
 
 
-def read_recording(path: str | Path) -> Recording:
-    """Read and check a recording CSV (header required; units mm and degrees)."""
-    p = Path(path)
-    try:
-        text = p.read_text()
-    except FileNotFoundError:
-        raise FileNotFoundError(f"recording file not found: {p}") from None
-    return parse_recording(text, str(p))
+def read_recording(path: str | Path, machine=None) -> Recording:
+    """Read and check a recording CSV (header required; units mm and degrees; see mtcal.io.read_csv_rows for
+    encodings and ';' exports).  ``machine`` (mtcal.Machine or name; default: the default machine): the axes
+    must be its axes (the commands pass their --machine)."""
+    return _parse_rows(read_csv_rows(path, "recording"), str(path), _machine(machine))
 
 
-def parse_recording(text: str, source: str = "<memory>") -> Recording:
-    rows = list(csv.reader(io.StringIO(text)))
-    rows = [(i + 1, r) for i, r in enumerate(rows) if r and not r[0].lstrip().startswith("#")]
+def _machine(machine):
+    from mtcal.machine import Machine, load_machine
+    return machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
+
+
+def parse_recording(text: str, source: str = "<memory>", machine=None) -> Recording:
+    """A recording from CSV text (comma-separated)."""
+    rows = [(i + 1, r) for i, r in enumerate(csv.reader(io.StringIO(text))) if r and not r[0].lstrip().startswith("#")]
     if not rows:
-        raise InputError(f"{source}: empty file, expected header {','.join(REQUIRED)}")
+        raise InputError(f"empty file, expected header {','.join(REQUIRED)}", source)
+    return _parse_rows(rows, source, _machine(machine))
+
+
+def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) -> Recording:
     hline, header = rows[0]
     header = [h.strip().lower() for h in header]
     missing = [c for c in REQUIRED if c not in header]
     if missing:
-        raise InputError(f"{source}, line {hline}: missing column(s) {missing}; header must contain "
+        raise InputError(f"{source}:{hline}: missing column(s) {missing}; header must contain "
                          f"{','.join(REQUIRED)} (optional {','.join(OPTIONAL)})")
-    pos_cols = [c for c in header if c.startswith("pos_") and c[4:].upper() in LINEAR + ROTARY]
+    pos_cols = [c for c in header if c.startswith("pos_") and c[4:].upper() in machine.axes]
     unknown = [c for c in header if c not in REQUIRED + OPTIONAL + STATION_COLUMNS and c not in pos_cols]
     if unknown:
-        raise InputError(f"{source}, line {hline}: unknown column(s) {unknown}; allowed: "
-                         f"{REQUIRED + OPTIONAL + STATION_COLUMNS} and pos_<AXIS>")
+        raise InputError(f"{source}:{hline}: unknown column(s) {unknown}; allowed: "
+                         f"{REQUIRED + OPTIONAL + STATION_COLUMNS} and pos_<AXIS> ({', '.join(machine.axes)})")
     trk_cols = [c for c in STATION_COLUMNS[1:] if c in header]
     if trk_cols and len(trk_cols) != 3:
-        raise InputError(f"{source}, line {hline}: tracker position needs all of tracker_x,tracker_y,tracker_z")
+        raise InputError(f"{source}:{hline}: tracker position needs all of tracker_x,tracker_y,tracker_z")
     col = {c: header.index(c) for c in header}
     out = {f: [] for f in _FIELDS}
     seen: dict[tuple, int] = {}
     extra: dict[str, list] = {"station": [], "tracker": [], **{c: [] for c in pos_cols}}
     for line, r in rows[1:]:
-        where = f"{source}, line {line}"
+        where = f"{source}:{line}"
         if len(r) != len(header):
             raise InputError(f"{where}: {len(r)} fields, header has {len(header)}")
         ax = r[col["axis"]].strip().upper()
-        if ax not in LINEAR + ROTARY:
-            raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of X, Y, Z, A, B, C")
+        if ax not in machine.axes:
+            raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of the axes of machine {machine.name} "
+                             f"({', '.join(machine.axes)}; --machine names another)")
         rnd_f = _float(r[col["round"]], "round", where)
         if rnd_f != int(rnd_f):
             raise InputError(f"{where}: round must be an integer, got {r[col['round']]!r}")
@@ -156,7 +163,7 @@ def parse_recording(text: str, source: str = "<memory>") -> Recording:
                     station=np.array(extra["station"], dtype=object) if "station" in col else None,
                     tracker_xyz=np.array(extra["tracker"], dtype=float) if trk_cols else None,
                     other_positions={c[4:].upper(): np.array(extra[c]) for c in pos_cols} or None)
-    _check_units(rec)
+    _check_units(rec, machine.linear_axes)
     check_stations(rec)
     return rec
 
@@ -182,9 +189,9 @@ def check_stations(rec: Recording) -> None:
                              f"same station {s_!r}; it is constant within a station (use a new station label)")
 
 
-def _check_units(rec: Recording) -> None:
+def _check_units(rec: Recording, linear) -> None:
     """Positions of a linear axis all within +-2 while the points move by metres' worth: metres, not mm."""
-    for ax in LINEAR:
+    for ax in linear:
         m = rec.axis == ax
         if m.sum() < 2:
             continue
@@ -199,7 +206,8 @@ def _check_units(rec: Recording) -> None:
 def format_recording(rec: Recording, precision: int = 6) -> str:
     """CSV text of a recording (optional columns written when any row has them)."""
     cols = list(REQUIRED)
-    has_t, has_d, has_c = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any(), (~np.isnan(rec.temperature_c)).any()
+    has_t, has_d = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any()
+    has_c = (~np.isnan(rec.temperature_c)).any()
     cols += [c for c, h in zip(OPTIONAL, (has_t, has_d, has_c)) if h]
     if rec.station is not None:
         cols.append("station")
@@ -212,7 +220,8 @@ def format_recording(rec: Recording, precision: int = 6) -> str:
     w.writerow(cols)
     f = f"{{:.{precision}f}}"
     for i in range(len(rec)):
-        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i], *(f.format(v) for v in rec.xyz[i])]
+        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i],
+               *(f.format(v) for v in rec.xyz[i])]
         if has_t:
             row.append(f"{rec.time_s[i]:.3f}")
         if has_d:

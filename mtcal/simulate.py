@@ -40,11 +40,15 @@ import numpy as np
 
 from mtcal import tracker as trk
 from mtcal.effects import Rows, as_effects
+from mtcal import schema as sc
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.machine import Machine, load_machine
 from mtcal.model import ErrorModel
 from mtcal.recordings import Recording, make_recording, write_recording
+
+MAX_READING_MM = 1e6  # a simulated reading farther than 1 km from the machine origin is no measurement
+
 
 def tracker_positions(machine: Machine) -> dict[str, tuple[float, float, float]]:
     """The spec's named tracker stations (mm, machine frame); the first is the default."""
@@ -83,6 +87,7 @@ class Plan:
     axis_change_s: float = 300.0
     temperature_c: float = 20.0
     stations: dict[str, tuple[float, float, float]] | None = None  # several tracker stations (mm), in order
+    source: str = "<default plan>"  # the PLAN.json it came from (for messages)
 
     def __post_init__(self) -> None:
         m = self.machine = self.machine if isinstance(self.machine, Machine) else load_machine(self.machine)
@@ -116,21 +121,20 @@ _PLAN_KEYS = {"tracker", "stations", "rounds", "axes", "points", "bidirectional"
               "measure_s", "reflector_change_s", "round_pause_s", "axis_change_s", "temperature_c"}
 
 
-def _xyz(v: Any, what: str) -> tuple[float, float, float]:
-    """[x, y, z] (three finite numbers, mm) or an InputError naming ``what``."""
-    try:
-        xyz = tuple(float(c) for c in v)
-    except (TypeError, ValueError):
-        xyz = ()
-    if len(xyz) != 3 or not all(math.isfinite(c) for c in xyz):
-        raise InputError(f"{what} must be [x, y, z] in mm, got {v!r}")
-    return xyz
+def _xyz(v: Any, where: str) -> tuple[float, float, float]:
+    """[x, y, z]: three finite JSON numbers (mm)."""
+    if not (isinstance(v, list) and len(v) == 3 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                                                        and math.isfinite(c) for c in v)):
+        raise InputError(f"{where} must be [x, y, z] in mm (three finite numbers), got {v!r}")
+    return tuple(float(c) for c in v)
 
 
 def _points(raw: Any, where: str) -> dict[str, tuple]:
     if not isinstance(raw, Mapping) or len(raw) < 3:
         raise InputError(f"{where}: needs >= 3 labelled points {{label: [x, y, z]}}, got {raw!r}")
-    out = {str(k): _xyz(v, f"{where}: point {k!r}") for k, v in raw.items()}
+    out = {}
+    for k, v in raw.items():
+        out[str(k)] = _xyz(v, f"{where}: point {k!r}")
     pts = np.array(list(out.values()))
     c = pts - pts.mean(axis=0)
     if np.linalg.matrix_rank(c, tol=1e-6 * max(1.0, np.abs(c).max())) < 2:
@@ -149,7 +153,7 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
     plan = Plan(machine if machine is not None else load_machine())
     m = plan.machine
     defaults = default_positions(m)
-    kw: dict[str, Any] = {}
+    kw: dict[str, Any] = {"source": source}
     if "tracker" in raw:
         kw["tracker"] = _xyz(raw["tracker"], f"{source}: tracker")
     if "stations" in raw:
@@ -176,15 +180,16 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
             bad = sorted(set(spec) - {"positions", "start", "stop", "count", "at"})
             if bad:
                 raise InputError(f"{source}: axes.{a}: unknown key(s) {bad}")
-            try:
-                if "positions" in spec:
-                    p = np.asarray(spec["positions"], dtype=float)
-                elif "start" in spec or "stop" in spec or "count" in spec:
-                    p = np.linspace(float(spec["start"]), float(spec["stop"]), int(spec["count"]))
-                else:
-                    p = defaults[a].copy()
-            except (KeyError, TypeError, ValueError) as exc:
-                raise InputError(f"{source}: axes.{a}: give positions or start, stop, count ({exc})") from None
+            if "positions" in spec:
+                p = sc.numbers(spec["positions"], source, f"axes.{a}.positions", 2)
+            elif "start" in spec or "stop" in spec or "count" in spec:
+                n = spec.get("count")
+                if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+                    raise InputError(f"{source}: axes.{a}.count must be a whole number >= 2, got {n!r}")
+                p = np.linspace(sc.number(spec.get("start"), source, f"axes.{a}.start"),
+                                sc.number(spec.get("stop"), source, f"axes.{a}.stop"), n)
+            else:
+                p = defaults[a].copy()
             if p.ndim != 1 or len(p) < 2 or not np.isfinite(p).all() or len(np.unique(p)) != len(p):
                 raise InputError(f"{source}: axes.{a}: positions must be >= 2 distinct finite numbers")
             lim = m.limits[m.index(a)]
@@ -194,10 +199,7 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
             other = spec.get("at", {}) or {}
             if not isinstance(other, Mapping) or any(k not in m.axes or k == a for k in other):
                 raise InputError(f"{source}: axes.{a}.at must map other axes to positions, got {other!r}")
-            try:
-                at[a] = {k: float(v) for k, v in other.items()}
-            except (TypeError, ValueError):
-                raise InputError(f"{source}: axes.{a}.at values must be numbers") from None
+            at[a] = {k: sc.number(v, source, f"axes.{a}.at.{k}") for k, v in other.items()}
         kw["positions"], kw["at"] = pos, at
     if "points" in raw:
         pts = raw["points"]
@@ -217,7 +219,8 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
             v = raw[k]
             if not isinstance(v, (int, float)) or isinstance(v, bool) or not math.isfinite(v) or (
                     v < 0 and k != "temperature_c") or (k.startswith("feed") and v <= 0):
-                raise InputError(f"{source}: {k} must be a {'positive ' if k.startswith('feed') else ''}number, got {v!r}")
+                kind = "positive " if k.startswith("feed") else ""
+                raise InputError(f"{source}: {k} must be a {kind}number, got {v!r}")
             kw[k] = float(v)
     return replace(plan, **kw)
 
@@ -298,6 +301,19 @@ def exact_points(machine: Machine, rows: Rows, errors: np.ndarray) -> np.ndarray
     return xyz
 
 
+def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
+    """Every pose of the plan inside the machine's axis limits (from its spec); the message names the plan axis."""
+    for k, (name, lim) in enumerate(zip(m.axes, m.limits)):
+        if lim is None:
+            continue
+        out = (rows.axes[:, k] < lim[0]) | (rows.axes[:, k] > lim[1])
+        if out.any():
+            i = int(np.flatnonzero(out)[0])
+            unit = "deg" if m.axis_kinds[k] == "rotary" else "mm"
+            raise InputError(f"{pl.source}: measuring axis {rows.axis[i]} puts {name} at {rows.axes[i, k]:g} {unit}, "
+                             f"outside its range [{lim[0]:g}, {lim[1]:g}] {unit} on {m.name}")
+
+
 # ---------------------------------------------------------------------------------------------- campaign
 def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None = None, tracker=None,
              rounds: int | None = None, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
@@ -319,19 +335,25 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
     if not np.isfinite(t_pos).all():
         raise InputError(f"tracker position must be finite, got {pl.tracker}")
     rows = schedule(pl)
+    _check_poses(m, pl, rows)
     if model is not None and model.machine != m.name:
         raise InputError(f"error model is for machine {model.machine!r}, simulating {m.name!r}")
     errors = (model.errors_at(m, rows.axes) if model is not None
               else np.zeros((len(rows), len(m.error_names))))
-    for e in eff:
-        e.add_errors(rows, errors, m)
-    true_xyz = exact_points(m, rows, errors)
-    xyz = true_xyz.copy()
-    for e in eff:
-        e.apply_readings(rows, xyz, t_pos)
-    rng = np.random.default_rng(seed)
-    if noise:
-        xyz = xyz + trk.sample(xyz, t_pos, rng, spec)
+    with np.errstate(over="ignore", invalid="ignore"):  # non-finite readings are refused below, in one line
+        for e in eff:
+            e.add_errors(rows, errors, m)
+        xyz = exact_points(m, rows, errors)
+        for e in eff:
+            e.apply_readings(rows, xyz, t_pos)
+        if noise and np.isfinite(xyz).all():
+            xyz = xyz + trk.sample(xyz, t_pos, np.random.default_rng(seed), spec)
+    bad = ~(np.abs(xyz) <= MAX_READING_MM).all(axis=1)  # NaN compares False
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise InputError(f"simulated reading of axis {rows.axis[i]} at {rows.position[i]:g} is not finite or beyond "
+                         f"{MAX_READING_MM:g} mm: an effect or model value is out of range "
+                         f"({', '.join(e.name for e in eff) or 'no effects'})")
     temp = pl.temperature_c + sum((e.temperature_rise(rows.time_s) for e in eff), np.zeros(len(rows)))
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction, temp)
     moved = [a for a in m.axes if np.any(rows.axes[rows.axis != a, m.index(a)] != 0)]

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mtcal.errors import InputError
+
 
 @dataclass(frozen=True)
 class TrackerSpec:
@@ -38,7 +40,7 @@ def covariance(points, tracker, spec: TrackerSpec = AT960) -> np.ndarray:
     d = np.asarray(points, dtype=float) - np.asarray(tracker, dtype=float)
     r = np.linalg.norm(d, axis=-1)
     if np.any(r < 1.0):
-        raise ValueError("a measured point is closer than 1 mm to the tracker position")
+        raise InputError("a measured point is closer than 1 mm to the tracker position")
     u = d / r[..., None]
     s_r, s_t = spec.sigmas(r)
     uu = u[..., :, None] * u[..., None, :]
@@ -51,12 +53,12 @@ def sample(points, tracker, rng: np.random.Generator, spec: TrackerSpec = AT960)
     return np.einsum("...ij,...j->...i", np.linalg.cholesky(cov), rng.standard_normal(np.shape(points)))
 
 
-def parse_xyz(text: str) -> np.ndarray:
-    """'x,y,z' in mm (CLI --tracker) -> array (3,)."""
+def parse_xyz(text: str, what: str | None = "tracker position") -> np.ndarray:
+    """'x,y,z' in mm (CLI --tracker) -> array (3,) of finite numbers; ``what`` prefixes the message."""
     try:
         v = np.array([float(t) for t in text.split(",")])
     except ValueError:
-        raise ValueError(f"tracker position must be x,y,z in mm, got {text!r}") from None
+        v = np.array([])
     if v.shape != (3,) or not np.isfinite(v).all():
-        raise ValueError(f"tracker position must be three finite numbers x,y,z in mm, got {text!r}")
+        raise InputError((f"{what}: " if what else "") + f"expected three numbers x,y,z in mm, got {text!r}")
     return v

@@ -53,7 +53,8 @@ def test_generated_numpy_equals_sympy_expressions(derived):
             expect = np.array(ref(*[vals[s] for s in syms]), dtype=float)
             args = [np.array([vals[s] for s in a.symbols]) if a.vector else vals[a.symbols[0]] for a in f.args]
             got = getattr(gen, f.name)(*args)
-            assert np.allclose(got.reshape(expect.shape), expect, rtol=1e-12, atol=1e-12 * max(1, np.abs(expect).max())), f.name
+            atol = 1e-12 * max(1, np.abs(expect).max())
+            assert np.allclose(got.reshape(expect.shape), expect, rtol=1e-12, atol=atol), f.name
 
 
 def test_regeneration_is_byte_identical_and_check_detects_staleness(tmp_path):
@@ -99,7 +100,8 @@ def _chain_reference(ax: np.ndarray, d: float, tilt_deg: float) -> np.ndarray:
         return t
     out = []
     for X, Y, Z, B, C in ax:
-        t0w = tz(d) @ rx(np.radians(tilt_deg)) @ rz(np.radians(B)) @ rx(-np.radians(tilt_deg)) @ tz(-d) @ rz(-np.radians(C))
+        tilt = np.radians(tilt_deg)
+        t0w = tz(d) @ rx(tilt) @ rz(np.radians(B)) @ rx(-tilt) @ tz(-d) @ rz(-np.radians(C))
         t0t = np.eye(4)
         t0t[:3, 3] = X, Y, Z
         t = np.linalg.solve(t0w, t0t)

@@ -163,7 +163,8 @@ def test_linuxcnc_rotary_sign_follows_the_chain(tmp_path):
             phys[:, k] = cfg[:, k] + interp_hold(cfg[:, k], n, f)
         step = nom[1] - nom[0]
         lever_mm = 300.0  # the tool tip is within 300 mm of both rotary axes here
-        tol = lever_mm * (step**2 / 8 * amp * DEG**2 * 2 + amp**2 * 4) + tol_lin(EXX, tables["X"][0][1] - tables["X"][0][0])
+        x_step = tables["X"][0][1] - tables["X"][0][0]
+        tol = lever_mm * (step**2 / 8 * amp * DEG**2 * 2 + amp**2 * 4) + tol_lin(EXX, x_step)
         assert pose_residual(model, cfg, phys).max() < tol
         k = M.axes.index(ax)
         phys[:, k] = q - interp_hold(q, nom, tables[ax][1])

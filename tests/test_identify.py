@@ -262,7 +262,7 @@ def test_bad_input_is_named():
     # NaN and duplicates are rejected by the reader with file and line
     bad = lines.copy()
     bad[5] = ",".join(bad[5].split(",")[:4] + ["nan", "0", "0"])
-    with pytest.raises(InputError, match="rec.csv, line 6"):
+    with pytest.raises(InputError, match="rec.csv:6"):
         parse_recording("\n".join(bad), "rec.csv")
     with pytest.raises(InputError, match="duplicate of line 6"):
         parse_recording("\n".join(lines + [lines[5]]), "rec.csv")
@@ -377,7 +377,7 @@ def test_inspire_layout_reader(tmp_path, capsys):
     assert "give the 11 positions" in capsys.readouterr().err
     (tmp_path / "bad.csv").write_text("K1, 1, 2, 3\nK2, 1, x, 3\n")
     assert main(["identify", str(tmp_path / "bad.csv"), "--layout", "inspire", "--axis", "X"]) == 2
-    assert "bad.csv, line 2: expected 'label, x, y, z'" in capsys.readouterr().err
+    assert "bad.csv:2: expected 'label, x, y, z'" in capsys.readouterr().err
 
 
 def test_reversal_of_bidirectional_passes_shows_backlash():

@@ -73,7 +73,7 @@ def test_station_columns_round_trip_and_a_round_belongs_to_one_station():
     text = format_recording(rec).splitlines()
     i = next(k for k, ln in enumerate(text) if ",S2," in ln)
     text[i] = text[i].replace(",2,", ",1,", 1)  # a round-2 row claimed by round 1 of station S1
-    with pytest.raises(InputError, match=r"line \d+: round 1 is measured from stations"):
+    with pytest.raises(InputError, match=r"rec.csv:\d+: round 1 is measured from stations"):
         parse_recording("\n".join(text), "rec.csv")
 
 

@@ -100,11 +100,11 @@ def test_unmatched_targets_listed_or_skipped_with_a_count(tidy, tmp_path, capsys
 
 
 @pytest.mark.parametrize("line, message", [
-    ("C G X_r1_0_P_up 1.0 abc 3.0", r"export\.txt, line 3: x y z must be numbers"),
-    ("C G X_r1_0_P_up 1.0 2.0", r"export\.txt, line 3: 5 fields; expected 3 name field\(s\) then x y z"),
-    ("C G X_r1_0_P_up 1 2 3 0.1 0.1 0.1 yesterday", r"export\.txt, line 3: unrecognised field\(s\) after x y z"),
-    ("C G Q_r1_0_P_up 1 2 3", r"export\.txt, line 3: axis 'Q' is not one of"),
-    ("C G X_r1_0_P_up 1 2 3", r"export\.txt, line 3: target C::G::X_r1_0_P_up maps to the same reading as line 2"),
+    ("C G X_r1_0_P_up 1.0 abc 3.0", r"export\.txt:3: x y z must be numbers"),
+    ("C G X_r1_0_P_up 1.0 2.0", r"export\.txt:3: 5 fields; expected 3 name field\(s\) then x y z"),
+    ("C G X_r1_0_P_up 1 2 3 0.1 0.1 0.1 yesterday", r"export\.txt:3: unrecognised field\(s\) after x y z"),
+    ("C G Q_r1_0_P_up 1 2 3", r"export\.txt:3: axis 'Q' is not one of"),
+    ("C G X_r1_0_P_up 1 2 3", r"export\.txt:3: target C::G::X_r1_0_P_up maps to the same reading as line 2"),
 ])
 def test_bad_lines_named_with_file_and_line(line, message):
     text = "// header comment\nC G X_r1_0_P_up 1 2 3\n" + line + "\n"
@@ -121,10 +121,10 @@ def test_bad_mapping_and_pattern(tmp_path):
     m = tmp_path / "map.csv"
     m.write_text("target,axis,round,position,point\nT1,X,1.5,0,P\n")
     from mtcal.import_sa import read_mapping
-    with pytest.raises(InputError, match=r"e\.txt, line 1 \(mapping: .*map\.csv, line 2\): round must be an integer"):
+    with pytest.raises(InputError, match=r"e\.txt:1 \(mapping: .*map\.csv:2\): round must be an integer"):
         import_sa(text, "e.txt", mapping=read_mapping(m))
     m.write_text("target,axis,round,position\nT1,X,1,0\n")
-    with pytest.raises(InputError, match=r"map\.csv, line 1: header must be"):
+    with pytest.raises(InputError, match=r"map\.csv:1: header must be"):
         read_mapping(m)
 
 
@@ -145,4 +145,4 @@ def test_numeric_target_names_need_the_name_field_count(tmp_path):
 def test_header_columns_not_used_are_named():
     text = "Collection,Group,Target,X,Y,Z,RMS\nA,B,X_r1_0_P_up,1,2,3,0.004\n"
     res = import_sa(text, "h.csv", pattern=PATTERN)
-    assert res.recording.xyz.tolist() == [[1, 2, 3]] and res.notes == ["h.csv, line 1: column(s) ['RMS'] not used"]
+    assert res.recording.xyz.tolist() == [[1, 2, 3]] and res.notes == ["h.csv:1: column(s) ['RMS'] not used"]

@@ -265,7 +265,7 @@ def test_missing_reflector_in_a_pass_names_the_line():
     rec = _build("X", passes, _planted(passes, rng), _linear_x)
     text = format_recording(rec, precision=9).splitlines()
     del text[8]  # one reading of round 1
-    with pytest.raises(InputError, match=r"cut\.csv, line \d+: axis X, round 1.*point\(s\) \['[PQK]'\] missing"):
+    with pytest.raises(InputError, match=r"cut\.csv:\d+: axis X, round 1.*point\(s\) \['[PQK]'\] missing"):
         evaluate(parse_recording("\n".join(text) + "\n", "cut.csv"), axis="X")
 
 

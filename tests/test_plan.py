@@ -125,7 +125,7 @@ def test_cli_json_and_plot(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--tracker", "1,2"], "three finite numbers"),
+    (["--tracker", "1,2"], "--tracker: expected three numbers x,y,z in mm, got '1,2'"),
     (["--monte-carlo", "1"], "at least 2"),
     (["--axes", "W"], "axis 'W' is not in the plan"),
     (["--tracker", "250,-1500,150.5", "--axes", "X", "--plan", "/nonexistent/plan.json"], "plan file not found"),

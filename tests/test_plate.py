@@ -334,9 +334,29 @@ def test_exact_residual_numpy_vs_casadi_at_solution():
         np.testing.assert_allclose(G.residual_exact(*args), fit.residuals[i], atol=1e-15)
 
 
-def test_rotation_far_from_90_refused_with_measured_angle(tmp_path):
-    data = synthetic(noise=0.0, beta=math.radians(60))
-    with pytest.raises(InputError, match=r"turned 150\.000 deg"):
+@pytest.mark.parametrize("turn_deg", [60.0, 100.0])
+def test_any_turn_is_fit_exactly_from_a_file(tmp_path, capsys, turn_deg):
+    """README: the exact fit works for any turn.  Truth built here (eqs. 1, 6, 11 written out in `synthetic`) on a
+    300 mm plate far from the coordinate origin, turned 60 or 100 deg: no "mixed units?" refusal, alpha, beta,
+    gamma and the offsets recovered to 1e-9 from noise-free data written to a CSV file."""
+    truth = dict(alpha=4e-6, beta=math.radians(turn_deg - 90.0), gamma=1.2e-5, ex=-1.5e-5, ey=9e-6)
+    data = synthetic(n=25, noise=0.0, size=300.0, **truth)
+    rows = ["point,x1,y1,x2,y2"] + [f"{pid},{a[0] + 400:.12f},{a[1] + 250:.12f},{b[0] + 400:.12f},{b[1] + 250:.12f}"
+                                    for pid, a, b in zip(data.ids, *data.positions)]
+    f = tmp_path / "turned.csv"
+    f.write_text("\n".join(rows) + "\n")
+    assert main(["plate", str(f), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["method"] == "exact" and out["turn_deg"][0] == pytest.approx(turn_deg, abs=1e-3)
+    for k in ("alpha", "beta", "gamma"):
+        assert out[k] == pytest.approx(truth[k], abs=1e-9), k
+
+
+@pytest.mark.parametrize("beta_deg, turned", [(85.0, "175.000"), (-85.0, "5.000")])
+def test_turn_near_0_or_180_refused_with_measured_angle(beta_deg, turned):
+    """At 0 or 180 deg C = A B^-1 A^-1 no longer depends on A: nothing to separate."""
+    data = synthetic(noise=0.0, beta=math.radians(beta_deg))
+    with pytest.raises(InputError, match=rf"turned {turned} deg clockwise.*away from 0 and 180 deg"):
         fit_plate(data)
 
 
@@ -368,21 +388,21 @@ GOOD = "point,x1,y1,x2,y2\n1,0,0,0,0\n2,10,0,0,-10\n3,0,10,10,0\n4,10,10,10,-10\
 
 
 @pytest.mark.parametrize("text, pattern", [
-    ("point,x1,y1,x2\n1,0,0,0\n", r"plate\.csv: line 1: header lacks column\(s\) y2"),
-    (GOOD + "2,5,5,5,-5\n", r"plate\.csv: line 6: duplicate point id '2' \(first on line 3\)"),
-    (GOOD.replace("3,0,10,10,0", "3,0,nan,10,0"), r"plate\.csv: line 4: column y1: 'nan' is not a finite"),
-    (GOOD.replace("3,0,10,10,0", "3,0,abc,10,0"), r"plate\.csv: line 4: column y1: 'abc' is not a number"),
-    (GOOD.replace("3,0,10,10,0", "3,0,10,,"), r"line 4: point '3' has no position-2 values"),
+    ("point,x1,y1,x2\n1,0,0,0\n", r"plate\.csv:1: header lacks column\(s\) y2"),
+    (GOOD + "2,5,5,5,-5\n", r"plate\.csv:6: duplicate point id '2' \(first on line 3\)"),
+    (GOOD.replace("3,0,10,10,0", "3,0,nan,10,0"), r"plate\.csv:4: column y1: 'nan' is not a finite"),
+    (GOOD.replace("3,0,10,10,0", "3,0,abc,10,0"), r"plate\.csv:4: column y1: 'abc' is not a number"),
+    (GOOD.replace("3,0,10,10,0", "3,0,10,,"), r":4: point '3' has no position-2 values"),
     ("point,x1,y1,x2,y2\n1,0,0,0,0\n2,10,0,0,-10\n", r"plate\.csv: 2 point\(s\); the plate fit needs at least 3"),
     ("point,x1,y1,x2,y2\n1,0,0,0,0\n2,10,10,10,-10\n3,20,20,20,-20\n", r"collinear"),
     ("point,x1,y1,x2,y2\n" + "".join(f"{i},{x},{y},{25.4 * y if i == 7 else y},{-25.4 * x if i == 7 else -x}\n"
      for i, (x, y) in enumerate([(a, b) for a in (0, 5, 10) for b in (0, 5, 10)])),
-     r"line 9: point '7'.*mixed units\? the ratio is close to 25\.4"),
+     r":9: point '7'.*mixed units\? the ratio is close to 25\.4"),
     ("point,x1,y1,x2,y2\n" + "".join(f"{i},{x},{y},{25.4 * y},{-25.4 * x}\n" for i, (x, y) in
      enumerate([(0, 0), (10, 0), (0, 10), (10, 10), (5, 3)])), r"position 2 is 25\.4 times the size"),
-    (GOOD + "5,1,2,3\n", r"line 6: 4 fields, header has 5"),
+    (GOOD + "5,1,2,3\n", r":6: 4 fields, header has 5"),
     ("point,x1,y1,x2,y2,x3\n1,0,0,0,0,0\n", r"column x3 needs y3"),
-    ("# only a comment\n", r"empty file"),
+    ("# only a comment\n", r"empty plate file"),
 ])
 def test_bad_input_names_file_row_problem(tmp_path, text, pattern):
     p = _write(tmp_path, text)
@@ -436,7 +456,7 @@ def test_cli_no_offsets_and_flagged(capsys):
 def test_cli_bad_input_exit_2(capsys, tmp_path):
     p = _write(tmp_path, "point,x1,y1\n1,0,0\n")
     assert main(["plate", str(p)]) == 2
-    assert "plate.csv: line 1: header lacks column(s) x2, y2" in capsys.readouterr().err
+    assert "plate.csv:1: header lacks column(s) x2, y2" in capsys.readouterr().err
 
 
 def test_plot_marks_flagged(tmp_path):

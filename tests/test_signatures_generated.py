@@ -59,7 +59,8 @@ def test_tracker_scale_signature_is_radial_derivative():
     # reading = T + (1 + 1e-6 ppm)(p - T) is linear in ppm, so one central difference (h = 1 ppm) is exact up to
     # rounding ~1e-16 * 1500 mm; tolerance 1e-12 mm
     p, t = np.array([300.0, 100.0, 200.0]), np.array([250.0, -1500.0, 150.0])
-    f = lambda ppm: t + (1 + 1e-6 * ppm) * (p - t)
+    def f(ppm):
+        return t + (1 + 1e-6 * ppm) * (p - t)
     assert np.allclose(S.tracker_scale_signature(p, t), (f(1.0) - f(-1.0)) / 2, atol=1e-12)
 
 

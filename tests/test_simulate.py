@@ -240,7 +240,7 @@ def test_cli_plan_file(tmp_path):
     (["--effect", "scale:ppm=abc"], "ppm='abc'"),
     (["--effect", "scale:ppm"], "expected key=value"),
     (["--effect", "squareness:error=E_XX"], "must be one of E_C0Y"),
-    (["--tracker", "1,2"], "three finite numbers"),
+    (["--tracker", "1,2"], "--tracker: expected three numbers x,y,z in mm, got '1,2'"),
     (["--tracker", "a,b,c"], "x,y,z in mm"),
 ])
 def test_cli_bad_input(tmp_path, capsys, args, message):

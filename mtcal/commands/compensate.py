@@ -6,6 +6,7 @@ import logging
 import sys
 import time
 
+from mtcal.commands._options import integer, real
 from mtcal.compensate import (
     MAX_CORRECTION_MM,
     MAX_ROTARY_CORRECTION_DEG,
@@ -18,6 +19,7 @@ from mtcal.compensate import (
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.model import load_model
 
+TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.write_tables writes
 NAME = "compensate"
 log = logging.getLogger("mtcal." + NAME)
 HELP = "compensate an NC program (G-code or CL data) for the errors in a model, exactly to first order"
@@ -30,36 +32,38 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--scope", choices=("position", "full"), default="position",
                    help="position: X Y Z put the tool tip on target (L-VOL, R-VOL); full: B C also correct the tool "
                         "axis (FOR) outside the cone around B = 0 (default: position)")
-    p.add_argument("--tolerance", type=float, default=0.001, metavar="MM",
+    p.add_argument("--tolerance", type=real(0.0, unit="mm", lo_open=True), default=0.001, metavar="MM",
                    help="largest predicted mid-segment tool-tip error before a feed move is subdivided (default 0.001)")
-    p.add_argument("--tool-length", type=float, default=0.0, metavar="MM",
+    p.add_argument("--tool-length", type=real(0.0, unit="mm"), default=0.0, metavar="MM",
                    help="tool length below the error reference point (default 0)")
-    p.add_argument("--iterations", type=int, default=None, metavar="N",
+    p.add_argument("--iterations", type=integer(1, 50), default=None, metavar="N",
                    help="1: first-order correction; more: fixed-point iterations on the exact model (default 1 for "
                         "scope position, 2 for full: first order leaves up to ~0.5 urad of second-order tool-axis "
                         "error where the uncompensated error is ~180 urad)")
-    p.add_argument("--precision", type=int, default=None, metavar="N",
+    p.add_argument("--precision", type=integer(0, 9), default=None, metavar="N",
                    help="least decimals written (mm and deg; inch one more); more if the input has more (default 4)")
-    p.add_argument("--cone", type=float, default=2.0, metavar="DEG",
+    p.add_argument("--cone", type=real(0.0, 45.0, "deg"), default=2.0, metavar="DEG",
                    help="full scope: no B/C correction while the tool axis is within DEG of the C axis, blended in "
                         "up to 2*DEG (default 2)")
     p.add_argument("--input", choices=("auto", "gcode", "cl"), default="auto",
                    help="input kind (default: by extension, .cl/.cls/.apt = CL data)")
     p.add_argument("--outside", choices=("hold", "error"), default="hold",
                    help="axis positions outside an error table: hold the end values and count them, or stop")
-    p.add_argument("--max-correction", type=float, default=MAX_CORRECTION_MM, metavar="MM",
+    p.add_argument("--max-correction", type=real(0.0, unit="mm", lo_open=True), default=MAX_CORRECTION_MM,
+                   metavar="MM",
                    help="refuse to write a program with a linear-axis correction larger than MM: a model in the wrong "
                         f"units (default {MAX_CORRECTION_MM:g})")
-    p.add_argument("--max-rotary-correction", type=float, default=MAX_ROTARY_CORRECTION_DEG, metavar="DEG",
+    p.add_argument("--max-rotary-correction", type=real(0.0, unit="deg", lo_open=True),
+                   default=MAX_ROTARY_CORRECTION_DEG, metavar="DEG",
                    help=f"the same for rotary axes (default {MAX_ROTARY_CORRECTION_DEG:g})")
     p.add_argument("--tables", metavar="DIR", help="also write per-axis compensation tables (CSV) to DIR")
-    p.add_argument("--residual-every", type=int, default=RESIDUAL_EVERY, metavar="K",
+    p.add_argument("--residual-every", type=integer(1), default=RESIDUAL_EVERY, metavar="K",
                    help="evaluate the exact error-inclusive residual of what is written on every K-th move (and on "
                         f"every inserted point); 1: on all moves (default {RESIDUAL_EVERY}; the JSON says which)")
 
 
 def run(args: argparse.Namespace) -> int:
-    refuse_overwrite(args.output, args.program, args.model)
+    refuse_overwrite([args.output], args.program, args.model, dirs={args.tables: TABLE_FILES})
     model = load_model(args.model)
     if args.iterations is None:
         args.iterations = 2 if args.scope == "full" else 1

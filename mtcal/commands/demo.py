@@ -18,7 +18,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.demo import print_summary, run_demo
-    from mtcal.io import dumps
+    from mtcal.io import dumps, refuse_overwrite
+    refuse_overwrite([], dirs={args.out: ()})  # an existing file is no output folder
     summary = run_demo(args.out, machine=args.machine)
     if args.json:
         print(dumps(summary))

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import argparse
 import logging
-from mtcal.commands._options import machine_argument
+
+from mtcal.commands._options import machine_argument, probability, xyz
 
 NAME = "diagnose"
 log = logging.getLogger("mtcal." + NAME)
@@ -14,9 +15,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("recording", metavar="REC.csv", help="laser-tracker recording (tidy CSV of design.md)")
     p.add_argument("--model", metavar="MODEL.json", help="base model = this error model (residuals = recordings "
                    "minus its simulation); default: fit smooth error functions to the recording")
-    p.add_argument("--tracker", metavar="x,y,z", help="tracker position, mm, machine frame: weights readings by "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz,
+                   help="tracker position, mm, machine frame: weights readings by "
                    "the AT960 covariance (default: unweighted, sigma from the residuals)")
-    p.add_argument("--level", type=float, default=0.01, help="family-wise significance level (default 0.01)")
+    p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
     machine_argument(p)
 
@@ -30,17 +32,16 @@ def _fmt(e: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_residuals
-    from mtcal.io import dumps
+    from mtcal.io import dumps, refuse_overwrite
     from mtcal.model import load_model
     from mtcal.machine import DEFAULT_MACHINE
     from mtcal.recordings import read_recording
-    from mtcal.tracker import parse_xyz
 
-    rec = read_recording(args.recording)
+    refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
     model = load_model(args.model) if args.model else None
-    tracker = parse_xyz(args.tracker) if args.tracker else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
-    d = diagnose(rec, model, machine=machine, tracker=tracker, level=args.level)
+    rec = read_recording(args.recording, machine)
+    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level)
     out = d.to_dict()
     if args.plots:
         out["plots"] = plot_residuals(d, args.plots)
@@ -61,7 +62,8 @@ def run(args: argparse.Namespace) -> int:
               f"F = {ev['F']:.1f}, p_adj = {ev['p_adjusted']:.2g}, cv gain = {ev['cv_gain']:.3g}, "
               f"sigma after {e['sigma_after'] * 1e3:.3f} um")
     for loc in d.located[:8]:
-        print(f"  located: axis {loc['axis']} by {loc['by']} = {loc['where']} (score {loc['score']:.1f}, {loc['kind']})")
+        print(f"  located: axis {loc['axis']} by {loc['by']} = {loc['where']} "
+              f"(score {loc['score']:.1f}, {loc['kind']})")
     ns: dict[tuple[str, str], list[str]] = {}
     for e in d.effects:
         if e.get("not_separable"):

@@ -6,6 +6,7 @@ import logging
 import sys
 from pathlib import Path
 
+from mtcal.commands._options import integer, real
 from mtcal.errors import InputError
 from mtcal.export import FORMATS, export_model
 from mtcal.io import dumps, read_json, refuse_overwrite
@@ -23,10 +24,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="linuxcnc: folder of COMP_FILEs + INI snippet; siemens: one MPF (LEC + CEC); heidenhain: "
                         "folder of *.COM + CONFIG.CMA; tf5280: ISG CSV file; etalon: Etalon exchange file")
     p.add_argument("-o", "--output", required=True, help="output folder (linuxcnc, heidenhain) or file")
-    p.add_argument("--step", type=float, default=None, metavar="MM_OR_DEG",
+    p.add_argument("--step", type=real(0.0, unit="mm or deg", lo_open=True), default=None, metavar="MM_OR_DEG",
                    help="table spacing (mm for linear, deg for rotary axes; default: the finest 1/2/2.5/5 x 10^k "
                         "that covers each axis' range within the format's point limit)")
-    p.add_argument("--max-points", type=int, default=None, metavar="N",
+    p.add_argument("--max-points", type=integer(2), default=None, metavar="N",
                    help="points per table (default: the format's limit: 256; tf5280/etalon 1000)")
     p.add_argument("--diagnosis", metavar="DIAG.json",
                    help="`mtcal diagnose --json` answer: significant backlash findings give direction-dependent tables")

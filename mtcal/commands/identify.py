@@ -7,13 +7,13 @@ import logging
 import numpy as np
 
 from mtcal import fitting
+from mtcal.commands._options import integer, machine_argument, nonnegative, xyz
+from mtcal.errors import InputError
 from mtcal.identify import identify, parse_positions, read_inspire
 from mtcal.io import dumps, refuse_overwrite
+from mtcal.machine import DEFAULT_MACHINE
 from mtcal.model import save_model
 from mtcal.recordings import read_recording
-from mtcal.tracker import parse_xyz
-from mtcal.commands._options import machine_argument
-from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "identify"
 log = logging.getLogger("mtcal." + NAME)
@@ -27,7 +27,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "deg, machine frame); with --layout inspire: one export per round, in round order")
     p.add_argument("-o", "--output", metavar="MODEL.json", help="write the error model (mm, rad) here")
     p.add_argument("--plots", metavar="DIR", help="write PNG plots (errors with +-2 sigma bars, fits, reference lines)")
-    p.add_argument("--tracker", metavar="x,y,z", type=parse_xyz,
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz,
                    help="tracker position in the machine frame (mm): weight the least squares by the AT960 covariance")
     p.add_argument("--reference", choices=fitting.REFERENCE_METHODS, default="least-squares",
                    help="ISO 230-1 reference straight line for straightness and squareness (default least-squares)")
@@ -41,8 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "station alignments; needs the tracker position); three-point: per position (Zhang & Hu); "
                         "auto (default): joint when the tracker position is known, else three-point")
     machine_argument(p, DEFAULT_MACHINE)
-    p.add_argument("--max-degree", type=int, default=7, help="highest polynomial degree tried (default 7)")
-    p.add_argument("--outlier-k", type=float, default=5.0,
+    p.add_argument("--max-degree", type=integer(0, 15), default=7, help="highest polynomial degree tried (default 7)")
+    p.add_argument("--outlier-k", type=nonnegative, default=5.0,
                    help="warn when a round differs from the others by more than k sigma (default 5; 0 = off)")
 
 
@@ -59,7 +59,7 @@ def _report(res) -> str:
             cells = "".join(f"{mean[k, i] * 1e3 if i < 3 else mean[k, i] * 1e6:9.2f}"
                             f"+-{(sm[k, i] * 1e3 if i < 3 else sm[k, i] * 1e6):<6.2f}" for i in range(6))
             lines.append(f"{x:9.2f}{cells}{ar.residual_rms[k] * 1e3:9.2f}")
-        fits = ", ".join(f"{n}: {'deg ' + str(f['degree']) if f['kind'] == 'polynomial' else str(f['harmonics']) + ' harm'}"
+        fits = ", ".join(f"{n}: " + (f"deg {f['degree']}" if f["kind"] == "polynomial" else f"{f['harmonics']} harm")
                          for n, f in ar.fits.items())
         lines.append(f"fits: {fits}")
     if res.squareness:
@@ -69,16 +69,16 @@ def _report(res) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.output:
-        refuse_overwrite(args.output, *args.recording)
+    refuse_overwrite([args.output], *args.recording, dirs={args.plots: ["identify_*.png"]})
     if args.layout == "inspire":
         if not args.axis:
-            raise ValueError("--layout inspire needs --axis (the axis the exports measured)")
-        rec = read_inspire(args.recording, args.axis, None if args.positions is None else parse_positions(args.positions))
+            raise InputError("--layout inspire needs --axis (the axis the exports measured)")
+        positions = None if args.positions is None else parse_positions(args.positions)
+        rec = read_inspire(args.recording, args.axis, positions)
     elif len(args.recording) != 1:
-        raise ValueError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
+        raise InputError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
     else:
-        rec = read_recording(args.recording[0])
+        rec = read_recording(args.recording[0], args.machine)
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
                    outlier_k=args.outlier_k, max_degree=args.max_degree, method=args.method)
     for w in res.warnings:

@@ -8,6 +8,8 @@ import io
 import math
 from pathlib import Path
 
+from mtcal.commands._options import real
+from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, refuse_overwrite
 from mtcal.commands._options import machine_argument
 from mtcal.machine import DEFAULT_MACHINE
@@ -25,7 +27,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--axis", metavar="NAME", help="axis to evaluate (default: every axis in the recording)")
     p.add_argument("--target-points", metavar="P,P,...",
                    help="evaluate only these target positions (mm or deg; default: every position recorded)")
-    p.add_argument("--alpha", type=float, metavar="PER_K",
+    p.add_argument("--alpha", type=real(-1e-3, 1e-3, "1/K"), metavar="PER_K",
                    help="expansion coefficient for --temperature-normalise (1/K, e.g. 11.5e-6 for steel)")
     p.add_argument("--temperature-normalise", action="store_true",
                    help="normalise linear axes to 20 C: x - alpha (T - 20) (P - P_0), T from temperature_c")
@@ -42,9 +44,12 @@ def _targets(text: str | None) -> list[float] | None:
     if text is None:
         return None
     try:
-        return [float(v) for v in text.replace(";", ",").split(",") if v.strip()]
+        v = [float(t) for t in text.replace(";", ",").split(",") if t.strip()]
     except ValueError:
-        raise ValueError(f"--target-points must be numbers separated by commas, got {text!r}") from None
+        v = []
+    if not v or not all(math.isfinite(t) for t in v):
+        raise InputError(f"--target-points must be finite numbers separated by commas, got {text!r}")
+    return v
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,8 +57,10 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.recordings import read_recording
 
     if args.temperature_normalise != (args.alpha is not None):
-        raise ValueError("temperature normalisation needs both --temperature-normalise and --alpha PER_K")
-    rec = read_recording(args.recording)
+        raise InputError("temperature normalisation needs both --temperature-normalise and --alpha PER_K")
+    if args.output:
+        refuse_overwrite([], args.recording, dirs={args.output: ["iso230-2_*"]})
+    rec = read_recording(args.recording, args.machine)
     res = evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine,
                    targets=_targets(args.target_points), alpha=args.alpha, angle_unit=args.angle_unit,
                    point=args.point)

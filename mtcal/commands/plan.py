@@ -5,9 +5,9 @@ import argparse
 import logging
 import math
 
-from mtcal.io import dumps
-from mtcal.tracker import parse_xyz
-from mtcal.commands._options import machine_argument
+from mtcal.commands._options import integer, machine_argument, real, xyz
+from mtcal.errors import InputError
+from mtcal.io import dumps, refuse_overwrite
 from mtcal.machine import DEFAULT_MACHINE
 
 NAME = "plan"
@@ -15,17 +15,17 @@ HELP = "predict the uncertainty of the identified errors for a tracker placement
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--tracker", metavar="x,y,z", help="tracker position in mm, machine frame "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position in mm, machine frame "
                    "(default: the plan's, else the machine spec's first tracker station)")
     machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.simulate)")
-    p.add_argument("--monte-carlo", type=int, default=0, metavar="N",
+    p.add_argument("--monte-carlo", type=integer(0), default=0, metavar="N",
                    help="also run N simulated rounds per axis through the estimator (GUM Supplement 1)")
-    p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0)")
+    p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
                    help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
     p.add_argument("--axes", metavar="X,Y,...", help="axes to report (default: all axes of the plan)")
-    p.add_argument("--target-um", type=float, metavar="UM",
+    p.add_argument("--target-um", type=real(0, unit="um", lo_open=True), metavar="UM",
                    help="design the measurement: recommend stations, reflector spread and rounds for this volumetric "
                         "standard uncertainty of the identified model (um, RMS over the work volume)")
     p.add_argument("--floor", action="append", metavar="x,y",
@@ -33,11 +33,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "default: 8 positions 1 m outside the machine's enclosure)")
     p.add_argument("--heights", default="150,1200", metavar="z,...",
                    help="with --target-um: allowed tracker heights (mm, machine frame; default 150,1200)")
-    p.add_argument("--max-spread", type=float, default=1.0, metavar="K",
+    p.add_argument("--max-spread", type=real(1), default=1.0, metavar="K",
                    help="with --target-um: reflector layouts may be spread up to K times the plan's (fixture limit)")
-    p.add_argument("--hours", type=float, metavar="H", help="with --target-um: measuring time available (h)")
-    p.add_argument("--max-stations", type=int, default=4, metavar="N", help="with --target-um: at most N stations")
-    p.add_argument("--plot", metavar="PNG", help="write a map of the predicted uncertainty over tracker floor positions")
+    p.add_argument("--hours", type=real(0, unit="h", lo_open=True), metavar="H", help="with --target-um: measuring time available (h)")
+    p.add_argument("--max-stations", type=integer(1), default=4, metavar="N", help="with --target-um: at most N stations")
+    p.add_argument("--plot", metavar="PNG",
+                   help="write a map of the predicted uncertainty over tracker floor positions")
 
 
 def _floats(text: str, n: int | None, what: str) -> tuple[float, ...]:
@@ -46,14 +47,12 @@ def _floats(text: str, n: int | None, what: str) -> tuple[float, ...]:
     except ValueError:
         v = ()
     if not v or (n is not None and len(v) != n) or not all(math.isfinite(c) for c in v):
-        raise ValueError(f"{what} must be {'x,y' if n == 2 else 'comma-separated numbers'} in mm, got {text!r}")
+        raise InputError(f"{what} must be {'x,y' if n == 2 else 'comma-separated numbers'} in mm, got {text!r}")
     return v
 
 
 def _design(args: argparse.Namespace, plan) -> int:
     from mtcal.plan_stations import default_floor, design
-    if args.target_um <= 0 or args.max_spread < 1 or args.max_stations < 1 or (args.hours is not None and args.hours <= 0):
-        raise ValueError("--target-um and --hours must be > 0, --max-spread >= 1, --max-stations >= 1")
     floor = [_floats(f, 2, "--floor") for f in args.floor] if args.floor else default_floor(plan)
     heights = _floats(args.heights, None, "--heights")
     log = logging.getLogger("mtcal.plan")
@@ -80,17 +79,15 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.machine import load_machine
     from mtcal.simulate import Plan, load_plan
 
-    if args.monte_carlo < 0:
-        raise ValueError(f"--monte-carlo must be >= 0, got {args.monte_carlo}")
     if args.monte_carlo == 1:
-        raise ValueError("--monte-carlo needs at least 2 rounds for a standard deviation")
+        raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")
+    refuse_overwrite([args.plot], args.plan)
     m = load_machine(args.machine)
     plan = load_plan(args.plan, m) if args.plan else Plan(m)
     if args.target_um is not None:
         return _design(args, plan)
-    tracker = parse_xyz(args.tracker) if args.tracker is not None else None
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
-    res = plan_uncertainty(tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
+    res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
                            weighting=args.weighting, axes=axes).to_dict()
     if args.plot:
         logging.getLogger("mtcal.plan").info("computing the placement map ...")

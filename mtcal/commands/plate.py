@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import math
 
+from mtcal.commands._options import probability
 from mtcal.io import dumps, refuse_overwrite
 
 NAME = "plate"
@@ -25,7 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--origin", metavar="POINT", help="point placed at (0, 0) in the gage frame (default: first)")
     p.add_argument("--align", metavar="POINT[:x|y]",
                    help="point placed on the x axis (or y with ':y'); default: the point farthest along +x")
-    p.add_argument("--level", type=float, default=0.01,
+    p.add_argument("--level", type=probability, default=0.01,
                    help="family-wise level of the outlier test (Bonferroni), default 0.01")
     p.add_argument("--plot", metavar="PNG", help="write a plot of the plate with magnified residual vectors")
     p.add_argument("--diagnose", action="store_true", help="name the effect the fitted model leaves out "
@@ -38,8 +39,7 @@ def run(args: argparse.Namespace) -> int:
     align, axis = args.align, "x"
     if align and ":" in align:
         align, axis = align.rsplit(":", 1)
-    if args.plot:
-        refuse_overwrite(args.plot, args.csv)
+    refuse_overwrite([args.plot], args.csv)
     data = read_plate_csv(args.csv)
     fit = fit_plate(data, metric=args.metric, offsets=not args.no_offsets, exact=True if args.exact else None,
                     origin=args.origin, align=align, align_axis=axis, level=args.level,

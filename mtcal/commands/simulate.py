@@ -6,8 +6,7 @@ import logging
 
 from mtcal import effects as fx
 from mtcal.io import dumps, refuse_overwrite
-from mtcal.tracker import parse_xyz
-from mtcal.commands._options import machine_argument
+from mtcal.commands._options import integer, machine_argument, real, xyz
 
 NAME = "simulate"
 log = logging.getLogger("mtcal." + NAME)
@@ -18,15 +17,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", metavar="MODEL.json", help="error model of the simulated machine (default: no errors)")
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan: positions, points, rounds, times "
                    "(schema in mtcal.simulate; default: the thesis campaign)")
-    p.add_argument("--alignment-um", type=float, default=None, metavar="UM",
+    p.add_argument("--alignment-um", type=real(0, unit="um"), default=None, metavar="UM",
                    help="several stations: 1-sigma alignment error of each station, translation (default 20 um)")
-    p.add_argument("--alignment-urad", type=float, default=None, metavar="URAD",
+    p.add_argument("--alignment-urad", type=real(0, unit="urad"), default=None, metavar="URAD",
                    help="several stations: 1-sigma alignment error of each station, rotation (default 30 urad)")
-    p.add_argument("--tracker", metavar="x,y,z", action="append", help="tracker position in mm, machine frame; "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, action="append", help="tracker position in mm, machine frame; "
                    "repeat for several stations (each measures the whole campaign, --rounds rounds each) "
                    "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
-    p.add_argument("--rounds", type=int, metavar="N", help="rounds (default: the plan's, else 4)")
-    p.add_argument("--seed", type=int, default=0, metavar="S", help="random seed (default 0)")
+    p.add_argument("--rounds", type=integer(1), metavar="N", help="rounds (default: the plan's, else 4)")
+    p.add_argument("--seed", type=integer(0), default=0, metavar="S", help="random seed (default 0)")
     p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
@@ -35,11 +34,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def _where(truth: dict) -> str:
-    xyz = lambda t: ",".join(f"{c:g}" for c in t)  # noqa: E731
+    fmt = lambda t: ",".join(f"{c:g}" for c in t)  # noqa: E731
     if truth.get("stations"):
         return f"{len(truth['stations'])} stations at " + "; ".join(
-            f"{s['label']} {xyz(s['tracker'])}" for s in truth["stations"]) + " mm (each with its alignment error)"
-    return f"tracker at {xyz(truth['tracker'])} mm"
+            f"{s['label']} {fmt(s['tracker'])}" for s in truth["stations"]) + " mm (each with its alignment error)"
+    return f"tracker at {fmt(truth['tracker'])} mm"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -47,15 +46,12 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.machine import DEFAULT_MACHINE
     from mtcal.simulate import load_plan, simulate, truth_path, write_campaign
 
-    refuse_overwrite(args.output, args.model, args.plan)
-    refuse_overwrite(truth_path(args.output), args.model, args.plan)
-    trackers = [parse_xyz(t) for t in args.tracker or []]
+    refuse_overwrite([args.output, truth_path(args.output)], args.model, args.plan)
     effects = [fx.parse_effect(e) for e in args.effect]
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     plan = load_plan(args.plan, machine) if args.plan else None
-    if args.rounds is not None and args.rounds < 1:
-        raise ValueError(f"--rounds must be a positive integer, got {args.rounds}")
+    trackers = args.tracker or []
     stations = ([(f"S{i + 1}", tuple(t)) for i, t in enumerate(trackers)] if len(trackers) > 1
                 else list(plan.stations.items()) if plan is not None and plan.stations and not trackers else None)
     if stations:

@@ -245,7 +245,7 @@ def all_candidates(prep: "Prepared", max_degree: int) -> tuple[list[Candidate], 
         notes.append({"name": "thermal_drift", "axis": None, "not_separable": NOT_SEPARABLE["thermal_drift"]})
     if g.tracker is not None:
         out.append(tracker_scale(g))
-    for s, (a, r, label) in enumerate(prep.seq_keys):
+    for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes

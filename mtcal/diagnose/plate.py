@@ -84,7 +84,7 @@ def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> d
         for c, s in scored:
             fams.setdefault(c[0] if c[0] == "outlier" else c[1], []).append((c, s))
         best = None
-        for fam, mem in fams.items():
+        for mem in fams.values():
             c, s = min(mem, key=lambda cs: cs[1]["logp"])
             lp = s["logp"] + math.log(len(mem) * len(fams))
             if best is None or lp < best[2]:

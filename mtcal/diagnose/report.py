@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.diagnose.prepare import Prepared
+from mtcal.io import save_figure
 
 
 # ---------------------------------------------------------------------------------------------- diagnosis
@@ -62,7 +63,7 @@ def plot_residuals(diag: Diagnosis, directory) -> list[str]:
         fig.suptitle(f"residuals {tag} the diagnosed effects ({prep.rec.source})")
         fig.tight_layout()
         p = os.path.join(str(directory), f"residuals_{tag}.png")
-        fig.savefig(p, dpi=110)
+        save_figure(fig, p, dpi=110)
         plt.close(fig)
         paths.append(p)
     return paths

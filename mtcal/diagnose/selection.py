@@ -133,39 +133,30 @@ def _cv(prep: Prepared, base: Base, wy: np.ndarray, Gs: list[np.ndarray]) -> tup
     return with_, without
 
 
-def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None, level: float = 0.01,
-             max_degree: int = MAX_DEGREE, max_effects: int = 8) -> Diagnosis:
-    """Diagnose a recording (see module docstring).  ``level``: family-wise significance level."""
+def _screen(prep: Prepared, eng: Engine, cands: list, notes: list[dict]) -> list:
+    """Without a given model, the quasi-static candidates (and the tracker scale) that the base family at its
+    largest degree already contains are not separable: reported as notes, not tested."""
+    if prep.given_model:
+        return cands
+    keep, seen = [], set()
+    for c in cands:
+        if c.name in fx.QUASI_STATIC or c.name == "tracker_scale":
+            sc = eng.score(prep.white(c))
+            if not sc["separable"] or (c.name == "tracker_scale" and sc["sep"] < WEAK_TOL):
+                if (c.name, c.axis) not in seen:
+                    seen.add((c.name, c.axis))
+                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[c.name],
+                                  "separability": sc["sep"]})
+                continue
+        keep.append(c)
+    return keep
+
+
+def _forward(prep: Prepared, eng: Engine, cands: list, level: float, max_effects: int):
+    """Forward selection: per step the best member of every family (refined; outlier and knock scans), penalised
+    for families x members (Bonferroni); the strongest significant one is added.  Returns (selected
+    [(candidate, score, adjusted log p)], the last step's best per family, the engine with the selected)."""
     say = log.info
-    if not 0 < level < 1:
-        raise InputError(f"level must be in (0, 1), got {level}")
-    prep = prepare(rec, machine, model, tracker)
-    wy = whiten(prep.W, prep.y)
-    # the null hypothesis of every test: the quasi-static family itself (every axis at the largest degree), not
-    # the BIC-selected base: an effect is reported only if no smooth error function of the family explains it
-    # (a cubic misfit of a degree-2 base is not a long-pitch periodic error); BIC picks the reported base after
-    test_degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
-    eng = engine_for(prep, base_design(prep, test_degrees), wy)
-    say(f"null model of the tests: {eng.p} parameters (quasi-static family"
-        f"{', given model' if prep.given_model else f' at degree {max_degree}'}), sigma ratio {eng.sigma:.3f}")
-
-    cands, notes = all_candidates(prep, max_degree)
-    effects_out: list[dict] = []
-    if not prep.given_model:  # quasi-static effects against the base family at its largest degree: aliased?
-        keep, seen = [], set()
-        for c in cands:
-            if c.name in fx.QUASI_STATIC or c.name == "tracker_scale":
-                sc = eng.score(prep.white(c))
-                if not sc["separable"] or (c.name == "tracker_scale" and sc["sep"] < WEAK_TOL):
-                    if (c.name, c.axis) not in seen:
-                        seen.add((c.name, c.axis))
-                        notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[c.name],
-                                      "separability": sc["sep"]})
-                    continue
-            keep.append(c)
-        cands = keep
-    say(f"{len(cands)} candidate effects")
-
     selected: list[tuple[fx.Candidate, dict, float]] = []
     last_scores: dict[str, tuple[fx.Candidate, dict, float]] = {}
     for step in range(max_effects):
@@ -215,7 +206,12 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
             # outliers and tracker knocks are scanned afresh every step)
             cands = [x for x in cands if x.family != c.family]
 
-    # backward elimination: drop a selected effect that the others have made insignificant
+    return selected, last_scores, eng
+
+
+def _backward(prep: Prepared, eng: Engine, selected: list, level: float):
+    """Backward elimination: drop a selected effect that the others have made insignificant."""
+    say = log.info
     while len(selected) > 1:
         worst = None
         for j, (c, sc, lp) in enumerate(selected):
@@ -235,22 +231,15 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
         for o, _, _ in selected:
             eng.add(prep.white(o))
 
-    null_model = ("the given model" if prep.given_model else
-                  f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
-    # the reported base model: degrees by BIC with the selected effects in the fit (an unmodelled effect would
-    # bias BIC low), then the base alone (sigma before, located) and with the effects (estimates, sigma after)
-    degrees = (dict(test_degrees) if prep.given_model
-               else _select_degrees(prep, wy, max_degree, say, [prep.white(c) for c, _, _ in selected]))
-    base = base_design(prep, degrees)
-    eng = engine_for(prep, base, wy)
-    base_sigma = _raw_sigma(prep, eng.r, eng.dof)
-    base_ratio = eng.sigma
-    say(f"base model: {eng.p} parameters, sigma {base_sigma * 1e3:.3f} um (ratio {base_ratio:.3f})")
-    located, _ = locate(prep, eng, level)
-    r_before = eng.r.copy()
-    for c, _, _ in selected:
-        eng.add(prep.white(c))
+    return selected, eng
 
+
+def _report_effects(prep: Prepared, base: Base, wy: np.ndarray, eng: Engine, selected: list, last_scores: dict,
+                    notes: list[dict], null_model: str) -> tuple[list[dict], Engine]:
+    """The reported effects: joint estimates on the reported base, cumulative sigma, held-out-round
+    cross-validation; then the best not-selected member of every family and the not-separable notes.  Returns
+    (effects, the engine with the selected effects ``cum``)."""
+    effects_out: list[dict] = []
     # final joint estimates, cumulative sigma and held-out-round cross-validation
     theta_all, cov_all = (eng.estimate([prep.white(c) for c, _, _ in selected]) if selected
                           else (np.zeros(0), np.zeros((0, 0))))
@@ -301,12 +290,53 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                             "estimate": None, "sigma_after": None, "evidence": None,
                             "not_separable": nt["not_separable"],
                             **({"separability": nt["separability"]} if "separability" in nt else {})})
+    return effects_out, cum
+
+
+def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None, level: float = 0.01,
+             max_degree: int = MAX_DEGREE, max_effects: int = 8) -> Diagnosis:
+    """Diagnose a recording (see the package docstring).  ``level``: family-wise significance level."""
+    say = log.info
+    if not 0 < level < 1:
+        raise InputError(f"level must be in (0, 1), got {level}")
+    prep = prepare(rec, machine, model, tracker)
+    wy = whiten(prep.W, prep.y)
+    # the null hypothesis of every test: the quasi-static family itself (every axis at the largest degree), not
+    # the BIC-selected base: an effect is reported only if no smooth error function of the family explains it
+    # (a cubic misfit of a degree-2 base is not a long-pitch periodic error); BIC picks the reported base after
+    test_degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
+    eng = engine_for(prep, base_design(prep, test_degrees), wy)
+    say(f"null model of the tests: {eng.p} parameters (quasi-static family"
+        f"{', given model' if prep.given_model else f' at degree {max_degree}'}), sigma ratio {eng.sigma:.3f}")
+    cands, notes = all_candidates(prep, max_degree)
+    cands = _screen(prep, eng, cands, notes)
+    say(f"{len(cands)} candidate effects")
+    selected, last_scores, eng = _forward(prep, eng, cands, level, max_effects)
+    selected, eng = _backward(prep, eng, selected, level)
+
+    null_model = ("the given model" if prep.given_model else
+                  f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
+    # the reported base model: degrees by BIC with the selected effects in the fit (an unmodelled effect would
+    # bias BIC low), then the base alone (sigma before, located) and with the effects (estimates, sigma after)
+    degrees = (dict(test_degrees) if prep.given_model
+               else _select_degrees(prep, wy, max_degree, say, [prep.white(c) for c, _, _ in selected]))
+    base = base_design(prep, degrees)
+    eng = engine_for(prep, base, wy)
+    base_sigma = _raw_sigma(prep, eng.r, eng.dof)
+    base_ratio = eng.sigma
+    say(f"base model: {eng.p} parameters, sigma {base_sigma * 1e3:.3f} um (ratio {base_ratio:.3f})")
+    located, _ = locate(prep, eng, level)
+    r_before = eng.r.copy()
+    for c, _, _ in selected:
+        eng.add(prep.white(c))
+    effects_out, cum = _report_effects(prep, base, wy, eng, selected, last_scores, notes, null_model)
     base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static",
                  "degrees": degrees, "parameters": int(cum.copy_base().p), "readings": len(rec),
                  "tests_against": null_model if prep.given_model else
                  f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
                  f"selected effects in the fit)",
                  "weighted": prep.weighted,
-                 "basis": "polynomials in (q - q_ref) for X, Y, Z; harmonics for B, C; per-(round, point) offsets"}
+                 "basis": "polynomials in (q - q_ref) for the linear axes; harmonics for the rotary axes; "
+                          "per-(round, point) offsets"}
     return Diagnosis(base_sigma, base_ratio, _raw_sigma(prep, eng.r, eng.dof), eng.sigma, effects_out, located,
                      base_info, residuals_before=r_before, residuals_after=eng.r.copy(), prep=prep)

@@ -63,8 +63,9 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     foreign = sorted(set(reversal) - set(machine.axes))
     unknown = sorted(set(require or []) - set(machine.error_names))
     if foreign or unknown:
-        raise InputError(f"not of machine {machine.name}: " + "; ".join(
-            ([f"diagnosis backlash axes {foreign}"] if foreign else []) + ([f"error names {unknown}"] if unknown else [])))
+        what = ([f"diagnosis backlash axes {foreign}"] if foreign else []) + (
+            [f"error names {unknown}"] if unknown else [])
+        raise InputError(f"not of machine {machine.name}: " + "; ".join(what))
     if fmt in isg.NAMES:
         render = isg.render_csv if fmt == "tf5280" else isg.render_etalon
         files, held, tables = render(model, machine, step, mp, model_path), isg.held(model), []
@@ -83,7 +84,8 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
                 held |= heidenhain.kc_held(model)
     missing = sorted(set(require or []) - held)
     if missing:
-        raise InputError(f"format {fmt} cannot hold {', '.join(missing)} (it holds: {', '.join(sorted(held)) or 'nothing'})")
+        raise InputError(f"format {fmt} cannot hold {', '.join(missing)} "
+                         f"(it holds: {', '.join(sorted(held)) or 'nothing'})")
     if not files or (kind == "dir" and not tables):
         raise InputError(f"the model has nothing format {fmt} can hold (non-zero: {', '.join(not_held(model, set()))})")
     paths = _write(files, Path(out), kind, protect)

@@ -77,7 +77,7 @@ def render_etalon(model: ErrorModel, machine, step, max_points, model_path: str)
              "// units: errors mm and rad; positions mm (linear) and deg (rotary)"]
     for n in sorted(model.constants):
         lines += [f"[{iso_name(n)}]", f"VALUE = {model.constants[n]:.12g}"]
-    for ax, (q, vals, st) in samples(model, machine, step, max_points).items():
+    for q, vals, st in samples(model, machine, step, max_points).values():
         for n, v in vals.items():
             lines += [f"// {n}: {len(q)} points, step {st:g}", f"[{iso_name(n)}]", "Gridpoints = {"]
             lines += [f"    {p:.6f} {x:.12g}" for p, x in zip(q, v)]
