@@ -67,6 +67,10 @@ def slope_weights(x, method: str = "least-squares") -> np.ndarray:
     return xc / np.dot(xc, xc)
 
 
+SQUARENESS_PAIRS = {"E_C0Y": (("E_XY", "E_YX"), -1.0), "E_B0Z": (("E_XZ", "E_ZX"), 1.0),
+                    "E_A0Z": (("E_YZ", "E_ZY"), -1.0)}  # squareness = sign * (sum of the two slopes)
+
+
 def squareness(slopes: dict[str, float]) -> dict[str, float]:
     """Squareness errors (rad) from the slopes of the straightness reference lines, X as the datum.
 
@@ -75,8 +79,7 @@ def squareness(slopes: dict[str, float]) -> dict[str, float]:
     needs is missing.  A tilt of the measuring frame alone cancels from each sum.
     """
     out = {}
-    pairs = {"E_C0Y": (("E_XY", "E_YX"), -1.0), "E_B0Z": (("E_XZ", "E_ZX"), 1.0), "E_A0Z": (("E_YZ", "E_ZY"), -1.0)}
-    for name, ((a, b), sign) in pairs.items():
+    for name, ((a, b), sign) in SQUARENESS_PAIRS.items():
         if a in slopes and b in slopes:
             out[name] = sign * (slopes[a] + slopes[b])
     return out

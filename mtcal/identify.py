@@ -592,8 +592,8 @@ def squareness_sigma(results: dict[str, AxisResult], reference: str) -> dict[str
         for nm in ar.lines:
             i = ar.names.index(nm)
             var[nm] = float(g @ ar.covariance[i::6, i::6] @ g)
-    pairs = {"E_C0Y": ("E_XY", "E_YX"), "E_B0Z": ("E_XZ", "E_ZX"), "E_A0Z": ("E_YZ", "E_ZY")}
-    return {k: float(np.sqrt(var[a] + var[b])) for k, (a, b) in pairs.items() if a in var and b in var}
+    return {k: float(np.sqrt(var[a] + var[b])) for k, ((a, b), _) in fitting.SQUARENESS_PAIRS.items()
+            if a in var and b in var}
 
 
 # ----------------------------------------------------------------------------- Inspire export layout

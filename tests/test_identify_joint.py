@@ -201,6 +201,9 @@ def test_cli_simulate_several_stations_then_identify(tmp_path, capsys):
     assert main(["identify", str(rec), "-o", str(tmp_path / "m.json"), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["method"] == "joint" and 0.9 < out["joint"]["birge_ratio"] < 1.1
+    sq, sq_sd = out["squareness"], out["joint"]["squareness_sigma"]
+    assert set(sq_sd) == {"E_C0Y", "E_B0Z", "E_A0Z"}  # truth: square machine (no model)
+    assert all(0 < sq_sd[k] < 2e-5 and abs(sq[k]) < 4 * sq_sd[k] for k in sq_sd), (sq, sq_sd)
     for st in truth["stations"]:
         est = out["joint"]["stations"][st["label"]]
         z = (np.array(est["alignment"]) - st["alignment"]) / np.maximum(est["alignment_sigma"], 1e-12)
