@@ -30,14 +30,30 @@ def iso_framed(truth):
     return t
 
 
-def run(seeds=range(1, 6)) -> dict:
-    import mtcal
+def _identify(m, truth, case: str, seed: int):
+    """The identified model of one campaign of ``case`` (see module docstring)."""
     from mtcal.data.make_demo_data import DEMO_PLAN
-    from mtcal.demo import data_path
     from mtcal.identify import identify
-    from mtcal.model import load_model
     from mtcal.simulate import simulate
     from mtcal.simulate_stations import simulate_stations
+    if case.startswith("1_station"):
+        rec = simulate(truth, machine=m, seed=seed, plan=DEMO_PLAN, rounds=None)[0]
+        method = "three-point" if case.endswith("three_point") else "joint"
+        return identify(rec, tracker=FRONT, machine=m, method=method).model
+    plan = {**DEMO_PLAN, "points": WIDE} if case.endswith("wide_reflectors") else DEMO_PLAN
+    rounds = 2 if case.endswith("2_rounds") else 1
+    rec = simulate_stations(truth, STATIONS4, machine=m, rounds=rounds, seed=seed, plan=plan)[0]
+    return identify(rec, machine=m).model
+
+
+CASES = ("1_station_three_point", "1_station_joint", "4_stations", "4_stations_2_rounds",
+         "4_stations_wide_reflectors")
+
+
+def run(seeds=range(1, 6)) -> dict:
+    import mtcal
+    from mtcal.demo import data_path
+    from mtcal.model import load_model
     m = mtcal.load_machine("dmu50")
     rng = np.random.default_rng(0)
     grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000),
@@ -46,26 +62,13 @@ def run(seeds=range(1, 6)) -> dict:
     for tname, truth in (("demo", load_model(data_path("demo_truth.json"))),
                          ("iso", iso_framed(load_model(data_path("demo_truth.json"))))):
         dt = m.deviation(grid, truth.errors_at(m, grid, "hold"), order=None)[:, :3]
-
-        def vol(model):
-            d = m.deviation(grid, model.errors_at(m, grid, "hold"), order=None)[:, :3] - dt
-            return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
-        cases = {
-            "1_station_three_point": lambda s: identify(simulate(truth, machine=m, seed=s, plan=DEMO_PLAN, rounds=None)[0],
-                                                        tracker=FRONT, machine=m, method="three-point"),
-            "1_station_joint": lambda s: identify(simulate(truth, machine=m, seed=s, plan=DEMO_PLAN, rounds=None)[0],
-                                                  tracker=FRONT, machine=m, method="joint"),
-            "4_stations": lambda s: identify(simulate_stations(truth, STATIONS4, machine=m, seed=s, plan=DEMO_PLAN)[0],
-                                             machine=m),
-            "4_stations_2_rounds": lambda s: identify(simulate_stations(truth, STATIONS4, machine=m, rounds=2, seed=s,
-                                                                        plan=DEMO_PLAN)[0], machine=m),
-            "4_stations_wide_reflectors": lambda s: identify(simulate_stations(
-                truth, STATIONS4, machine=m, seed=s, plan={**DEMO_PLAN, "points": WIDE})[0], machine=m),
-        }
-        for name, f in cases.items():
-            v = [vol(f(s).model) for s in seeds]
-            out[f"{tname}_truth_{name}_um"] = float(np.mean(v))
-            out[f"{tname}_truth_{name}_max_um"] = float(np.max(v))
+        for case in CASES:
+            v = []
+            for s in seeds:
+                d = m.deviation(grid, _identify(m, truth, case, s).errors_at(m, grid, "hold"), order=None)[:, :3] - dt
+                v.append(float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3))
+            out[f"{tname}_truth_{case}_um"] = float(np.mean(v))
+            out[f"{tname}_truth_{case}_max_um"] = float(np.max(v))
     return out
 
 

@@ -193,7 +193,8 @@ def _jacobian(rec: Recording, lay: Layout, sides, blocks, whiten: np.ndarray) ->
     sides_cols = np.array([lay.reflectors[(s, str(p))] for s, p in zip(sides, rec.point)])
     st_cols = np.array([lay.stations[s] for s in rec.stations()])
     parts = []
-    for mat, cols, ok in ((jac_e, ecol, ecol >= 0), (rot, sides_cols, np.ones(n, bool)), (jac_a, st_cols, np.ones(n, bool))):
+    every = np.ones(n, bool)
+    for mat, cols, ok in ((jac_e, ecol, ecol >= 0), (rot, sides_cols, every), (jac_a, st_cols, every)):
         wm = np.einsum("nij,njk->nik", whiten, mat)[ok]  # (k, 3, c)
         c = wm.shape[-1]
         rows = (3 * np.flatnonzero(ok))[:, None, None] + np.arange(3)[None, :, None]
@@ -239,7 +240,8 @@ def _initial(m: Machine, rec: Recording, lay: Layout, q, keys, sides) -> np.ndar
     x = np.zeros(lay.n)
     for (side, label), c in lay.reflectors.items():
         rows = np.flatnonzero((rec.point == label) & (sides == side))
-        at_ref = [i for i in rows if (round(float(rec.position[i]), 6), int(keys[i])) == lay.reference[str(rec.axis[i])]]
+        at_ref = [i for i in rows
+                  if (round(float(rec.position[i]), 6), int(keys[i])) == lay.reference[str(rec.axis[i])]]
         use = np.array(at_ref if at_ref else rows)
         b, r = m.rigid_motion(side, q[use])
         x[c:c + 3] = np.einsum("nji,nj->ni", r, rec.xyz[use] - b).mean(axis=0)

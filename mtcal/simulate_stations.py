@@ -38,7 +38,8 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
         machine = model.machine if model is not None else None
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
     pl = as_plan(plan, m)
-    named = [(s if isinstance(s, tuple) and isinstance(s[0], str) else (f"S{i + 1}", s)) for i, s in enumerate(stations)]
+    named = [(s if isinstance(s, tuple) and isinstance(s[0], str) else (f"S{i + 1}", s))
+             for i, s in enumerate(stations)]
     if not named:
         raise InputError("a multi-station campaign needs at least one station")
     rng = np.random.default_rng(seed)
@@ -66,7 +67,8 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
     out.station = cat(lambda p: np.full(len(p[2]), p[0], dtype=object))
     out.tracker_xyz = cat(lambda p: np.tile(p[1], (len(p[2]), 1)))
     if parts[0][2].other_positions:
-        out.other_positions = {a: cat(lambda p: p[2].other_positions[a]) for a in parts[0][2].other_positions}
+        out.other_positions = {a: np.concatenate([p[2].other_positions[a] for p in parts])
+                               for a in parts[0][2].other_positions}
     truth = {**truth, "tracker": None, "noise": bool(noise), "seed": seed, "rounds": int(rounds) * len(named),
              "stations": st_truth,
              "alignment_convention": "reading = rigid_point(true point, alignment): Trans(tx, ty, tz mm) "

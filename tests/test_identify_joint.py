@@ -51,7 +51,8 @@ def _truth() -> ErrorModel:
     s = x / 200
     c = np.linspace(0, 300, 31)
     w = np.radians(c)
-    f = {"E_XX": ErrorFunction("X", x, 0.015 * s**2 + 0.005 * s**3), "E_YX": ErrorFunction("X", x, 0.004 * (s**2 - 1 / 3)),
+    f = {"E_XX": ErrorFunction("X", x, 0.015 * s**2 + 0.005 * s**3),
+         "E_YX": ErrorFunction("X", x, 0.004 * (s**2 - 1 / 3)),
          "E_ZX": ErrorFunction("X", x, 0.003 * s**3 - 0.0018 * s), "E_CX": ErrorFunction("X", x, 2e-5 * s**2),
          "E_AX": ErrorFunction("X", x, 1.5e-5 * s), "E_YY": ErrorFunction("Y", x, 0.012 * s**2),
          "E_XY": ErrorFunction("Y", x, 0.004 * s), "E_ZY": ErrorFunction("Y", x, 0.003 * (s**2 - 1 / 3)),

@@ -35,8 +35,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with --target-um: allowed tracker heights (mm, machine frame; default 150,1200)")
     p.add_argument("--max-spread", type=real(1), default=1.0, metavar="K",
                    help="with --target-um: reflector layouts may be spread up to K times the plan's (fixture limit)")
-    p.add_argument("--hours", type=real(0, unit="h", lo_open=True), metavar="H", help="with --target-um: measuring time available (h)")
-    p.add_argument("--max-stations", type=integer(1), default=4, metavar="N", help="with --target-um: at most N stations")
+    p.add_argument("--hours", type=real(0, unit="h", lo_open=True), metavar="H",
+                   help="with --target-um: measuring time available (h)")
+    p.add_argument("--max-stations", type=integer(1), default=4, metavar="N",
+                   help="with --target-um: at most N stations")
     p.add_argument("--plot", metavar="PNG",
                    help="write a map of the predicted uncertainty over tracker floor positions")
 
@@ -65,8 +67,8 @@ def _design(args: argparse.Namespace, plan) -> int:
           f"{'met' if d.met else 'NOT met'}")
     print(f"recommended: {len(r.stations)} station(s), {r.rounds_per_station} round(s) each, reflectors spread "
           f"{r.reflector_scale:g}x, {r.hours:.1f} h -> predicted {r.model_um:.2f} um (model and compensated machine)")
-    for label, xyz in r.stations:
-        print(f"  station {label}: {', '.join(f'{c:g}' for c in xyz)} mm")
+    for label, pos in r.stations:
+        print(f"  station {label}: {', '.join(f'{c:g}' for c in pos)} mm")
     print("path: " + " -> ".join(f"{len(p.stations)} st. {p.model_um:.2f} um" for p in d.steps))
     for a in d.alternatives:
         print(f"alternative at the same stations' time: {len(a.stations)} station(s) x {a.rounds_per_station} rounds, "

@@ -21,7 +21,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="several stations: 1-sigma alignment error of each station, translation (default 20 um)")
     p.add_argument("--alignment-urad", type=real(0, unit="urad"), default=None, metavar="URAD",
                    help="several stations: 1-sigma alignment error of each station, rotation (default 30 urad)")
-    p.add_argument("--tracker", metavar="x,y,z", type=xyz, action="append", help="tracker position in mm, machine frame; "
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, action="append",
+                   help="tracker position in mm, machine frame; "
                    "repeat for several stations (each measures the whole campaign, --rounds rounds each) "
                    "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
     p.add_argument("--rounds", type=integer(1), metavar="N", help="rounds (default: the plan's, else 4)")
@@ -75,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
         print(dumps(summary))
     else:
         print(f"wrote {args.output}: {len(rec)} readings, axes {' '.join(rec.axes())}, {truth['rounds']} rounds, "
-              f"{summary['duration_s'] / 3600:.2f} h simulated; " + _where(truth) + f"; noise {'AT960' if truth['noise'] else 'off'}")
+              f"{summary['duration_s'] / 3600:.2f} h simulated; " + _where(truth)
+              + f"; noise {'AT960' if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
         log.info("truth: %s", tp)
