@@ -650,7 +650,8 @@ class ProgramCompensator:
             w_all = comp.weight(qn_all)
             rep.in_cone += int((w_all <= 0).sum())
             rep.blended += int(((w_all > 0) & (w_all < 1)).sum())
-            rep.max_c_correction = max(rep.max_c_correction, float(np.abs(qw_all[:, self._ri] - qn_all[:, self._ri]).max()))
+            dc = np.abs(qw_all[:, self._ri] - qn_all[:, self._ri]).max()
+            rep.max_c_correction = max(rep.max_c_correction, float(dc))
             if len(qw):
                 w = w_all if k == 1 else comp.weight(qn)
                 rep.orientation.add(ang[w >= 1])
@@ -877,7 +878,12 @@ class ProgramCompensator:
         m = comp.machine
         try:
             q0 = m.inverse(poses)
-        except InputError as exc:
+        except InputError as exc:  # name the first pose the machine cannot reach by its file line
+            for r in range(len(poses)):
+                try:
+                    m.inverse(poses[r:r + 1])
+                except InputError as one:
+                    raise InputError(f"{self._src}:{int(nos[r])}: {str(one).replace(' at index (0,)', '')}") from None
             raise InputError(f"{self._src}: {exc}") from None
         # C continuity: at the singularity take the previous C, elsewhere the 360-deg multiple nearest the previous
         sing = np.hypot(poses[:, 3], poses[:, 4]) < 1e-9

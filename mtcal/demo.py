@@ -3,9 +3,9 @@
 campaign (DMU 50: bundled, simulated with thesis-magnitude errors and one concealed effect; any other spec:
 simulated now from a synthetic truth of the same magnitudes, mtcal.data.make_demo_data.build_for) -> identify
 -> plan -> compensate a five-axis program (DMU 50: the bundled one; other machines: a tool path taken through
-the machine's inverse kinematics, written in its axis words) -> diagnose -> NBS plate reversal; numbers printed, PNG plots and a Markdown
-report written to DIR.  The truth behind the campaign is known, so the demo says how close identification and
-compensation came to it.
+the machine's inverse kinematics, written in its axis words) -> diagnose -> NBS plate reversal; numbers
+printed, PNG plots and a Markdown report written to DIR.  The truth behind the campaign is known, so the demo
+says how close identification and compensation came to it.
 """
 from __future__ import annotations
 
@@ -269,7 +269,8 @@ def report(s: dict, out: Path) -> str:
     i, c, d, p = s["identify"], s["compensate"], s["diagnose"], s["plate"]
     lines = ["# mtcal demo report", "",
              f"A simulated {s.get('title', 'DMU 50 eVolution')} with errors of the magnitudes measured in the "
-             "thesis, measured with a laser tracker (AT960 noise) in 4 rounds, with one effect concealed in the campaign that the "
+             "thesis, measured with a laser tracker (AT960 noise) in 4 rounds, with one effect concealed in the "
+             "campaign that the "
              "quasi-static model does not contain. Units: um, urad unless stated.", "",
              "## Identification", "",
              "Squareness (right-hand ISO 230-1 convention; the thesis' eq. 3.16 prints the opposite signs), "

@@ -128,7 +128,8 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                  "amplitude": (0.002, _float, "mm (rad for a rotary axis)"),
                  "pitch": (200.0, _positive, "mm (deg for a rotary axis)"),
                  "phase_deg": (0.0, _float, "deg")},
-    "scale": {"axis": (None, _axis, "axis; default the machine's first"), "ppm": (20.0, _float, "1e-6 of the position")},
+    "scale": {"axis": (None, _axis, "axis; default the machine's first"),
+              "ppm": (20.0, _float, "1e-6 of the position")},
     "squareness": {"error": (None, _error_name, "a squareness constant of the machine; default its first"),
                    "value": (50e-6, _float, "rad")},
     "rotary_location": {"error": (None, _error_name, "location constant of a rotary axis; default E_X0 of the last"),
@@ -238,7 +239,8 @@ class Effect:
             self._bad(key, value, options)
 
     def _bad(self, key: str, value, options) -> None:
-        raise InputError(f"effect {self.name}: {key} must be one of {', '.join(options)} (this machine's), got {value!r}")
+        raise InputError(f"effect {self.name}: {key} must be one of {', '.join(options)} (this machine's), "
+                         f"got {value!r}")
 
     # -------------------------------------------------------------- errors (mm, rad) per reading
     def add_errors(self, rows: Rows, errors: np.ndarray, machine) -> None:

@@ -646,7 +646,8 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
         if len(data) % 3 or not data:
             raise InputError(f"{path}: {len(data)} readings is not three equal blocks (K, P, Q) of one per position")
         n = len(data) // 3
-        pos = np.asarray(positions, dtype=float) if positions is not None else default_positions(load_machine()).get(axis)
+        pos = (np.asarray(positions, dtype=float) if positions is not None
+               else default_positions(load_machine()).get(axis))
         if pos is None or len(pos) != n:
             raise InputError(f"{path}: blocks of {n} readings; give the {n} positions of axis {axis} "
                              f"(--positions start:stop:count)")

@@ -177,7 +177,7 @@ def read_csv_rows(path: str | os.PathLike, what: str) -> list[tuple[int, list[st
         raise InputError(f"empty {what} file (only comments or blank lines)", path)
     head = lines[0][1]
     sep = ";" if ";" in head and "," not in head else ","
-    rows = [(i, next(csv.reader([ln], delimiter=sep))) for i, ln in lines]
+    rows = [(i, _csv_fields(ln, sep, path, i)) for i, ln in lines]
     if sep == ";":
         commas = 0
         for _, r in rows[1:]:
@@ -189,6 +189,15 @@ def read_csv_rows(path: str | os.PathLike, what: str) -> list[tuple[int, list[st
                                    + (f"; {commas} decimal comma(s) read as decimal points" if commas else "")),
                       stacklevel=2)
     return rows
+
+
+def _csv_fields(line: str, sep: str, path: str | os.PathLike, lno: int) -> list[str]:
+    """Fields of one CSV line; what the csv module cannot read (a field over its 128 KiB limit, a stray quote
+    under strict rules) is an error naming the file and line."""
+    try:
+        return next(csv.reader([line], delimiter=sep))
+    except csv.Error as exc:
+        raise InputError(f"unreadable CSV line: {exc}", path, lno) from None
 
 
 def read_json(path: str | os.PathLike, what: str) -> Any:

@@ -209,7 +209,8 @@ class Machine:
             return self._np.forward(a, tool_length)
         return self._np.forward_errors(a, e, tool_length)
 
-    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0, check: bool = True) -> np.ndarray:
+    def deviation(self, axes, errors, order: int | None = 1, tool_length: float = 0.0,
+                  check: bool = True) -> np.ndarray:
         """Pose deviation (..., 6) caused by the errors: first order (order=1) or exact (order=None)."""
         a, e = self._in(axes, errors, check)
         if order == 1:
@@ -243,11 +244,12 @@ class Machine:
 
     # ------------------------------------------------------------------ inverse kinematics
     def inverse(self, pose, hint=None, singular_tol: float = 1e-9, tool_length: float = 0.0) -> np.ndarray:
-        """Axes (..., 5) that reach pose (..., 6) = [x, y, z, i, j, k] nominally.
+        """Axes (..., n_axes) that reach pose (..., 6) = [x, y, z, i, j, k] nominally.
 
-        Branches (``ik_info["branches"]``): the tilt angle inside its limits (the spec's preferred branch, else the other, else the one
-        closer to ``hint``); the rotary angle is the 360-degree multiple closest to the hint's rotary angle
-        (hint default: all zero).  At the singularity (tool axis parallel to the rotary axis, |u_xy| <
+        Branches (``ik_info["branches"]``): the tilt angle inside its limits (the spec's preferred branch, else
+        the other, else the one closer to ``hint``); the rotary angle is the 360-degree multiple closest to the
+        hint's rotary angle (hint default: all zero); ``tool_length`` (mm) as in ``forward`` (it matters when the
+        tilt axis is on the head).  At the singularity (tool axis parallel to the rotary axis, |u_xy| <
         ``singular_tol``) the rotary angle is taken from the hint.  The tool axis must be a unit vector within
         1e-3 (it is then normalised); k outside the reachable range is an error.
         """

@@ -196,7 +196,7 @@ class ErrorEvaluator:
     def _check_ranges(self, q: np.ndarray) -> None:
         """Counts (or refuses) axis positions outside each error function's range (one check per axis and range)."""
         checked: dict[tuple[int, float, float], int] = {}
-        for name, ei, ai, f, lo, hi in self.funcs:
+        for name, _ei, ai, _f, lo, hi in self.funcs:
             if not np.isfinite(lo):
                 continue
             key = (ai, lo, hi)

@@ -47,7 +47,7 @@ def _cases(m: mtcal.Machine):
         c2 = big / np.ptp(default_positions(m)[a]) ** 2
         yield ("second_order", {"error": pe, "coefficient": c2}, [c2],
                lambda g, a=a, e=pe: fx.second_order(g, a, e).G)
-    for e, (name, a) in fx.constants(m).items():
+    for e, (name, _a) in fx.constants(m).items():
         v = 1e-3 if e[2] in "AB" or name == "squareness" else 0.05
         yield name, {"error": e, "value": v}, [v], lambda g, e=e, n=name: fx.constant(g, n, e).G
     cx = f"E_Z{lin[0]}"

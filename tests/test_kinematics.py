@@ -354,7 +354,7 @@ def test_machine_geometry_api(name):
         moved[:, k] += 1.5
         p0, p1 = m.points(a, ax, local), m.points(a, moved, local)
         assert np.abs(np.einsum("ni,ni->n", p1 - p0, z)).max() < 1e-9  # in the plane normal to the axis
-        dist = lambda p: np.linalg.norm(np.cross(p - o, z), axis=1)  # noqa: E731
+        dist = lambda p, o=o, z=z: np.linalg.norm(np.cross(p - o, z), axis=1)  # noqa: E731
         assert np.abs(dist(p1) - dist(p0)).max() < 1e-9
         assert np.abs(p1 - p0).max() > 0.1  # and it did move
     assert set(m.sides.values()) <= {"tool", "table"}

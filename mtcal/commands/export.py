@@ -41,16 +41,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    refuse_overwrite(args.output, args.model, args.diagnosis)
-    if FORMATS[args.format][1] == "dir" and Path(args.output).exists() and not Path(args.output).is_dir():
-        raise InputError(f"{args.output}: format {args.format} writes a folder, and this is a file")
+    if FORMATS[args.format][1] == "dir":
+        if Path(args.output).exists() and not Path(args.output).is_dir():
+            raise InputError(f"{args.output}: format {args.format} writes a folder, and this is a file")
+        # an existing folder is fine (a re-export); export_model checks every file it writes there against the inputs
+        refuse_overwrite([], args.model, args.diagnosis, dirs={args.output: []})
+    else:
+        refuse_overwrite(args.output, args.model, args.diagnosis)
     model = load_model(args.model)
     machine = load_machine(model.machine)
     diag = read_json(args.diagnosis, "diagnosis") if args.diagnosis else None
     require = [n.strip() for n in args.require.split(",") if n.strip()]
     res = export_model(model, machine, args.format, args.output, args.model, args.step, args.max_points, diag,
                        args.comp_file_type, require, args.kinematics_comp,
-                       protect=tuple(p for p in (args.model, args.diagnosis) if p))
+                       protect=tuple(p for p in (args.model, args.diagnosis) if p),
+                       diagnosis_source=args.diagnosis or "diagnosis")
     out = {"format": res.format, "files": res.files, "sign": res.sign, "held": res.held, "not_held": res.not_held,
            "tables": res.tables, "warnings": res.warnings,
            "units": {"positions": "mm (linear axes), deg (rotary axes)",

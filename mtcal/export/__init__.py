@@ -50,7 +50,7 @@ def _summary(t: AxisTable) -> dict:
 def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_path: str = "MODEL.json",
                  step: float | None = None, max_points: int | None = None, diagnosis: dict | None = None,
                  file_type: int = 0, require: list[str] | None = None, kinematics_comp: bool = False,
-                 protect: tuple = ()) -> ExportResult:
+                 protect: tuple = (), diagnosis_source: str = "diagnosis") -> ExportResult:
     """Write ``fmt`` to ``out`` (a folder for "dir" formats, a file otherwise) atomically; refuse before writing
     anything when a ``require``d error name is not held by the format."""
     if fmt not in FORMATS:
@@ -59,7 +59,7 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     mp = max_points or mod.MAX_POINTS
     if mod.HARD_LIMIT and mp > mod.MAX_POINTS:
         raise InputError(f"format {fmt} holds at most {mod.MAX_POINTS} points per table, got --max-points {mp}")
-    reversal = backlash_from(diagnosis)
+    reversal = backlash_from(diagnosis, diagnosis_source)
     foreign = sorted(set(reversal) - set(machine.axes))
     unknown = sorted(set(require or []) - set(machine.error_names))
     if foreign or unknown:

@@ -1,0 +1,1201 @@
+"""Generate the fuzz corpus of issue 11: bad and hostile inputs for every mtcal command, with expected outcomes.
+
+    python tests/fuzz/make_corpus.py OUT_DIR        # writes OUT_DIR/<case>/... and OUT_DIR/cases.json
+
+Deterministic (seeded).  Written from the issue text and the README (the CLI contract), not from the
+implementation: this is the independent oracle.  Each case is a folder holding its input files, plus an entry in
+cases.json:
+
+    {"id", "command", "kind" (input kind under test), "argv" (relative to the case folder),
+     "setup": [argv, ...],                     # optional: mtcal commands run first (must exit 0)
+     "rewrites": [prefix, ...],                # optional: earlier outputs the command may rewrite
+     "expect": [alternative, ...],            # the case passes when one alternative holds
+     "signal": {...}}                          # optional: run as a subprocess and send a signal
+
+An alternative is {"exit": 0 | 2 | "bug" | 130 | "signal", "error": {"file", "line", "problem": [words],
+"also": [words] (a second group, one of which must be said too), "forbid": [words]},
+"option": bool (argparse-style usage block + one error line allowed), "checks": [...], "say": [words]}.
+Error expectations follow issue 11: one line naming the file, the line where there is one and the problem,
+exit 2, no traceback.  Valid inputs get output checks (tests/fuzz/oracle.py, run by tests/test_fuzz.py).
+Input file lines are physical lines, 1-based (the CSV header is line 1).
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import random
+import sys
+from pathlib import Path
+
+DATA = Path(__file__).resolve().parents[2] / "mtcal" / "data"
+SEED = 20261123
+
+
+# --------------------------------------------------------------------------- helpers
+
+def err(file=None, line=None, *problem, option=False):
+    """Alternative: exit 2 with one error line naming file, line and one of the problem words."""
+    alt = {"exit": 2, "error": {"file": file, "line": line, "problem": list(problem)}}
+    if option:
+        alt["option"] = True
+    return alt
+
+
+def err_also(alt, *words):
+    """The same error, whose message must also say one of `words` (e.g. the option and what is wrong with it)."""
+    alt["error"]["also"] = list(words)
+    return alt
+
+
+def ok(*checks, say=None):
+    alt = {"exit": 0, "checks": list(checks)}
+    if say:
+        alt["say"] = list(say)
+    return alt
+
+
+class Corpus:
+    def __init__(self, root: Path):
+        self.root = root
+        self.cases: list[dict] = []
+
+    def add(self, cid, command, kind, argv, files=None, expect=(), dirs=(), signal=None, note="", links=None,
+            setup=(), rewrites=()):
+        if any(c["id"] == cid for c in self.cases):
+            raise SystemExit(f"duplicate case id {cid}")
+        d = self.root / cid
+        d.mkdir(parents=True)
+        for sub in dirs:
+            (d / sub).mkdir(parents=True, exist_ok=True)
+        for name, content in (files or {}).items():
+            p = d / name
+            p.parent.mkdir(parents=True, exist_ok=True)
+            p.write_bytes(content if isinstance(content, bytes) else content.encode("utf-8"))
+        for name, target in (links or {}).items():
+            (d / name).symlink_to(target)
+        case = {"id": cid, "command": command, "kind": kind, "argv": [command, *argv] if command else list(argv),
+                "expect": list(expect)}
+        if signal:
+            case["signal"] = signal
+        if setup:
+            case["setup"] = [list(a) for a in setup]
+        if rewrites:
+            case["rewrites"] = list(rewrites)
+        if note:
+            case["note"] = note
+        self.cases.append(case)
+
+    def write(self):
+        (self.root / "cases.json").write_text(json.dumps(self.cases, indent=1))
+
+
+def rows_to_csv(header, rows, sep=",", eol="\n"):
+    out = io.StringIO()
+    w = csv.writer(out, delimiter=sep, lineterminator=eol)
+    w.writerow(header)
+    w.writerows(rows)
+    return out.getvalue()
+
+
+# --------------------------------------------------------------------------- base inputs
+
+def base_recording():
+    """Rounds 1-2 of axes X and C of the bundled demo campaign (small, real shape): header + rows."""
+    with open(DATA / "demo_campaign.csv", newline="") as f:
+        r = list(csv.reader(f))
+    header, rows = r[0], [x for x in r[1:] if x[0] in ("X", "C") and x[1] in ("1", "2")]
+    return header, rows
+
+
+def recording_x_only():
+    header, rows = base_recording()
+    return header, [r for r in rows if r[0] == "X"]
+
+
+# Hand model: E_XX linear in X (10 um per 500 mm) and squareness E_C0Y = 20 urad.  First-order oracle at B = C = 0,
+# tool length 0 (design.md: actual Y direction (-E_C0Y, 1, 0)):  X' = X - E_XX(X) + Y * E_C0Y,  Y' = Y,  Z' = Z.
+EXX = {"axis": "X", "positions": [-500.0, 500.0], "values": [-0.01, 0.01]}
+C0Y = 2e-5
+HAND_MODEL = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"},
+              "constants": {"E_C0Y": C0Y}, "functions": {"E_XX": EXX}}
+ORACLE = {"exx": [EXX["positions"], EXX["values"]], "c0y": C0Y, "scale": 1.0}
+# V-shaped E_XX (piecewise linear): a straight feed move across X = 0 has a mid-segment error -> subdivided.
+V_MODEL = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+           "functions": {"E_XX": {"axis": "X", "positions": [-500.0, 0.0, 500.0], "values": [0.02, 0.0, 0.02]}}}
+
+
+def jdump(obj):
+    return json.dumps(obj, indent=2)
+
+
+def program(eol="\n", comments=True):
+    """A 3-axis program (B = C = 0) with comments of both kinds before and after moves."""
+    lines = ["%", "O1000 (FUZZ BASE)", "N10 G90 G21 G17 (ABSOLUTE, MM)",
+             "N20 G0 X0 Y0 Z50 ; rapid to clearance", "N30 G1 X50 Y20 Z10 F800",
+             "(a comment line between moves)", "N40 X100 ; semicolon comment", "N50 Y-40",
+             "; full-line semicolon comment", "N60 X-80 Y60 Z5", "N70 G0 Z50", "M30", "%"]
+    if not comments:
+        lines = [ln.split(";")[0].rstrip() for ln in lines if not ln.startswith(("(", ";"))]
+    return eol.join(lines) + eol
+
+
+def gcode_check(inp="prog.nc", out="out.nc", oracle=ORACLE, bound=0.05, **kw):
+    return {"kind": "gcode", "input": inp, "output": out, "oracle": oracle, "bound": bound, **kw}
+
+
+# --------------------------------------------------------------------------- plate data
+
+def plate_points():
+    """A 4 x 4 grid plate, 100 mm pitch, with one point off-grid (labels 1..16), mm."""
+    pts = [(100.0 * i, 100.0 * j) for j in range(4) for i in range(4)]
+    pts[5] = (130.0, 110.0)
+    return pts
+
+
+def plate_csv(turn_deg=90.0, alpha=0.0, header="point,x1,y1,x2,y2", sep=",", dec=".", eol="\n", pre=""):
+    """Noise-free measurements of plate_points() on a machine whose y axis leans by alpha (rad, shear
+    x' = x + alpha y), position 2 turned by turn_deg clockwise about the plate origin and shifted."""
+    def machine(x, y):
+        return x + alpha * y, y
+
+    rows = []
+    c, s = math.cos(math.radians(-turn_deg)), math.sin(math.radians(-turn_deg))
+    for k, (x, y) in enumerate(plate_points(), start=1):
+        x1, y1 = machine(x + 5.0, y + 7.0)
+        xr, yr = c * x - s * y, s * x + c * y
+        x2, y2 = machine(xr + 3.0, yr + 400.0)
+        vals = [f"{v:.9f}".replace(".", dec) for v in (x1, y1, x2, y2)]
+        rows.append(sep.join([str(k), *vals]))
+    return pre + eol.join([header.replace(",", sep), *rows]) + eol
+
+
+# --------------------------------------------------------------------------- the cases
+
+def cases_identify(C: Corpus, rnd: random.Random):
+    header, rows = base_recording()
+    rec = rows_to_csv(header, rows)
+    model_check = {"kind": "model_json", "path": "model.json", "axes": ["X", "C"]}
+    C.add("identify_valid", "identify", "recording CSV", ["rec.csv", "-o", "model.json", "--json"],
+          {"rec.csv": rec}, [ok(model_check, {"kind": "stdout_json", "keys": ["axes", "squareness"]})])
+    C.add("identify_valid_crlf", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, rows, eol="\r\n")}, [ok(model_check)])
+    C.add("identify_bom", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": b"\xef\xbb\xbf" + rec.encode()}, [ok(model_check)])
+    german = rows_to_csv(header, [[c.replace(".", ",") for c in r] for r in rows], sep=";")
+    C.add("identify_german_semicolon", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": german}, [ok(model_check, say=[";", "semicolon", "decimal comma"])])
+    C.add("identify_german_semicolon_bom_crlf", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": b"\xef\xbb\xbf" + rows_to_csv(header, [[c.replace(".", ",") for c in r] for r in rows],
+                                                    sep=";", eol="\r\n").encode()},
+          [ok(model_check, say=[";", "semicolon", "decimal comma"])])
+    C.add("identify_cp1252_comment", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": "# tracker AT960, 20.1\xb0C, noise 15 \xb5m\n".encode("cp1252") + rec.encode()},
+          [ok(model_check)])
+    C.add("identify_utf8_comment", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": "# tracker AT960, 20.1°C, noise 15 µm — Ω\n" + rec}, [ok(model_check)])
+    cols = header[:]
+    perm = [cols.index(c) for c in ["z", "x", "point", "y", "axis", "position", "round", "time_s", "direction",
+                                    "temperature_c"]]
+    C.add("identify_columns_reordered", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv([cols[i] for i in perm], [[r[i] for i in perm] for r in rows])}, [ok(model_check)])
+    uni = [[*r[:3], {"P": "Pμ", "Q": "Q点", "K": "K✓"}[r[3]], *r[4:]] for r in rows]
+    C.add("identify_unicode_labels", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, uni)}, [ok(model_check)])
+    # tracker option
+    C.add("identify_tracker_negative_sep", "identify", "option", ["rec.csv", "-o", "model.json", "--tracker",
+                                                                   "-2000,0,300"],
+          {"rec.csv": rec}, [ok(model_check)])
+    C.add("identify_tracker_negative_eq", "identify", "option", ["rec.csv", "-o", "model.json",
+                                                                  "--tracker=-2000,0,300"],
+          {"rec.csv": rec}, [ok(model_check)])
+    for cid, val, words in [("two", "1,2", ["3", "three", "x,y,z"]), ("four", "1,2,3,4", ["3", "three", "x,y,z"]),
+                            ("nan", "nan,0,0", ["finite", "nan"]), ("inf", "0,inf,0", ["finite", "inf"]),
+                            ("text", "a,b,c", ["number", "x,y,z", "float", "invalid"])]:
+        C.add(f"identify_tracker_{cid}", "identify", "option", ["rec.csv", "-o", "model.json", "--tracker", val],
+              {"rec.csv": rec}, [err_also(err(None, None, "--tracker", option=True), *words)])
+    for cid, argv, word in [("max_degree_neg", ["--max-degree", "-1"], "--max-degree"),
+                            ("outlier_k_nan", ["--outlier-k", "nan"], "--outlier-k"),
+                            ("outlier_k_neg", ["--outlier-k", "-3"], "--outlier-k")]:
+        C.add(f"identify_{cid}", "identify", "option", ["rec.csv", "-o", "model.json", *argv], {"rec.csv": rec},
+              [err(None, None, word, option=True)])
+    # recording mutations with known lines (line = index in rows + 2)
+    def mutate(cid, fn, expect, kind="recording CSV", extra=()):
+        rs = [r[:] for r in rows]
+        hdr = header[:]
+        content = fn(hdr, rs)
+        if content is None:
+            content = rows_to_csv(hdr, rs)
+        C.add(f"identify_{cid}", "identify", kind, ["rec.csv", "-o", "model.json", *extra],
+              {"rec.csv": content}, expect)
+
+    i = 40
+    def setcell(col, val, at=i):
+        def fn(h, rs):
+            rs[at][h.index(col)] = val
+        return fn
+    for col, val, words in [("x", "nan", ["nan", "finite"]), ("y", "inf", ["inf", "finite"]),
+                            ("z", "-inf", ["inf", "finite"]), ("x", "", ["empty", "missing", "number", "x"]),
+                            ("x", "abc", ["abc", "number"]), ("position", "nan", ["nan", "finite", "position"]),
+                            ("z", "1e400", ["inf", "finite", "1e400"]), ("round", "abc", ["round"]),
+                            ("axis", "Q", ["axis", "Q"]), ("axis", "Ｘ", ["axis"]),
+                            ("direction", "0", ["direction"]), ("point", "", ["point", "empty", "missing"])]:
+        safe = "".join(ch if ch.isalnum() else "_" for ch in val.encode("ascii", "replace").decode())
+        mutate(f"cell_{col}_{safe or 'empty'}", setcell(col, val), [err("rec.csv", i + 2, *words)])
+    mutate("row_short", lambda h, rs: rs.__setitem__(i, rs[i][:4]) or None,
+           [err("rec.csv", i + 2, "column", "field", "missing", "expected", "value")])
+    mutate("row_long", lambda h, rs: rs.__setitem__(i, rs[i] + ["9", "9"]) or None,
+           [err("rec.csv", i + 2, "column", "field", "extra", "expected", "value")])
+    mutate("duplicate_row", lambda h, rs: rs.insert(i + 1, rs[i][:]) or None,
+           [err("rec.csv", i + 3, "duplicate"), err("rec.csv", i + 2, "duplicate")])
+    def long_line(h, rs):
+        rs[i][h.index("point")] = "P" * 200_000
+    C.add("identify_very_long_field", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, [r if k != i else [*r[:3], "P" * 200_000, *r[4:]]
+                                           for k, r in enumerate(rows)])},
+          [{**err("rec.csv", None, "point", "label", "long", "field"), "max_stderr": 1000},
+           {**err("rec.csv", i + 2, "point", "label", "long", "field"), "max_stderr": 1000}])
+    mutate("missing_column_z", lambda h, rs: rows_to_csv([c for c in h if c != "z"],
+                                                         [[v for c, v in zip(h, r) if c != "z"] for r in rs]),
+           [err("rec.csv", 1, "z", "column")])
+    mutate("no_header", lambda h, rs: rows_to_csv(rs[0], rs[1:]), [err("rec.csv", None, "column", "header")])
+    mutate("header_only", lambda h, rs: rows_to_csv(h, []), [err("rec.csv", None, "no data", "empty", "no rows",
+                                                                 "no readings")])
+    mutate("empty", lambda h, rs: "", [err("rec.csv", None, "empty", "no data", "header")])
+    mutate("nul_bytes", lambda h, rs: b"\x00" * 64 + rows_to_csv(h, rs).encode(),
+           [err("rec.csv", None, "binary", "nul", "NUL", "decode", "header")])
+    mutate("binary", lambda h, rs: bytes(rnd.randrange(256) for _ in range(3000)),
+           [err("rec.csv", None, "binary", "nul", "NUL", "decode", "encoding", "header", "column")])
+    cut = rows_to_csv(header, rows)
+    mid = cut.index("\n", len(cut) // 2) + 1
+    tline = cut[:mid].count("\n") + 1
+    trunc = cut[:mid] + ",".join(rows[tline - 2][:5])
+    mutate("truncated_mid_row", lambda h, rs: trunc,
+           [err("rec.csv", tline, "column", "field", "missing", "expected", "value", "truncated")])
+    mutate("two_points", lambda h, rs: rows_to_csv(h, [r for r in rs if r[3] != "K"]),
+           [err("rec.csv", None, "point", "3", "three")])
+    def collinear(h, rs):
+        out = []
+        for r in rs:
+            r = r[:]
+            if r[0] == "X":   # make Q and K lie on the line through P along x (same y, z)
+                p0 = [x for x in rs if x[0] == "X" and x[1] == r[1] and x[2] == r[2] and x[3] == "P"
+                      and x[8] == r[8]][0]
+                if r[3] != "P":
+                    r[5], r[6] = p0[5], p0[6]
+            out.append(r)
+        return rows_to_csv(h, out)
+    mutate("collinear_points", collinear, [err("rec.csv", None, "collinear")])
+    mutate("positions_in_metres", lambda h, rs: rows_to_csv(h, [[*r[:2], f"{float(r[2]) / 1000:g}", *r[3:]]
+                                                                if r[0] == "X" else r for r in rs]),
+           [err("rec.csv", None, "metre", "unit", "position")])
+    # generated random cell mutations (seeded)
+    bad_values = ["nan", "NaN", "inf", "-Infinity", "", "--1", "1.2.3", "0x1p3", "1e999", "one", "1,5", "∞"]
+    num_cols = ["x", "y", "z", "position", "round"]
+    for k in range(12):
+        at = rnd.randrange(len(rows))
+        col = rnd.choice(num_cols)
+        val = bad_values[k % len(bad_values)]
+        mutate(f"gen_cell_{k:02d}", setcell(col, val, at), [err("rec.csv", at + 2, col, "number", "finite", "nan",
+                                                                 "inf", "invalid", "empty", "missing", val or "x")])
+    # paths
+    C.add("identify_input_is_directory", "identify", "path", ["recdir", "-o", "model.json"], dirs=["recdir"],
+          expect=[err("recdir", None, "directory")])
+    C.add("identify_input_missing", "identify", "path", ["nope.csv", "-o", "model.json"],
+          expect=[err("nope.csv", None, "no such", "not found", "does not exist", "missing")])
+    C.add("identify_output_is_directory", "identify", "path", ["rec.csv", "-o", "outdir"], {"rec.csv": rec},
+          dirs=["outdir"], expect=[err("outdir", None, "directory")])
+    C.add("identify_output_parent_is_file", "identify", "path", ["rec.csv", "-o", "afile/model.json"],
+          {"rec.csv": rec, "afile": "x"}, expect=[err("afile", None, "not a directory", "directory")])
+    C.add("identify_output_parent_missing", "identify", "path", ["rec.csv", "-o", "no/such/dir/model.json"],
+          {"rec.csv": rec}, expect=[err("model.json", None, "no such", "not exist", "directory", "missing"),
+                                    ok({"kind": "model_json", "path": "no/such/dir/model.json", "axes": ["X", "C"]})])
+    C.add("identify_output_name_too_long", "identify", "path", ["rec.csv", "-o", "m" * 300 + ".json"],
+          {"rec.csv": rec}, expect=[err("mmmm", None, "too long", "name")])
+    C.add("identify_output_equals_input", "identify", "overwrite", ["rec.csv", "-o", "rec.csv"], {"rec.csv": rec},
+          expect=[err("rec.csv", None, "input", "overwrite", "same")])
+    C.add("identify_output_equals_input_respelled", "identify", "overwrite",
+          ["sub/rec.csv", "-o", "sub/../sub/./rec.csv"], {"sub/rec.csv": rec},
+          expect=[err("rec.csv", None, "input", "overwrite", "same")])
+    C.add("identify_plots_onto_file", "identify", "path", ["rec.csv", "-o", "model.json", "--plots", "plots"],
+          {"rec.csv": rec, "plots": "I am a file"}, expect=[err("plots", None, "directory", "exists", "file")])
+    C.add("identify_plots_parent_is_file", "identify", "path", ["rec.csv", "-o", "model.json", "--plots", "f/plots"],
+          {"rec.csv": rec, "f": "I am a file"}, expect=[err("f", None, "directory", "exists", "file")])
+    C.add("identify_plots_overwrite_input", "identify", "overwrite",
+          ["plots/identify_X.png", "-o", "model.json", "--plots", "plots"],
+          {"plots/identify_X.png": rec}, expect=[err("identify_X.png", None, "input", "overwrite", "same")])
+    C.add("identify_inspire_with_tidy_file", "identify", "recording CSV",
+          ["rec.csv", "-o", "model.json", "--layout", "inspire", "--axis", "X"], {"rec.csv": rec},
+          expect=[err("rec.csv", None, "inspire", "layout", "format", "block", "row", "column", "expected")])
+
+
+def cases_compensate(C: Corpus, rnd: random.Random):
+    hand = jdump(HAND_MODEL)
+    base = {"prog.nc": program(), "model.json": hand}
+    argv = ["prog.nc", "--model", "model.json", "-o", "out.nc"]
+
+    def add(cid, kind, files, expect, extra=(), args=None):
+        C.add(f"compensate_{cid}", "compensate", kind, (args or argv) + list(extra), {**base, **files}, expect)
+
+    for eol, name in [("\n", "lf"), ("\r\n", "crlf"), ("\r", "cr")]:
+        add(f"eol_{name}", "NC program", {"prog.nc": program(eol)}, [ok(gcode_check(eol=eol))])
+        add(f"eol_{name}_nocomments", "NC program", {"prog.nc": program(eol, comments=False)},
+            [ok(gcode_check(eol=eol))])
+    add("valid_json", "NC program", {}, [ok(gcode_check(), {"kind": "stdout_json", "keys": []})], ["--json"])
+    # lone CR: a G2 after a ';' comment must still be seen (and refused), at its own line
+    cr_arc = "\r".join(["G90 G21", "; comment", "G1 X10 Y0 Z0 F100", "G2 X20 Y0 I5 J0", "G1 X30", "M30"]) + "\r"
+    add("cr_arc_after_comment", "NC program", {"prog.nc": cr_arc}, [err("prog.nc", 4, "arc", "G2")])
+    crlf_arc = "\r\n".join(["G90 G21", "(c)", "G1 X10 Y0 Z0 F100", "G3 X20 Y0 R5", "M30"]) + "\r\n"
+    add("crlf_arc_r", "NC program", {"prog.nc": crlf_arc}, [err("prog.nc", 4, "arc", "G3")])
+    add("ijk_without_g2", "NC program", {"prog.nc": "G90 G21\nG1 X10 Y0 Z0 F100\nX20 I5\nM30\n"},
+        [err("prog.nc", 3, "I", "arc")])
+    # words with stray text
+    def word_case(cid, word, words):
+        p = f"G90 G21\nG1 X0 Y0 Z0 F100\nG1 {word} Y10\nG1 X5\nM30\n"
+        add(f"word_{cid}", "NC program", {"prog.nc": p}, [err("prog.nc", 3, *words)])
+    word_case("x1_2_3", "X1.2.3", ["X1.2.3", "number", "word"])
+    word_case("x1e2", "X1e2", ["X1e2", "X1E2", "number", "word", "exponent"])
+    word_case("x_double_minus", "X--1", ["X--1", "number", "word"])
+    word_case("x_alone", "X", ["X", "number", "word", "value"])
+    word_case("x_plus_minus", "X+-3", ["X+-3", "number", "word"])
+    word_case("unknown_axis_a", "A10", ["A", "axis", "word"])
+    word_case("unknown_axis_u", "U5", ["U", "axis", "word"])
+    word_case("parameter", "X#1", ["#", "parameter", "variable"])
+    word_case("x_nan", "Xnan", ["nan", "number", "word"])
+    # Fanuc ignores blanks inside words: X1 0.5 is X10.5; accepting it as such, or refusing clearly, are both fine
+    blank = "G90 G21\nG1 X0 Y0 Z0 F100\nG1 X1 0.5 Y10\nM30\n"
+    blank_as_fanuc = "G90 G21\nG1 X0 Y0 Z0 F100\nG1 X10.5 Y10\nM30\n"
+    add("word_blank_inside_number", "NC program", {"prog.nc": blank, "fanuc.nc": blank_as_fanuc},
+        [ok(gcode_check(same_as="fanuc.nc")), err("prog.nc", 3, "blank", "space", "number", "word", "0.5")])
+    # refused modes with their own message
+    for cid, line, words in [("m128", "M128", ["M128", "TCPM", "tool centre", "tool center"]),
+                             ("g43_4", "G43.4 H1", ["G43.4", "TCPM", "tool centre", "tool center"]),
+                             ("traori", "TRAORI", ["TRAORI", "TCPM", "transformation"]),
+                             ("g68", "G68 X0 Y0 R30", ["G68", "rotation", "rotate"]),
+                             ("g68_2", "G68.2 X0 Y0 Z0 I0 J45 K0", ["G68.2", "rotation", "tilted", "frame"]),
+                             ("g81", "G81 X10 Y10 Z-5 R2 F100", ["G81", "cycle"]),
+                             ("g83", "G83 X10 Y10 Z-5 R2 Q1 F100", ["G83", "cycle"]),
+                             ("cycl_def", "CYCL DEF 200 DRILLING", ["CYCL", "cycle", "Heidenhain", "word"]),
+                             ("g52", "G52 X10", ["G52", "frame", "offset", "local"]),
+                             ("g92", "G92 X0 Y0", ["G92", "frame", "offset", "preset"])]:
+        p = f"%\nG90 G21\nG1 X0 Y0 Z20 F500\n{line}\nG1 X20 Y10\nM30\n%\n"
+        add(f"refuse_{cid}", "NC program", {"prog.nc": p}, [err("prog.nc", 4, *words)])
+        if cid in ("g68", "g81"):   # the message must not be about arcs
+            C.cases[-1]["expect"][0]["error"]["forbid"] = ["arc"]
+    # safe headers: machine-coordinate moves passed through unchanged, the rest compensated
+    hdr = "%\nO2000\nG90 G21 G17\nG91 G28 Z0\nG90\nG0 X10 Y10 Z50\nG1 Z5 F300\nX60 Y-20\nG53 G0 Z0\nM30\n%\n"
+    add("safe_headers_g28_g53", "NC program", {"prog.nc": hdr}, [ok(gcode_check(passthrough=[4, 9]))])
+    hdr2 = "G21 G90\nG53 G0 Z0\nG0 X0 Y0 Z30\nG1 X40 Y40 Z2 F300\nG91 G28 Z0\nM30\n"
+    add("safe_headers_g53_first", "NC program", {"prog.nc": hdr2}, [ok(gcode_check(passthrough=[2, 5]))])
+    # empty / binary programs and other degenerate inputs
+    for cid, content, words in [("empty", b"", ["empty", "no move"]),
+                                ("only_comments", b"%\n(NOTHING HERE)\n; nothing\n%\n", ["empty", "no move"]),
+                                ("whitespace", b"\n\n   \r\n\t\n", ["empty", "no move"]),
+                                ("nul_bytes", b"\x00" * 512, ["binary", "NUL", "nul"]),
+                                ("nul_inside", b"G90 G21\nG1 X1 Y1 Z1 F100\n\x00\x00\x00\nX5\n",
+                                 ["binary", "NUL", "nul"]),
+                                ("binary_random", bytes(rnd.randrange(256) for _ in range(4000)),
+                                 ["binary", "NUL", "nul", "decode", "encoding"])]:
+        add(f"program_{cid}", "NC program", {"prog.nc": content}, [err("prog.nc", None, *words)])
+    # cp1252 comment bytes: preserved byte for byte, or refused clearly
+    p1252 = "G90 G21\n(SPINDEL 20\xb0C, TOLERANZ 5 \xb5m)\nG1 X10 Y5 Z0 F500\nX50\nM30\n".encode("cp1252")
+    add("cp1252_comment", "NC program", {"prog.nc": p1252},
+        [ok(gcode_check()), err("prog.nc", 2, "decode", "encoding", "UTF-8", "utf-8")])
+    add("utf8_comment", "NC program", {"prog.nc": "G90 G21\n(20°C, 5 µm, Ω)\nG1 X10 Y5 Z0 F500\nX50\nM30\n"},
+        [ok(gcode_check())])
+    add("b_out_of_range", "NC program", {"prog.nc": "G90 G21\nG1 X0 Y0 Z0 F100\nG1 B190\nM30\n"},
+        [err("prog.nc", 3, "B", "range", "190")])
+    add("inch", "NC program", {"prog.nc": "G20 G90\nG1 X1 Y0.5 Z0 F10\nX3 Y-1\nM30\n"},
+        [ok(gcode_check(units="inch"))])
+    add("incremental", "NC program", {"prog.nc": "G21 G90\nG1 X0 Y0 Z10 F100\nG91\nX20 Y5\nX20\nY-10 Z-5\nG90\nM30\n"},
+        [ok(gcode_check())])
+    # G93 inverse time: a subdivided move's pieces all carry F and take the original move's time together
+    g93 = "G21 G90 G94\nG0 X-100 Y0 Z10\nG93 G1 X100 F2\nG1 X-100 F4\nG94 G0 Z50\nM30\n"
+    C.add("compensate_g93_subdivided", "compensate", "NC program",
+          ["prog.nc", "--model", "v.json", "-o", "out.nc", "--tolerance", "0.001"],
+          {"prog.nc": g93, "v.json": jdump(V_MODEL)},
+          [ok(gcode_check(oracle={"exx": [[-500, 0, 500], [0.02, 0, 0.02]], "c0y": 0.0, "scale": 1.0},
+                          g93=True, min_inserted=2))])
+    g94 = "G21 G90 G94\nG0 X-100 Y0 Z10\nG1 X100 F500\nM30\n"
+    C.add("compensate_g94_subdivided", "compensate", "NC program",
+          ["prog.nc", "--model", "v.json", "-o", "out.nc", "--tolerance", "0.001"],
+          {"prog.nc": g94, "v.json": jdump(V_MODEL)},
+          [ok(gcode_check(oracle={"exx": [[-500, 0, 500], [0.02, 0, 0.02]], "c0y": 0.0, "scale": 1.0},
+                          min_inserted=2))])
+    # generated G-code mutations: a bad word inserted on a random move line
+    bad_words = ["X1.2.3", "Y1e3", "Z--2", "X1.2e", "U7", "Y1..5", "X1-2", "Z+", "X0x10", "B1.5.5"]
+    base_lines = program().split("\n")
+    movable = [k for k, ln in enumerate(base_lines) if ln.startswith("N") and ("X" in ln or "Y" in ln)]
+    for k, w in enumerate(bad_words):
+        at = rnd.choice(movable)
+        ls = base_lines[:]
+        code, sep, com = ls[at].partition(";")
+        ls[at] = code.rstrip() + " " + w + (" ;" + com if sep else "")
+        add(f"gen_badword_{k:02d}", "NC program", {"prog.nc": "\n".join(ls)},
+            [err("prog.nc", at + 1, w[0], "word", "number", "axis", w)])
+    # options
+    for cid, opt, val in [("tool_length_nan", "--tool-length", "nan"), ("tool_length_inf", "--tool-length", "inf"),
+                          ("precision_neg", "--precision", "-1"), ("tolerance_nan", "--tolerance", "nan"),
+                          ("tolerance_neg", "--tolerance", "-0.001"),
+                          ("cone_nan", "--cone", "nan"), ("cone_neg", "--cone", "-2"),
+                          ("iterations_zero", "--iterations", "0"), ("iterations_neg", "--iterations", "-1"),
+                          ("residual_every_zero", "--residual-every", "0"),
+                          ("max_correction_nan", "--max-correction", "nan"),
+                          ("max_correction_neg", "--max-correction", "-1")]:
+        add(f"opt_{cid}", "option", {}, [err(None, None, opt, option=True)], [opt, val])
+    # --tolerance 0 cannot be met by subdividing: refuse it, or stop subdividing somewhere and still be right
+    add("opt_tolerance_zero", "option", {}, [err(None, None, "--tolerance", option=True), ok(gcode_check())],
+        ["--tolerance", "0"])
+    # models
+    def model_case(cid, model_text, expect, prog=None):
+        add(f"model_{cid}", "model JSON", {"model.json": model_text, **({"prog.nc": prog} if prog else {})}, expect)
+    um = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {"E_C0Y": 18},
+          "functions": {"E_XX": {"axis": "X", "positions": [-500, 500], "values": [12.5, 12.5]}}}
+    um_prog = "G90 G21\nG0 X0 Y0 Z50\nG1 X50 Y10 Z10 F500\nM30\n"
+    model_case("um_under_mm_guard", jdump(um), [err("prog.nc", 2, "correction", "implausible", "max-correction",
+                                                    "residual")], um_prog)
+    big = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+           "functions": {"E_XX": {"axis": "X", "positions": [-500, 500], "values": [2.0, 2.0]}}}
+    model_case("correction_2mm_guard", jdump(big), [err("prog.nc", 2, "correction", "implausible",
+                                                        "max-correction")], um_prog)
+    C.add("compensate_model_correction_2mm_allowed", "compensate", "option",
+          argv + ["--max-correction", "5"], {"prog.nc": um_prog, "model.json": jdump(big)},
+          [ok(gcode_check(oracle={"exx": [[-500, 500], [2.0, 2.0]], "c0y": 0.0, "scale": 1.0}, bound=2.1))])
+    # a model saved by a Windows editor in cp1252: refused, or read as such and said (it is then a zero model)
+    model_case("latin1_bytes", '{"machine": "dmu50", "note": "20\xb0C"}'.encode("latin-1"),
+               [err("model.json", None, "decode", "encoding", "UTF-8", "utf-8", "JSON", "json"),
+                ok(gcode_check(oracle={"exx": [[-500, 500], [0.0, 0.0]], "c0y": 0.0}),
+                   say=["cp1252", "latin", "1252", "encoding"])])
+    um_ok = {"machine": "dmu50", "units": {"length": "um", "angle": "urad"}, "constants": {"E_C0Y": 20.0},
+             "functions": {"E_XX": {"axis": "X", "positions": [-500, 500], "values": [-10.0, 10.0]}}}
+    model_case("stated_um_urad", jdump(um_ok), [ok(gcode_check()), err("model.json", None, "unit", "um")])
+    shapes = shape_models()
+    for cid, text, words in shapes:
+        model_case(cid, text, [err("model.json", None, *words)])
+    # tool length nan via model path etc.
+    add("tool_length_valid", "option", {}, [ok(gcode_check(oracle=None, bound=0.05))], ["--tool-length", "150"])
+    # outputs onto inputs
+    C.add("compensate_output_equals_input", "compensate", "overwrite",
+          ["prog.nc", "--model", "model.json", "-o", "prog.nc"], base, [err("prog.nc", None, "input", "overwrite",
+                                                                          "same")])
+    C.add("compensate_output_equals_model", "compensate", "overwrite",
+          ["prog.nc", "--model", "model.json", "-o", "./model.json"], base,
+          [err("model.json", None, "input", "overwrite", "same")])
+    C.add("compensate_tables_dir_holds_model", "compensate", "overwrite",
+          ["prog.nc", "--model", "tables/constants.csv", "-o", "out.nc", "--tables", "tables"],
+          {"prog.nc": program(), "tables/constants.csv": hand},
+          [err("constants.csv", None, "input", "overwrite", "same")])
+    C.add("compensate_tables_dir_holds_program", "compensate", "overwrite",
+          ["tables/comp_X.csv", "--input", "gcode", "--model", "model.json", "-o", "out.nc", "--tables", "tables"],
+          {"tables/comp_X.csv": program(), "model.json": hand},
+          [err("comp_X.csv", None, "input", "overwrite", "same")])
+    C.add("compensate_tables_onto_file", "compensate", "path",
+          ["prog.nc", "--model", "model.json", "-o", "out.nc", "--tables", "tables"],
+          {**base, "tables": "a file"}, [err("tables", None, "directory", "exists", "file")])
+    C.add("compensate_output_is_directory", "compensate", "path", argv, base, dirs=["out.nc"],
+          expect=[err("out.nc", None, "directory")])
+    C.add("compensate_output_parent_is_file", "compensate", "path",
+          ["prog.nc", "--model", "model.json", "-o", "f/out.nc"], {**base, "f": "file"},
+          [err("f", None, "not a directory", "directory")])
+    C.add("compensate_output_readonly_fs", "compensate", "path",
+          ["prog.nc", "--model", "model.json", "-o", "/proc/mtcal_fuzz_out.nc"], base,
+          [err("mtcal_fuzz_out.nc", None, "permission", "read-only", "no such", "denied", "not permitted",
+               "directory")],
+          note="root ignores permission bits: /proc stands in for a directory nobody may create files in")
+    C.add("compensate_program_is_directory", "compensate", "path", argv, {"model.json": hand}, dirs=["prog.nc"],
+          expect=[err("prog.nc", None, "directory")])
+    C.add("compensate_model_is_directory", "compensate", "path", argv, {"prog.nc": program()}, dirs=["model.json"],
+          expect=[err("model.json", None, "directory")])
+    C.add("compensate_model_missing", "compensate", "path", argv, {"prog.nc": program()},
+          expect=[err("model.json", None, "no such", "not found", "does not exist", "missing")])
+    # CL data
+    cl = "\n".join(["0 0 50 0 0 1", "10 5 20 0 0 1", "40 -10 15 0.342020143 0 0.939692621",
+                    "60 -10 15 0 0.5 0.866025404", "80 0 10 0 0 1"]) + "\n"
+    C.add("compensate_cl_valid", "compensate", "CL data", ["path.cl", "--model", "model.json", "-o", "out.nc"],
+          {"path.cl": cl, "model.json": hand}, [ok({"kind": "cl_output", "output": "out.nc", "moves": 5})])
+    for cid, text, line, words in [("empty", "", None, ["empty", "no "]),
+                                   ("comments_only", "# nothing\n\n", None, ["empty", "no "]),
+                                   ("five_numbers", cl.replace("10 5 20 0 0 1", "10 5 20 0 1"), 2,
+                                    ["6", "six", "number", "column", "field", "x y z i j k"]),
+                                   ("nan", cl.replace("10 5 20", "10 nan 20"), 2, ["nan", "finite"]),
+                                   ("text", cl.replace("40 -10", "forty -10"), 3, ["forty", "number"]),
+                                   ("zero_axis", cl.replace("0 0 1\n10", "0 0 0\n10", 1), 1,
+                                    ["axis", "zero", "unit", "length", "vector", "ijk", "i j k"]),
+                                   ("unreachable", cl.replace("80 0 10 0 0 1", "80 0 10 0 0 -1"), 5,
+                                    ["reach", "range", "k", "B", "orientation"]),
+                                   ("binary", "\x00\x01\x02" * 50, None, ["binary", "NUL", "nul", "number"])]:
+        C.add(f"compensate_cl_{cid}", "compensate", "CL data", ["path.cl", "--model", "model.json", "-o", "out.nc"],
+              {"path.cl": text, "model.json": hand}, [err("path.cl", line, *words)])
+
+
+def shape_models():
+    """Model JSON of the wrong shape or with bad fields: (case id, text, problem words)."""
+    u = {"length": "mm", "angle": "rad"}
+    def m(**kw):
+        return jdump({"machine": "dmu50", "units": u, **kw})
+    return [
+        ("shape_list", "[1, 2]", ["object", "dict", "mapping", "list", "JSON object"]),
+        ("shape_constants_list", m(constants=[1e-5, 2e-5]), ["constants"]),
+        ("shape_functions_string", m(functions="E_XX"), ["functions"]),
+        ("shape_poly_no_coefficients", m(functions={"E_XX": {**EXX, "fit": {"kind": "polynomial",
+                                                                             "domain": [-500, 500]}}}),
+         ["coefficients", "E_XX"]),
+        ("shape_harmonic_no_cos_sin", m(functions={"E_XC": {"axis": "C", "positions": [0, 90, 180, 270],
+                                                             "values": [0, 1e-3, 0, -1e-3],
+                                                             "fit": {"kind": "harmonic", "period": 360,
+                                                                     "a0": 0.0}}}),
+         ["cos", "sin", "E_XC"]),
+        ("field_true", m(constants={"E_XX": True}), ["E_XX", "number", "bool"]),
+        ("field_string", m(constants={"E_C0Y": "1e-5"}), ["E_C0Y", "number"]),
+        ("field_nan", '{"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {"E_C0Y": NaN}}',
+         ["E_C0Y", "finite", "nan", "NaN"]),
+        ("field_infinity", '{"machine": "dmu50", "constants": {"E_B0Z": Infinity}}', ["E_B0Z", "finite", "inf"]),
+        ("function_over_wrong_axis", m(functions={"E_XX": {"axis": "Y", "positions": [-500, 500],
+                                                            "values": [0, 1e-3]}}), ["E_XX", "axis", "Y"]),
+        ("unknown_error_name", m(constants={"E_QQ": 1e-5}), ["E_QQ", "unknown"]),
+        ("function_as_constant_name", m(functions={"E_C0Y": {"axis": "Y", "positions": [0, 1],
+                                                              "values": [0, 1e-5]}}), ["E_C0Y"]),
+        ("length_mismatch", m(functions={"E_XX": {"axis": "X", "positions": [-500, 0, 500], "values": [0, 1e-3]}}),
+         ["E_XX", "length", "positions", "values"]),
+        ("empty_table", m(functions={"E_XX": {"axis": "X", "positions": [], "values": []}}),
+         ["E_XX", "empty", "positions"]),
+        ("values_nan_string", m(functions={"E_XX": {"axis": "X", "positions": [-500, 500], "values": [0, "x"]}}),
+         ["E_XX", "values", "number"]),
+        ("units_unknown", jdump({"machine": "dmu50", "units": {"length": "furlong", "angle": "rad"},
+                                 "constants": {"E_C0Y": 1e-5}}), ["furlong", "unit", "length"]),
+        ("machine_unknown", jdump({"machine": "nosuchmachine", "units": u, "constants": {}}),
+         ["nosuchmachine", "machine"]),
+        ("truncated_json", m(constants={"E_C0Y": 1e-5, "E_B0Z": 2e-5})[:-25], ["JSON", "json", "expect", "parse"]),
+        ("empty_file", "", ["JSON", "json", "empty"]),
+    ]
+
+
+def cases_model_shapes_elsewhere(C: Corpus):
+    """The issue names compensate, diagnose and simulate for the wrong-shape models."""
+    header, rows = recording_x_only()
+    rec = rows_to_csv(header, rows)
+    wanted = {"shape_list", "shape_constants_list", "shape_functions_string", "shape_poly_no_coefficients",
+              "shape_harmonic_no_cos_sin", "field_true", "function_over_wrong_axis", "field_nan",
+              "truncated_json"}
+    for cid, text, words in shape_models():
+        if cid not in wanted:
+            continue
+        C.add(f"diagnose_model_{cid}", "diagnose", "model JSON", ["rec.csv", "--model", "model.json"],
+              {"rec.csv": rec, "model.json": text}, [err("model.json", None, *words)])
+        C.add(f"simulate_model_{cid}", "simulate", "model JSON",
+              ["--model", "model.json", "--plan", "plan.json", "-o", "sim.csv"],
+              {"model.json": text, "plan.json": jdump(SMALL_PLAN)}, [err("model.json", None, *words)])
+
+
+SMALL_PLAN = {"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5},
+                                    "C": {"start": 0, "stop": 90, "count": 4}}}
+
+
+def cases_simulate(C: Corpus):
+    plan = jdump(SMALL_PLAN)
+    n_rows = 2 * (5 + 4) * 3 * 2
+    csv_check = {"kind": "recording_csv", "path": "sim.csv", "rows": n_rows}
+    base = ["--plan", "plan.json", "-o", "sim.csv"]
+    C.add("simulate_valid", "simulate", "plan JSON", base + ["--json"], {"plan.json": plan},
+          [ok(csv_check, {"kind": "stdout_json", "keys": []})])
+    C.add("simulate_exx_no_noise", "simulate", "model JSON", base + ["--model", "model.json", "--no-noise"],
+          {"plan.json": plan, "model.json": jdump(HAND_MODEL)},
+          [ok(csv_check, {"kind": "sim_exx", "path": "sim.csv", "exx": ORACLE["exx"]})])
+    C.add("simulate_tracker_negative_sep", "simulate", "option", base + ["--tracker", "-1500,225,150"],
+          {"plan.json": plan}, [ok(csv_check)])
+    for cid, eff, words in [("periodic_pitch0", "periodic:axis=X,pitch=0", ["pitch"]),
+                            ("periodic_amp_1e300", "periodic:axis=X,amplitude=1e300", ["amplitude", "periodic"]),
+                            ("backlash_nan", "backlash:axis=X,amount=nan", ["amount", "finite", "nan"]),
+                            ("backlash_text", "backlash:axis=X,amount=abc", ["amount", "abc", "number"]),
+                            ("backlash_axis_q", "backlash:axis=Q,amount=0.004", ["axis", "Q"]),
+                            ("unknown_effect", "wobble:axis=X", ["wobble", "effect"]),
+                            ("unknown_key", "backlash:axis=X,amuont=0.004", ["amuont", "key"]),
+                            ("no_equals", "backlash:axis", ["backlash", "key=value", "="]),
+                            ("thermal_inf", "thermal_drift:amplitude=inf", ["amplitude", "finite", "inf"])]:
+        C.add(f"simulate_effect_{cid}", "simulate", "option", base + ["--effect", eff], {"plan.json": plan},
+              [err(None, None, *words, option=True)])
+    for cid, argv, words in [("rounds_zero", ["--rounds", "0"], ["--rounds"]),
+                             ("rounds_neg", ["--rounds", "-2"], ["--rounds"]),
+                             ("tracker_two", ["--tracker", "1,2"], ["--tracker"]),
+                             ("tracker_nan", ["--tracker", "nan,0,150"], ["--tracker"])]:
+        C.add(f"simulate_opt_{cid}", "simulate", "option", base + argv, {"plan.json": plan},
+              [err(None, None, *words, option=True)])
+    C.add("simulate_seed_negative", "simulate", "option", base + ["--seed", "-1"], {"plan.json": plan},
+          [ok(csv_check), err(None, None, "--seed", option=True)])
+    # plans
+    def plan_case(cid, text, words, cmd="simulate"):
+        argv = base if cmd == "simulate" else ["--plan", "plan.json", "--json"]
+        C.add(f"{cmd}_plan_{cid}", cmd, "plan JSON", argv, {"plan.json": text}, [err("plan.json", None, *words)])
+    bad_plans = [
+        ("b_270", jdump({"rounds": 1, "axes": {"B": {"positions": [0, 90, 270]}}}), ["B", "270", "range", "limit"]),
+        ("b_270_at", jdump({"rounds": 1, "axes": {"X": {"positions": [0, 100], "at": {"B": 270}}}}),
+         ["B", "270", "range", "limit"]),
+        ("list", "[1, 2]", ["object", "dict", "mapping", "list"]),
+        ("axes_string", jdump({"axes": "X"}), ["axes"]),
+        ("unknown_key", jdump({"roudns": 2}), ["roudns", "unknown"]),
+        ("rounds_zero", jdump({"rounds": 0}), ["rounds"]),
+        ("rounds_text", jdump({"rounds": "two"}), ["rounds"]),
+        ("rounds_true", jdump({"rounds": True}), ["rounds"]),
+        ("tracker_two", jdump({"tracker": [1, 2]}), ["tracker"]),
+        ("tracker_nan", '{"tracker": [NaN, 0, 150]}', ["tracker", "finite", "nan", "NaN"]),
+        ("positions_nan", '{"rounds": 1, "axes": {"X": {"positions": [0, NaN, 100]}}}', ["X", "positions", "finite",
+                                                                                        "nan", "NaN"]),
+        ("count_zero", jdump({"axes": {"X": {"start": 0, "stop": 100, "count": 0}}}), ["count", "X"]),
+        ("unknown_axis", jdump({"axes": {"Q": {"positions": [0, 1]}}}), ["Q", "axis"]),
+        ("two_points", jdump({"points": {"tool": {"P": [0, 0, 0], "Q": [100, 0, 0]}}}), ["point", "3", "three"]),
+        ("collinear_points", jdump({"points": {"tool": {"P": [0, 0, 0], "Q": [100, 0, 0], "K": [200, 0, 0]}}}),
+         ["collinear"]),
+        ("feed_negative", jdump({"feed_mm_s": -50}), ["feed_mm_s"]),
+        ("truncated", plan[:-10], ["JSON", "json", "expect", "parse"]),
+    ]
+    for cid, text, words in bad_plans:
+        plan_case(cid, text, words)
+    for cid in ("b_270", "list", "tracker_nan", "unknown_axis"):
+        text, words = next((t, w) for c, t, w in bad_plans if c == cid)
+        plan_case(cid, text, words, cmd="plan")
+    # paths and overwrites
+    C.add("simulate_output_is_directory", "simulate", "path", base, {"plan.json": plan}, dirs=["sim.csv"],
+          expect=[err("sim.csv", None, "directory")])
+    C.add("simulate_output_parent_is_file", "simulate", "path", ["--plan", "plan.json", "-o", "f/sim.csv"],
+          {"plan.json": plan, "f": "file"}, [err("f", None, "not a directory", "directory")])
+    C.add("simulate_output_equals_model", "simulate", "overwrite",
+          ["--plan", "plan.json", "--model", "model.json", "-o", "model.json"],
+          {"plan.json": plan, "model.json": jdump(HAND_MODEL)}, [err("model.json", None, "input", "overwrite",
+                                                                      "same")])
+    C.add("simulate_truth_equals_model", "simulate", "overwrite",
+          ["--plan", "plan.json", "--model", "sim.truth.json", "-o", "sim.csv"],
+          {"plan.json": plan, "sim.truth.json": jdump(HAND_MODEL)},
+          [err("sim.truth.json", None, "input", "overwrite", "same")])
+    C.add("simulate_output_equals_plan", "simulate", "overwrite", ["--plan", "plan.json", "-o", "plan.json"],
+          {"plan.json": plan}, [err("plan.json", None, "input", "overwrite", "same")])
+    C.add("simulate_plan_is_directory", "simulate", "path", base, dirs=["plan.json"],
+          expect=[err("plan.json", None, "directory")])
+
+
+def cases_plan(C: Corpus):
+    C.add("plan_valid_pos2", "plan", "option", ["--tracker=-1500,225,150", "--axes", "X", "--json"], {},
+          [ok({"kind": "plan_sigma", "axis": "X", "name": "E_XX", "value": 0.0019, "rtol": 0.15})])
+    C.add("plan_tracker_negative_sep", "plan", "option", ["--tracker", "-1500,225,150", "--axes", "X", "--json"], {},
+          [ok({"kind": "plan_sigma", "axis": "X", "name": "E_XX", "value": 0.0019, "rtol": 0.15})])
+    for cid, argv, words in [("tracker_two", ["--tracker", "1,2"], ["--tracker"]),
+                             ("tracker_text", ["--tracker", "a,b,c"], ["--tracker"]),
+                             ("tracker_nan", ["--tracker", "nan,0,0"], ["--tracker"]),
+                             ("monte_carlo_neg", ["--monte-carlo", "-5"], ["--monte-carlo"]),
+                             ("axes_unknown", ["--axes", "Q"], ["Q", "--axes", "axis"])]:
+        C.add(f"plan_opt_{cid}", "plan", "option", argv + ["--axes", "X"] * (cid.startswith("tracker")), {},
+              [err(None, None, *words, option=True)])
+    C.add("plan_plot_onto_directory", "plan", "path", ["--axes", "X", "--plot", "map.png"], dirs=["map.png"],
+          expect=[err("map.png", None, "directory")])
+    C.add("plan_plot_parent_is_file", "plan", "path", ["--axes", "X", "--plot", "f/map.png"], {"f": "file"},
+          [err("f", None, "not a directory", "directory")])
+    C.add("plan_plot_equals_plan", "plan", "overwrite", ["--plan", "plan.json", "--plot", "plan.json"],
+          {"plan.json": jdump(SMALL_PLAN)}, [err("plan.json", None, "input", "overwrite", "same")])
+    C.add("plan_plan_missing", "plan", "path", ["--plan", "nope.json"], {},
+          [err("nope.json", None, "no such", "not found", "does not exist", "missing")])
+
+
+def cases_diagnose(C: Corpus, rnd: random.Random):
+    header, rows = recording_x_only()
+    rec = rows_to_csv(header, rows)
+    dj = {"kind": "stdout_json", "keys": ["base_sigma", "effects", "located"]}
+    C.add("diagnose_valid", "diagnose", "recording CSV", ["rec.csv", "--json"], {"rec.csv": rec}, [ok(dj)])
+    C.add("diagnose_bom", "diagnose", "recording CSV", ["rec.csv", "--json"],
+          {"rec.csv": b"\xef\xbb\xbf" + rec.encode()}, [ok(dj)])
+    C.add("diagnose_german_semicolon", "diagnose", "recording CSV", ["rec.csv", "--json"],
+          {"rec.csv": rows_to_csv(header, [[c.replace(".", ",") for c in r] for r in rows], sep=";")},
+          [ok(dj, say=[";", "semicolon", "decimal comma"])])
+    C.add("diagnose_with_model", "diagnose", "model JSON", ["rec.csv", "--model", "model.json", "--json"],
+          {"rec.csv": rec, "model.json": jdump(HAND_MODEL)}, [ok(dj)])
+    for cid, val in [("nan", "nan"), ("zero", "0"), ("one_and_half", "1.5"), ("neg", "-0.01")]:
+        C.add(f"diagnose_level_{cid}", "diagnose", "option", ["rec.csv", "--level", val], {"rec.csv": rec},
+              [err(None, None, "--level", option=True)])
+    C.add("diagnose_tracker_two", "diagnose", "option", ["rec.csv", "--tracker", "1,2"], {"rec.csv": rec},
+          [err(None, None, "--tracker", option=True)])
+    C.add("diagnose_tracker_negative", "diagnose", "option", ["rec.csv", "--tracker", "-1500,225,150", "--json"],
+          {"rec.csv": rec}, [ok(dj)])
+    for k in range(6):
+        at = rnd.randrange(len(rows))
+        col = rnd.choice(["x", "y", "z", "position", "time_s"])
+        val = ["nan", "inf", "", "abc", "1e999", "-nan"][k]
+        rs = [r[:] for r in rows]
+        rs[at][header.index(col)] = val
+        C.add(f"diagnose_gen_cell_{k:02d}", "diagnose", "recording CSV", ["rec.csv"],
+              {"rec.csv": rows_to_csv(header, rs)},
+              [err("rec.csv", at + 2, col, "number", "finite", "nan", "inf", "invalid", "empty", "missing")])
+    C.add("diagnose_empty", "diagnose", "recording CSV", ["rec.csv"], {"rec.csv": ""},
+          [err("rec.csv", None, "empty", "no data", "header")])
+    C.add("diagnose_input_is_directory", "diagnose", "path", ["rec.csv"], dirs=["rec.csv"],
+          expect=[err("rec.csv", None, "directory")])
+    C.add("diagnose_plots_onto_file", "diagnose", "path", ["rec.csv", "--plots", "plots"],
+          {"rec.csv": rec, "plots": "a file"}, [err("plots", None, "directory", "exists", "file")])
+    C.add("diagnose_plots_overwrite_input", "diagnose", "overwrite",
+          ["plots/residuals_before.png", "--plots", "plots"], {"plots/residuals_before.png": rec},
+          [err("residuals_before.png", None, "input", "overwrite", "same")])
+
+
+def cases_plate(C: Corpus, rnd: random.Random):
+    nbs = (DATA / "nbs_table1_corrected.csv").read_text()
+    nbs_check = {"kind": "plate", "alpha": 4.81e-6, "alpha_tol": 0.01e-6, "gamma": 13.69e-6, "gamma_tol": 0.01e-6}
+    C.add("plate_nbs_table1", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": nbs}, [ok(nbs_check)])
+    C.add("plate_nbs_bom_crlf", "plate", "plate CSV", ["pos.csv", "--json"],
+          {"pos.csv": b"\xef\xbb\xbf" + nbs.replace("\n", "\r\n").encode()}, [ok(nbs_check)])
+    body = [ln for ln in nbs.splitlines() if not ln.startswith("#")]
+    german = "\n".join(ln.replace(",", ";").replace(".", ",") for ln in body) + "\n"
+    C.add("plate_nbs_german", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": german},
+          [ok(nbs_check, say=[";", "semicolon", "decimal comma"])])
+    C.add("plate_nbs_cp1252_comment", "plate", "plate CSV", ["pos.csv", "--json"],
+          {"pos.csv": "# Messung bei 20\xb0C, Unsicherheit 0,5 \xb5in\n".encode("cp1252") + nbs.encode()},
+          [ok(nbs_check)])
+    for turn in (60.0, 100.0, 90.0, 135.0):
+        t = f"{turn:g}"
+        C.add(f"plate_turn_{t}", "plate", "plate CSV", ["pos.csv", "--json"],
+              {"pos.csv": plate_csv(turn, alpha=1e-4)},
+              [ok({"kind": "plate", "alpha_abs": 1e-4, "alpha_tol": 2e-6, "sigma_max": 1e-6})])
+    C.add("plate_turn_60_perfect", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": plate_csv(60.0)},
+          [ok({"kind": "plate", "alpha_abs": 0.0, "alpha_tol": 1e-9, "gamma_abs_max": 1e-9, "sigma_max": 1e-7})])
+    for cid, val in [("nan", "nan"), ("zero", "0"), ("two", "2")]:
+        C.add(f"plate_level_{cid}", "plate", "option", ["pos.csv", "--level", val], {"pos.csv": nbs},
+              [err(None, None, "--level", option=True)])
+    C.add("plate_origin_unknown", "plate", "option", ["pos.csv", "--origin", "99"], {"pos.csv": nbs},
+          [err(None, None, "99", "--origin", "point", option=True)])
+    C.add("plate_align_bad_axis", "plate", "option", ["pos.csv", "--align", "5:z"], {"pos.csv": nbs},
+          [err(None, None, "--align", "5:z", "z", option=True)])
+    lines = nbs.splitlines()
+    first = next(k for k, ln in enumerate(lines) if ln.startswith("point"))
+
+    def mut(cid, new_lines, line, words):
+        C.add(f"plate_{cid}", "plate", "plate CSV", ["pos.csv"], {"pos.csv": "\n".join(new_lines) + "\n"},
+              [err("pos.csv", line, *words)])
+    for k, (val, words) in enumerate([("nan", ["nan", "finite"]), ("inf", ["inf", "finite"]), ("", ["empty", "missing",
+                                                                                                   "number"]),
+                                      ("abc", ["abc", "number"]), ("1e999", ["finite", "inf", "1e999"]),
+                                      ("1.2.3", ["1.2.3", "number"])]):
+        at = first + 1 + rnd.randrange(9)
+        ls = lines[:]
+        cells = ls[at].split(",")
+        col = 1 + rnd.randrange(4)
+        cells[col] = val
+        ls[at] = ",".join(cells)
+        mut(f"gen_cell_{k:02d}", ls, at + 1, words + ["x1", "y1", "x2", "y2"][col - 1:col])
+    ls = lines[:]
+    ls[first + 3] = ls[first + 3].rsplit(",", 1)[0]
+    mut("row_short", ls, first + 4, ["column", "field", "missing", "expected", "value"])
+    ls = lines[:]
+    ls.insert(first + 3, ls[first + 2])
+    mut("duplicate_point", ls, None, ["duplicate", "point", "3"])
+    mut("missing_column", [ln.rsplit(",", 1)[0] for ln in lines], first + 1, ["y2", "column"])
+    mut("header_only", lines[:first + 1], None, ["no data", "empty", "point", "no rows"])
+    mut("two_points", lines[:first + 3], None, ["point", "few", "enough", "3"])
+    mut("x3_without_y3", lines[:first] + [lines[first] + ",x3"] + [ln + ",1.0" for ln in lines[first + 1:]],
+        first + 1, ["x3", "y3", "column", "pair"])
+    C.add("plate_empty", "plate", "plate CSV", ["pos.csv"], {"pos.csv": ""}, [err("pos.csv", None, "empty", "no data",
+                                                                                  "header")])
+    C.add("plate_binary", "plate", "plate CSV", ["pos.csv"], {"pos.csv": bytes(range(256)) * 4},
+          [err("pos.csv", None, "binary", "decode", "encoding", "header", "column", "NUL")])
+    C.add("plate_input_is_directory", "plate", "path", ["pos.csv"], dirs=["pos.csv"],
+          expect=[err("pos.csv", None, "directory")])
+    C.add("plate_input_missing", "plate", "path", ["pos.csv"], {},
+          [err("pos.csv", None, "no such", "not found", "does not exist", "missing")])
+    C.add("plate_plot_equals_input", "plate", "overwrite", ["pos.csv", "--plot", "pos.csv"], {"pos.csv": nbs},
+          [err("pos.csv", None, "input", "overwrite", "same")])
+    C.add("plate_plot_onto_directory", "plate", "path", ["pos.csv", "--plot", "p.png"], {"pos.csv": nbs},
+          dirs=["p.png"], expect=[err("p.png", None, "directory")])
+    C.add("plate_plot_parent_is_file", "plate", "path", ["pos.csv", "--plot", "f/p.png"], {"pos.csv": nbs, "f": "x"},
+          [err("f", None, "not a directory", "directory")])
+
+
+def cases_demo_and_cli(C: Corpus):
+    C.add("demo_out_onto_file", "demo", "path", ["--out", "d", "--quiet"], {"d": "a file"},
+          [err("d", None, "directory", "exists", "file")])
+    C.add("demo_out_parent_is_file", "demo", "path", ["--out", "f/d", "--quiet"], {"f": "a file"},
+          [err("f", None, "directory", "exists", "file")])
+    C.add("cli_no_command", "", "option", [], {}, [err(None, None, "command", "COMMAND", "required", option=True)])
+    C.add("cli_unknown_command", "frobnicate", "option", [], {},
+          [err(None, None, "frobnicate", "invalid choice", option=True)])
+    C.add("cli_unknown_option", "compensate", "option", ["prog.nc", "--model", "m.json", "-o", "o.nc", "--frobnicate"],
+          {}, [err(None, None, "--frobnicate", "unrecognized", option=True)])
+
+
+
+def cases_real_data(C: Corpus):
+    """Valid runs on the bundled data and on simulate's output, chained through the commands a user types."""
+    sample = (DATA / "sample_5axis.nc").read_bytes()
+    truth = (DATA / "demo_truth.json").read_bytes()
+    files = {"prog.nc": sample, "truth.json": truth}
+    argv = ["prog.nc", "--model", "truth.json", "-o", "out.nc"]
+    # demo_truth: volumetric error up to ~43 um, angular ~25 urad: corrections stay well under 0.2 mm / 0.2 deg
+    chk = gcode_check(oracle=None, bound=0.2)
+    C.add("compensate_sample_5axis", "compensate", "NC program", argv + ["--json"], files,
+          [ok(chk, {"kind": "stdout_json", "keys": []})])
+    C.add("compensate_sample_5axis_full", "compensate", "NC program", argv + ["--scope", "full"], files, [ok(chk)])
+    for eol, name in [(b"\r\n", "crlf"), (b"\r", "cr")]:
+        # the same program with other line ends must give the same numbers, with its own line ends
+        C.add(f"compensate_sample_5axis_{name}", "compensate", "NC program", argv,
+              {**files, "prog.nc": sample.replace(b"\n", eol), "lf.nc": sample},
+              [ok(chk, {"kind": "same_as", "path": "out.nc", "ref": "ref.nc", "eol": eol.decode()})],
+              setup=[["compensate", "lf.nc", "--model", "truth.json", "-o", "ref.nc"]])
+    # simulate (no noise) -> identify -> compensate: the identified model must compensate like the planted one
+    plan = {"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5},
+                                  "Y": {"start": 0, "stop": 200, "count": 5}}}
+    prog = "G90 G21\nG0 X0 Y0 Z20\nG1 X150 Y20 Z5 F500\nX180 Y190\nX30\nY60 Z0\nG0 Z20\nM30\n"
+    C.add("chain_simulate_identify_compensate", "compensate", "model JSON",
+          ["prog.nc", "--model", "ident.json", "-o", "out.nc"],
+          {"plan.json": jdump(plan), "truth.json": jdump(HAND_MODEL), "prog.nc": prog},
+          [ok(gcode_check())],
+          setup=[["simulate", "--plan", "plan.json", "--model", "truth.json", "--no-noise", "-o", "rec.csv"],
+                 ["identify", "rec.csv", "-o", "ident.json"]])
+    C.add("chain_identify_model_values", "identify", "recording CSV", ["rec.csv", "-o", "ident.json", "--json"],
+          {"plan.json": jdump(plan), "truth.json": jdump(HAND_MODEL)},
+          [ok({"kind": "model_json", "path": "ident.json", "axes": ["X", "Y"]},
+              {"kind": "model_exx", "path": "ident.json", "exx": ORACLE["exx"], "c0y": C0Y})],
+          setup=[["simulate", "--plan", "plan.json", "--model", "truth.json", "--no-noise", "-o", "rec.csv"]])
+    header, rows = base_recording()
+    C.add("identify_plots_valid", "identify", "recording CSV", ["rec.csv", "-o", "model.json", "--plots", "plots"],
+          {"rec.csv": rows_to_csv(header, rows)},
+          [ok({"kind": "model_json", "path": "model.json", "axes": ["X", "C"]},
+              {"kind": "png", "dir": "plots", "min": 2})])
+    C.add("diagnose_plots_valid", "diagnose", "recording CSV", ["rec.csv", "--plots", "plots"],
+          {"rec.csv": rows_to_csv(*recording_x_only())},
+          [ok({"kind": "png", "dir": "plots", "min": 2})])
+    C.add("plate_plot_valid", "plate", "plate CSV", ["pos.csv", "--plot", "p.png", "--json"],
+          {"pos.csv": (DATA / "nbs_table2_corrected.csv").read_bytes()},
+          [ok({"kind": "plate", "alpha": -0.67e-6, "alpha_tol": 0.01e-6, "gamma": 2.82e-6, "gamma_tol": 0.01e-6},
+              {"kind": "png", "file": "p.png"})])
+    # a valid `mtcal demo` run (~30 s on a loaded machine) is left to tests/test_demo.py
+
+
+def cases_more_paths(C: Corpus):
+    hand = jdump(HAND_MODEL)
+    base = {"prog.nc": program(), "model.json": hand}
+    C.add("compensate_output_symlink_to_input", "compensate", "overwrite",
+          ["prog.nc", "--model", "model.json", "-o", "link.nc"], base, links={"link.nc": "prog.nc"},
+          expect=[err("link.nc", None, "input", "overwrite", "same"),
+                  err("prog.nc", None, "input", "overwrite", "same")])
+    C.add("compensate_output_equals_input_respelled", "compensate", "overwrite",
+          ["prog.nc", "--model", "model.json", "-o", "sub/../prog.nc"], base, dirs=["sub"],
+          expect=[err("prog.nc", None, "input", "overwrite", "same")])
+    C.add("compensate_program_symlink_loop", "compensate", "path", ["loop.nc", "--model", "model.json", "-o", "o.nc"],
+          {"model.json": hand}, links={"loop.nc": "loop.nc"},
+          expect=[err("loop.nc", None, "symbolic", "link", "loop")])
+    C.add("compensate_output_empty_name", "compensate", "path", ["prog.nc", "--model", "model.json", "-o", ""], base,
+          [err(None, None, "-o", "--output", "output", "empty", "path", option=True)])
+    C.add("identify_output_empty_name", "identify", "path", ["rec.csv", "-o", ""],
+          {"rec.csv": rows_to_csv(*recording_x_only())},
+          [err(None, None, "-o", "--output", "output", "empty", "path", option=True)])
+    utf16 = rows_to_csv(*recording_x_only(), sep="\t").encode("utf-16")
+    C.add("identify_utf16_export", "identify", "recording CSV", ["rec.csv", "-o", "model.json"], {"rec.csv": utf16},
+          [err("rec.csv", None, "UTF-16", "utf-16", "encoding", "decode", "binary", "NUL")])
+    C.add("plate_utf16_export", "plate", "plate CSV", ["pos.csv"],
+          {"pos.csv": (DATA / "nbs_table1_corrected.csv").read_text().encode("utf-16")},
+          [err("pos.csv", None, "UTF-16", "utf-16", "encoding", "decode", "binary", "NUL")])
+    C.add("compensate_model_bom", "compensate", "model JSON", ["prog.nc", "--model", "model.json", "-o", "out.nc"],
+          {**base, "model.json": b"\xef\xbb\xbf" + hand.encode()},
+          [ok(gcode_check()), err("model.json", None, "BOM", "byte-order", "byte order", "JSON", "decode")])
+    C.add("identify_semicolon_dot_decimals", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(*recording_x_only(), sep=";")},
+          [ok({"kind": "model_json", "path": "model.json", "axes": ["X"]}, say=[";", "semicolon"])])
+
+
+def cases_generated(C: Corpus, rnd: random.Random):
+    """Generated mutations: truncated JSON, swapped columns, odd characters, very long lines, option values."""
+    hand = jdump(HAND_MODEL)
+    for k in range(5):   # model JSON cut at a random byte: the JSON decoder's line is the line to name
+        cut = rnd.randrange(5, len(hand) - 2)
+        text = hand[:cut]
+        try:
+            json.loads(text)
+            continue
+        except json.JSONDecodeError as exc:
+            line = exc.lineno
+        C.add(f"compensate_gen_model_truncated_{k:02d}", "compensate", "model JSON",
+              ["prog.nc", "--model", "model.json", "-o", "out.nc"], {"prog.nc": program(), "model.json": text},
+              [err("model.json", line, "JSON", "json", "expect", "parse", "truncated", "end")])
+    plan = jdump({"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5}}, "tracker": [250, -1500, 150]})
+    for k in range(3):
+        cut = rnd.randrange(5, len(plan) - 2)
+        try:
+            json.loads(plan[:cut])
+            continue
+        except json.JSONDecodeError as exc:
+            line = exc.lineno
+        C.add(f"simulate_gen_plan_truncated_{k:02d}", "simulate", "plan JSON", ["--plan", "plan.json", "-o", "s.csv"],
+              {"plan.json": plan[:cut]}, [err("plan.json", line, "JSON", "json", "expect", "parse", "truncated",
+                                              "end")])
+    header, rows = recording_x_only()
+    def swapped(a, b):
+        ia, ib = header.index(a), header.index(b)
+        out = []
+        for r in rows:
+            r = r[:]
+            r[ia], r[ib] = r[ib], r[ia]
+            out.append(r)
+        return rows_to_csv(header, out)
+    for a, b, words in [("axis", "point", ["axis", "P"]), ("x", "point", ["x", "number", "P"]),
+                        ("round", "point", ["round", "P"])]:
+        C.add(f"identify_swapped_{a}_{b}", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+              {"rec.csv": swapped(a, b)}, [err("rec.csv", 2, *words)])
+    # old Mac line ends (lone CR) in a CSV: read as lines; an error names the right line
+    C.add("identify_lone_cr_csv", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, rows, eol="\r")}, [ok({"kind": "model_json", "path": "model.json",
+                                                                "axes": ["X"]})])
+    bad = [r[:] for r in rows]
+    bad[30][header.index("y")] = "nan"
+    C.add("identify_lone_cr_csv_nan", "identify", "recording CSV", ["rec.csv", "-o", "model.json"],
+          {"rec.csv": rows_to_csv(header, bad, eol="\r")}, [err("rec.csv", 32, "nan", "finite", "y")])
+    # G-code: characters a controller would not read as numbers, and a very long comment line (passed through)
+    for cid, word in [("fullwidth_digits", "X１０"), ("unicode_minus", "X−5"), ("arabic_digits", "Y٣")]:
+        p = f"G90 G21\nG1 X0 Y0 Z0 F100\nG1 {word} Y10\nM30\n"
+        C.add(f"compensate_word_{cid}", "compensate", "NC program",
+              ["prog.nc", "--model", "model.json", "-o", "out.nc"], {"prog.nc": p, "model.json": hand},
+              [err("prog.nc", 3, "number", "word", word[0], "character")])
+    longp = program().replace("(a comment line between moves)", "(" + "LONG COMMENT " * 20000 + ")")
+    C.add("compensate_very_long_comment", "compensate", "NC program", ["prog.nc", "--model", "model.json", "-o",
+                                                                       "out.nc"],
+          {"prog.nc": longp, "model.json": hand}, [ok(gcode_check())])
+    nbs = (DATA / "nbs_table1_corrected.csv").read_text()
+    huge = "\n".join(ln if not ln.startswith("3,") else "3,1e300,2.674304,2.674759,-3.141279"
+                     for ln in nbs.splitlines()) + "\n"
+    C.add("plate_huge_number", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": huge},
+          [err("pos.csv", None), ok({"kind": "stdout_json", "keys": ["alpha", "beta", "gamma"]})])
+    # option values: every numeric option refuses non-numbers and empty strings; nonsense infinities
+    numeric = {"compensate": ["--tolerance", "--tool-length", "--precision", "--cone", "--iterations",
+                              "--residual-every", "--max-correction"],
+               "identify": ["--max-degree", "--outlier-k"], "simulate": ["--rounds", "--seed"],
+               "plan": ["--monte-carlo", "--seed"], "diagnose": ["--level"], "plate": ["--level"]}
+    inf_ok = {"--tolerance", "--max-correction", "--outlier-k"}   # infinity may mean "off" there
+    files = {"prog.nc": program(), "model.json": hand, "rec.csv": rows_to_csv(header, rows),
+             "pos.csv": nbs, "plan.json": jdump(SMALL_PLAN)}
+    lead = {"compensate": ["prog.nc", "--model", "model.json", "-o", "out.nc"],
+            "identify": ["rec.csv", "-o", "model.json"], "simulate": ["--plan", "plan.json", "-o", "s.csv"],
+            "plan": ["--axes", "X"], "diagnose": ["rec.csv"], "plate": ["pos.csv"]}
+    for cmd, opts in numeric.items():
+        for opt in opts:
+            for val in ["abc", "", "inf", "1e999"]:
+                if val in ("inf", "1e999") and opt in inf_ok:
+                    continue
+                tag = {"abc": "text", "": "empty", "inf": "inf", "1e999": "overflow"}[val]
+                need = {"compensate": ["prog.nc", "model.json"], "identify": ["rec.csv"], "simulate": ["plan.json"],
+                        "plan": [], "diagnose": ["rec.csv"], "plate": ["pos.csv"]}[cmd]
+                C.add(f"{cmd}_gen_opt_{opt[2:].replace('-', '_')}_{tag}", cmd, "option", lead[cmd] + [opt, val],
+                      {f: files[f] for f in need}, [err(None, None, opt, option=True)])
+
+
+def sa_export(rows, header, eol="\n", scale=1.0, bad=None):
+    """A SpatialAnalyzer ASCII export (README: Collection Group Target x y z) of recording rows; names encode
+    axis, round, position, point and direction.  bad = (index, text) replaces one line's coordinates."""
+    ix = {c: header.index(c) for c in ("axis", "round", "position", "point", "x", "y", "z", "direction")}
+    out = ["// SA Version 2021.01.08", "// Working Frame: Machine::Machine Frame"]
+    for k, r in enumerate(rows):
+        d = "up" if r[ix["direction"]] == "1" else "dn"
+        name = f"{r[ix['axis']]}_r{r[ix['round']]}_{r[ix['position']]}_{r[ix['point']]}_{d}_{k}"
+        xyz = " ".join(f"{float(r[ix[c]]) / scale:.9f}" for c in "xyz")
+        if bad and bad[0] == k:
+            xyz = bad[1]
+        out.append(f"DMU50 Run{r[ix['round']]} {name} {xyz}")
+    return eol.join(out) + eol
+
+
+def sa_mapping(rows, header, bad_round_at=None):
+    """Mapping CSV target,axis,round,position,point,direction for sa_export's names; one round spelled 'one'."""
+    ix = {c: header.index(c) for c in ("axis", "round", "position", "point", "direction")}
+    out = ["target,axis,round,position,point,direction"]
+    for k, r in enumerate(rows):
+        d = "up" if r[ix["direction"]] == "1" else "dn"
+        name = f"{r[ix['axis']]}_r{r[ix['round']]}_{r[ix['position']]}_{r[ix['point']]}_{d}_{k}"
+        rnd = "one" if k == bad_round_at else r[ix["round"]]
+        out.append(",".join([name, r[ix["axis"]], rnd, r[ix["position"]], r[ix["point"]], r[ix["direction"]]]))
+    return "\n".join(out) + "\n"
+
+
+SA_PATTERN = r"(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>[A-Z]+)_(?P<direction>up|dn)_\d+"
+
+
+def cases_iso230_and_import(C: Corpus):
+    header, rows = recording_x_only()
+    rec = rows_to_csv(header, rows)
+    plan = jdump({"rounds": 2, "axes": {"X": {"start": 0, "stop": 200, "count": 5}}})
+    sim = ["simulate", "--plan", "plan.json", "--model", "truth.json", "--no-noise", "-o", "rec.csv"]
+    # noise-free X with E_XX = 2e-5 * X: the mean positional deviation at each target is E_XX(P) (um)
+    C.add("iso230_2_planted_exx", "iso230-2", "recording CSV", ["rec.csv", "--axis", "X", "--json"],
+          {"plan.json": plan, "truth.json": jdump(HAND_MODEL)},
+          [ok({"kind": "iso_mean", "axis": "X", "exx": ORACLE["exx"]})], setup=[sim])
+    C.add("iso230_2_report_dir", "iso230-2", "recording CSV", ["rec.csv", "-o", "rep"], {"rec.csv": rec},
+          [ok({"kind": "png", "dir": "rep", "min": 1}, {"kind": "exists", "paths": ["rep/iso230-2_X.csv"]})])
+    C.add("iso230_2_bom_german", "iso230-2", "recording CSV", ["rec.csv", "--json"],
+          {"rec.csv": b"\xef\xbb\xbf" + rows_to_csv(header, [[c.replace(".", ",") for c in r] for r in rows],
+                                                      sep=";").encode()},
+          [ok({"kind": "stdout_json", "keys": ["axes"]}, say=[";", "semicolon", "decimal comma"])])
+    bad = [r[:] for r in rows]
+    bad[20][header.index("x")] = "nan"
+    C.add("iso230_2_cell_nan", "iso230-2", "recording CSV", ["rec.csv"], {"rec.csv": rows_to_csv(header, bad)},
+          [err("rec.csv", 22, "nan", "finite", "x")])
+    for cid, argv, words in [("axis_unknown", ["--axis", "Q"], ["Q", "axis"]),
+                             ("target_points_text", ["--target-points", "a,b"], ["--target-points", "number"]),
+                             ("alpha_nan", ["--alpha", "nan", "--temperature-normalise"], ["--alpha", "finite"]),
+                             ("normalise_without_alpha", ["--temperature-normalise"], ["--alpha"]),
+                             ("point_unknown", ["--point", "ZZ"], ["ZZ", "point", "--point"]),
+                             ("angle_unit_bad", ["--angle-unit", "grad"], ["--angle-unit", "grad"])]:
+        C.add(f"iso230_2_opt_{cid}", "iso230-2", "option", ["rec.csv", *argv], {"rec.csv": rec},
+              [err(None, None, *words, option=True), err("rec.csv", None, *words)])
+    C.add("iso230_2_empty", "iso230-2", "recording CSV", ["rec.csv"], {"rec.csv": ""},
+          [err("rec.csv", None, "empty", "no data", "header")])
+    C.add("iso230_2_input_is_directory", "iso230-2", "path", ["rec.csv"], dirs=["rec.csv"],
+          expect=[err("rec.csv", None, "directory")])
+    C.add("iso230_2_output_onto_file", "iso230-2", "path", ["rec.csv", "-o", "rep"], {"rec.csv": rec, "rep": "x"},
+          [err("rep", None, "directory", "exists", "file")])
+    C.add("iso230_2_output_overwrites_input", "iso230-2", "overwrite", ["rep/iso230-2_X.csv", "-o", "rep"],
+          {"rep/iso230-2_X.csv": rec}, [err("iso230-2_X.csv", None, "input", "overwrite", "same")])
+    # import-sa: the export of a recording imports back to the same readings
+    exp = sa_export(rows, header)
+    rt = {"kind": "recording_equal", "path": "out.csv", "ref": "orig.csv"}
+    base = ["export.txt", "--pattern", SA_PATTERN, "-o", "out.csv"]
+    C.add("import_sa_round_trip", "import-sa", "SA export", base + ["--json"], {"export.txt": exp, "orig.csv": rec},
+          [ok(rt, {"kind": "stdout_json", "keys": []})])
+    C.add("import_sa_crlf_inches", "import-sa", "SA export", base + ["--units", "in"],
+          {"export.txt": sa_export(rows, header, eol="\r\n", scale=25.4), "orig.csv": rec}, [ok(rt)])
+    C.add("import_sa_bom_cp1252_comment", "import-sa", "SA export", base,
+          {"export.txt": b"\xef\xbb\xbf// Messung 20\xb0C\n".replace(b"\xb0", "°".encode("cp1252"))
+           + exp.encode(), "orig.csv": rec}, [ok(rt), err("export.txt", 1, "decode", "encoding", "BOM")])
+    for cid, badline, words in [("text", "1.0 abc 3.0", ["number", "abc"]), ("nan", "1.0 nan 3.0", ["finite", "nan"]),
+                                ("two_numbers", "1.0 2.0", ["x y z", "number", "field", "column"])]:
+        C.add(f"import_sa_line_{cid}", "import-sa", "SA export", base,
+              {"export.txt": sa_export(rows, header, bad=(7, badline))}, [err("export.txt", 10, *words)])
+    C.add("import_sa_unmatched", "import-sa", "SA export", base,
+          {"export.txt": exp + "DMU50 Run1 Nest_check 0 0 0\n"},
+          [err("export.txt", len(rows) + 3, "match", "Nest_check")])
+    C.add("import_sa_pattern_invalid", "import-sa", "option", ["export.txt", "--pattern", "(?P<axis", "-o", "o.csv"],
+          {"export.txt": exp}, [err(None, None, "--pattern", "regular expression", "regex", option=True)])
+    C.add("import_sa_pattern_no_groups", "import-sa", "option", ["export.txt", "--pattern", "X_.*", "-o", "o.csv"],
+          {"export.txt": exp}, [err(None, None, "--pattern", "group", "axis", option=True)])
+    C.add("import_sa_mapping_missing", "import-sa", "path", ["export.txt", "--mapping", "map.csv", "-o", "o.csv"],
+          {"export.txt": exp}, [err("map.csv", None, "no such", "not found", "does not exist", "missing")])
+    C.add("import_sa_mapping_bad_row", "import-sa", "recording CSV",
+          ["export.txt", "--mapping", "map.csv", "-o", "o.csv"],
+          {"export.txt": exp, "map.csv": sa_mapping(rows, header, bad_round_at=3)},
+          [err("map.csv", 5, "round", "one", "number", "integer")])
+    C.add("import_sa_mapping_valid", "import-sa", "SA export", ["export.txt", "--mapping", "map.csv", "-o", "out.csv"],
+          {"export.txt": exp, "map.csv": sa_mapping(rows, header), "orig.csv": rec}, [ok(rt)])
+    C.add("import_sa_empty", "import-sa", "SA export", base, {"export.txt": ""},
+          [err("export.txt", None, "empty", "no ")])
+    C.add("import_sa_binary", "import-sa", "SA export", base, {"export.txt": bytes(range(256)) * 8},
+          [err("export.txt", None, "binary", "decode", "encoding", "NUL", "number")])
+    C.add("import_sa_output_equals_input", "import-sa", "overwrite",
+          ["export.txt", "--pattern", SA_PATTERN, "-o", "export.txt"], {"export.txt": exp},
+          [err("export.txt", None, "input", "overwrite", "same")])
+    C.add("import_sa_output_is_directory", "import-sa", "path", base, {"export.txt": exp}, dirs=["out.csv"],
+          expect=[err("out.csv", None, "directory")])
+
+
+def cases_export(C: Corpus):
+    """mtcal export: the hand model's E_XX in LinuxCNC tables (README: type 1 trims = -error, type 0 = nominal +
+    error), the other formats written and finite; bad models, options and paths refused."""
+    hand = jdump(HAND_MODEL)
+    for t in ("0", "1"):
+        C.add(f"export_linuxcnc_type{t}", "export", "model JSON",
+              ["model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", t, "--json"], {"model.json": hand},
+              [ok({"kind": "linuxcnc_comp", "dir": "lc", "axis": "X", "type": int(t), "exx": ORACLE["exx"]},
+                  {"kind": "stdout_json", "keys": []})])
+    # exporting again into the folder a previous export wrote (the usual re-run) works and rewrites the tables
+    C.add("export_linuxcnc_rerun_same_folder", "export", "path",
+          ["model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", "1"], {"model.json": hand},
+          [ok({"kind": "linuxcnc_comp", "dir": "lc", "axis": "X", "type": 1, "exx": ORACLE["exx"]})],
+          setup=[["export", "model.json", "--format", "linuxcnc", "-o", "lc", "--comp-file-type", "0"]],
+          rewrites=["lc/"])
+    for fmt, out in [("siemens", "COMP.MPF"), ("heidenhain", "tnc"), ("tf5280", "vol.csv"), ("etalon", "etalon.txt")]:
+        C.add(f"export_{fmt}_valid", "export", "model JSON", ["model.json", "--format", fmt, "-o", out],
+              {"model.json": hand}, [ok({"kind": "finite_text", "path": out})])
+    C.add("export_demo_truth_siemens", "export", "model JSON", ["truth.json", "--format", "siemens", "-o", "C.MPF"],
+          {"truth.json": (DATA / "demo_truth.json").read_bytes()}, [ok({"kind": "finite_text", "path": "C.MPF"})])
+    lc = ["model.json", "--format", "linuxcnc", "-o", "lc"]
+    wanted = {"shape_list", "shape_constants_list", "shape_functions_string", "field_true", "function_over_wrong_axis",
+              "field_nan", "truncated_json", "shape_poly_no_coefficients"}
+    for cid, text, words in shape_models():
+        if cid in wanted:
+            C.add(f"export_model_{cid}", "export", "model JSON", lc, {"model.json": text},
+                  [err("model.json", None, *words)])
+    for cid, argv, words in [("step_nan", ["--step", "nan"], ["--step"]), ("step_zero", ["--step", "0"], ["--step"]),
+                             ("step_neg", ["--step", "-5"], ["--step"]),
+                             ("max_points_zero", ["--max-points", "0"], ["--max-points"]),
+                             ("max_points_one", ["--max-points", "1"], ["--max-points", "point"]),
+                             ("format_bogus", ["--format", "fanuc"], ["--format", "fanuc"]),
+                             ("comp_file_type_2", ["--comp-file-type", "2"], ["--comp-file-type"]),
+                             ("require_unknown", ["--require", "E_QQ"], ["E_QQ", "--require", "unknown"])]:
+        C.add(f"export_opt_{cid}", "export", "option", ["model.json", "-o", "lc", *argv]
+              + (["--format", "linuxcnc"] if cid != "format_bogus" else []), {"model.json": hand},
+              [err(None, None, *words, option=True)])
+    C.add("export_require_not_held", "export", "option", lc + ["--require", "E_C0Y"], {"model.json": hand},
+          [{**err(None, None, "E_C0Y", "not held", "cannot", option=True),
+            "checks": [{"kind": "absent", "path": "lc"}]}])
+    for cid, text, words in [("missing", None, ["no such", "not found", "does not exist", "missing"]),
+                             ("list", "[1, 2]", ["object", "dict", "mapping", "list", "effects", "diagnos"]),
+                             ("truncated", '{"effects": [', ["JSON", "json", "expect", "parse"])]:
+        files = {"model.json": hand, **({"diag.json": text} if text is not None else {})}
+        C.add(f"export_diagnosis_{cid}", "export", "model JSON", lc + ["--diagnosis", "diag.json"], files,
+              [err("diag.json", None, *words)])
+    C.add("export_output_equals_model", "export", "overwrite",
+          ["model.json", "--format", "siemens", "-o", "model.json"], {"model.json": hand},
+          [err("model.json", None, "input", "overwrite", "same")])
+    C.add("export_output_dir_holds_model", "export", "overwrite",
+          ["lc/joint0_X.comp", "--format", "linuxcnc", "-o", "lc"], {"lc/joint0_X.comp": hand},
+          [err("joint0_X.comp", None, "input", "overwrite", "same")])
+    C.add("export_output_equals_diagnosis", "export", "overwrite",
+          ["model.json", "--format", "tf5280", "-o", "diag.json", "--diagnosis", "diag.json"],
+          {"model.json": hand, "diag.json": jdump({"effects": []})},
+          [err("diag.json", None, "input", "overwrite", "same")])
+    C.add("export_file_format_onto_directory", "export", "path", ["model.json", "--format", "siemens", "-o", "d"],
+          {"model.json": hand}, dirs=["d"], expect=[err("d", None, "directory")])
+    C.add("export_folder_format_onto_file", "export", "path", lc, {"model.json": hand, "lc": "a file"},
+          [err("lc", None, "directory", "exists", "file")])
+    C.add("export_output_parent_is_file", "export", "path", ["model.json", "--format", "tf5280", "-o", "f/v.csv"],
+          {"model.json": hand, "f": "a file"}, [err("f", None, "not a directory", "directory")])
+    C.add("export_model_is_directory", "export", "path", lc, dirs=["model.json"],
+          expect=[err("model.json", None, "directory")])
+
+def cases_signals(C: Corpus):
+    big = ["%", "G90 G21", "G0 X0 Y0 Z50", "G1 Z5 F1000"]
+    for k in range(150_000):
+        big.append(f"X{(k % 400) - 200:.3f} Y{((k * 7) % 300) - 150:.3f}")
+    big += ["M30", "%"]
+    files = {"prog.nc": "\n".join(big) + "\n", "model.json": jdump(HAND_MODEL)}
+    argv = ["prog.nc", "--model", "model.json", "-o", "out.nc"]
+    C.add("signal_sigint_compensate", "compensate", "signal", argv, files,
+          [{"exit": 130, "quiet": True, "checks": [{"kind": "absent", "path": "out.nc"}]}],
+          signal={"sig": "SIGINT", "when": "temp"})
+    C.add("signal_sigterm_compensate", "compensate", "signal", argv, files,
+          [{"exit": "signal", "quiet": True, "checks": [{"kind": "absent", "path": "out.nc"}]}],
+          signal={"sig": "SIGTERM", "when": "temp"})
+    C.add("signal_stdout_closed", "plan", "signal", ["--axes", "X", "--json"], {},
+          [{"exit": "any", "quiet": True, "checks": []}], signal={"sig": "EPIPE", "when": "epipe"},
+          note="stdout is a pipe whose reader has gone (mtcal ... | head): no traceback")
+    C.add("signal_sigint_plan", "plan", "signal", ["--monte-carlo", "2000000", "--axes", "C"], {},
+          [{"exit": 130, "quiet": True, "checks": []}], signal={"sig": "SIGINT", "when": "delay", "delay": 2.0})
+
+
+def build(root: Path) -> list[dict]:
+    root.mkdir(parents=True, exist_ok=True)
+    C = Corpus(root)
+    rnd = random.Random(SEED)
+    cases_identify(C, rnd)
+    cases_compensate(C, rnd)
+    cases_model_shapes_elsewhere(C)
+    cases_simulate(C)
+    cases_plan(C)
+    cases_diagnose(C, rnd)
+    cases_plate(C, rnd)
+    cases_demo_and_cli(C)
+    cases_real_data(C)
+    cases_more_paths(C)
+    cases_generated(C, rnd)
+    cases_iso230_and_import(C)
+    cases_export(C)
+    cases_signals(C)
+    C.write()
+    return C.cases
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        raise SystemExit(__doc__)
+    cs = build(Path(sys.argv[1]))
+    print(f"{len(cs)} cases written to {sys.argv[1]}")
