@@ -9,6 +9,9 @@ axes).  In the frame F in which the axis' error motion M = Trans(E_X, E_Y, E_Z) 
 
 so three points give nine equations in six unknowns (eq. 31 / 3.5).  Emitted here:
 
+* ``rigid_point``: the exact small rigid motion M p of a point (M = Trans(E) Rot(E_A, E_B, E_C)); the joint fit
+  uses it for each tracker station's alignment correction (a rigid motion of the whole station's readings, whose
+  derivative at zero is ``point_rows``) and the simulator for each station's alignment error;
 * ``point_rows`` / ``design_matrix``: the 3 x 6 block of one point and the 9 x 6 system of P, Q, K, taken as the
   exact derivative of M p at e = 0 (not typed in);
 * ``solve_selected``: the closed-form solution of the six equations Zhang & Hu select (P_x, P_y, Q_x, Q_z, K_y, K_z;
@@ -36,11 +39,15 @@ SELECTED = (("P", 0), ("P", 1), ("Q", 0), ("Q", 2), ("K", 1), ("K", 2))  # Zhang
 ERROR_PARTS = tuple(f"E_{c}" for c in TRANSLATIONS + ROTATIONS)  # + axis name -> ISO name
 
 
+def rigid_moved(p: sp.Matrix, e) -> sp.Matrix:
+    """M p exactly, M = Trans(e[:3]) Rot(e[3], e[4], e[5]) (the error-motion model of derive/kinematics.py)."""
+    return (htm(rot_small(*e[3:]), e[:3]) * sp.Matrix([*p, 1]))[:3, 0]
+
+
 def rigid_rows(p: sp.Matrix) -> sp.Matrix:
     """d (M p) / d e at e = 0, M = Trans(E) Rot(E_A, E_B, E_C) (exact model of derive/kinematics.py)."""
     e = symbols([f"_e{i}" for i in range(6)])
-    moved = (htm(rot_small(*e[3:]), e[:3]) * sp.Matrix([*p, 1]))[:3, 0]
-    return moved.jacobian(e).subs({s: 0 for s in e})
+    return rigid_moved(p, e).jacobian(e).subs({s: 0 for s in e})
 
 
 def _skew(v: sp.Matrix) -> sp.Matrix:
@@ -127,7 +134,13 @@ def derive_threepoint(progress=lambda msg: None) -> Module:
     resid = d9 - a9 * ls
     shape = 32 * jdet / inertia.trace() ** 3
 
+    e6 = symbols([f"m{c}" for c in ("x", "y", "z", "a", "b", "c")])
     fns = [
+        Function("rigid_point", (Arg("point", tuple(p_one), "point, mm"),
+                                 Arg("motion", e6, "small rigid motion (tx, ty, tz mm; rotations about x, y, z rad)")),
+                 rigid_moved(p_one, e6),
+                 "The point moved exactly by Trans(t) Rz(c) Ry(b) Rx(a) (mm): a station's alignment correction or "
+                 "error; its derivative at zero motion is point_rows.", vector_output=True),
         Function("point_rows", (Arg("point", tuple(p_one), "nominal point in the axis frame F, mm"),), rows1,
                  "d(displacement of the point) / d(E_X, E_Y, E_Z, E_A, E_B, E_C) in F: [I | -[p]x] (per mm, per rad)."),
         Function("design_matrix", (points_arg,), a9,

@@ -11,7 +11,45 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('point_rows', 'design_matrix', 'solve_selected', 'selected_denominator', 'ls_solve', 'ls_residuals', 'point_shape', 'frame_dmu50_X', 'frame_dmu50_Y', 'frame_dmu50_Z', 'frame_dmu50_B', 'frame_dmu50_C', 'frame_headbc_X', 'frame_headbc_Y', 'frame_headbc_Z', 'frame_headbc_B', 'frame_headbc_C', 'frame_xyzac_X', 'frame_xyzac_Y', 'frame_xyzac_Z', 'frame_xyzac_A', 'frame_xyzac_C')
+FUNCTIONS = ('rigid_point', 'point_rows', 'design_matrix', 'solve_selected', 'selected_denominator', 'ls_solve', 'ls_residuals', 'point_shape', 'frame_dmu50_X', 'frame_dmu50_Y', 'frame_dmu50_Z', 'frame_dmu50_B', 'frame_dmu50_C', 'frame_headbc_X', 'frame_headbc_Y', 'frame_headbc_Z', 'frame_headbc_B', 'frame_headbc_C', 'frame_xyzac_X', 'frame_xyzac_Y', 'frame_xyzac_Z', 'frame_xyzac_A', 'frame_xyzac_C')
+
+
+@functools.cache
+def rigid_point():
+    """The point moved exactly by Trans(t) Rz(c) Ry(b) Rx(a) (mm): a station's alignment correction or error; its derivative at zero motion is point_rows.
+
+    point (..., 3): point, mm
+        [px, py, pz]
+    motion (..., 6): small rigid motion (tx, ty, tz mm; rotations about x, y, z rad)
+        [mx, my, mz, ma, mb, mc]
+    returns (..., 3)
+    """
+    point = ca.SX.sym('point', 3)
+    px = point[0]
+    py = point[1]
+    pz = point[2]
+    motion = ca.SX.sym('motion', 6)
+    mx = motion[0]
+    my = motion[1]
+    mz = motion[2]
+    ma = motion[3]
+    mb = motion[4]
+    mc = motion[5]
+    _x0 = ca.cos(mc)
+    _x1 = ca.cos(mb)
+    _x2 = _x1*px
+    _x3 = ca.sin(ma)
+    _x4 = ca.sin(mc)
+    _x5 = _x3*_x4
+    _x6 = ca.sin(mb)
+    _x7 = ca.cos(ma)
+    _x8 = _x0*_x7
+    _x9 = _x0*_x3
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*_x2 + mx + py*(-_x4*_x7 + _x6*_x9) + pz*(_x5 + _x6*_x8)
+    _out[1, 0] = _x2*_x4 + my + py*(_x5*_x6 + _x8) + pz*(_x4*_x6*_x7 - _x9)
+    _out[2, 0] = _x1*_x3*py + _x1*_x7*pz - _x6*px + mz
+    return ca.Function('threepoint_rigid_point', [point, motion], [_out], ['point', 'motion'], ['out'])
 
 
 @functools.cache

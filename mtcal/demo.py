@@ -22,7 +22,7 @@ import numpy as np
 
 from mtcal.io import atomic_write_text, dumps, save_figure
 
-STEPS = 6
+STEPS = 7
 log = logging.getLogger(__name__)
 
 
@@ -113,6 +113,7 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     # 2. identify ----------------------------------------------------------------------------------------
     model_path = out / "model.json"
     ident = _cli(["identify", str(rec_path), "-o", str(model_path), f"--tracker={tracker}", "--plots", str(plots),
+                  "--method", "three-point",  # the thesis method; the stations step below shows the joint fit
                   *mach])
     prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
     model = load_model(model_path)
@@ -156,6 +157,26 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     _plot_compensation(plots / "compensation_before_after.png", before, after)
     prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
 
+    # 4b. several stations -------------------------------------------------------------------------------
+    from mtcal.demo_stations import run_stations
+
+    def volumetric(mdl) -> float:
+        d = m.deviation(grid, mdl.errors_at(m, grid, "hold"), order=None)[:, :3] - dev_true
+        return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
+
+    def compensate(mdl, name: str):  # the same sample program, in out/stations/ (the step's own files)
+        from mtcal.model import save_model
+        (out / "stations").mkdir(exist_ok=True)
+        p = out / "stations" / f"model_{name}.json"
+        save_model(mdl, p)
+        return compensate_file(m, truth, p, out / "sample_5axis.nc",
+                               out / "stations" / f"sample_5axis_compensated_{name}.nc")[:2]
+    summary["stations"] = run_stations(m, truth, planted, volumetric, compensate)
+    st = summary["stations"]
+    prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
+              f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
+              f"stations, joint fit) at equal measuring time")
+
     # 5. diagnose ----------------------------------------------------------------------------------------
     diag = _cli(["diagnose", str(rec_path), f"--tracker={tracker}", "--plots", str(plots), *mach])
     summary["diagnose"] = {"base_sigma": diag["base_sigma"],
@@ -182,13 +203,17 @@ def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Ge
                         ) -> tuple[np.ndarray, np.ndarray, dict]:
     """`mtcal compensate` on a five-axis program (DMU 50: the bundled one; other machines: ``_sample_program``);
     tool-tip errors on the true machine before / after."""
-    from mtcal.gcode import read_moves
     nc_in = out / "sample_5axis.nc"
     if m.name == BUNDLED:
         shutil.copyfile(data_path("sample_5axis.nc"), nc_in)
     else:
         atomic_write_text(nc_in, _sample_program(m, rng))
-    nc_out = out / "sample_5axis_compensated.nc"
+    return compensate_file(m, truth, model_path, nc_in, out / "sample_5axis_compensated.nc")
+
+
+def compensate_file(m, truth, model_path: Path, nc_in: Path, nc_out: Path) -> tuple[np.ndarray, np.ndarray, dict]:
+    """`mtcal compensate` NC_IN -> NC_OUT with a model; tool-tip errors (mm) on the true machine before / after."""
+    from mtcal.gcode import read_moves
     comp = _cli(["compensate", str(nc_in), "--model", str(model_path), "-o", str(nc_out)])
     q_nom, q_cmd = read_moves(nc_in, machine=m), read_moves(nc_out, machine=m)
     targets = m.forward(q_nom)
@@ -259,6 +284,9 @@ def report(s: dict, out: Path) -> str:
              f"identified model minus truth: RMS {i['volumetric_model_minus_true_rms_um']:.1f} um.", ""]
     for png in sorted((out / "plots").glob("identify_*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
+    if "stations" in s:
+        from mtcal.demo_stations import report_lines
+        lines += report_lines(s["stations"])
     lines += ["", "## Plan: predicted vs observed uncertainty of one round", "",
               "`mtcal plan` at the campaign's tracker position predicts the standard uncertainty of one round; the "
               "campaign's experimental standard deviation over its 4 rounds (itself uncertain by about 40 %) at the "
@@ -335,6 +363,14 @@ def print_summary(s: dict) -> None:
     print(f"  compensate: tool tip on the true machine max {c['true_error_before_max_um']:.1f} -> "
           f"{c['true_error_after_max_um']:.1f} um, RMS {c['true_error_before_rms_um']:.1f} -> "
           f"{c['true_error_after_rms_um']:.1f} um ({', '.join(c['iso_16907'].get('covered', []))})")
+    if "stations" in s:
+        st = s["stations"]
+        print("  stations : model - truth RMS " + ", ".join(
+            f"{lab} {st[k]['model_minus_true_rms_um']:.1f} um" for lab, k in (
+                ("one station three-point", "one_station_three_point"), ("joint", "one_station_joint"),
+                ("four stations", "four_stations_joint")))
+              + f"; compensated program RMS {st['one_station_three_point']['compensated_rms_um']:.1f} -> "
+                f"{st['four_stations_joint']['compensated_rms_um']:.1f} um")
     print(f"  diagnose : base sigma {d['base_sigma'] * 1e3:.2f} um; "
           + ("; ".join(f"{e['name']} {e.get('axis') or ''} {_estimate(e)}" for e in d["effects"]) or
              "nothing significant") + "  (planted: " + "; ".join(_planted(e) for e in d["planted"]) + ")")

@@ -54,6 +54,23 @@ def reference_line(x, y, method: str = "least-squares") -> tuple[float, float]:
     return float(ym - b * xm), b
 
 
+def slope_weights(x, method: str = "least-squares") -> np.ndarray:
+    """Weights g (n,) with slope = g . y of ``reference_line`` (least-squares and end-point exactly; the
+    minimum-zone line, piecewise linear in y, is propagated with the least-squares weights)."""
+    x = np.asarray(x, dtype=float)
+    g = np.zeros(len(x))
+    if method == "end-point":
+        i, j = int(np.argmin(x)), int(np.argmax(x))
+        g[[i, j]] = np.array([-1.0, 1.0]) / (x[j] - x[i])
+        return g
+    xc = x - x.mean()
+    return xc / np.dot(xc, xc)
+
+
+SQUARENESS_PAIRS = {"E_C0Y": (("E_XY", "E_YX"), -1.0), "E_B0Z": (("E_XZ", "E_ZX"), 1.0),
+                    "E_A0Z": (("E_YZ", "E_ZY"), -1.0)}  # squareness = sign * (sum of the two slopes)
+
+
 def squareness(slopes: dict[str, float]) -> dict[str, float]:
     """Squareness errors (rad) from the slopes of the straightness reference lines, X as the datum.
 
@@ -62,8 +79,7 @@ def squareness(slopes: dict[str, float]) -> dict[str, float]:
     needs is missing.  A tilt of the measuring frame alone cancels from each sum.
     """
     out = {}
-    pairs = {"E_C0Y": (("E_XY", "E_YX"), -1.0), "E_B0Z": (("E_XZ", "E_ZX"), 1.0), "E_A0Z": (("E_YZ", "E_ZY"), -1.0)}
-    for name, ((a, b), sign) in pairs.items():
+    for name, ((a, b), sign) in SQUARENESS_PAIRS.items():
         if a in slopes and b in slopes:
             out[name] = sign * (slopes[a] + slopes[b])
     return out
@@ -140,7 +156,35 @@ def _select(x: np.ndarray, per_round: np.ndarray, sizes: list[int], design) -> t
     return int(np.argmin(scores)), scores, "AICc on the mean (fewer than two rounds)"
 
 
-def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None) -> dict:
+def _gls(x: np.ndarray, mean: np.ndarray, cov: np.ndarray, sizes: list[int], design, x_ref: float | None):
+    """Generalised least squares with the estimate's covariance ``cov`` (n, n) (the joint fit's): the size
+    chosen by AIC with a known covariance (chi^2 + 2 p; the reference position, zero by definition and without
+    variance, is left out of the chi^2; directions the gauge holds exactly, e.g. a straightness slope of the ISO
+    frame, get a variance 1e-6 of the mean variance so the fit keeps them).  Returns (index, scores, criterion,
+    coefficients, their covariance)."""
+    keep = np.isfinite(mean) & (np.diagonal(cov) > 0)
+    if x_ref is not None:
+        keep &= x != x_ref
+    c = cov[np.ix_(keep, keep)]
+    chol = np.linalg.cholesky(c + 1e-6 * np.trace(c) / len(c) * np.eye(len(c)))
+    yw = np.linalg.solve(chol, mean[keep])
+    scores, sols = [], []
+    for k in sizes:
+        a = design(x, k)
+        if a.shape[1] == 0:
+            scores.append(float(yw @ yw))
+            sols.append((np.zeros(0), np.zeros((0, 0))))
+            continue
+        aw = np.linalg.solve(chol, a[keep])
+        c, *_ = np.linalg.lstsq(aw, yw, rcond=None)
+        r = yw - aw @ c
+        scores.append(float(r @ r) + 2 * a.shape[1])
+        sols.append((c, np.linalg.pinv(aw.T @ aw)))
+    pick = int(np.argmin(scores))
+    return pick, scores, "AIC with the joint fit's covariance (chi^2 + 2 p)", *sols[pick]
+
+
+def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None, cov=None) -> dict:
     """Polynomial fit of the mean over rounds, degree chosen by ``_select`` (0 .. min(max_degree, n - 2)).
 
     With ``x_ref`` (the reference position) the function is constrained to 0 there, as the errors are
@@ -148,44 +192,69 @@ def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None
 
     ``per_round`` (n_rounds, n_positions), NaN where a round lacks a position.  Returns the model fit dict
     {"kind": "polynomial", "coefficients", "domain", "degree", "criterion", "scores", "rms"} (coefficients of
-    numpy.polynomial.Polynomial on ``domain``, as mtcal.model evaluates them).
+    numpy.polynomial.Polynomial on ``domain``, as mtcal.model evaluates them).  With ``cov`` (n_positions,
+    n_positions; the joint fit's covariance of the mean values) the fit is generalised least squares (``_gls``)
+    and the dict adds "covariance" of the coefficients.
     """
     x = np.asarray(x, dtype=float)
     per_round = np.atleast_2d(np.asarray(per_round, dtype=float))
     dom = (float(x.min()), float(x.max()))
     top = max(0, min(max_degree, len(x) - 2))
     sizes = list(range(top + 1))
-    pick, scores, how = _select(x, per_round, sizes, lambda xx, d: _poly_design(xx, d, dom, x_ref))
+    design = lambda xx, d: _poly_design(xx, d, dom, x_ref)  # noqa: E731
     mean = np.nanmean(per_round, axis=0)
-    a = _poly_design(x, sizes[pick], dom, x_ref)
-    coef = _lstsq(a, mean)
+    ccov = None
+    if cov is None:
+        pick, scores, how = _select(x, per_round, sizes, design)
+        a = design(x, sizes[pick])
+        coef = _lstsq(a, mean)
+    else:
+        pick, scores, how, coef, ccov = _gls(x, mean, np.asarray(cov, dtype=float), sizes, design, x_ref)
+        a = design(x, sizes[pick])
     rms = float(np.sqrt(np.nanmean((mean - a @ coef) ** 2)))
     if x_ref is not None:  # back to plain coefficients on the domain: c0 = -sum_k c_k u_ref^k
         u_ref = (2 * x_ref - sum(dom)) / (dom[1] - dom[0]) if dom[1] > dom[0] else 0.0
-        coef = np.concatenate([[-float(u_ref ** np.arange(1, len(coef) + 1) @ coef)], coef])
-    return {"kind": "polynomial", "coefficients": coef.tolist(), "domain": list(dom), "degree": sizes[pick],
-            "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+        g = np.vstack([-u_ref ** np.arange(1, len(coef) + 1), np.eye(len(coef))])
+        coef = g @ coef
+        ccov = None if ccov is None else g @ ccov @ g.T
+    out = {"kind": "polynomial", "coefficients": coef.tolist(), "domain": list(dom), "degree": sizes[pick],
+           "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+    if ccov is not None:
+        out["covariance"] = ccov.tolist()
+    return out
 
 
-def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6, x_ref: float | None = None) -> dict:
+def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6, x_ref: float | None = None,
+                 cov=None) -> dict:
     """Fourier series a0 + sum a_h cos(h w) + b_h sin(h w), w = 2 pi x / period, number of harmonics chosen by
     ``_select`` (0 .. min(max_harmonics, (n - 2) // 2)); the model fit dict {"kind": "harmonic", ...}.
-    With ``x_ref`` the series is constrained to 0 at the reference position (a0 follows from the others)."""
+    With ``x_ref`` the series is constrained to 0 at the reference position (a0 follows from the others).
+    With ``cov`` as in ``fit_polynomial`` (GLS, "covariance" of [a0, a1, b1, a2, b2, ...] added)."""
     x = np.asarray(x, dtype=float)
     per_round = np.atleast_2d(np.asarray(per_round, dtype=float))
     top = max(0, min(max_harmonics, (len(x) - 2) // 2))
     sizes = list(range(top + 1))
-    pick, scores, how = _select(x, per_round, sizes, lambda xx, h: _harm_design(xx, h, period, x_ref))
+    design = lambda xx, h: _harm_design(xx, h, period, x_ref)  # noqa: E731
     mean = np.nanmean(per_round, axis=0)
+    ccov = None
+    if cov is None:
+        pick, scores, how = _select(x, per_round, sizes, design)
+        c = _lstsq(design(x, sizes[pick]), mean)
+    else:
+        pick, scores, how, c, ccov = _gls(x, mean, np.asarray(cov, dtype=float), sizes, design, x_ref)
     h = sizes[pick]
-    a = _harm_design(x, h, period, x_ref)
-    c = _lstsq(a, mean)
+    a = design(x, h)
     rms = float(np.sqrt(np.nanmean((mean - a @ c) ** 2)))
     if x_ref is not None:  # a0 = -sum_h (a_h cos(h w_ref) + b_h sin(h w_ref))
         w0 = 2 * np.pi * x_ref / period * np.arange(1, h + 1)
-        c = np.concatenate([[-float(c[0::2] @ np.cos(w0) + c[1::2] @ np.sin(w0))], c])
-    return {"kind": "harmonic", "period": float(period), "a0": float(c[0]), "cos": c[1::2].tolist(),
-            "sin": c[2::2].tolist(), "harmonics": h, "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+        g = np.vstack([-np.ravel(np.column_stack([np.cos(w0), np.sin(w0)])), np.eye(2 * h)])
+        c = g @ c
+        ccov = None if ccov is None else g @ ccov @ g.T
+    out = {"kind": "harmonic", "period": float(period), "a0": float(c[0]), "cos": c[1::2].tolist(),
+           "sin": c[2::2].tolist(), "harmonics": h, "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+    if ccov is not None:
+        out["covariance"] = ccov.tolist()
+    return out
 
 
 def is_periodic(positions, period: float = 360.0) -> bool:

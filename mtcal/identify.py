@@ -34,6 +34,10 @@ PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
 log = logging.getLogger(__name__)
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
 MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
+METHODS = ("auto", "three-point", "joint")
+METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all equations",
+               "joint": "joint weighted fit of all readings and stations (error motions, reflectors, station "
+                        "alignments; mtcal.identify_joint)"}
 
 
 def error_names(axis: str) -> tuple[str, ...]:
@@ -176,6 +180,7 @@ class AxisResult:
     lines: dict[str, dict] = field(default_factory=dict)  # reference straight lines of straightness errors
     reversal: np.ndarray | None = None  # (n_positions, 6): mean over rounds of (+ pass) - (- pass), if bidirectional
     fits: dict[str, dict] = field(default_factory=dict)
+    covariance: np.ndarray | None = None  # (n_positions * 6, n_positions * 6) of the joint fit's estimate, else None
 
     @property
     def n(self) -> np.ndarray:
@@ -194,6 +199,10 @@ class AxisResult:
 
     @property
     def std_mean(self) -> np.ndarray:
+        """Type A over rounds (eq. 2.49); for the joint fit its covariance (Birge-scaled), since its rounds may come
+        from stations of different precision and share the reflectors' and alignments' estimate."""
+        if self.covariance is not None:
+            return np.sqrt(np.diagonal(self.covariance).reshape(len(self.positions), 6))
         return self.std / np.sqrt(self.n[:, None])
 
     def values(self, name: str, corrected: bool = True) -> np.ndarray:
@@ -225,9 +234,12 @@ class IdentifyResult:
     weighted: bool
     source: str
     squareness_stats: dict = field(default_factory=dict)  # Type A over rounds: {name: {rounds, std, std_mean}}
+    method: str = "three-point"
+    joint: dict | None = None  # joint fit: stations (tracker, alignment), reflectors, chi2, dof (JointResult.summary)
 
     def to_json(self) -> dict:
-        return {"source": self.source, "units": {"length": "mm", "angle": "rad", "position": "mm or deg"},
+        return {"source": self.source, "method": self.method, **({"joint": self.joint} if self.joint else {}),
+                "units": {"length": "mm", "angle": "rad", "position": "mm or deg"},
                 "weighted": self.weighted, "reference": self.reference,
                 "axes": {a: r.to_json() for a, r in self.axes.items()},
                 "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
@@ -299,11 +311,17 @@ def _passes(rec: Recording, axis: str):
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM) -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto") -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
-    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``."""
+    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
+    method: "three-point" (per position, this module), "joint" (one weighted fit of all readings of all
+    stations, mtcal.identify_joint) or "auto" (joint when the tracker position is known, else three-point)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
+    if method not in METHODS:
+        raise InputError(f"--method must be one of {METHODS}, got {method!r}")
+    if method == "auto":
+        method = "joint" if tracker is not None or rec.tracker_xyz is not None else "three-point"
     if reference not in fitting.REFERENCE_METHODS:
         raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
@@ -312,6 +330,18 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
+    joint = None
+    if method == "joint" or len(set(rec.stations().tolist())) > 1:
+        if method != "joint":
+            raise InputError(f"{rec.source}: several tracker stations need the joint fit (--method joint)")
+        from mtcal import identify_joint
+        log.info("joint weighted fit of %d readings from %d station(s)", len(rec), len(set(rec.stations().tolist())))
+        for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
+            _passes(rec.select(rec.axis == axis), axis)
+        joint = identify_joint.joint_fit(rec, m, t)
+        warnings += joint.warnings
+        results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
+    for axis in ([] if joint is not None else rec.axes()):
         log.info("identifying axis %s", axis)
         results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
     slopes = {}
@@ -329,11 +359,18 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     lin = [a for a, k in zip(m.axes, m.axis_kinds) if k == "linear"]
     if set(lin) <= set(results) and len(sq) < 3:
         warnings.append("squareness: some straightness records are missing; only " + ", ".join(sorted(sq)) + " found")
-    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None)
+    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None or joint is not None)
+    model.meta["method"] = METHOD_TEXT[method]
     model.meta["warnings"] = list(warnings)
     if sq_stats:
         model.meta["squareness_type_a"] = sq_stats
-    return IdentifyResult(results, sq, model, warnings, reference, t is not None, rec.source, sq_stats)
+    res = IdentifyResult(results, sq, model, warnings, reference, t is not None or joint is not None, rec.source,
+                         sq_stats, method)
+    if joint is not None:
+        res.joint = joint.summary()
+        res.joint["squareness_sigma"] = squareness_sigma(results, reference)
+        model.meta["squareness_sigma"] = res.joint["squareness_sigma"]
+    return res
 
 
 def _squareness_type_a(results: dict[str, AxisResult], m: Machine, reference: str, sq: dict) -> dict:
@@ -518,8 +555,9 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
                 pr = pr - ar.lines[nm]["slope"] * ar.positions
             if len(ar.positions) < 2:
                 continue
-            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics, ar.reference_position) if periodic
-                   else fitting.fit_polynomial(ar.positions, pr, max_degree, ar.reference_position))
+            cov = _value_covariance(ar, i, nm, reference)
+            fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics, ar.reference_position, cov) if periodic
+                   else fitting.fit_polynomial(ar.positions, pr, max_degree, ar.reference_position, cov))
             extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "n": ar.n.tolist()}
             if nm in ar.lines:
                 extra["reference_line"] = ar.lines[nm]
@@ -529,6 +567,33 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
             "weighted": weighted, "reference_line": reference,
             "squareness_convention": fitting.SQUARENESS_CONVENTION}
     return ErrorModel(m.name, dict(sq), funcs, meta)
+
+
+def _value_covariance(ar: AxisResult, i: int, name: str, reference: str) -> np.ndarray | None:
+    """Covariance (n_pos, n_pos) of error ``i``'s values as fitted (reference-line slope removed) from the
+    joint fit's covariance; None for the per-position method."""
+    if ar.covariance is None:
+        return None
+    c = ar.covariance[i::6, i::6]
+    if name in ar.lines:
+        t = np.eye(len(ar.positions)) - np.outer(ar.positions, fitting.slope_weights(ar.positions, reference))
+        c = t @ c @ t.T
+    return c
+
+
+def squareness_sigma(results: dict[str, AxisResult], reference: str) -> dict[str, float]:
+    """Standard deviation (rad) of each squareness from the joint covariance of the straightness slopes it sums
+    (in the ISO frame the slopes it pairs with are zero by the gauge, so the axes' slopes are independent)."""
+    var: dict[str, float] = {}
+    for ar in results.values():
+        if ar.covariance is None:
+            return {}
+        g = fitting.slope_weights(ar.positions, reference)
+        for nm in ar.lines:
+            i = ar.names.index(nm)
+            var[nm] = float(g @ ar.covariance[i::6, i::6] @ g)
+    return {k: float(np.sqrt(var[a] + var[b])) for k, ((a, b), _) in fitting.SQUARENESS_PAIRS.items()
+            if a in var and b in var}
 
 
 # ----------------------------------------------------------------------------- Inspire export layout

@@ -2,6 +2,10 @@
 
 Columns: axis,round,position,point,x,y,z (required) and time_s,direction,temperature_c (optional).
 axis in {X, Y, Z, B, C}; position in mm (linear) or degrees (rotary); x, y, z in mm in the machine frame.
+Several tracker stations (design.md, optional): ``station`` (a label; absent = one station) and
+``tracker_x,tracker_y,tracker_z`` (mm, machine frame, the approximate tracker position, constant within a
+station); a round belongs to one station.  ``pos_<AXIS>`` columns: the other axes' positions during the
+reading (mm or deg; absent = at zero).
 Row numbers in messages are 1-based file lines (the header is line 1).
 """
 from __future__ import annotations
@@ -19,6 +23,7 @@ from mtcal.io import atomic_write_text, read_csv_rows
 
 REQUIRED = ("axis", "round", "position", "point", "x", "y", "z")
 OPTIONAL = ("time_s", "direction", "temperature_c")
+STATION_COLUMNS = ("station", "tracker_x", "tracker_y", "tracker_z")
 
 
 @dataclass
@@ -36,12 +41,23 @@ class Recording:
     line: np.ndarray  # int
     source: str = "<memory>"
     truth: dict | None = None  # planted truth of a simulated campaign (mtcal.simulate), else None
+    station: np.ndarray | None = None  # str label per row; None = one station (column absent)
+    tracker_xyz: np.ndarray | None = None  # (n, 3) mm, machine frame; None = column absent
+    other_positions: dict[str, np.ndarray] | None = None  # {axis: (n,) mm or deg} from pos_<AXIS> columns
 
     def __len__(self) -> int:
         return len(self.axis)
 
     def select(self, mask: np.ndarray) -> "Recording":
-        return Recording(*(getattr(self, f)[mask] for f in _FIELDS), source=self.source)
+        return Recording(*(getattr(self, f)[mask] for f in _FIELDS), source=self.source,
+                         station=None if self.station is None else self.station[mask],
+                         tracker_xyz=None if self.tracker_xyz is None else self.tracker_xyz[mask],
+                         other_positions=None if self.other_positions is None else
+                         {a: v[mask] for a, v in self.other_positions.items()})
+
+    def stations(self) -> np.ndarray:
+        """Station label of every row ("" for all rows when the recording has one station)."""
+        return np.full(len(self), "", dtype=object) if self.station is None else self.station
 
     def axes(self) -> list[str]:
         """The measured axes in the order they first appear in the file."""
@@ -91,12 +107,18 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
     if missing:
         raise InputError(f"{source}:{hline}: missing column(s) {missing}; header must contain "
                          f"{','.join(REQUIRED)} (optional {','.join(OPTIONAL)})")
-    unknown = [c for c in header if c not in REQUIRED + OPTIONAL]
+    pos_cols = [c for c in header if c.startswith("pos_") and c[4:].upper() in machine.axes]
+    unknown = [c for c in header if c not in REQUIRED + OPTIONAL + STATION_COLUMNS and c not in pos_cols]
     if unknown:
-        raise InputError(f"{source}:{hline}: unknown column(s) {unknown}; allowed: {REQUIRED + OPTIONAL}")
+        raise InputError(f"{source}:{hline}: unknown column(s) {unknown}; allowed: "
+                         f"{REQUIRED + OPTIONAL + STATION_COLUMNS} and pos_<AXIS> ({', '.join(machine.axes)})")
+    trk_cols = [c for c in STATION_COLUMNS[1:] if c in header]
+    if trk_cols and len(trk_cols) != 3:
+        raise InputError(f"{source}:{hline}: tracker position needs all of tracker_x,tracker_y,tracker_z")
     col = {c: header.index(c) for c in header}
     out = {f: [] for f in _FIELDS}
     seen: dict[tuple, int] = {}
+    extra: dict[str, list] = {"station": [], "tracker": [], **{c: [] for c in pos_cols}}
     for line, r in rows[1:]:
         where = f"{source}:{line}"
         if len(r) != len(header):
@@ -121,7 +143,11 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
                 raise InputError(f"{where}: direction must be +1 or -1, got {r[col['direction']]!r}")
         tc = (_float(r[col["temperature_c"]], "temperature_c", where)
               if "temperature_c" in col and r[col["temperature_c"]].strip() else math.nan)
-        key = (ax, int(rnd_f), pos, pt, int(d), t)
+        extra["station"].append(r[col["station"]].strip() if "station" in col else "")
+        extra["tracker"].append([_float(r[col[c]], c, where) for c in STATION_COLUMNS[1:]] if trk_cols else [])
+        for c in pos_cols:
+            extra[c].append(_float(r[col[c]], c, where) if r[col[c]].strip() else 0.0)
+        key = (ax, int(rnd_f), pos, pt, int(d), t, extra["station"][-1])
         if key in seen:
             raise InputError(f"{where}: duplicate of line {seen[key]} (axis {ax}, round {int(rnd_f)}, "
                              f"position {pos:g}, point {pt}); repeated readings need distinct direction or time_s")
@@ -133,9 +159,34 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
     rec = Recording(np.array(out["axis"]), np.array(out["round"], dtype=int), np.array(out["position"], dtype=float),
                     np.array(out["point"]), np.array(out["xyz"], dtype=float).reshape(-1, 3),
                     np.array(out["time_s"], dtype=float), np.array(out["direction"], dtype=int),
-                    np.array(out["temperature_c"], dtype=float), np.array(out["line"], dtype=int), source)
+                    np.array(out["temperature_c"], dtype=float), np.array(out["line"], dtype=int), source,
+                    station=np.array(extra["station"], dtype=object) if "station" in col else None,
+                    tracker_xyz=np.array(extra["tracker"], dtype=float) if trk_cols else None,
+                    other_positions={c[4:].upper(): np.array(extra[c]) for c in pos_cols} or None)
     _check_units(rec, machine.linear_axes)
+    check_stations(rec)
     return rec
+
+
+def check_stations(rec: Recording) -> None:
+    """A round belongs to one station; a station's tracker position is constant (design.md)."""
+    st = rec.stations()
+    for r in np.unique(rec.round):
+        rows = np.flatnonzero(rec.round == r)
+        labels = np.unique(st[rows])
+        if len(labels) > 1:
+            i = int(rows[np.flatnonzero(st[rows] != st[rows[0]])[0]])
+            raise InputError(f"{rec.where(i)}: round {int(r)} is measured from stations {sorted(labels)}; a round "
+                             f"belongs to one station (give the other station's rows their own round number)")
+    if rec.tracker_xyz is None:
+        return
+    for s_ in np.unique(st):
+        rows = np.flatnonzero(st == s_)
+        dev = np.abs(rec.tracker_xyz[rows] - rec.tracker_xyz[rows[0]]).max(axis=1)
+        if (dev > 1e-6).any():
+            i = int(rows[np.flatnonzero(dev > 1e-6)[0]])
+            raise InputError(f"{rec.where(i)}: tracker position differs from line {int(rec.line[rows[0]])} of the "
+                             f"same station {s_!r}; it is constant within a station (use a new station label)")
 
 
 def _check_units(rec: Recording, linear) -> None:
@@ -158,6 +209,12 @@ def format_recording(rec: Recording, precision: int = 6) -> str:
     has_t, has_d = (~np.isnan(rec.time_s)).any(), (rec.direction != 0).any()
     has_c = (~np.isnan(rec.temperature_c)).any()
     cols += [c for c, h in zip(OPTIONAL, (has_t, has_d, has_c)) if h]
+    if rec.station is not None:
+        cols.append("station")
+    if rec.tracker_xyz is not None:
+        cols += list(STATION_COLUMNS[1:])
+    others = rec.other_positions or {}
+    cols += [f"pos_{a}" for a in others]
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
@@ -171,6 +228,11 @@ def format_recording(rec: Recording, precision: int = 6) -> str:
             row.append(int(rec.direction[i]))
         if has_c:
             row.append(f"{rec.temperature_c[i]:.3f}")
+        if rec.station is not None:
+            row.append(rec.station[i])
+        if rec.tracker_xyz is not None:
+            row += [f"{v:.3f}" for v in rec.tracker_xyz[i]]
+        row += [f"{others[a][i]:.6g}" for a in others]
         w.writerow(row)
     return buf.getvalue()
 

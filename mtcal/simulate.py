@@ -23,6 +23,8 @@ PLAN.json (all keys optional; values replace the defaults):
  "axes": {"X": {"positions": [0, 50, ...]} | {"start": 0, "stop": 500, "count": 11},
           "Y": {..., "at": {"X": 250}}, ...},   measured axes in order; "at": other axes' positions (default 0)
  "points": {"tool": {"P": [x, y, z], ...}, "table": {"P": [x, y, z], ...}},   mm, >= 3 non-collinear each
+ "stations": {"front": [x, y, z], "left": [x, y, z], ...},   several tracker stations (mm; mtcal.simulate_stations:
+                                            the campaign from each in turn, "rounds" per station)
  "bidirectional": true,
  "feed_mm_s": 50, "feed_deg_s": 20, "settle_s": 3, "measure_s": 2, "reflector_change_s": 30,
  "round_pause_s": 60, "axis_change_s": 300, "temperature_c": 20.0}
@@ -124,6 +126,7 @@ class Plan:
     round_pause_s: float = 60.0
     axis_change_s: float = 300.0
     temperature_c: float = 20.0
+    stations: dict[str, tuple[float, float, float]] | None = None  # several tracker stations (mm), in order
     source: str = "<default plan>"  # the PLAN.json it came from (for messages)
 
     def __post_init__(self) -> None:
@@ -154,7 +157,7 @@ class Plan:
         return float(p[np.argmin(np.abs(p))])
 
 
-_PLAN_KEYS = {"tracker", "rounds", "axes", "points", "bidirectional", "feed_mm_s", "feed_deg_s", "settle_s",
+_PLAN_KEYS = {"tracker", "stations", "rounds", "axes", "points", "bidirectional", "feed_mm_s", "feed_deg_s", "settle_s",
               "measure_s", "reflector_change_s", "round_pause_s", "axis_change_s", "temperature_c"}
 
 
@@ -193,6 +196,11 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
     kw: dict[str, Any] = {"source": source}
     if "tracker" in raw:
         kw["tracker"] = _xyz(raw["tracker"], f"{source}: tracker")
+    if "stations" in raw:
+        st = raw["stations"]
+        if not isinstance(st, Mapping) or not st:
+            raise InputError(f"{source}: stations must be an object {{label: [x, y, z]}} (mm)")
+        kw["stations"] = {str(k): _xyz(v, f"{source}: stations.{k}") for k, v in st.items()}
     if "rounds" in raw:
         r = raw["rounds"]
         if not isinstance(r, int) or isinstance(r, bool) or r < 1:
@@ -397,6 +405,9 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
                          f"({', '.join(e.name for e in eff) or 'no effects'})")
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction,
                          rows.temperature_c)
+    moved = [a for a in m.axes if np.any(rows.axes[rows.axis != a, m.index(a)] != 0)]
+    if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (design.md)
+        rec.other_positions = {a: rows.axes[:, m.index(a)].copy() for a in moved}
     truth = {
         "machine": m.name,
         "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)", "time": "s"},

@@ -143,7 +143,7 @@ def test_mtcal_identify_scatters_as_planned():
     ident = pytest.importorskip("mtcal.identify")
     pl = Plan(rounds=100, positions={"X": Plan().positions["X"]})
     rec = simulate_campaign(rounds=None, plan=pl, seed=5)
-    ar = ident.identify(rec, tracker=pl.tracker).axes["X"]
+    ar = ident.identify(rec, tracker=pl.tracker, method="three-point").axes["X"]  # the estimator plan models
     sd = _sd(linear_covariance(M, pl, "X", ar.positions, POS1, approaches=2))[1:]
     # identify evaluates the AT960 covariance at the noisy readings, we at the nominal points: 1e-3 covers it
     np.testing.assert_allclose(ar.sigma_pred[1:], sd, rtol=1e-3)

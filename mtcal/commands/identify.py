@@ -36,6 +36,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--axis", help="with --layout inspire: the axis measured (X, Y, Z, B or C)")
     p.add_argument("--positions", help="with --layout inspire: positions as start:stop:count or a comma list "
                    "(default: the thesis plan of the axis)")
+    p.add_argument("--method", choices=("auto", "three-point", "joint"), default="auto",
+                   help="joint: one weighted fit of all readings and stations (error motions, reflector positions, "
+                        "station alignments; needs the tracker position); three-point: per position (Zhang & Hu); "
+                        "auto (default): joint when the tracker position is known, else three-point")
     machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--max-degree", type=integer(0, 15), default=7, help="highest polynomial degree tried (default 7)")
     p.add_argument("--outlier-k", type=nonnegative, default=5.0,
@@ -76,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         rec = read_recording(args.recording[0], args.machine)
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
-                   outlier_k=args.outlier_k, max_degree=args.max_degree)
+                   outlier_k=args.outlier_k, max_degree=args.max_degree, method=args.method)
     for w in res.warnings:
         log.warning("warning: %s", w)
     if args.output:

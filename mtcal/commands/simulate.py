@@ -6,7 +6,7 @@ import logging
 
 from mtcal import effects as fx
 from mtcal.io import dumps, refuse_overwrite
-from mtcal.commands._options import integer, machine_argument, xyz
+from mtcal.commands._options import integer, machine_argument, real, xyz
 
 NAME = "simulate"
 log = logging.getLogger("mtcal." + NAME)
@@ -17,7 +17,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", metavar="MODEL.json", help="error model of the simulated machine (default: no errors)")
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan: positions, points, rounds, times "
                    "(schema in mtcal.simulate; default: the thesis campaign)")
-    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position in mm, machine frame "
+    p.add_argument("--alignment-um", type=real(0, unit="um"), default=None, metavar="UM",
+                   help="several stations: 1-sigma alignment error of each station, translation (default 20 um)")
+    p.add_argument("--alignment-urad", type=real(0, unit="urad"), default=None, metavar="URAD",
+                   help="several stations: 1-sigma alignment error of each station, rotation (default 30 urad)")
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, action="append",
+                   help="tracker position in mm, machine frame; "
+                   "repeat for several stations (each measures the whole campaign, --rounds rounds each) "
                    "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
     p.add_argument("--rounds", type=integer(1), metavar="N", help="rounds (default: the plan's, else 4)")
     p.add_argument("--seed", type=integer(0), default=0, metavar="S", help="random seed (default 0)")
@@ -31,6 +37,14 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="recording to write (+ REC.truth.json)")
 
 
+def _where(truth: dict) -> str:
+    fmt = lambda t: ",".join(f"{c:g}" for c in t)  # noqa: E731
+    if truth.get("stations"):
+        return f"{len(truth['stations'])} stations at " + "; ".join(
+            f"{s['label']} {fmt(s['tracker'])}" for s in truth["stations"]) + " mm (each with its alignment error)"
+    return f"tracker at {fmt(truth['tracker'])} mm"
+
+
 def run(args: argparse.Namespace) -> int:
     from mtcal.model import load_model
     from mtcal.machine import DEFAULT_MACHINE
@@ -41,21 +55,33 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     plan = load_plan(args.plan, machine) if args.plan else None
-    rec, truth = simulate(model, machine=machine, tracker=args.tracker, rounds=args.rounds, seed=args.seed,
-                          effects=effects, noise=not args.no_noise, plan=plan, temperature=args.temperature)
+    trackers = args.tracker or []
+    stations = ([(f"S{i + 1}", tuple(t)) for i, t in enumerate(trackers)] if len(trackers) > 1
+                else list(plan.stations.items()) if plan is not None and plan.stations and not trackers else None)
+    if stations:
+        from mtcal.simulate_stations import ALIGNMENT_UM, ALIGNMENT_URAD, simulate_stations
+        rec, truth = simulate_stations(
+            model, stations, machine=machine, rounds=args.rounds or 1, seed=args.seed, effects=effects,
+            noise=not args.no_noise, plan=plan, temperature=args.temperature,
+            alignment_um=ALIGNMENT_UM if args.alignment_um is None else args.alignment_um,
+            alignment_urad=ALIGNMENT_URAD if args.alignment_urad is None else args.alignment_urad)
+    else:
+        rec, truth = simulate(model, machine=machine, tracker=trackers[0] if trackers else None, rounds=args.rounds,
+                              seed=args.seed, effects=effects, noise=not args.no_noise, plan=plan,
+                              temperature=args.temperature)
     truth["model_file"] = args.model
     truth["plan_file"] = args.plan
     tp = write_campaign(rec, truth, args.output)
     summary = {"output": args.output, "truth": str(tp), "rows": len(rec), "axes": rec.axes(),
                "rounds": truth["rounds"], "tracker": truth["tracker"], "noise": truth["noise"], "seed": args.seed,
-               "duration_s": float(rec.time_s.max()), "effects": truth["effects"]}
+               "duration_s": float(rec.time_s.max()), "effects": truth["effects"],
+               **({"stations": truth["stations"]} if "stations" in truth else {})}
     if args.json:
         print(dumps(summary))
     else:
         print(f"wrote {args.output}: {len(rec)} readings, axes {' '.join(rec.axes())}, {truth['rounds']} rounds, "
-              f"{summary['duration_s'] / 3600:.2f} h simulated; "
-              f"tracker at {', '.join(f'{c:g}' for c in truth['tracker'])} mm; "
-              f"noise {'AT960' if truth['noise'] else 'off'}")
+              f"{summary['duration_s'] / 3600:.2f} h simulated; " + _where(truth)
+              + f"; noise {'AT960' if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
         log.info("truth: %s", tp)
