@@ -19,6 +19,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="tracker position, mm, machine frame: weights readings by the AT960 covariance (default: "
                    "the position estimated from the scatter of the repeated rounds; the JSON key noise_model says "
                    "which was used)")
+    p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (a recording "
+                   "of several stations must name one; its tracker_x,y,z columns set the noise model)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
     machine_argument(p)
@@ -33,6 +35,7 @@ def _fmt(e: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_residuals
+    from mtcal.errors import InputError
     from mtcal.io import dumps, refuse_overwrite
     from mtcal.model import load_model
     from mtcal.machine import DEFAULT_MACHINE
@@ -42,6 +45,12 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     rec = read_recording(args.recording, machine)
+    if args.station is not None:
+        keep = rec.stations() == args.station
+        if not keep.any():
+            raise InputError(f"{args.recording}: no readings of station {args.station!r} "
+                             f"(stations: {', '.join(sorted(set(rec.stations())))})")
+        rec = rec.select(keep)
     d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level)
     out = d.to_dict()
     if args.plots:

@@ -67,7 +67,8 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
     xyz = prep.rec.xyz
     n = len(xyz)
     if tracker is not None:
-        return NoiseModel.at960(xyz, tracker, "AT960 (given tracker)", "tracker position given (--tracker)")
+        return NoiseModel.at960(xyz, tracker, "AT960 (given tracker)",
+                                   "tracker position given (--tracker or the recording's tracker_x,y,z columns)")
     if len(set(prep.rec.round.tolist())) < 2:
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
     r = _base_residuals(prep, max_degree)

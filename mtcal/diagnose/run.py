@@ -24,6 +24,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
+    tracker = _station_tracker(rec, tracker)
     prep = prepare(rec, machine, model, tracker, max_degree)
     say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
     wy, w = whiten(prep.W, prep.y), Columns(prep.W)
@@ -69,3 +70,16 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep)
+
+
+def _station_tracker(rec: Recording, tracker):
+    """The tracker position for the noise model: ``tracker`` if given, else the recording's own tracker_x,y,z
+    columns (design.md).  The diagnosis models one station: station alignments are not among its unknowns, so a
+    recording of several stations is refused (choose one with ``Recording.select`` / ``--station``)."""
+    labels = sorted(set(rec.stations()))
+    if len(labels) > 1:
+        raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}); the diagnosis "
+                         "analyses one station at a time (station alignments are not modelled): give --station LABEL")
+    if tracker is None and rec.tracker_xyz is not None:
+        return rec.tracker_xyz[0]
+    return tracker

@@ -1,0 +1,49 @@
+"""Diagnosis of recordings with station columns (design.md): the recording's tracker position sets the noise
+model; a recording of several stations is refused until one station is chosen (alignments are not modelled)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mtcal
+from mtcal.cli import main
+from mtcal.diagnose import diagnose
+from mtcal.errors import InputError
+from mtcal.recordings import format_recording, read_recording
+from mtcal.simulate_stations import simulate_stations
+
+M = mtcal.load_machine("dmu50")
+FRONT, LEFT = (250.0, -1500.0, 150.0), (-1500.0, 0.0, 150.0)
+PLAN = {"axes": {"X": {"start": -200, "stop": 200, "count": 5}, "Y": {"start": -200, "stop": 200, "count": 5}},
+        "bidirectional": False}
+
+
+@pytest.fixture(scope="module")
+def two_stations(tmp_path_factory):
+    rec, _ = simulate_stations(None, [FRONT, LEFT], machine=M, rounds=3, seed=4, plan=PLAN)
+    path = tmp_path_factory.mktemp("st") / "two.csv"
+    path.write_text(format_recording(rec))
+    return path
+
+
+def test_several_stations_are_refused_naming_them(two_stations):
+    rec = read_recording(two_stations, M)
+    with pytest.raises(InputError, match=r"2 tracker stations \(S1, S2\).*--station"):
+        diagnose(rec, machine=M)
+
+
+def test_one_station_uses_the_recordings_tracker_columns(two_stations):
+    rec = read_recording(two_stations, M)
+    one = rec.select(rec.stations() == "S2")
+    d = diagnose(one, machine=M)
+    assert d.noise.kind.startswith("AT960")
+    assert np.allclose(d.noise.tracker, LEFT)
+    assert 0.8 < d.base_sigma_ratio < 1.25  # clean campaign weighted by the right covariance
+
+
+def test_cli_station_option(two_stations, capsys):
+    assert main(["diagnose", str(two_stations)]) == 2
+    assert "--station" in capsys.readouterr().err
+    assert main(["diagnose", str(two_stations), "--station", "S9"]) == 2
+    assert "no readings of station 'S9' (stations: S1, S2)" in capsys.readouterr().err
+    assert main(["diagnose", str(two_stations), "--station", "S1", "--json", "-q"]) == 0
