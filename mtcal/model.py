@@ -22,6 +22,7 @@ import numpy as np
 from mtcal import schema as sc
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
+from mtcal.machine import DEFAULT_MACHINE
 
 LENGTH_UNITS = {"mm": 1.0, "um": 1e-3, "m": 1e3, "inch": 25.4}
 ANGLE_UNITS = {"rad": 1.0, "urad": 1e-6, "mrad": 1e-3, "deg": np.pi / 180, "arcsec": np.pi / 180 / 3600}
@@ -63,7 +64,7 @@ class ErrorFunction:
 
 @dataclass
 class ErrorModel:
-    machine: str = "dmu50"
+    machine: str = DEFAULT_MACHINE
     constants: dict[str, float] = field(default_factory=dict)
     functions: dict[str, ErrorFunction] = field(default_factory=dict)
     meta: dict[str, Any] = field(default_factory=dict)
@@ -229,7 +230,7 @@ def model_from_dict(raw: Any, source: str = "<model>") -> ErrorModel:
     with (ISO 230-1: the last letter, E_XX over X), constants are any error name; every number finite."""
     from mtcal.machine import load_machine
     sc.obj(raw, source, "the model")
-    machine = raw.get("machine", "dmu50")
+    machine = raw.get("machine", DEFAULT_MACHINE)
     if not isinstance(machine, str):
         raise InputError(f"machine must be a machine name, got {machine!r}", source)
     try:
