@@ -56,6 +56,8 @@ class _logging:
 
     def __exit__(self, *exc):
         self.log.handlers[:], self.log.level, self.log.propagate = self.saved
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with a one-line error (no usage block): ``mtcal CMD: error: argument --OPT: problem``."""
 
