@@ -158,7 +158,7 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
 
     # 4b. several stations -------------------------------------------------------------------------------
-    from mtcal.demo_stations import run_stations
+    from mtcal.demo_stations import plot_stations, run_stations
 
     def volumetric(mdl) -> float:
         d = m.deviation(grid, mdl.errors_at(m, grid, "hold"), order=None)[:, :3] - dev_true
@@ -173,6 +173,7 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
                                out / "stations" / f"sample_5axis_compensated_{name}.nc")[:2]
     summary["stations"] = run_stations(m, truth, planted, volumetric, compensate)
     st = summary["stations"]
+    plot_stations(st, plots / "stations.png")
     prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
               f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
               f"stations, joint fit) at equal measuring time")

@@ -62,20 +62,43 @@ def run_stations(m, truth, planted: dict, volumetric, compensate, seed: int = 1)
     return out
 
 
+ROWS = [("one station, three-point (thesis)", "one_station_three_point"),
+        ("one station, joint fit", "one_station_joint"), ("four stations, joint fit", "four_stations_joint")]
+
+
+def plot_stations(s: dict, path) -> None:
+    """Bar chart (PNG) of the step: model - truth RMS and the compensated program's RMS on the true machine, um."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mtcal.io import save_figure
+    x = np.arange(len(ROWS))
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    for dx, key, label in ((-0.2, "model_minus_true_rms_um", "model - truth, volumetric RMS"),
+                           (0.2, "compensated_rms_um", "compensated program on the true machine, RMS")):
+        ax.bar(x + dx, [s[k][key] for _, k in ROWS], width=0.4, label=label)
+    ax.set_xticks(x, [label for label, _ in ROWS])
+    ax.set_ylabel("um")
+    ax.set_title("one tracker station vs four at equal measuring time")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    save_figure(fig, path)
+    plt.close(fig)
+
+
 def report_lines(s: dict) -> list[str]:
     """Markdown of the step."""
-    rows = [("one station, three-point (thesis)", "one_station_three_point"),
-            ("one station, joint fit", "one_station_joint"), ("four stations, joint fit", "four_stations_joint")]
     lines = ["", "## Several tracker stations at equal measuring time", "",
              f"One station ({s['rounds_one_station']} rounds) vs four stations ({s['rounds_per_station']} round(s) "
              "each, every station misaligned by ~20 um / 30 urad): " + "; ".join(
                  f"{d['label']} at ({', '.join(f'{c:.0f}' for c in d['tracker'])}) mm" for d in s["stations"]), "",
              "| campaign | model - truth RMS (um) | compensated program RMS / max (um) |", "|---|---|---|"]
-    for label, k in rows:
+    for label, k in ROWS:
         v = s[k]
         lines.append(f"| {label} | {v['model_minus_true_rms_um']:.2f} | {v['compensated_rms_um']:.2f} / "
                      f"{v['compensated_max_um']:.2f} |")
     lines += ["", f"Predicted (linear propagation through the joint estimator, per-position estimates): one station "
               f"{s['predicted_one_station_um']:.2f} um, four stations {s['predicted_four_stations_um']:.2f} um; the "
-              "fitted functions smooth below that."]
+              "fitted functions smooth below that.", "", "![stations](plots/stations.png)"]
     return lines
