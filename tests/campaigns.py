@@ -31,7 +31,7 @@ import numpy as np
 from mtcal import load_machine
 from mtcal.data.make_demo_data import build_for
 from mtcal.machine import Machine
-from mtcal.model import ErrorModel
+from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
 from mtcal.simulate import Plan, default_positions, simulate
 
@@ -217,10 +217,11 @@ def warm_up(seed: int) -> Campaign:
                 name="warm_up", expect=[{"name": "thermal_drift", "alternatives": ["thermal_temperature"]}])
 
 
-def thermal_temperature(seed: int) -> Campaign:
+def thermal_temperature(seed: int, size: float = 1.0) -> Campaign:
     """Thermal drift driven by the recorded temperature: X expands 8 ppm/K and the spindle drifts 6 um/K along Z
-    under a 2.5 K warm-up (tau 1200 s) written to temperature_c."""
-    eff = [("thermal_temperature", {"axis": "X", "ppm_per_k": 8.0, "drift_mm_per_k": 0.006, "direction": "+Z"})]
+    (both times ``size``) under a 2.5 K warm-up (tau 1200 s) written to temperature_c."""
+    eff = [("thermal_temperature", {"axis": "X", "ppm_per_k": 8.0 * size, "drift_mm_per_k": 0.006 * size,
+                                    "direction": "+Z"})]
     return make(Design(rounds=4, axes=("X", "Y", "Z")), eff, seed, temperature={"rise_c": 2.5, "tau_s": 1200.0},
                 name="thermal_temperature",
                 expect=[{"name": "thermal_temperature", "axis": "X", "alternatives": ["thermal_drift"]}])
@@ -250,15 +251,16 @@ def periodic_x(seed: int) -> Campaign:
                 expect=[{"name": "periodic", "axis": "X", "pitch": 100.0}])
 
 
-def nest_creep(seed: int) -> Campaign:
-    """One reflector's nest (the second spindle reflector) creeping 10 um/h along +Z over a record of about
+def nest_creep(seed: int, rate_um_h: float = 10.0) -> Campaign:
+    """One reflector's nest (the second spindle reflector) creeping ``rate_um_h`` along +Z over a record of about
     1.5 h: a right answer names that reflector and reports the creep over the record, not a warm-up of the whole
     spindle extrapolated beyond it."""
     m = load_machine("dmu50")
     pt = m.campaign["reflectors"]["tool"][1][0]
     d = Design(rounds=4, axes=("X", "Y", "Z"), counts=(8, 8, 8))  # 1.50 h
-    return make(d, [("nest_creep", {"point": pt, "side": "tool", "rate_mm_s": 10e-3 / 3600, "direction": "+Z"})],
-                seed, name="nest_creep", expect=[{"name": "nest_creep", "point": pt, "rate_mm_s": 10e-3 / 3600}])
+    rate = rate_um_h * 1e-3 / 3600
+    return make(d, [("nest_creep", {"point": pt, "side": "tool", "rate_mm_s": rate, "direction": "+Z"})],
+                seed, name="nest_creep", expect=[{"name": "nest_creep", "point": pt, "rate_mm_s": rate}])
 
 
 def tracker_scale(seed: int) -> Campaign:
@@ -267,9 +269,41 @@ def tracker_scale(seed: int) -> Campaign:
                 expect=[{"name": "tracker_scale", "ppm": -12.0, "alternatives": ["scale", "rotary_location"]}])
 
 
+def tracker_settling(seed: int) -> Campaign:
+    """The tracker stand settling: the readings turn 40 urad about a horizontal axis through the tracker
+    (tau 1800 s), i.e. up to ~70 um across the beam at 1.7 m, over a five-axis campaign."""
+    return make(Design(rounds=3), [("tracker_settling", {"angle_rad": 40e-6, "tau_s": 1800.0, "about": "+X"})],
+                seed, name="tracker_settling", expect=[{"name": "tracker_settling"}])
+
+
+def _constant(m: Machine, error: str, value: float) -> ErrorModel:
+    """An error model with one error function held at ``value`` (mm or rad) over its axis' whole travel."""
+    axis = error[-1]  # ISO 230-1: E_<direction><axis> is an error motion of <axis>
+    lim = np.array([-1e4, 1e4])  # every position of a campaign (the spec may leave a linear axis unlimited)
+    return ErrorModel(m.name, functions={error: ErrorFunction(axis, lim, np.full(2, value))})
+
+
+def lateral_play(seed: int, play_mm: float = 0.015) -> Campaign:
+    """Physics outside the candidate list: the X carriage sits ``play_mm`` further along +Y when a target is
+    approached in the - direction than in the + direction (a guideway gib with play: a direction-dependent
+    straightness E_YX).  Simulated as two machines through the exact kinematics (E_YX = +-play/2, same seed and
+    noise), each reading taken from the one its direction of approach selects.  No candidate models it: a right
+    answer reports it unexplained on X (located by direction), never a confident wrong name."""
+    m = load_machine("dmu50")
+    d = Design(rounds=4, axes=("X", "Y", "Z"))
+    plus, minus = (make(d, (), seed, model=_constant(m, "E_YX", s * play_mm / 2)) for s in (-1.0, 1.0))
+    rec = plus.recording
+    back = (rec.direction == -1) & (rec.axis == "X")  # the other axes are measured with X parked
+    rec.xyz[back] = minus.recording.xyz[back]
+    rec.truth = {**plus.truth, "effects": [{"name": "lateral_play", "error": "E_YX", "axis": "X",
+                                            "play_mm": play_mm, "outside_candidates": True}]}
+    return replace(plus, name="lateral_play", truth=rec.truth, model=None,
+                   expect=[{"name": "lateral_play", "axis": "X"}])
+
+
 CASES = {f.__name__: f for f in (c_location_with_model, c_location_and_knock, c_location_last, knock_at_c_start,
                                  warm_up, thermal_temperature, reversal_pitch, aliased_pitch, periodic_x, nest_creep,
-                                 tracker_scale)}
+                                 tracker_scale, tracker_settling, lateral_play)}
 
 
 def without_tracker(c: Campaign) -> Campaign:

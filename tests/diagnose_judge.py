@@ -3,7 +3,9 @@
 Right: every expected effect is named by a significant finding (its name, or one of its "alternatives", or named
 in a significant finding's "confounded_with"; the axis when the expectation gives one), or, when it is not
 named, the mismatch is reported under "unexplained" on that axis -- and no significant finding carries a name
-that is neither expected nor an alternative (a confident wrong name).
+that is neither expected nor an alternative (a confident wrong name).  A finding that names a wrong effect but
+reports an expected one as ``confounded_with`` is one finding naming both, which the campaign cannot tell apart
+(issue 13: "report both as one finding"): not a confident wrong name.
 """
 from __future__ import annotations
 
@@ -24,7 +26,8 @@ def judge(d, expect: list[dict]) -> tuple[bool, str]:
     "alias_pitch" must carry its true pitch among the finding's "possible_alias" pitches."""
     sig = [f for f in d.effects if f.significant]
     allowed = set().union(*(_names(e) for e in expect)) if expect else set()
-    wrong = [f"{f.name} {f.axis or ''}" for f in sig if f.name not in allowed]
+    wrong = [f"{f.name} {f.axis or ''}" for f in sig if f.name not in allowed
+             and not any(x["name"] in allowed for x in f.get("confounded_with", []))]
     missing = []
     for e in expect:
         hit = any((f.name in _names(e) and (e.get("axis") in (None, f.axis) or f.name != e["name"])) or

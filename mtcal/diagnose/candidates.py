@@ -49,6 +49,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
             out.append(fx.backlash(g, a))
             if g.linear(a):
                 out += [fx.reversal_angular(g, a, e) for e in prep.machine.error_motions(a) if e[2] in "ABC"]
+            out.append(fx.reversal_free(g, a))
         else:
             notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
                       for nm in ("backlash", "reversal_angular")]

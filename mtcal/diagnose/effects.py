@@ -27,6 +27,7 @@ VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_locati
               "cross_axis", "second_order", "tracker_scale", "offset", "reversal_angular", "nest_creep",
               "tracker_settling", "thermal_temperature")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
+UNEXPLAINED = "unexplained"  # name of the free-form candidates: selected, they are reported as unexplained
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
 
 
@@ -242,3 +243,32 @@ def thermal_temperature_drift(g: Geometry, target: str, dT: np.ndarray) -> Candi
     return Candidate("thermal_temperature", None, f"{target} drifting with temperature", G,
                      ["c_x (mm/K)", "c_y (mm/K)", "c_z (mm/K)"], family="thermal_temperature",
                      extra={"target": target, "variant": "drift"})
+
+
+# ----------------------------------------------------------------------------- free-form checks of a named effect
+def reversal_free(g: Geometry, axis: str) -> Candidate:
+    """Free-form reversal of an axis: per reflector, a 3-vector r (mm, the side's local frame; reading(+ approach)
+    - reading(- approach)) by which its readings differ between the directions of approach.  It spans every
+    reversal effect of the axis (backlash, reversal_angular, a lateral play of the guideway): what it explains
+    beyond a named one, that one's signature leaves unexplained.  Selected itself, it is reported under
+    "unexplained" (located by direction x point), never as a named effect."""
+    on = (g.axis == axis) & (g.direction != 0)
+    half = np.where(on, 0.5 * g.direction, 0.0)
+    labels = sorted(set(g.point[on].tolist()))
+    G = np.concatenate([S.nest_creep_signature(g.rotation.reshape(-1, 9), np.where(g.point == p, half, 0.0))
+                        for p in labels], axis=-1)
+    return Candidate(UNEXPLAINED, axis, "direction of approach x reflector (free-form reversal)", G,
+                     [f"r_{c}({p}) (mm)" for p in labels for c in "xyz"], family=f"{UNEXPLAINED} reversal {axis}",
+                     extra={"points": labels})
+
+
+def repeated(g: Geometry, c: Candidate) -> Candidate:
+    """The readings at the places of a scanned outlier (axis, reflector, position, approach) in the other rounds,
+    shifted by one 3-vector (mm, machine frame): a displacement found there too is not a one-off event."""
+    rows = np.asarray(c.extra["rows"])
+    key = np.array([f"{a}|{p}|{q!r}|{d}" for a, p, q, d in zip(g.axis, g.point, g.position, g.direction)])
+    on = np.isin(key, key[rows])
+    on[rows] = False
+    return Candidate("outlier (other rounds)", c.axis, "same places, other rounds",
+                     S.outlier_signature(on.astype(float)), [], family="check")
+

@@ -173,6 +173,12 @@ class Engine:
         e.p = sum(q.shape[1] for _, q in self.blocks)
         return e
 
+    def copy(self) -> "Engine":
+        """This fit (base and added columns), to add to without changing this one."""
+        e = self.copy_base()
+        e.E, e.r, e.p = self.E.copy(), self.r.copy(), self.p
+        return e
+
     def estimate(self, Gs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         """Joint estimate and covariance of the columns Gs given the block base (Frisch-Waugh-Lovell);
         sigma from this engine's residual."""

@@ -83,7 +83,21 @@ def _unexplained(x: Located) -> dict:
     return {"axis": x.axis, "by": x.by, "where": x.where, "size_mm": x.shift_mm if x.kind == "mean" else None,
             "kind": x.kind, "p_adjusted": x.p_adjusted, "readings": x.readings,
             "chi2_per_dof": x.mean_shift_chi2_per_dof if x.kind == "mean" else x.spread_chi2_per_dof,
-            "note": "located but not explained by any candidate effect"}
+            "note": x.note}
+
+
+def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
+    """A selected free-form candidate (a misfit no named effect explains) as an unexplained, located mismatch:
+    its size is the largest per-reflector vector of the free form (mm)."""
+    c = s.candidate
+    theta, _ = eng.estimate([w(c)])
+    size = float(np.max(np.linalg.norm(theta.reshape(-1, 3), axis=1)))
+    p_adj = min(1.0, math.exp(s.logp_adj))
+    note = ("the readings differ between the directions of approach, and differently for each reflector, beyond "
+            "what backlash and the angular reversals of the axis explain together (size: the largest reversal "
+            "vector of a reflector)")
+    return Located(c.axis, "direction x point", c.label, float(-s.logp_adj / math.log(10)), p_adj, "mean",
+                   int(np.sum(np.any(c.G != 0, axis=(1, 2)))), s.score.F, 0.0, size, note)
 
 
 def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
@@ -255,17 +269,19 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
     return out
 
 
-def rejected_findings(last: dict, chosen: set, notes: list[dict]) -> list[Finding]:
-    """The best candidate of every family not selected (not significant) and the not-separable notes."""
+def rejected_findings(last: dict, chosen: set, notes: list[dict], inadequate: list = ()) -> list[Finding]:
+    """The best candidate of every family not selected (not significant, or significant but ``inadequate``: its
+    model does not explain the misfit it fits; ``"inadequate"`` says why) and the not-separable notes."""
     out = []
-    for fam, s in sorted(last.items(), key=lambda kv: kv[1].logp_adj):
-        if fam in chosen:
+    bad = {s.candidate.family: s for s in inadequate}
+    for fam, s in sorted({**last, **bad}.items(), key=lambda kv: kv[1].logp_adj):
+        if fam in chosen or s.candidate.name == fx.UNEXPLAINED:
             continue
         c, sc = s.candidate, s.score
         out.append(Finding(c.name, c.axis, None, False, None, None,
                            {"test": "F", "F": sc.F, "p_value": math.exp(sc.logp),
                             "p_adjusted": min(1.0, math.exp(s.logp_adj)), "cv_gain": None, "separability": sc.sep},
-                           {"where": c.label}))
+                           {"where": c.label, **({"inadequate": s.inadequate} if s.inadequate else {})}))
     for nt in notes:
         out.append(Finding(nt["name"], nt["axis"], None, False, None, None, None,
                            {"not_separable": nt["not_separable"],

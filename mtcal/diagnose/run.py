@@ -6,7 +6,8 @@ import logging
 from mtcal.diagnose.candidates import candidates, screen
 from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
 from mtcal.diagnose.prepare import prepare
-from mtcal.diagnose.report import Diagnosis, rejected_findings, selected_findings
+from mtcal.diagnose import effects as fx
+from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
 from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward, select_degrees
 from mtcal.errors import InputError
@@ -36,7 +37,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     if not prep.given_model:
         cands = screen(cands, notes, eng, w)
     say(f"{len(cands)} candidate effects; null model {eng.p} parameters, sigma ratio {eng.sigma:.3f}")
-    steps, last = forward(prep, eng, cands, w, level, max_effects, say)
+    steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
     steps = backward(eng, steps, w, level, say)
     null = ("the given model" if prep.given_model else
             f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
@@ -56,10 +57,11 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
         held, how = folds(prep, step.candidate)
         return (cv_gain(prep, base, wy, others, w(step.candidate), held) if held else None), how
 
-    effects = selected_findings(prep, eng, steps, w, cv, null)
+    free = [s for s in steps if s.candidate.name == fx.UNEXPLAINED]
+    effects = selected_findings(prep, eng, [s for s in steps if s not in free], w, cv, null)
     effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
-    effects += rejected_findings(last, {s.candidate.family for s in steps}, notes)
-    unexplained = locate(prep, after, level)
+    effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)
+    unexplained = [free_form_located(prep, eng, s, w) for s in free] + locate(prep, after, level)
     base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
                  "parameters": int(after.copy_base().p), "readings": len(rec),
                  "tests_against": null if prep.given_model else

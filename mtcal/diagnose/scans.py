@@ -34,6 +34,7 @@ class Located:
     mean_shift_chi2_per_dof: float
     spread_chi2_per_dof: float
     shift_mm: float
+    note: str = "located but not explained by any candidate effect"
 
     def to_dict(self) -> dict:
         return asdict(self)

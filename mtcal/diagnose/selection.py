@@ -4,7 +4,11 @@ never drops a large effect for a later overlapping smaller one, confounding, deg
 Multiplicity: Bonferroni over families x members (scanned families: x the members scanned). Among the significant
 candidates of a step, the strongest evidence (raw p) names the effect; a significant candidate that explains the
 same misfit (the share of the chosen effect's fitted signal, whitened, after the base, that the other's columns also
-explain: |cos| > CONFOUND_COS) is reported with it as ``confounded_with``, with the measurement that separates them.
+explain: |cos| > CONFOUND_COS), or that was significant with evidence of the same order and is no longer once the
+chosen effect is fitted, is reported with it as ``confounded_with``, with the measurement that separates them.
+A candidate whose own model does not explain the pattern it fits (a reversal that differs between reflectors
+beyond the named reversal effects; a one-off displacement that recurs in the other rounds) is not chosen
+(``inadequate``); a free-form candidate (mtcal.diagnose.effects.reversal_free) that wins is reported as unexplained.
 Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings of every
 sequence in time order) for round-specific and time-dependent ones (re-seated nest, bump, tracker knock, drifts); a
 single-reading outlier has nothing to predict (its test is its studentized displacement)."""
@@ -24,6 +28,7 @@ from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
+RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
 ROUND_SPECIFIC = ("outlier", "offset")
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
 # alone absorbs most of a drift into its reflector positions)
@@ -76,6 +81,7 @@ class Step:
     score: Score
     logp_adj: float
     confounded_with: list[dict] = field(default_factory=list)
+    inadequate: str | None = None   # why the effect's model does not explain the misfit it fits (then not chosen)
 
     @property
     def log_multiplicity(self) -> float:
@@ -123,30 +129,99 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
     """Forward selection (adds to ``eng``); returns the selected steps and the last scores of every family."""
     selected: list[Step] = []
     last: dict[str, Step] = {}
+    inadequate: dict[str, Step] = {}
     for step in range(max_effects):
         last = score_all(prep, eng, cands, w)
         sig = [v for v in last.values() if v.logp_adj < math.log(level)]
         if not sig:
             break
-        # the strongest evidence (raw p) names the effect; exact ties (a knock just after a reflector's first
-        # sequence is that nest's offset) go to the smaller family (the adjusted p breaks them)
-        top = min(v.score.logp for v in sig)
-        tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
-        best = min((v for v in sig if v.score.logp <= top + tol), key=lambda v: v.logp_adj)
+        best = _strongest_adequate(prep, eng, sig, w, level, inadequate)
+        if best is None:
+            break
         c = best.candidate
-        for v in sig:
-            if v is not best and v.candidate.family != c.family:
-                cos = eng.shared_fit(w(c), w(v.candidate))
-                if cos > CONFOUND_COS:
-                    best.confounded_with.append(_confound(c, v, cos))
         before = eng.sigma
+        rivals = [v for v in sig if v is not best and v.candidate.family != c.family
+                  and fx.UNEXPLAINED not in (c.name, v.candidate.name)]
+        shared = {id(v): eng.shared_fit(w(c), w(v.candidate)) for v in rivals}
         eng.add(w(c))
+        best.confounded_with += [_confound(c, v, shared[id(v)]) for v in rivals
+                                 if shared[id(v)] > CONFOUND_COS or _absorbed(eng, best, v, w, level)]
         say(f"step {step + 1}: {c.name} {c.axis or ''} {c.label}: F = {best.score.F:.1f}, "
             f"sigma ratio {before:.3f} -> {eng.sigma:.3f}")
         selected.append(best)
         if c.family not in ROUND_SPECIFIC:  # one member per family (outliers and knocks are scanned afresh)
             cands = [x for x in cands if x.family != c.family]
-    return selected, last
+    return selected, last, list(inadequate.values())
+
+
+def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns, level: float,
+                        inadequate: dict[str, Step]) -> Step | None:
+    """The significant candidate with the strongest evidence (raw p) whose own model explains the pattern it
+    fits (``inadequate_because``); the others are recorded in ``inadequate`` (by family, first reason kept).
+    A free-form candidate is taken only when the named effects it spans cannot explain what it fits.  Exact ties
+    (a knock just after a reflector's first sequence is that nest's offset) go to the smaller family (the
+    adjusted p breaks them)."""
+    todo = sorted(sig, key=lambda v: v.score.logp)
+    while todo:
+        top = todo[0].score.logp
+        tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
+        v = min((o for o in todo if o.score.logp <= top + tol), key=lambda o: o.logp_adj)
+        todo.remove(v)
+        if v.candidate.name == fx.UNEXPLAINED:
+            if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
+                return v  # the named reversal effects of the axis cannot explain it
+            continue
+        why = inadequate_because(prep, eng, v.candidate, w, level)
+        if why is None:
+            return v
+        v.inadequate = why
+        inadequate.setdefault(v.candidate.family, v)
+    return None
+
+
+def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: float) -> Score | None:
+    """The free-form reversal of ``axis`` beyond every named reversal effect of the axis together (backlash and
+    the angular reversals), when significant at ``level``; else None."""
+    g = prep.geometry
+    named = [fx.backlash(g, axis)] + ([fx.reversal_angular(g, axis, e) for e in prep.machine.error_motions(axis)
+                                       if e[2] in "ABC"] if g.linear(axis) else [])
+    e = eng.copy()
+    e.add(np.hstack([w(c) for c in named]))
+    sc = e.score(w(fx.reversal_free(g, axis)))
+    return sc if sc.separable and sc.logp < math.log(level) else None
+
+
+def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    """Why the effect ``c`` does not explain the misfit it fits, or None.  A reversal effect (backlash,
+    reversal_angular) must leave no reversal that differs between reflectors beyond what the named reversal
+    effects of its axis explain together (free-form check, F test at ``level``); a scanned one-off displacement
+    (outlier reading or bump) must not be found, in the same direction, at the same places in the other rounds."""
+    if c.name in ("backlash", "reversal_angular"):
+        sc = _reversal_misfit(prep, eng, c.axis, w, level)
+        if sc is not None:
+            return (f"no reversal effect explains the direction-dependent misfit on {c.axis}: it differs between "
+                    f"reflectors beyond their signatures (free-form reversal per reflector: F = {sc.F:.1f}, "
+                    f"p = {math.exp(sc.logp):.2g})")
+    if c.name == "outlier":
+        rep = w(fx.repeated(prep.geometry, c))
+        sc = eng.copy().score(rep)
+        if sc.separable and sc.logp < math.log(level):
+            Gc = w(c)
+            A = np.hstack([Gc, rep])
+            theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)
+            if theta[:Gc.shape[1]] @ theta[Gc.shape[1]:] > 0:
+                return (f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
+                        f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
+    return None
+
+
+def _absorbed(eng: Engine, best: Step, v: Step, w: Columns, level: float) -> bool:
+    """A rival ``v`` significant before ``best`` was added (to ``eng``), no longer significant after it, with
+    evidence of the same order (log p at least half of best's): the campaign cannot tell the two apart."""
+    if not v.score.logp <= RIVAL_LOGP_SHARE * best.score.logp:
+        return False
+    sc = eng.score(w(v.candidate))
+    return not (sc.separable and sc.logp + v.log_multiplicity < math.log(level))
 
 
 def _confound(c: fx.Candidate, v: Step, cos: float) -> dict:
