@@ -5,8 +5,11 @@ linear axes, harmonics cos k q - cos k q_ref, sin k q - sin k q_ref for rotary a
 and three columns per reflector position (estimated from every reading of every round).  A reflector position
 belongs to one (axis, reflector), or is shared by the axes measured from the same reference pose
 (``Prepared.point_group``, mtcal.diagnose.prepare): a shared position's three columns span several axes and are
-the base's shared columns (Engine ``shared``), so a shift between the axes' blocks (a drift, a creeping nest, a
-knocked tracker) is not absorbed by per-axis positions.
+the base's shared columns (Engine ``shared``).  Each axis of a shared position keeps a free rigid motion of its
+side (six columns, ``_parked_columns``): a parked axis sits in an error state that is not measured (a backlash or
+a lateral play sits at the side of the last approach), and any error state moves the side rigidly; a knocked
+tracker or a drift of the whole side between the axes is therefore still absorbed, but what moves one reflector
+relative to the others (a creeping nest) is no longer absorbed per axis.
 """
 from __future__ import annotations
 
@@ -55,6 +58,17 @@ def _position_columns(prep: Prepared, rows: np.ndarray, group: int) -> list[np.n
     return cols
 
 
+def _parked_columns(prep: Prepared, rows: np.ndarray) -> list[np.ndarray]:
+    """Six (len(rows), 3) columns of a rigid motion of the reflectors' side on the readings ``rows``: translation
+    t (mm) and rotation w (rad, local frame) moving a point p by t + w x p.  It is the error state of an axis
+    while parked (its reversal state after the last approach, unknown): whatever it is, it moves the side
+    rigidly, so it is free per axis when the axis' reflector positions are shared."""
+    A, p = prep.Aoff[rows], prep.local[rows]
+    cols = [A[:, :, k] for k in range(3)]
+    cols += [np.einsum("nij,nj->ni", A, np.cross(np.eye(3)[k], p)) for k in range(3)]
+    return cols
+
+
 def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | None = None) -> Base:
     """Per axis: error-function columns J_point[:, e] * basis_k(q) and the columns of the reflector positions of
     that axis alone; shared: the reflector positions shared by several of ``axes`` (module docstring)."""
@@ -73,10 +87,15 @@ def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | N
             c = g.col(e)[on]
             cols += [c * B[:, k:k + 1] for k in range(B.shape[1])]
         # reflector positions estimated from every reading of every round: no single reference reading is trusted
+        tied = False
         for k in np.unique(prep.point_group[on]):
             if groups[k] == {a}:
                 cols += _position_columns(prep, on, k)
-        blocks[a] = np.stack(cols, axis=-1)
+            else:
+                tied = True
+        if tied:
+            cols += _parked_columns(prep, on)
+        blocks[a] = np.stack(cols, axis=-1) if cols else np.zeros((int(on.sum()), 3, 0))
     shared = [c for k, ax in groups.items() if len(ax) > 1 for c in _position_columns(prep, inside, k)]
     S = np.zeros((len(rec), 3, len(shared)))
     if shared:

@@ -43,6 +43,7 @@ class Prepared:
     given_model: bool
     Aoff: np.ndarray         # (n, 3, 3) d nominal / d point position (rigid motion of the reflector)
     point_group: np.ndarray  # (n,) index of the reflector position of each reading (shared by tied axes)
+    local: np.ndarray        # (n, 3) the reflector's position from the reference readings, mm, the side's frame
     noise: NoiseModel        # the weights: W (n, 3, 3), W^T W = covariance^-1 (1/mm), and how they were obtained
 
     @property
@@ -162,7 +163,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
     g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
                     rotation=Aoff, temperature_c=rec.temperature_c)
-    prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group,
+    prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group, local,
                     NoiseModel.isotropic(n))
     prep.noise = noise_model(prep, t, max_degree)
     if t is None and prep.noise.tracker is not None:
