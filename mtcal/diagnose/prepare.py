@@ -11,7 +11,10 @@ with the other axes at their pos_<AXIS> columns (Recording.other_positions) or z
 readings (no single pose if they disagree: J is not tied).  Axes whose reference poses coincide (every axis within
 1e-9 mm or deg) and that carry their reflectors on the same side (tool or table) share one position per reflector
 label (``point_group``); otherwise each (axis, reflector) has its own.  The nominal position of a shared reflector
-uses the reference readings of all its axes.
+uses the reference readings of all its axes.  A parked axis still sits in an error state that is not measured
+(the side of its backlash it was last approached from): the base gives each tied axis a free rigid motion of its
+side (mtcal.diagnose.design), so only what moves one reflector relative to the others is no longer absorbed.
+
 The weights (whitening W, W^T W = covariance^-1) come from mtcal.diagnose.noise.
 """
 from __future__ import annotations
