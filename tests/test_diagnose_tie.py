@@ -114,3 +114,20 @@ def test_nest_creep_of_10_um_per_hour_is_found(seed, told):
     ok, msg = judge(d, c.expect)
     assert ok, msg
     assert [f.name for f in d.effects if f.significant] == ["nest_creep"]
+
+
+def test_cli_per_axis_positions(tmp_path, capsys):
+    import json
+
+    from mtcal.cli import main
+    from mtcal.recordings import write_recording
+    path = tmp_path / "r.csv"
+    write_recording(_campaign(), path)
+    out = {}
+    for flag in ([], ["--per-axis-positions"]):
+        assert main(["diagnose", str(path), "--tracker", "250,-1475,150", "--json", *flag]) == 0
+        out[bool(flag)] = json.loads(capsys.readouterr().out)["base_model"]
+    assert "shared by X, Y, Z and by B, C" in out[False]["basis"], out[False]["basis"]
+    assert "shared" not in out[True]["basis"], out[True]["basis"]
+    # 3 reflectors per side: X, Y, Z save 3 (3 - 2) (3 - 1) = 6 parameters, B, C 3 (3 - 2) (2 - 1) = 3
+    assert out[True]["parameters"] - out[False]["parameters"] == 9

@@ -46,7 +46,7 @@ class Base:
 
 
 def _position_columns(prep: Prepared, rows: np.ndarray, group: int) -> list[np.ndarray]:
-    """Three (len(rows), 3) columns of one reflector position on the readings ``rows`` (bool (n,)): d nominal /
+    """Three (n_rows, 3) columns of one reflector position on the readings ``rows`` (bool (n,)): d nominal /
     d point = the rigid motion of the point (identity tool side, R(q) table side), zero off the position's
     readings."""
     m = prep.point_group[rows] == group
@@ -59,7 +59,7 @@ def _position_columns(prep: Prepared, rows: np.ndarray, group: int) -> list[np.n
 
 
 def _parked_columns(prep: Prepared, rows: np.ndarray) -> list[np.ndarray]:
-    """Six (len(rows), 3) columns of a rigid motion of the reflectors' side on the readings ``rows``: translation
+    """Six (n_rows, 3) columns of a rigid motion of the reflectors' side on the readings ``rows``: translation
     t (mm) and rotation w (rad, local frame) moving a point p by t + w x p.  It is the error state of an axis
     while parked (its reversal state after the last approach, unknown): whatever it is, it moves the side
     rigidly, so it is free per axis when the axis' reflector positions are shared."""
@@ -75,7 +75,8 @@ def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | N
     g, rec = prep.geometry, prep.rec
     axes = list(axes or prep.axes)
     inside = np.isin(rec.axis, axes)
-    groups = {k: set(rec.axis[inside & (prep.point_group == k)].tolist()) for k in np.unique(prep.point_group[inside])}
+    groups = {k: set(rec.axis[inside & (prep.point_group == k)].tolist())
+              for k in np.unique(prep.point_group[inside])}    # position -> the axes (of ``axes``) reading it
     blocks = {}
     for a in axes:
         on = rec.axis == a

@@ -2,10 +2,11 @@
 global columns.
 
 The base is one block of columns per axis (rows of that axis only) plus shared columns spanning several blocks
-(the reflector positions tied across axes measured from the same machine pose, mtcal.diagnose.design); the shared
+(the reflector positions shared by axes measured from the same machine pose, mtcal.diagnose.design); the shared
 columns are orthonormalised after the blocks' projection, so the base's basis stays orthonormal without normal
-equations.  Candidate columns are scored by projection (Frisch-Waugh-Lovell): the F test of adding columns G (whitened,
-N x k) to the fitted base, with the separability of G from the base (sin of the smallest principal angle).
+equations.  Candidate columns are scored by projection (Frisch-Waugh-Lovell): the F test of adding columns G
+(whitened, N x k) to the fitted base, with the separability of G from the base (sin of the smallest principal
+angle).
 """
 from __future__ import annotations
 
@@ -203,8 +204,8 @@ class Engine:
         return e
 
     def estimate(self, Gs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-        """Joint estimate and covariance of the columns Gs given the base (blocks and shared columns) (Frisch-Waugh-Lovell);
-        sigma from this engine's residual."""
+        """Joint estimate and covariance of the columns Gs given the base, blocks and shared columns
+        (Frisch-Waugh-Lovell); sigma from this engine's residual."""
         G = np.hstack(Gs)
         base = self.copy_base()
         Gp = G - base.project(G)

@@ -99,6 +99,14 @@ def position_groups(rec: Recording, m: Machine, axes: list[str], q_ref: dict[str
     return np.array([index[k] for k in keys], dtype=int)
 
 
+def shared_axes(prep: "Prepared") -> list[list[str]]:
+    """The classes of axes sharing their reflector positions (two or more axes each, in the machine's order)."""
+    rec, m = prep.rec, prep.machine
+    classes = {tuple(sorted(set(rec.axis[prep.point_group == k].tolist()), key=m.index))
+               for k in np.unique(prep.point_group)}
+    return sorted([list(c) for c in classes if len(c) > 1], key=lambda c: m.index(c[0]))
+
+
 def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.ndarray) -> np.ndarray:
     """Indices of the reference readings of the readings ``sel`` of one (axis, point): per round, the first reading
     at the reference position ``q_ref``."""
@@ -141,7 +149,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     seq_keys = sorted(set(keys), key=lambda k: (m.index(k[0]), k[1], k[2]))
     seq_index = {k: i for i, k in enumerate(seq_keys)}
     seq = np.array([seq_index[k] for k in keys])
-    q_ref = {}
+    q_ref: dict[str, float] = {}
     for a in axes:
         pos = rec.position[rec.axis == a]
         q_ref[a] = float(pos[np.argmin(np.abs(pos))])

@@ -5,7 +5,7 @@ import logging
 
 from mtcal.diagnose.candidates import candidates, screen
 from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
-from mtcal.diagnose.prepare import TIE_POSITIONS, prepare
+from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
@@ -70,11 +70,19 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                  f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
                  f"selected effects in the fit)", "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
-                          + ("reflector positions shared by the axes measured from the same reference pose, else "
-                             "per (axis, point)" if tie_positions else "per-(axis, point) positions")}
+                          + _positions(prep)}
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep)
+
+
+def _positions(prep) -> str:
+    """How the base's reflector positions are shared between the axes (mtcal.diagnose.prepare), in words."""
+    ties = [", ".join(c) for c in shared_axes(prep)]
+    if not ties:
+        return "per-(axis, point) positions"
+    return (f"reflector positions shared by {' and by '.join(ties)} (the same reference pose and side; each of "
+            "these axes with a free rigid motion of its side), else per (axis, point)")
 
 
 def _station_tracker(rec: Recording, tracker):
