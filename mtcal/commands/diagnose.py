@@ -88,6 +88,9 @@ def run(args: argparse.Namespace) -> int:
     for u in d.unexplained[:8]:
         size = f", {u.shift_mm * 1e3:.2f} um" if u.kind == "mean" else ""
         print(f"  UNEXPLAINED: axis {u.axis} by {u.by} = {u.where} ({u.kind}{size}, p_adj = {u.p_adjusted:.2g})")
+    for e in d.effects:
+        if e.get("inadequate"):
+            print(f"  not named: {e['name']} {e['axis'] or ''} {e['where']}: {e['inadequate']}")
     ns: dict[tuple[str, str], list[str]] = {}
     for e in d.effects:
         if e.get("not_separable"):

@@ -125,8 +125,9 @@ def score_all(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns
 
 
 def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, level: float, max_effects: int,
-            say: Callable[[str], None]) -> tuple[list[Step], dict[str, Step]]:
-    """Forward selection (adds to ``eng``); returns the selected steps and the last scores of every family."""
+            say: Callable[[str], None]) -> tuple[list[Step], dict[str, Step], list[Step]]:
+    """Forward selection (adds to ``eng``); returns the selected steps, the last scores of every family and the
+    significant candidates skipped as inadequate."""
     selected: list[Step] = []
     last: dict[str, Step] = {}
     inadequate: dict[str, Step] = {}
@@ -204,7 +205,7 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
                     f"p = {math.exp(sc.logp):.2g})")
     if c.name == "outlier":
         rep = w(fx.repeated(prep.geometry, c))
-        sc = eng.copy().score(rep)
+        sc = eng.score(rep)
         if sc.separable and sc.logp < math.log(level):
             Gc = w(c)
             A = np.hstack([Gc, rep])
