@@ -22,6 +22,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (a recording "
                    "of several stations must name one; its tracker_x,y,z columns set the noise model)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
+    p.add_argument("--per-axis-positions", action="store_true",
+                   help="one position per (axis, reflector) instead of sharing a reflector's position between the "
+                   "axes measured from the same reference pose (then a reflector creeping between the axes is "
+                   "absorbed; README, diagnosis base model)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
     machine_argument(p)
 
@@ -51,7 +55,8 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"{args.recording}: no readings of station {args.station!r} "
                              f"(stations: {', '.join(sorted(set(rec.stations())))})")
         rec = rec.select(keep)
-    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level)
+    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level,
+                 tie_positions=not args.per_axis_positions)
     out = d.to_dict()
     if args.plots:
         out["plots"] = plot_residuals(d, args.plots)

@@ -13,9 +13,14 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
 * the reference reading is itself noisy (Hocken & Borchardt 1979: normalising to one reading biases every
   deviation of the round): the reference readings only start the fit; each reflector's position (three
   parameters per axis and reflector) is estimated from all its readings in all rounds, so no single reading is
-  trusted.  A shift of one (round, reflector) sequence (a re-seated nest) is the candidate effect "offset",
-  and so is a tracker knock (effects.py "offset": every reading from t0 on shifted by one vector; t0 scanned
-  over the gaps between reading times, counted in the multiplicity);
+  trusted.  Positions are shared across axes where that is physics (mtcal.diagnose.prepare, design): the axes
+  whose reference readings were taken at the same full machine pose (own reference position, the other axes
+  parked at their pos_<AXIS> columns or zero, equal within 1e-9) read the same reflector (same side, same label)
+  at the same place, so they share its position, and each such axis keeps a free rigid motion of its side (six
+  parameters: the unmeasured error state of a parked axis, e.g. the side of a backlash it was last approached
+  from); other axes keep one position per (axis, reflector).  A shift of one (round, reflector) sequence (a
+  re-seated nest) is the candidate effect "offset", and so is a tracker knock (effects.py "offset": every reading
+  from t0 on shifted by one vector; t0 scanned over the gaps between reading times, counted in the multiplicity);
 * weights: the AT960 covariance (mtcal.tracker) of every reading about the tracker position, given or estimated
   from the scatter of the repeated rounds (mtcal.diagnose.noise; whitened least squares; sigma ratio 1 = the
   tracker's specification), else (one round, no tracker shape in the scatter) unweighted;

@@ -1,7 +1,12 @@
-"""The statistics engine of the diagnosis: least squares on a block-diagonal base plus global columns.
+"""The statistics engine of the diagnosis: least squares on a block-diagonal base, shared base columns and added
+global columns.
 
-Candidate columns are scored by projection (Frisch-Waugh-Lovell): the F test of adding columns G (whitened,
-N x k) to the fitted base, with the separability of G from the base (sin of the smallest principal angle).
+The base is one block of columns per axis (rows of that axis only) plus shared columns spanning several blocks
+(the reflector positions shared by axes measured from the same machine pose, mtcal.diagnose.design); the shared
+columns are orthonormalised after the blocks' projection, so the base's basis stays orthonormal without normal
+equations.  Candidate columns are scored by projection (Frisch-Waugh-Lovell): the F test of adding columns G
+(whitened, N x k) to the fitted base, with the separability of G from the base (sin of the smallest principal
+angle).
 """
 from __future__ import annotations
 
@@ -30,19 +35,37 @@ class Score:
 
 
 class Engine:
-    """Least squares on a block-diagonal base (one block of rows per axis) plus global columns.
+    """Least squares on a block-diagonal base (one block of rows per axis), shared base columns across blocks, plus
+    added global columns.
 
-    Keeps an orthonormal basis of the fitted columns (per block, and ``E`` for columns added across blocks)
-    and the residual; scores candidate columns by projection (Frisch-Waugh-Lovell), never forming normal
-    equations of the base."""
+    Keeps an orthonormal basis of the fitted columns (per block; ``S`` for the shared base columns, orthogonal to
+    the blocks; ``E`` for columns added later, orthogonal to both) and the residual; scores candidate columns by
+    projection (Frisch-Waugh-Lovell), never forming normal equations of the base.  The base (``copy_base``) is the
+    blocks and ``S``."""
 
-    def __init__(self, blocks: list[tuple[np.ndarray, np.ndarray]], y: np.ndarray):
+    def __init__(self, blocks: list[tuple[np.ndarray, np.ndarray]], y: np.ndarray,
+                 shared: np.ndarray | None = None):
         self.N = len(y)
         self.y = y
         self.blocks = [(idx, self._orth(X)) for idx, X in blocks]
         self.E = np.zeros((self.N, 0))
+        self.S = np.zeros((self.N, 0))
+        if shared is not None and shared.shape[1]:
+            self.S = self._shared_basis(shared)
         self.r = y - self.project(y[:, None])[:, 0]
-        self.p = sum(q.shape[1] for _, q in self.blocks)
+        self.p = sum(q.shape[1] for _, q in self.blocks) + self.S.shape[1]
+
+    def _shared_basis(self, G: np.ndarray) -> np.ndarray:
+        """Orthonormal basis of the shared columns G (N, k) after the blocks' projection (columns scaled to unit
+        norm first; directions inside the blocks' span are dropped)."""
+        scale = np.linalg.norm(G, axis=0)
+        G = G[:, scale > 0] / scale[scale > 0]
+        Gp = G - self.project(G)
+        Gp = Gp - self.project(Gp)
+        if Gp.shape[1] == 0:
+            return np.zeros((self.N, 0))
+        u, sv, _ = np.linalg.svd(Gp, full_matrices=False)
+        return u[:, sv > 1e-9 * math.sqrt(G.shape[1])]
 
     @staticmethod
     def _orth(G: np.ndarray) -> np.ndarray:
@@ -61,35 +84,35 @@ class Engine:
     def qt(self, G: np.ndarray) -> np.ndarray:
         """Q^T G (p, k)."""
         parts = [q.T @ G[idx] for idx, q in self.blocks]
-        parts.append(self.E.T @ G)
+        parts += [self.S.T @ G, self.E.T @ G]
         return np.vstack(parts)
 
     def project(self, G: np.ndarray) -> np.ndarray:
         """Q Q^T G (N, k)."""
-        out = self.E @ (self.E.T @ G)
+        out = self.S @ (self.S.T @ G) + self.E @ (self.E.T @ G)
         for idx, q in self.blocks:
             out[idx] += q @ (q.T @ G[idx])
         return out
 
     def rows(self) -> np.ndarray:
-        """Per reading, its three rows of Q padded to a common width (n, 3, P): enough for leverages and for
-        sums over readings of one axis (the blocks have disjoint rows)."""
+        """Per reading, its three rows of Q padded to a common width (n, 3, P): the blocks share the first columns,
+        then S and E; enough for leverages and for sums over readings of one axis (the blocks have disjoint rows)."""
         pmax = max([q.shape[1] for _, q in self.blocks] + [0])
-        out = np.zeros((self.N, pmax + self.E.shape[1]))
+        out = np.zeros((self.N, pmax))
         for idx, q in self.blocks:
             out[idx, :q.shape[1]] = q
-        out[:, pmax:] = self.E
+        out = np.hstack([out, self.S, self.E])
         return out.reshape(self.N // 3, 3, -1)
 
     def full_rows(self) -> np.ndarray:
-        """Per reading, its three rows of the full Q (every block at its own columns, then E): (n, 3, P)."""
+        """Per reading, its three rows of the full Q (every block at its own columns, then S and E): (n, 3, P)."""
         widths = [q.shape[1] for _, q in self.blocks]
-        Qf = np.zeros((self.N, sum(widths) + self.E.shape[1]))
+        Qf = np.zeros((self.N, sum(widths)))
         off = 0
         for (idx, q), w in zip(self.blocks, widths):
             Qf[idx, off:off + w] = q
             off += w
-        Qf[:, off:] = self.E
+        Qf = np.hstack([Qf, self.S, self.E])
         return Qf.reshape(self.N // 3, 3, -1)
 
     @property
@@ -167,10 +190,11 @@ class Engine:
         self.p += q.shape[1]
 
     def copy_base(self) -> "Engine":
+        """The base alone (blocks and shared columns), without the added columns."""
         e = Engine.__new__(Engine)
-        e.N, e.y, e.blocks, e.E = self.N, self.y, self.blocks, np.zeros((self.N, 0))
+        e.N, e.y, e.blocks, e.S, e.E = self.N, self.y, self.blocks, self.S, np.zeros((self.N, 0))
         e.r = self.y - e.project(self.y[:, None])[:, 0]
-        e.p = sum(q.shape[1] for _, q in self.blocks)
+        e.p = sum(q.shape[1] for _, q in self.blocks) + self.S.shape[1]
         return e
 
     def copy(self) -> "Engine":
@@ -180,8 +204,8 @@ class Engine:
         return e
 
     def estimate(self, Gs: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-        """Joint estimate and covariance of the columns Gs given the block base (Frisch-Waugh-Lovell);
-        sigma from this engine's residual."""
+        """Joint estimate and covariance of the columns Gs given the base, blocks and shared columns
+        (Frisch-Waugh-Lovell); sigma from this engine's residual."""
         G = np.hstack(Gs)
         base = self.copy_base()
         Gp = G - base.project(G)

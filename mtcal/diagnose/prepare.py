@@ -3,6 +3,18 @@
 Frames and units: machine frame (= tracker frame after alignment), mm; positions mm (linear) or deg (rotary).
 The nominal position of every reflector reading uses the point's position estimated from the reference readings
 (design.md: each round's reading at the position closest to zero); y = reading - nominal (incl. a given model).
+
+Reflector positions tied across axes (``tie_positions``): every axis is measured with the other axes parked, and
+the base's error functions vanish at each axis' reference position, so a reflector read at the same full machine
+pose must read the same whichever axis is being measured.  The reference pose of axis J is its reference position
+with the other axes at their pos_<AXIS> columns (Recording.other_positions) or zero, taken from J's reference
+readings (no single pose if they disagree: J is not tied).  Axes whose reference poses coincide (every axis within
+1e-9 mm or deg) and that carry their reflectors on the same side (tool or table) share one position per reflector
+label (``point_group``); otherwise each (axis, reflector) has its own.  The nominal position of a shared reflector
+uses the reference readings of all its axes.  A parked axis still sits in an error state that is not measured
+(the side of its backlash it was last approached from): the base gives each tied axis a free rigid motion of its
+side (mtcal.diagnose.design), so only what moves one reflector relative to the others is no longer absorbed.
+
 The weights (whitening W, W^T W = covariance^-1) come from mtcal.diagnose.noise.
 """
 from __future__ import annotations
@@ -16,6 +28,8 @@ from mtcal.diagnose.noise import NoiseModel, noise_model
 from mtcal.errors import InputError
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.recordings import Recording
+
+TIE_POSITIONS = True   # default: reflector positions shared by axes measured from the same reference pose
 
 
 @dataclass
@@ -31,6 +45,8 @@ class Prepared:
     order: np.ndarray        # (n,) reading order within the recording (time, else file line)
     given_model: bool
     Aoff: np.ndarray         # (n, 3, 3) d nominal / d point position (rigid motion of the reflector)
+    point_group: np.ndarray  # (n,) index of the reflector position of each reading (shared by tied axes)
+    local: np.ndarray        # (n, 3) the reflector's position from the reference readings, mm, the side's frame
     noise: NoiseModel        # the weights: W (n, 3, 3), W^T W = covariance^-1 (1/mm), and how they were obtained
 
     @property
@@ -51,11 +67,66 @@ def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tupl
     return b, A
 
 
+def reference_pose(rec: Recording, m: Machine, axis: str, q_ref: float) -> np.ndarray | None:
+    """The full machine pose (n_axes,) mm or deg of ``axis``' reference readings: its reference position, the
+    other axes at their pos_<AXIS> columns or zero; None when its reference readings are not at one pose."""
+    at = (rec.axis == axis) & np.isclose(rec.position, q_ref, atol=1e-9)   # as _reference_readings
+    pose = np.zeros((int(at.sum()), len(m.axes)))
+    for b, v in (rec.other_positions or {}).items():
+        if b in m.axes and b != axis:
+            pose[:, m.index(b)] = v[at]
+    pose[:, m.index(axis)] = q_ref
+    if len(pose) == 0 or np.ptp(pose, axis=0).max() > 1e-9:
+        return None
+    return pose[0]
+
+
+def position_groups(rec: Recording, m: Machine, axes: list[str], q_ref: dict[str, float],
+                    tie: bool) -> np.ndarray:
+    """(n,) index of the reflector position of each reading: one per (axis, point), or with ``tie`` one per
+    (side, point) among axes whose reference poses coincide (module docstring)."""
+    classes: list[tuple[str, np.ndarray | None]] = []   # (side, pose) of each class of tied axes
+    cls = {}
+    for a in axes:
+        pose = reference_pose(rec, m, a, q_ref[a]) if tie else None
+        match = [i for i, (side, p) in enumerate(classes) if pose is not None and p is not None
+                 and side == m.side(a) and np.max(np.abs(p - pose)) <= 1e-9]
+        if not match:
+            classes.append((m.side(a), pose))
+        cls[a] = match[0] if match else len(classes) - 1
+    keys = [(cls[a], str(p)) for a, p in zip(rec.axis.tolist(), rec.point.tolist())]
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    return np.array([index[k] for k in keys], dtype=int)
+
+
+def shared_axes(prep: "Prepared") -> list[list[str]]:
+    """The classes of axes sharing their reflector positions (two or more axes each, in the machine's order)."""
+    rec, m = prep.rec, prep.machine
+    classes = {tuple(sorted(set(rec.axis[prep.point_group == k].tolist()), key=m.index))
+               for k in np.unique(prep.point_group)}
+    return sorted([list(c) for c in classes if len(c) > 1], key=lambda c: m.index(c[0]))
+
+
+def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.ndarray) -> np.ndarray:
+    """Indices of the reference readings of the readings ``sel`` of one (axis, point): per round, the first reading
+    at the reference position ``q_ref``."""
+    refs = []
+    for r in sorted(set(rec.round[sel].tolist())):
+        rs = sel[rec.round[sel] == r]
+        at = rs[np.isclose(rec.position[rs], q_ref, atol=1e-9)]
+        if len(at) == 0:
+            raise InputError(f"{rec.source}: axis {rec.axis[rs[0]]} round {r} point {rec.point[rs[0]]} has no "
+                             f"reading at the reference position {q_ref:g}")
+        refs.append(at[np.argmin(rank[at])])
+    return np.array(refs, dtype=int)
+
+
 def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
-            max_degree: int = 3) -> Prepared:
+            max_degree: int = 3, tie_positions: bool = TIE_POSITIONS) -> Prepared:
     """Nominal positions, point Jacobians and weights of every reading (see module docstring); ``tracker`` (3,)
     mm or None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise,
-    with the base family at ``max_degree``)."""
+    with the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
+    from the same reference pose (module docstring), else one per (axis, reflector)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
     if n == 0:
@@ -80,23 +151,16 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     seq = np.array([seq_index[k] for k in keys])
     q_ref: dict[str, float] = {}
     for a in axes:
-        on = rec.axis == a
-        pos = rec.position[on]
+        pos = rec.position[rec.axis == a]
         q_ref[a] = float(pos[np.argmin(np.abs(pos))])
-        for label in sorted(set(rec.point[on].tolist())):
-            sel = np.flatnonzero(on & (rec.point == label))
-            refs = []
-            for r in sorted(set(rec.round[sel].tolist())):
-                rs = sel[rec.round[sel] == r]
-                at = rs[np.isclose(rec.position[rs], q_ref[a], atol=1e-9)]
-                if len(at) == 0:
-                    raise InputError(f"{rec.source}: axis {a} round {r} point {label} has no reading at the "
-                                     f"reference position {q_ref[a]:g}")
-                refs.append(at[np.argmin(rank[at])])
-            refs = np.array(refs)
-            b, A = _affine(m, m.side(a), av[refs], errors[refs])
-            p = np.linalg.solve(A, (rec.xyz[refs] - b)[..., None])[..., 0]
-            local[sel] = p.mean(axis=0)
+    group = position_groups(rec, m, axes, q_ref, tie_positions)
+    for k in range(int(group.max()) + 1):
+        sel = np.flatnonzero(group == k)
+        refs = np.concatenate([_reference_readings(rec, sel[rec.axis[sel] == a], q_ref[a], rank)
+                               for a in dict.fromkeys(rec.axis[sel].tolist())])
+        b, A = _affine(m, side[sel[0]], av[refs], errors[refs])
+        p = np.linalg.solve(A, (rec.xyz[refs] - b)[..., None])[..., 0]
+        local[sel] = p.mean(axis=0)
     nominal = np.empty((n, 3))
     Aoff = np.empty((n, 3, 3))
     J = np.empty((n, 3, len(m.error_names)))
@@ -110,7 +174,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
     g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
                     rotation=Aoff, temperature_c=rec.temperature_c)
-    prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff,
+    prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group, local,
                     NoiseModel.isotropic(n))
     prep.noise = noise_model(prep, t, max_degree)
     if t is None and prep.noise.tracker is not None:

@@ -5,7 +5,7 @@ import logging
 
 from mtcal.diagnose.candidates import candidates, screen
 from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
-from mtcal.diagnose.prepare import prepare
+from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
@@ -19,14 +19,16 @@ MAX_DEGREE = 3
 
 
 def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None,
-             level: float = 0.01, max_degree: int = MAX_DEGREE, max_effects: int = 8) -> Diagnosis:
+             level: float = 0.01, max_degree: int = MAX_DEGREE, max_effects: int = 8,
+             tie_positions: bool = TIE_POSITIONS) -> Diagnosis:
     """Diagnose a recording (see mtcal.diagnose).  ``level``: family-wise significance level; ``tracker`` (3,)
-    mm or None (noise model estimated from the data)."""
+    mm or None (noise model estimated from the data); ``tie_positions``: reflector positions shared by the axes
+    measured from the same reference pose (mtcal.diagnose.prepare), else one per (axis, reflector)."""
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
     tracker = _station_tracker(rec, tracker)
-    prep = prepare(rec, machine, model, tracker, max_degree)
+    prep = prepare(rec, machine, model, tracker, max_degree, tie_positions)
     say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
     wy, w = whiten(prep.W, prep.y), Columns(prep.W)
     # the null of every test: the quasi-static family at its largest degree (or the given model), not the
@@ -68,10 +70,19 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                  f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
                  f"selected effects in the fit)", "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
-                          "per-(axis, point) positions"}
+                          + _positions(prep)}
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep)
+
+
+def _positions(prep) -> str:
+    """How the base's reflector positions are shared between the axes (mtcal.diagnose.prepare), in words."""
+    ties = [", ".join(c) for c in shared_axes(prep)]
+    if not ties:
+        return "per-(axis, point) positions"
+    return (f"reflector positions shared by {' and by '.join(ties)} (the same reference pose and side; each of "
+            "these axes with a free rigid motion of its side), else per (axis, point)")
 
 
 def _station_tracker(rec: Recording, tracker):
