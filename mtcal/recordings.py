@@ -220,7 +220,7 @@ def format_recording(rec: Recording, precision: int = 6) -> str:
     w.writerow(cols)
     f = f"{{:.{precision}f}}"
     for i in range(len(rec)):
-        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.6g}", rec.point[i],
+        row = [rec.axis[i], int(rec.round[i]), f"{rec.position[i]:.12g}", rec.point[i],
                *(f.format(v) for v in rec.xyz[i])]
         if has_t:
             row.append(f"{rec.time_s[i]:.3f}")
@@ -232,7 +232,7 @@ def format_recording(rec: Recording, precision: int = 6) -> str:
             row.append(rec.station[i])
         if rec.tracker_xyz is not None:
             row += [f"{v:.3f}" for v in rec.tracker_xyz[i]]
-        row += [f"{others[a][i]:.6g}" for a in others]
+        row += [f"{others[a][i]:.12g}" for a in others]  # positions: 1e-10 mm or deg, not a reading's noise
         w.writerow(row)
     return buf.getvalue()
 
