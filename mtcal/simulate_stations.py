@@ -11,7 +11,7 @@ the tracker.  The truth sidecar lists every station's tracker position and align
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Iterable, Sequence
+from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -31,9 +31,12 @@ STATION_CHANGE_S = 1800.0  # move the tracker, warm up, re-align (s)
 def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: str | Machine | None = None,
                       rounds: int = 1, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
                       alignment_um: float = ALIGNMENT_UM, alignment_urad: float = ALIGNMENT_URAD,
-                      spec: trk.TrackerSpec = trk.AT960, temperature=None) -> tuple[Recording, dict]:
+                      spec: trk.TrackerSpec = trk.AT960, temperature=None,
+                      station_effects: Mapping[str, Iterable] | None = None) -> tuple[Recording, dict]:
     """(recording, truth) of a campaign measured from each of ``stations`` ((3,) mm positions or
-    (label, (3,)) pairs, machine frame) with ``rounds`` rounds each; ``temperature`` as in ``simulate``."""
+    (label, (3,)) pairs, machine frame) with ``rounds`` rounds each; ``temperature`` as in ``simulate``;
+    ``effects`` are planted in every station's campaign (their times from that station's start),
+    ``station_effects`` (label -> effects) in that station's only (e.g. a knock of one tracker)."""
     if machine is None:
         machine = model.machine if model is not None else None
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
@@ -42,6 +45,10 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
              for i, s in enumerate(stations)]
     if not named:
         raise InputError("a multi-station campaign needs at least one station")
+    extra = sorted(set(station_effects or {}) - {label for label, _ in named})
+    if extra:
+        raise InputError(f"station_effects: no station {extra[0]!r} (stations: {', '.join(l for l, _ in named)})")
+    effects = list(effects)
     rng = np.random.default_rng(seed)
     align = np.column_stack([rng.normal(0, alignment_um * 1e-3, (len(named), 3)),
                              rng.normal(0, alignment_urad * 1e-6, (len(named), 3))])
@@ -52,7 +59,8 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
         if not np.isfinite(t).all():
             raise InputError(f"station {label}: tracker position must be finite, got {pos!r}")
         rec, truth = simulate(model, machine=m, plan=replace(pl, tracker=tuple(t), rounds=int(rounds)),
-                              rounds=None, seed=None, effects=effects, noise=False, temperature=temperature)
+                              rounds=None, seed=None, effects=[*effects, *(station_effects or {}).get(label, ())],
+                              noise=False, temperature=temperature)
         a = align[k]
         xyz = tp.rigid_point(rec.xyz, a)
         if noise:

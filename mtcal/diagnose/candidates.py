@@ -68,20 +68,23 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
     if np.isfinite(rec.time_s).all():
         t0 = float(np.min(rec.time_s))
         sides = set(g.side.tolist())
-        targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else []) + (
-            ["tracker"] if len(sides) > 1 else [])
+        targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else [])
         for target in targets:
             for tau in fx.TAUS_S:
                 out.append(fx.thermal_drift(g, target, tau, t0))
         out += [fx.nest_creep(g, label, t0) for label in sorted(set(rec.point.tolist()))]
-        if g.tracker is not None:
-            out += [fx.tracker_settling(g, tau, t0) for tau in fx.TAUS_S]
+        for st in g.stations():  # a tracker's drift and settling start when that station is set up
+            on, tracker, _ = g.at(st)
+            ts = float(np.min(rec.time_s[on]))
+            if len(sides) > 1 or st is not None:  # one side, one station: the tracker's drift is the side's
+                out += [fx.thermal_drift(g, "tracker", tau, ts, st) for tau in fx.TAUS_S]
+            if tracker is not None:
+                out += [fx.tracker_settling(g, tau, ts, st) for tau in fx.TAUS_S]
     else:
         notes += [{"name": nm, "axis": None, "not_separable": NOT_SEPARABLE[nm]}
                   for nm in ("thermal_drift", "nest_creep", "tracker_settling")]
     out += _temperature(prep, notes)
-    if g.tracker is not None:
-        out.append(fx.tracker_scale(g))
+    out += [fx.tracker_scale(g, st) for st in g.stations() if g.at(st)[1] is not None]
     for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
@@ -109,12 +112,15 @@ def scanned(prep: Prepared, eng: Engine) -> list[tuple[str, fx.Candidate, int]]:
     if ocount:
         out.append(("outlier", fx.outlier(prep.geometry, oscan["rows"], oscan["mode"], where_of(prep, oscan["rows"])),
                     ocount))
-    kscan, kcount = knock_scan(prep, eng)
-    if kcount:  # tracker knock: the change point t0 scanned over the reading times (kcount members)
+    # tracker knock: the change point t0 scanned over the reading times of each station (kcount members in all)
+    scans = [(st, *knock_scan(prep, eng, prep.geometry.at(st)[0])) for st in prep.geometry.stations()]
+    kcount = sum(c for _, _, c in scans)
+    if kcount:
+        st, kscan, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
         first = kscan["rows"][np.argmin(prep.order[kscan["rows"]])]
         where = {"from_axis": str(prep.rec.axis[first]), **where_of(prep, kscan["rows"]),
                  "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
-        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where), kcount))
+        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where, st), kcount))
     return out
 
 

@@ -58,6 +58,18 @@ class NoiseModel:
         W = np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
         return cls(W, kind, how, [float(v) for v in tracker], dict(details))
 
+    @classmethod
+    def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray]) -> "NoiseModel":
+        """The AT960 covariance of every reading about its own station's tracker (several stations)."""
+        W = np.empty((len(xyz), 3, 3))
+        for label, t in trackers.items():
+            on = station == label
+            W[on] = np.linalg.inv(np.linalg.cholesky(covariance(xyz[on], t)))
+        return cls(W, "AT960 (given trackers, per station)",
+                   "each reading weighted by the AT960 covariance about its own station's tracker (the recording's "
+                   "station and tracker_x,y,z columns)", None,
+                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}})
+
     def to_dict(self) -> dict:
         return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
 
