@@ -27,6 +27,13 @@ NOT_SEPARABLE = {
     "offset": "one (round, reflector) sequence only: a shift of it is the reflector's position itself",
     "tracker_scale": "with one tracker station a radial scale of the tracker looks like axis scale and rotary "
                      "location errors; measure from a second tracker station or against a length standard",
+    "tracker_scale common": "a scale common to every station's tracker (the air's refractive index over the whole "
+                            "campaign) scales the machine frame itself: it is the axes' scale errors; measure "
+                            "against a length standard (a scale that differs between stations is tested: "
+                            "tracker_scale of a station relative to the first)",
+    "tracker_scale station": "the stations see the machine from too similar directions: a scale of one station "
+                             "relative to the first looks like the axes' errors; measure from a station at a "
+                             "right angle to the others",
     "backlash": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
     "thermal_drift": "the recording has no time_s column",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
@@ -84,7 +91,11 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         notes += [{"name": nm, "axis": None, "not_separable": NOT_SEPARABLE[nm]}
                   for nm in ("thermal_drift", "nest_creep", "tracker_settling")]
     out += _temperature(prep, notes)
-    out += [fx.tracker_scale(g, st) for st in g.stations() if g.at(st)[1] is not None]
+    if g.trackers:  # the first station's scale is the frame's: a scale common to every station is the machine's
+        out += [fx.tracker_scale(g, st) for st in g.stations()[1:]]
+        notes.append({"name": "tracker_scale", "axis": None, "not_separable": NOT_SEPARABLE["tracker_scale common"]})
+    elif g.tracker is not None:
+        out.append(fx.tracker_scale(g))
     for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
@@ -135,7 +146,8 @@ def screen(cands: list[fx.Candidate], notes: list[dict], eng: Engine, w) -> list
             if not sc.separable or (c.name == "tracker_scale" and sc.sep < WEAK_TOL):
                 if (c.name, c.axis) not in seen:
                     seen.add((c.name, c.axis))
-                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[c.name],
+                    key = "tracker_scale station" if "station" in c.extra else c.name
+                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[key],
                                   "separability": sc.sep})
                 continue
         keep.append(c)

@@ -176,13 +176,16 @@ def tracker_scale(g: Geometry, station: str | None = None) -> Candidate:
     """The distances of the tracker (of ``station``: its readings only) scaled about it (ppm).  Per station, the
     column is centred on the station's readings: its mean is a translation of the station, which the base's
     alignment unknowns absorb (the fit is the same; the separability, relative to the column, is not dwarfed by
-    the tracker's distance)."""
+    the tracker's distance).  A scale common to every station is a scale of the machine frame (the axes' scale
+    errors): per station, the scale is relative to the first station's (mtcal.diagnose.candidates)."""
     on, t, of = g.at(station)
     G = np.zeros((len(on), 3))
     G[on] = S.tracker_scale_signature(g.xyz[on], t)
     if station is not None:  # less its mean over the station, a translation that its alignment absorbs
         G[on] -= G[on].mean(axis=0)
-    return Candidate("tracker_scale", None, f"about the tracker{of}", G[:, :, None], ["ppm"], family="tracker_scale",
+    rel = f" relative to station {g.stations()[0]}" if station is not None else ""
+    return Candidate("tracker_scale", None, f"about the tracker{of}{rel}", G[:, :, None], ["ppm"],
+                     family="tracker_scale",
                      extra={"tracker": [float(v) for v in t], **({"station": station} if station else {})})
 
 
