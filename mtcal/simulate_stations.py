@@ -6,7 +6,8 @@ Each station's readings are ``rigid_point(exact reflector position, a_s) + AT960
 N(0, alignment_um) and N(0, alignment_urad), seeded); the exact reflector positions come from the machine's
 error-inclusive kinematics (mtcal.simulate, noise off).  Rounds are numbered across stations (a round belongs
 to one station); times continue from station to station with ``station_change_s`` for moving and re-aligning
-the tracker.  The truth sidecar lists every station's tracker position and alignment error.
+the tracker.  The truth sidecar lists every station's tracker position, alignment error and planted effects
+(``effects`` planted in every station's campaign, ``station_effects`` in one station's).
 """
 from __future__ import annotations
 
@@ -67,7 +68,8 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
             xyz = xyz + trk.sample(xyz, t, rng, spec)
         parts.append((label, t, rec, xyz, k * int(rounds), t0))
         t0 += float(rec.time_s.max()) + STATION_CHANGE_S
-        st_truth.append({"label": label, "tracker": t.tolist(), "alignment": a.tolist(), "rounds": int(rounds)})
+        st_truth.append({"label": label, "tracker": t.tolist(), "alignment": a.tolist(), "rounds": int(rounds),
+                         "effects": truth.get("effects", [])})
     cat = lambda f: np.concatenate([f(p) for p in parts])  # noqa: E731
     out = make_recording(cat(lambda p: p[2].axis), cat(lambda p: p[2].round + p[4]), cat(lambda p: p[2].position),
                          cat(lambda p: p[2].point), cat(lambda p: p[3]), cat(lambda p: p[2].time_s + p[5]),

@@ -14,7 +14,8 @@ from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
 
 NOT_SEPARABLE = {
     "scale": "a linear positioning error is part of the fitted error function E_JJ; compare with a reference model "
-             "(--model) or measure a length standard / a second tracker station",
+             "(--model) or measure a length standard (a second tracker station does not separate it: a scale "
+             "common to every station is the machine frame's)",
     "second_order": "a quadratic error term is part of the fitted smooth error function; compare with a reference "
                     "model (--model)",
     "squareness": "with each axis measured alone, a squareness is a linear straightness slope of the fitted "
@@ -26,7 +27,9 @@ NOT_SEPARABLE = {
                   "other axis at a second position (plan 'at')",
     "offset": "one (round, reflector) sequence only: a shift of it is the reflector's position itself",
     "tracker_scale": "with one tracker station a radial scale of the tracker looks like axis scale and rotary "
-                     "location errors; measure from a second tracker station or against a length standard",
+                     "location errors; measure from a second tracker station (separates a scale that differs "
+                     "between the stations: the air at another time, another instrument) or against a length "
+                     "standard (a scale common to every station)",
     "tracker_scale common": "a scale common to every station's tracker (the air's refractive index over the whole "
                             "campaign) scales the machine frame itself: it is the axes' scale errors; measure "
                             "against a length standard (a scale that differs between stations is tested: "
