@@ -57,6 +57,8 @@ def test_report_names_the_per_station_noise_and_alignments():
     assert nm["kind"] == "AT960 (given trackers, per station)"
     assert nm["trackers"] == {k: list(v) for k, v in STATIONS}
     assert f"per station but the first {FIRST}" in d["base_model"]["basis"]
+    assert d["base_model"]["alignment"]["stations"] == [FIRST, SECOND]
+    assert d["base_model"]["alignment"]["fixed"] == FIRST
     scales = [e for e in d["effects"] if e["name"] == "tracker_scale"]
     assert any("common to every station" in e.get("not_separable", "") for e in scales)
 
@@ -104,3 +106,21 @@ def test_several_stations_need_their_tracker_columns(tmp_path):
     rec, _ = campaign(7601)
     with pytest.raises(InputError, match=r"one --tracker position cannot weigh them"):
         diagnose(rec, machine=M, tracker=(0.0, -1500.0, 0.0))
+
+
+def test_station_effects_are_planted_in_their_station_only():
+    """The simulator's per-station effects (used above for a knock of one tracker): the other station's readings are
+    those of the same campaign without it (same seed, noise off), the truth lists it under its station; the
+    displacement is rotated by the station's misalignment (tens of urad)."""
+    knock = {SECOND: [parse_effect("offset:size=0.05,direction=+Z,t_from_s=0")]}
+    with_knock, truth = simulate_stations(None, STATIONS, machine=M, seed=7700, plan=PLAN, noise=False,
+                                          station_effects=knock)
+    plain, _ = simulate_stations(None, STATIONS, machine=M, seed=7700, plan=PLAN, noise=False)
+    first, second = plain.stations() == FIRST, plain.stations() == SECOND
+    assert np.array_equal(with_knock.xyz[first], plain.xyz[first])
+    step = (with_knock.xyz - plain.xyz)[second]
+    assert np.allclose(np.linalg.norm(step, axis=1), 0.05, atol=1e-9)
+    assert np.allclose(step / 0.05, [0.0, 0.0, 1.0], atol=3e-4)  # rotated by the misalignment (~1e-4 rad)
+    assert [[e["name"] for e in s["effects"]] for s in truth["stations"]] == [[], ["offset"]]
+    with pytest.raises(InputError, match="station_effects: no station 'S9'"):
+        simulate_stations(None, STATIONS, machine=M, station_effects={"S9": []})

@@ -73,6 +73,10 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                  f"selected effects in the fit)", "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
                           + _positions(prep) + _alignments(prep)}
+    if prep.stations:
+        base_info["alignment"] = {"stations": prep.stations, "fixed": prep.stations[0],
+                                  "per_station": "tx, ty, tz (mm), wx, wy, wz (rad) about the station's readings' "
+                                                 "centroid"}
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep)
