@@ -48,7 +48,7 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
         raise InputError("a multi-station campaign needs at least one station")
     extra = sorted(set(station_effects or {}) - {label for label, _ in named})
     if extra:
-        raise InputError(f"station_effects: no station {extra[0]!r} (stations: {', '.join(l for l, _ in named)})")
+        raise InputError(f"station_effects: no station {extra[0]!r} (stations: {', '.join(k for k, _ in named)})")
     effects = list(effects)
     rng = np.random.default_rng(seed)
     align = np.column_stack([rng.normal(0, alignment_um * 1e-3, (len(named), 3)),

@@ -93,6 +93,11 @@ class Geometry:
         return self.station == station, self.trackers[station], f" of station {station}"
 
 
+def _tag(station: str | None) -> dict:
+    """The ``extra`` entry naming the station of a per-station candidate (none for one station)."""
+    return {"station": station} if station else {}
+
+
 def _on(g: Geometry, axis: str) -> np.ndarray:
     return (g.axis == axis)[:, None]
 
@@ -166,7 +171,7 @@ def thermal_drift(g: Geometry, target: str, tau: float, t0: float, station: str 
     c = Candidate("thermal_drift", None, f"{target}{of}, tau={tau:.0f} s", G,
                   ["A_x (mm)", "A_y (mm)", "A_z (mm)"], family="thermal_drift",
                   extra={"target": target, "tau_s": float(tau), "t0_s": float(t0),
-                         **({"station": station} if station else {})})
+                         **_tag(station)})
     c.refine = lambda t: thermal_drift(g, target, t, t0, station)
     c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c
@@ -186,7 +191,7 @@ def tracker_scale(g: Geometry, station: str | None = None) -> Candidate:
     rel = f" relative to station {g.stations()[0]}" if station is not None else ""
     return Candidate("tracker_scale", None, f"about the tracker{of}{rel}", G[:, :, None], ["ppm"],
                      family="tracker_scale",
-                     extra={"tracker": [float(v) for v in t], **({"station": station} if station else {})})
+                     extra={"tracker": [float(v) for v in t], **_tag(station)})
 
 
 def outlier(g: Geometry, rows: np.ndarray, mode: str, where: dict) -> Candidate:
@@ -223,7 +228,7 @@ def tracker_knock(g: Geometry, t0: float, where: dict, station: str | None = Non
              f"point {where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
     return Candidate("offset", None, label, G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="offset",
                      extra={"variant": "tracker knock", "t0_s": float(t0), **where,
-                            **({"station": station} if station else {})})
+                            **_tag(station)})
 
 
 def reversal_angular(g: Geometry, axis: str, error: str) -> Candidate:
@@ -255,7 +260,7 @@ def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = N
                   family="tracker_settling", extra={"tau_s": float(tau), "t0_s": float(t0),
                                                     "t_end_s": float(np.nanmax(g.time_s[on])),
                                                     "tracker": [float(v) for v in t],
-                                                    **({"station": station} if station else {})})
+                                                    **_tag(station)})
     c.refine = lambda t: tracker_settling(g, t, t0, station)
     c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c

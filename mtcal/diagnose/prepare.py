@@ -133,8 +133,9 @@ def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.
 def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
             max_degree: int = 3, tie_positions: bool = TIE_POSITIONS) -> Prepared:
     """Nominal positions, point Jacobians and weights of every reading (see module docstring); ``tracker`` (3,)
-    mm, a dict station label -> (3,) mm (several stations: the recording's station column labels the rows), or None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise,
-    with the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
+    mm, a dict station label -> (3,) mm (several stations: the recording's station column labels the rows), or
+    None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise, with
+    the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
     from the same reference pose (module docstring), else one per (axis, reflector)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
@@ -185,7 +186,8 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
                     rotation=Aoff, temperature_c=rec.temperature_c)
     if several:
-        g.station, g.trackers = rec.stations(), {k: np.asarray(v, dtype=float).reshape(3) for k, v in tracker.items()}
+        g.station = rec.stations()
+        g.trackers = {k: np.asarray(v, dtype=float).reshape(3) for k, v in tracker.items()}
     prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group, local,
                     NoiseModel.isotropic(n))
     prep.noise = (NoiseModel.stations(rec.xyz, g.station, g.trackers) if several

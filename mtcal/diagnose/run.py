@@ -24,8 +24,10 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
              level: float = 0.01, max_degree: int = MAX_DEGREE, max_effects: int = 8,
              tie_positions: bool = TIE_POSITIONS) -> Diagnosis:
     """Diagnose a recording (see mtcal.diagnose).  ``level``: family-wise significance level; ``tracker`` (3,)
-    mm or None (noise model estimated from the data); ``tie_positions``: reflector positions shared by the axes
-    measured from the same reference pose (mtcal.diagnose.prepare), else one per (axis, reflector)."""
+    mm or None (noise model estimated from the data; a recording of several stations weighs each about its own
+    tracker_x,y,z columns and fits every station's alignment, mtcal.diagnose.design); ``tie_positions``:
+    reflector positions shared by the axes measured from the same reference pose (mtcal.diagnose.prepare), else
+    one per (axis, reflector)."""
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
