@@ -151,3 +151,19 @@ def test_inadequacy_checks_reject_a_named_effect_that_leaves_its_own_pattern():
     assert "recurs at the same places" in inadequate_because(prep, eng, bump, w, 0.01)
     prep, eng, w = _fit(C.reversal_pitch(402))
     assert inadequate_because(prep, eng, fx.reversal_angular(prep.geometry, "X", "E_BX"), w, 0.01) is None
+
+
+@pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])
+def test_nest_creep_named_on_its_side(told):
+    # a label names a nest on the spindle and one on the table: only the spindle's Q creeps (20 um/h over a
+    # five-axis campaign); the table's Q must not be in the creep's model (it was: a re-seated nest was named)
+    m = C.load_machine("dmu50")
+    pt = m.campaign["reflectors"]["tool"][1][0]
+    assert pt in [p[0] for p in m.campaign["reflectors"]["table"]]
+    c = C.make(C.Design(rounds=4, tracker_given=told), [("nest_creep", {"point": pt, "side": "tool",
+                                                                        "rate_mm_s": 20e-3 / 3600})], 610 + told)
+    d = run(c)
+    sig = [f for f in d.effects if f.significant]
+    assert [(f.name, f["point"], f["side"]) for f in sig] == [("nest_creep", pt, "tool")], [f.name for f in sig]
+    v = np.asarray(d.to_dict()["effects"][0]["parameters"]["v_z (mm/s)"]) * 3600 * 1e3
+    assert 14 < v < 26, v   # um/h (20 along +Z of the spindle's frame)

@@ -82,7 +82,8 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         for target in targets:
             for tau in fx.TAUS_S:
                 out.append(fx.thermal_drift(g, target, tau, t0))
-        out += [fx.nest_creep(g, label, t0) for label in sorted(set(rec.point.tolist()))]
+        nests = sorted(set(zip(rec.point.tolist(), g.side.tolist())))   # a label may name a nest on each side
+        out += [fx.nest_creep(g, label, side, t0) for label, side in nests]
         for st in g.stations():  # a tracker's drift and settling start when that station is set up
             on, tracker, _ = g.at(st)
             ts = float(np.min(rec.time_s[on]))

@@ -238,13 +238,15 @@ def reversal_angular(g: Geometry, axis: str, error: str) -> Candidate:
                      family=f"reversal_angular {axis}", extra={"error": error})
 
 
-def nest_creep(g: Geometry, label: str, t0: float) -> Candidate:
-    """One reflector's nest (label) creeping at a constant velocity (mm/s, the side's local frame) from t0 (s)."""
-    on = (g.point == label) & np.isfinite(g.time_s)
+def nest_creep(g: Geometry, label: str, side: str, t0: float) -> Candidate:
+    """One reflector's nest (label, on the tool or table side: a label may name a nest on each) creeping at a
+    constant velocity (mm/s, the side's local frame) from t0 (s)."""
+    on = (g.point == label) & (g.side == side) & np.isfinite(g.time_s)
     dt = np.where(on, np.maximum(g.time_s - t0, 0.0), 0.0)
     G = S.nest_creep_signature(g.rotation.reshape(-1, 9), dt) * on[:, None, None]
-    return Candidate("nest_creep", None, f"point {label}", G, ["v_x (mm/s)", "v_y (mm/s)", "v_z (mm/s)"],
-                     family="nest_creep", extra={"point": str(label), "t0_s": float(t0)})
+    return Candidate("nest_creep", None, f"point {label} ({side} side)", G,
+                     ["v_x (mm/s)", "v_y (mm/s)", "v_z (mm/s)"], family="nest_creep",
+                     extra={"point": str(label), "side": side, "t0_s": float(t0)})
 
 
 def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = None) -> Candidate:
