@@ -124,3 +124,23 @@ def test_station_effects_are_planted_in_their_station_only():
     assert [[e["name"] for e in s["effects"]] for s in truth["stations"]] == [[], ["offset"]]
     with pytest.raises(InputError, match="station_effects: no station 'S9'"):
         simulate_stations(None, STATIONS, machine=M, station_effects={"S9": []})
+
+
+def test_a_knock_before_the_last_axis_is_named_from_two_stations_only():
+    """tests/campaigns.py knock_at_c_start from two stations: pos1's tracker knocked 15 um along +X just before C,
+    the axis measured last, starts.  From pos1 alone the step is C's (table-side) reflector positions: nothing is
+    named; from both stations C's reflectors are shared by the stations and the knock is pos1's only (SEPARATE_BY
+    rotary_location / offset: "from a second tracker station: a location error repeats, a knock does not")."""
+    plan = {"axes": {"X": {"start": 0, "stop": 500, "count": 6}, "Y": {"start": 0, "stop": 450, "count": 6},
+                     "C": {"start": 0, "stop": 315, "count": 8}}, "bidirectional": True}
+    base, _ = simulate_stations(None, STATIONS, machine=M, rounds=3, seed=7800, plan=plan)
+    t0 = float(base.time_s[(base.stations() == FIRST) & (base.axis == "C")].min()) - 1.0
+    knock = {FIRST: [parse_effect(f"offset:size=0.015,direction=+X,t_from_s={t0}")]}
+    rec, _ = simulate_stations(None, STATIONS, machine=M, rounds=3, seed=7800, plan=plan, station_effects=knock)
+    assert significant(diagnose(rec.select(rec.stations() == FIRST), machine=M)) == []
+    sig = significant(diagnose(rec, machine=M))
+    assert [(e["name"], e["direction"]) for e in sig] == [("offset", "+X")]
+    assert f"tracker of station {FIRST} knocked" in sig[0]["where"]
+    t_first = base.time_s[base.stations() == FIRST]
+    assert t_first[t_first < t0].max() < sig[0]["t0_s"] < t0 + 1.0  # in the gap before C, where it was planted
+    assert sig[0]["estimate"] == pytest.approx(0.015, abs=3 * sig[0]["uncertainty"] + 0.001)
