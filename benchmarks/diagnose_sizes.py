@@ -15,9 +15,10 @@ from diagnose_judge import judge  # noqa: E402
 from mtcal.diagnose import diagnose  # noqa: E402
 
 # case -> (keyword, sizes, unit): the builder's size argument
-SIZES = {"nest_creep": ("rate_um_h", (10.0, 20.0, 40.0, 80.0), "um/h"),
-         "thermal_temperature": ("size", (0.5, 1.0, 2.0, 4.0), "x (8 ppm/K, 6 um/K)"),
-         "lateral_play": ("play_mm", (0.002, 0.004, 0.008, 0.015), "mm")}
+SIZES = {"nest_creep": ("rate_um_h", (2.5, 5.0, 10.0, 20.0), "um/h"),
+         "thermal_temperature": ("size", (0.5, 0.75, 1.0, 2.0), "x (8 ppm/K, 6 um/K)"),
+         "lateral_play": ("play_mm", (0.00025, 0.0005, 0.001, 0.002), "mm"),
+         "loose_nest": ("shift_mm", (0.001, 0.002, 0.004, 0.006), "mm")}
 
 
 def main(seeds: int = 4) -> None:

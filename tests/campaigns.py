@@ -82,16 +82,17 @@ def _positions(m: Machine, axis: str, count: int) -> np.ndarray:
 
 def make(design: Design, effects=(), seed: int = 0, *, model: ErrorModel | None = None,
          reference: ErrorModel | None = None, positions: dict | None = None, temperature=None, name: str = "",
-         expect: list[dict] | None = None) -> Campaign:
+         expect: list[dict] | None = None, tool_points: dict | None = None) -> Campaign:
     """One campaign: ``model`` is the simulated machine's error model (None: no errors), ``reference`` the model
-    given to the diagnosis (default: ``model``); ``positions`` {axis: array} overrides the design's counts."""
+    given to the diagnosis (default: ``model``); ``positions`` {axis: array} overrides the design's counts;
+    ``tool_points`` {label: (x, y, z) mm} the spindle's reflectors (default: the spec's)."""
     m = load_machine(design.machine)
     axes = design.axes or m.axes
     counts = design.counts or tuple(6 if m.kind(a) == "linear" else 8 for a in axes)
     pos = {a: _positions(m, a, c) for a, c in zip(axes, counts)}
     pos.update(positions or {})
     tr = station(m, design.station, design.jitter)
-    plan = Plan(m, tracker=tuple(float(c) for c in tr), rounds=design.rounds, positions=pos)
+    plan = Plan(m, tracker=tuple(float(c) for c in tr), rounds=design.rounds, positions=pos, tool_points=tool_points)
     rec, truth = simulate(model, plan=plan, seed=seed, effects=list(effects), temperature=temperature)
     return Campaign(name or "+".join(e[0] if not isinstance(e, str) else e.split(":")[0] for e in effects) or "clean",
                     design, rec, truth, tuple(plan.tracker) if design.tracker_given else None, tuple(plan.tracker),
@@ -284,11 +285,11 @@ def _constant(m: Machine, error: str, value: float) -> ErrorModel:
 
 
 def lateral_play(seed: int, play_mm: float = 0.015) -> Campaign:
-    """Physics outside the candidate list: the X carriage sits ``play_mm`` further along +Y when a target is
-    approached in the - direction than in the + direction (a guideway gib with play: a direction-dependent
-    straightness E_YX).  Simulated as two machines through the exact kinematics (E_YX = +-play/2, same seed and
-    noise), each reading taken from the one its direction of approach selects.  No candidate models it: a right
-    answer reports it unexplained on X (located by direction), never a confident wrong name."""
+    """The X carriage sits ``play_mm`` further along +Y when a target is approached in the - direction than in
+    the + direction (a guideway gib with play: a direction-dependent straightness E_YX).  Simulated as two
+    machines through the exact kinematics (E_YX = +-play/2, same seed and noise), each reading taken from the
+    one its direction of approach selects.  A right answer names reversal_straightness X E_YX (or reports the
+    roll reversal it cannot be told from as confounded with it)."""
     m = load_machine("dmu50")
     d = Design(rounds=4, axes=("X", "Y", "Z"))
     plus, minus = (make(d, (), seed, model=_constant(m, "E_YX", s * play_mm / 2)) for s in (-1.0, 1.0))
@@ -298,12 +299,37 @@ def lateral_play(seed: int, play_mm: float = 0.015) -> Campaign:
     rec.truth = {**plus.truth, "effects": [{"name": "lateral_play", "error": "E_YX", "axis": "X",
                                             "play_mm": play_mm, "outside_candidates": True}]}
     return replace(plus, name="lateral_play", truth=rec.truth, model=None,
-                   expect=[{"name": "lateral_play", "axis": "X"}])
+                   expect=[{"name": "reversal_straightness", "axis": "X", "error": "E_YX"}])
+
+
+def loose_nest(seed: int, shift_mm: float = 0.006) -> Campaign:
+    """Physics outside the candidate list: the reflector in the spindle's second nest is loose and is thrown
+    ``shift_mm`` along the direction of travel at every reversal (it sits +shift/2 along the measured linear
+    axis after a + approach, -shift/2 after a - approach); the other reflectors sit firm.  Simulated through the
+    exact kinematics with that reflector's position moved in the plan (same seed and noise), each reading taken
+    from the campaign its direction of approach selects.  No rigid motion of the carriage does this: a right
+    answer reports it unexplained (direction x point) on the axes where the shift is above the noise (along the
+    beam; across it, 6 um is below the transverse noise), never a confident name."""
+    m = load_machine("dmu50")
+    d = Design(rounds=4, axes=("X", "Y", "Z"))
+    label, p0 = m.campaign["reflectors"]["tool"][1]
+    base = make(d, (), seed)
+    rec = base.recording
+    for k, a in enumerate(d.axes):
+        for sign in (1, -1):
+            moved = np.array(p0, float) + sign * shift_mm / 2 * np.eye(3)[k]
+            pts = {lb: tuple(moved) if lb == label else tuple(p) for lb, p in m.campaign["reflectors"]["tool"]}
+            other = make(d, (), seed, tool_points=pts).recording
+            sel = (rec.axis == a) & (rec.point == label) & (rec.direction == sign)
+            rec.xyz[sel] = other.xyz[sel]
+    rec.truth = {**base.truth, "effects": [{"name": "loose_nest", "point": label, "shift_mm": shift_mm,
+                                            "outside_candidates": True}]}
+    return replace(base, name="loose_nest", truth=rec.truth, expect=[{"name": "loose_nest"}])
 
 
 CASES = {f.__name__: f for f in (c_location_with_model, c_location_and_knock, c_location_last, knock_at_c_start,
                                  warm_up, thermal_temperature, reversal_pitch, aliased_pitch, periodic_x, nest_creep,
-                                 tracker_scale, tracker_settling, lateral_play)}
+                                 tracker_scale, tracker_settling, lateral_play, loose_nest)}
 
 
 def without_tracker(c: Campaign) -> Campaign:

@@ -41,6 +41,7 @@ NOT_SEPARABLE = {
     "thermal_drift": "the recording has no time_s column",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
     "reversal_angular": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
+    "reversal_straightness": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
     "thermal_temperature": "the recording has no (varying) temperature_c column",
     "nest_creep": "the recording has no time_s column",
     "tracker_settling": "the recording has no time_s column",
@@ -57,12 +58,11 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         dirs = set(rec.direction[on].tolist())
         if {1, -1} <= dirs:
             out.append(fx.backlash(g, a))
-            if g.linear(a):
-                out += [fx.reversal_angular(g, a, e) for e in prep.machine.error_motions(a) if e[2] in "ABC"]
+            out += reversal_named(prep, a)[1:]
             out.append(fx.reversal_free(g, a))
         else:
             notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
-                      for nm in ("backlash", "reversal_angular")]
+                      for nm in ("backlash", "reversal_angular", "reversal_straightness")]
         grid, span = fx.pitch_grid(rec.position[on], g.linear(a), max_degree)
         for pitch in grid:
             out.append(fx.periodic(g, a, pitch, span))
@@ -104,6 +104,19 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes
+
+def reversal_named(prep: Prepared, axis: str) -> list[fx.Candidate]:
+    """The named reversal effects of an axis: backlash and, for a linear axis, the reversals of its two
+    straightnesses and three angular errors -- together every rigid motion of the carriage that differs between
+    the directions of approach."""
+    g, m = prep.geometry, prep.machine
+    out = [fx.backlash(g, axis)]
+    if g.linear(axis):
+        own = m.positioning_errors[axis]
+        out += [fx.reversal_straightness(g, axis, e) for e in m.error_motions(axis) if e[2] in "XYZ" and e != own]
+        out += [fx.reversal_angular(g, axis, e) for e in m.error_motions(axis) if e[2] in "ABC"]
+    return out
+
 
 def _temperature(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
     """thermal_temperature candidates when temperature_c is recorded and varies: dT = T - T(first reading), K."""

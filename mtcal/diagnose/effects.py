@@ -7,6 +7,7 @@ generated point Jacobians of the machine (columns of the 41 ISO errors).  Parame
 B, C) reversal value; scale ppm; second_order per mm^2 or deg^2; periodic mm (rad) amplitudes of sin and cos;
 thermal_drift mm (3-vector final displacement); offset and outlier mm (3-vector shift); tracker_scale ppm;
 squareness / rotary_location mm or rad; reversal_angular rad (angle(+ approach) - angle(- approach));
+reversal_straightness mm (straightness(+ approach) - straightness(- approach));
 nest_creep mm/s (3-vector in the side's local frame); tracker_settling rad/s and rad (rotation vector about the
 tracker: ramp rate and settled angle); thermal_temperature ppm/K (expansion) or mm/K (3-vector drift).
 
@@ -25,7 +26,7 @@ from mtcal.machine import Machine
 
 VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
               "cross_axis", "second_order", "tracker_scale", "offset", "reversal_angular", "nest_creep",
-              "tracker_settling", "thermal_temperature")
+              "tracker_settling", "thermal_temperature", "reversal_straightness")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
 UNEXPLAINED = "unexplained"  # name of the free-form candidates: selected, they are reported as unexplained
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
@@ -236,6 +237,16 @@ def reversal_angular(g: Geometry, axis: str, error: str) -> Candidate:
     G = S.reversal_angular_signature(g.col(error), g.direction.astype(float)) * _on(g, axis)
     return Candidate("reversal_angular", axis, error, G[:, :, None], ["r = angle(+) - angle(-) (rad)"],
                      family=f"reversal_angular {axis}", extra={"error": error})
+
+
+def reversal_straightness(g: Geometry, axis: str, error: str) -> Candidate:
+    """A straightness of a linear axis that differs between + and - approach by r (mm): the carriage sits to one
+    side of its guideway's play after each approach (a lateral play); the same generated signature as backlash,
+    on the straightness error's column."""
+    G = S.backlash_signature(g.col(error), g.direction.astype(float)) * _on(g, axis)
+    return Candidate("reversal_straightness", axis, error, G[:, :, None],
+                     ["r = straightness(+) - straightness(-) (mm)"], family=f"reversal_straightness {axis}",
+                     extra={"error": error})
 
 
 def nest_creep(g: Geometry, label: str, side: str, t0: float) -> Candidate:

@@ -88,16 +88,21 @@ def _unexplained(x: Located) -> dict:
 
 def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
     """A selected free-form candidate (a misfit no named effect explains) as an unexplained, located mismatch:
-    its size is the largest per-reflector vector of the free form (mm)."""
+    its size is the largest well-determined component (|value| > 3 sd) of the per-reflector reversal vectors (mm,
+    the side's frame; else the largest component), named in the note."""
     c = s.candidate
-    theta, _ = eng.estimate([w(c)])
-    size = float(np.max(np.linalg.norm(theta.reshape(-1, 3), axis=1)))
-    p_adj = min(1.0, math.exp(s.logp_adj))
+    theta, cov = eng.estimate([w(c)])
+    sd = np.sqrt(np.maximum(np.diag(cov), 1e-300))
+    pick = np.abs(theta) * (np.abs(theta) > 3 * sd)
+    k = int(np.argmax(pick if pick.any() else np.abs(theta)))
+    point, comp = c.extra["points"][k // 3], "xyz"[k % 3]
     note = ("the readings differ between the directions of approach, and differently for each reflector, beyond "
-            "what backlash and the angular reversals of the axis explain together (size: the largest reversal "
-            "vector of a reflector)")
-    return Located(c.axis, "direction x point", c.label, float(-s.logp_adj / math.log(10)), p_adj, "mean",
-                   int(np.sum(np.any(c.G != 0, axis=(1, 2)))), s.score.F, 0.0, size, note)
+            "what the rigid reversals of the axis (backlash, straightness and angular reversals) explain together; "
+            f"largest: reflector {point}, {comp} = {theta[k] * 1e3:.2f} +- {sd[k] * 1e3:.2f} um "
+            "(reading(+ approach) - reading(- approach), the side's frame)")
+    return Located(c.axis, "direction x point", c.label, float(-s.logp_adj / math.log(10)),
+                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(np.any(c.G != 0, axis=(1, 2)))), s.score.F,
+                   0.0, float(abs(theta[k])), note)
 
 
 def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:

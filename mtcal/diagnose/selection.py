@@ -22,12 +22,13 @@ import numpy as np
 from scipy import optimize
 
 from mtcal.diagnose import effects as fx
-from mtcal.diagnose.candidates import scanned
+from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
+REVERSALS = ("backlash", "reversal_angular", "reversal_straightness")
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
 ROUND_SPECIFIC = ("outlier", "offset")
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
@@ -51,6 +52,10 @@ SEPARATE_BY = {
                                                       "and end: a settling tracker turns every reading about itself",
     frozenset(("reversal_angular", "backlash")): "measure with reflectors at several offsets from the axis: an "
                                                  "angular reversal grows with the offset (Abbe), backlash does not",
+    frozenset(("reversal_angular", "reversal_straightness")): "measure with reflectors at several heights and "
+                                                              "offsets from the axis: an angular reversal grows "
+                                                              "with the lever (Abbe), a straightness reversal "
+                                                              "does not",
     frozenset(("periodic",)): "measure at a finer, non-uniform position step (below half the shortest pitch)",
 }
 DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
@@ -184,8 +189,7 @@ def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: 
     """The free-form reversal of ``axis`` beyond every named reversal effect of the axis together (backlash and
     the angular reversals), when significant at ``level``; else None."""
     g = prep.geometry
-    named = [fx.backlash(g, axis)] + ([fx.reversal_angular(g, axis, e) for e in prep.machine.error_motions(axis)
-                                       if e[2] in "ABC"] if g.linear(axis) else [])
+    named = reversal_named(prep, axis)
     e = eng.copy()
     e.add(np.hstack([w(c) for c in named]))
     sc = e.score(w(fx.reversal_free(g, axis)))
@@ -193,11 +197,11 @@ def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: 
 
 
 def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
-    """Why the effect ``c`` does not explain the misfit it fits, or None.  A reversal effect (backlash,
-    reversal_angular) must leave no reversal that differs between reflectors beyond what the named reversal
-    effects of its axis explain together (free-form check, F test at ``level``); a scanned one-off displacement
-    (outlier reading or bump) must not be found, in the same direction, at the same places in the other rounds."""
-    if c.name in ("backlash", "reversal_angular"):
+    """Why the effect ``c`` does not explain the misfit it fits, or None.  A reversal effect (``REVERSALS``) must
+    leave no reversal that differs between reflectors beyond what the named reversal effects of its axis explain
+    together (free-form check, F test at ``level``); a scanned one-off displacement (outlier reading or bump) must
+    not be found, in the same direction, at the same places in the other rounds."""
+    if c.name in REVERSALS:
         sc = _reversal_misfit(prep, eng, c.axis, w, level)
         if sc is not None:
             return (f"no reversal effect explains the direction-dependent misfit on {c.axis}: it differs between "
