@@ -6,12 +6,13 @@ Each station's readings are ``rigid_point(exact reflector position, a_s) + AT960
 N(0, alignment_um) and N(0, alignment_urad), seeded); the exact reflector positions come from the machine's
 error-inclusive kinematics (mtcal.simulate, noise off).  Rounds are numbered across stations (a round belongs
 to one station); times continue from station to station with ``station_change_s`` for moving and re-aligning
-the tracker.  The truth sidecar lists every station's tracker position and alignment error.
+the tracker.  The truth sidecar lists every station's tracker position, alignment error and planted effects
+(``effects`` planted in every station's campaign, ``station_effects`` in one station's).
 """
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Iterable, Sequence
+from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -31,9 +32,12 @@ STATION_CHANGE_S = 1800.0  # move the tracker, warm up, re-align (s)
 def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: str | Machine | None = None,
                       rounds: int = 1, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
                       alignment_um: float = ALIGNMENT_UM, alignment_urad: float = ALIGNMENT_URAD,
-                      spec: trk.TrackerSpec = trk.AT960, temperature=None) -> tuple[Recording, dict]:
+                      spec: trk.TrackerSpec = trk.AT960, temperature=None,
+                      station_effects: Mapping[str, Iterable] | None = None) -> tuple[Recording, dict]:
     """(recording, truth) of a campaign measured from each of ``stations`` ((3,) mm positions or
-    (label, (3,)) pairs, machine frame) with ``rounds`` rounds each; ``temperature`` as in ``simulate``."""
+    (label, (3,)) pairs, machine frame) with ``rounds`` rounds each; ``temperature`` as in ``simulate``;
+    ``effects`` are planted in every station's campaign (their times from that station's start),
+    ``station_effects`` (label -> effects) in that station's only (e.g. a knock of one tracker)."""
     if machine is None:
         machine = model.machine if model is not None else None
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
@@ -42,6 +46,10 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
              for i, s in enumerate(stations)]
     if not named:
         raise InputError("a multi-station campaign needs at least one station")
+    extra = sorted(set(station_effects or {}) - {label for label, _ in named})
+    if extra:
+        raise InputError(f"station_effects: no station {extra[0]!r} (stations: {', '.join(k for k, _ in named)})")
+    effects = list(effects)
     rng = np.random.default_rng(seed)
     align = np.column_stack([rng.normal(0, alignment_um * 1e-3, (len(named), 3)),
                              rng.normal(0, alignment_urad * 1e-6, (len(named), 3))])
@@ -52,14 +60,16 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
         if not np.isfinite(t).all():
             raise InputError(f"station {label}: tracker position must be finite, got {pos!r}")
         rec, truth = simulate(model, machine=m, plan=replace(pl, tracker=tuple(t), rounds=int(rounds)),
-                              rounds=None, seed=None, effects=effects, noise=False, temperature=temperature)
+                              rounds=None, seed=None, effects=[*effects, *(station_effects or {}).get(label, ())],
+                              noise=False, temperature=temperature)
         a = align[k]
         xyz = tp.rigid_point(rec.xyz, a)
         if noise:
             xyz = xyz + trk.sample(xyz, t, rng, spec)
         parts.append((label, t, rec, xyz, k * int(rounds), t0))
         t0 += float(rec.time_s.max()) + STATION_CHANGE_S
-        st_truth.append({"label": label, "tracker": t.tolist(), "alignment": a.tolist(), "rounds": int(rounds)})
+        st_truth.append({"label": label, "tracker": t.tolist(), "alignment": a.tolist(), "rounds": int(rounds),
+                         "effects": truth.get("effects", [])})
     cat = lambda f: np.concatenate([f(p) for p in parts])  # noqa: E731
     out = make_recording(cat(lambda p: p[2].axis), cat(lambda p: p[2].round + p[4]), cat(lambda p: p[2].position),
                          cat(lambda p: p[2].point), cat(lambda p: p[3]), cat(lambda p: p[2].time_s + p[5]),

@@ -1,5 +1,5 @@
 """Diagnosis of recordings with station columns (design.md): the recording's tracker position sets the noise
-model; a recording of several stations is refused until one station is chosen (alignments are not modelled)."""
+model; ``--station`` selects one station of several (several in one fit: tests/test_diagnose_multistation.py)."""
 from __future__ import annotations
 
 import numpy as np
@@ -26,9 +26,10 @@ def two_stations(tmp_path_factory):
     return path
 
 
-def test_several_stations_are_refused_naming_them(two_stations):
+def test_several_stations_without_tracker_columns_are_refused_naming_them(two_stations):
     rec = read_recording(two_stations, M)
-    with pytest.raises(InputError, match=r"2 tracker stations \(S1, S2\).*--station"):
+    rec.tracker_xyz = None
+    with pytest.raises(InputError, match=r"2 tracker stations \(S1, S2\) but no tracker_x.*--station"):
         diagnose(rec, machine=M)
 
 
@@ -42,8 +43,10 @@ def test_one_station_uses_the_recordings_tracker_columns(two_stations):
 
 
 def test_cli_station_option(two_stations, capsys):
-    assert main(["diagnose", str(two_stations)]) == 2
-    assert "--station" in capsys.readouterr().err
+    assert main(["diagnose", str(two_stations), "--json", "-q"]) == 0  # both stations in one fit
+    assert '"AT960 (given trackers, per station)"' in capsys.readouterr().out
+    assert main(["diagnose", str(two_stations), "--tracker", "0,-1500,0"]) == 2
+    assert "one --tracker position cannot weigh them" in capsys.readouterr().err
     assert main(["diagnose", str(two_stations), "--station", "S9"]) == 2
     assert "no readings of station 'S9' (stations: S1, S2)" in capsys.readouterr().err
     assert main(["diagnose", str(two_stations), "--station", "S1", "--json", "-q"]) == 0

@@ -19,8 +19,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="tracker position, mm, machine frame: weights readings by the AT960 covariance (default: "
                    "the position estimated from the scatter of the repeated rounds; the JSON key noise_model says "
                    "which was used)")
-    p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (a recording "
-                   "of several stations must name one; its tracker_x,y,z columns set the noise model)")
+    p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (default: "
+                   "every station in one fit, each weighted about its own tracker_x,y,z, with its own alignment)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
     p.add_argument("--per-axis-positions", action="store_true",
                    help="one position per (axis, reflector) instead of sharing a reflector's position between the "

@@ -24,7 +24,12 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
 * weights: the AT960 covariance (mtcal.tracker) of every reading about the tracker position, given or estimated
   from the scatter of the repeated rounds (mtcal.diagnose.noise; whitened least squares; sigma ratio 1 = the
   tracker's specification), else (one round, no tracker shape in the scatter) unweighted;
-* with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets.
+* with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets;
+* several tracker stations (design.md: station and tracker_x,y,z columns) are one fit: each reading weighted
+  about its own station's tracker, each station's rigid alignment (6 parameters; the first station's is the
+  frame) among the base's unknowns, the error functions and reflector positions common to every station; the
+  tracker effects (drift, settling, scale relative to the first station, knock) are candidates per station, the
+  machine effects common, which is what separates the two.
 
 Diagnosis: studentized residuals grouped by axis x (direction, round, time, position, point) locate the misfit;
 candidate effects (mtcal.diagnose.effects, signatures derived in derive/signatures.py) are tested by an F test on

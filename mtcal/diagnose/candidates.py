@@ -14,7 +14,8 @@ from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
 
 NOT_SEPARABLE = {
     "scale": "a linear positioning error is part of the fitted error function E_JJ; compare with a reference model "
-             "(--model) or measure a length standard / a second tracker station",
+             "(--model) or measure a length standard (a second tracker station does not separate it: a scale "
+             "common to every station is the machine frame's)",
     "second_order": "a quadratic error term is part of the fitted smooth error function; compare with a reference "
                     "model (--model)",
     "squareness": "with each axis measured alone, a squareness is a linear straightness slope of the fitted "
@@ -26,7 +27,16 @@ NOT_SEPARABLE = {
                   "other axis at a second position (plan 'at')",
     "offset": "one (round, reflector) sequence only: a shift of it is the reflector's position itself",
     "tracker_scale": "with one tracker station a radial scale of the tracker looks like axis scale and rotary "
-                     "location errors; measure from a second tracker station or against a length standard",
+                     "location errors; measure from a second tracker station (separates a scale that differs "
+                     "between the stations: the air at another time, another instrument) or against a length "
+                     "standard (a scale common to every station)",
+    "tracker_scale common": "a scale common to every station's tracker (the air's refractive index over the whole "
+                            "campaign) scales the machine frame itself: it is the axes' scale errors; measure "
+                            "against a length standard (a scale that differs between stations is tested: "
+                            "tracker_scale of a station relative to the first)",
+    "tracker_scale station": "the stations see the machine from too similar directions: a scale of one station "
+                             "relative to the first looks like the axes' errors; measure from a station at a "
+                             "right angle to the others",
     "backlash": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
     "thermal_drift": "the recording has no time_s column",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
@@ -68,20 +78,27 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
     if np.isfinite(rec.time_s).all():
         t0 = float(np.min(rec.time_s))
         sides = set(g.side.tolist())
-        targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else []) + (
-            ["tracker"] if len(sides) > 1 else [])
+        targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else [])
         for target in targets:
             for tau in fx.TAUS_S:
                 out.append(fx.thermal_drift(g, target, tau, t0))
         nests = sorted(set(zip(rec.point.tolist(), g.side.tolist())))   # a label may name a nest on each side
         out += [fx.nest_creep(g, label, side, t0) for label, side in nests]
-        if g.tracker is not None:
-            out += [fx.tracker_settling(g, tau, t0) for tau in fx.TAUS_S]
+        for st in g.stations():  # a tracker's drift and settling start when that station is set up
+            on, tracker, _ = g.at(st)
+            ts = float(np.min(rec.time_s[on]))
+            if len(sides) > 1 or st is not None:  # one side, one station: the tracker's drift is the side's
+                out += [fx.thermal_drift(g, "tracker", tau, ts, st) for tau in fx.TAUS_S]
+            if tracker is not None:
+                out += [fx.tracker_settling(g, tau, ts, st) for tau in fx.TAUS_S]
     else:
         notes += [{"name": nm, "axis": None, "not_separable": NOT_SEPARABLE[nm]}
                   for nm in ("thermal_drift", "nest_creep", "tracker_settling")]
     out += _temperature(prep, notes)
-    if g.tracker is not None:
+    if g.trackers:  # the first station's scale is the frame's: a scale common to every station is the machine's
+        out += [fx.tracker_scale(g, st) for st in g.stations()[1:]]
+        notes.append({"name": "tracker_scale", "axis": None, "not_separable": NOT_SEPARABLE["tracker_scale common"]})
+    elif g.tracker is not None:
         out.append(fx.tracker_scale(g))
     for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
@@ -123,12 +140,15 @@ def scanned(prep: Prepared, eng: Engine) -> list[tuple[str, fx.Candidate, int]]:
     if ocount:
         out.append(("outlier", fx.outlier(prep.geometry, oscan["rows"], oscan["mode"], where_of(prep, oscan["rows"])),
                     ocount))
-    kscan, kcount = knock_scan(prep, eng)
-    if kcount:  # tracker knock: the change point t0 scanned over the reading times (kcount members)
+    # tracker knock: the change point t0 scanned over the reading times of each station (kcount members in all)
+    scans = [(st, *knock_scan(prep, eng, prep.geometry.at(st)[0])) for st in prep.geometry.stations()]
+    kcount = sum(c for _, _, c in scans)
+    if kcount:
+        st, kscan, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
         first = kscan["rows"][np.argmin(prep.order[kscan["rows"]])]
         where = {"from_axis": str(prep.rec.axis[first]), **where_of(prep, kscan["rows"]),
                  "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
-        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where), kcount))
+        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where, st), kcount))
     return out
 
 
@@ -143,7 +163,8 @@ def screen(cands: list[fx.Candidate], notes: list[dict], eng: Engine, w) -> list
             if not sc.separable or (c.name == "tracker_scale" and sc.sep < WEAK_TOL):
                 if (c.name, c.axis) not in seen:
                     seen.add((c.name, c.axis))
-                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[c.name],
+                    key = "tracker_scale station" if "station" in c.extra else c.name
+                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[key],
                                   "separability": sc.sep})
                 continue
         keep.append(c)

@@ -10,6 +10,14 @@ side (six columns, ``_parked_columns``): a parked axis sits in an error state th
 a lateral play sits at the side of the last approach), and any error state moves the side rigidly; a knocked
 tracker or a drift of the whole side between the axes is therefore still absorbed, but what moves one reflector
 relative to the others (a creeping nest) is no longer absorbed per axis.
+
+Several tracker stations (``Prepared.stations``): each station's readings are in the machine frame after its own
+alignment, which leaves a small rigid error (design.md).  The base carries it as six shared columns per station
+(``_alignment_columns``: translation t, mm, and a small rotation w, rad, about the centroid of the station's
+readings c, moving a reading x by t + w x (x - c)) for every station but the first: gauge, the first station's
+alignment is the frame (the data tell only the alignments relative to each other, a common rigid motion being
+the reflector positions and the machine frame; design.md's "translations sum to zero" is the same fit, the
+estimates shifted by their mean).
 """
 from __future__ import annotations
 
@@ -43,6 +51,7 @@ class Base:
     blocks: dict[str, np.ndarray]   # axis -> (n_axis, 3, p_axis) raw design of the axis' readings, mm per parameter
     degrees: dict[str, int]
     shared: np.ndarray              # (n, 3, s) raw design of the shared reflector positions (zero off their axes)
+    #                                 and of the station alignments (several stations; module docstring)
 
 
 def _position_columns(prep: Prepared, rows: np.ndarray, group: int) -> list[np.ndarray]:
@@ -69,9 +78,22 @@ def _parked_columns(prep: Prepared, rows: np.ndarray) -> list[np.ndarray]:
     return cols
 
 
+def _alignment_columns(prep: Prepared, rows: np.ndarray) -> list[np.ndarray]:
+    """Six (n, 3) columns per station but the first (module docstring), zero off the station's readings and off
+    ``rows`` (bool (n,))."""
+    g, cols = prep.geometry, []
+    for label in prep.stations[1:]:
+        on = g.station == label
+        d = g.xyz - g.xyz[on].mean(axis=0)
+        for c in [np.broadcast_to(e, d.shape) for e in np.eye(3)] + [np.cross(e, d) for e in np.eye(3)]:
+            cols.append(np.where((on & rows)[:, None], c, 0.0))
+    return cols
+
+
 def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | None = None) -> Base:
     """Per axis: error-function columns J_point[:, e] * basis_k(q) and the columns of the reflector positions of
-    that axis alone; shared: the reflector positions shared by several of ``axes`` (module docstring)."""
+    that axis alone; shared: the reflector positions shared by several of ``axes`` and the station alignments
+    (module docstring)."""
     g, rec = prep.geometry, prep.rec
     axes = list(axes or prep.axes)
     inside = np.isin(rec.axis, axes)
@@ -101,6 +123,9 @@ def base_design(prep: Prepared, degrees: dict[str, int], axes: Sequence[str] | N
     S = np.zeros((len(rec), 3, len(shared)))
     if shared:
         S[inside] = np.stack(shared, axis=-1)
+    align = _alignment_columns(prep, inside)
+    if align:
+        S = np.concatenate([S, np.stack(align, axis=-1)], axis=-1)
     return Base(blocks, dict(degrees), S)
 
 

@@ -73,12 +73,30 @@ class Geometry:
     tracker: np.ndarray | None
     rotation: np.ndarray | None = None   # (n, 3, 3) the reflector's side rotation, local -> machine frame
     temperature_c: np.ndarray | None = None  # (n,) degC, NaN when absent
+    station: np.ndarray | None = None    # (n,) station label of every reading (several stations only)
+    trackers: dict[str, np.ndarray] | None = None  # station label -> tracker position (3,) mm (several stations)
 
     def col(self, name: str) -> np.ndarray:
         return self.J[:, :, self.machine.error_names.index(name)]
 
     def linear(self, axis: str) -> bool:
         return self.machine.kind(axis) == "linear"
+
+    def stations(self) -> list[str | None]:
+        """The stations of the tracker-dependent candidates: every label of a multi-station recording, else
+        [None] (one station: every reading, ``tracker``)."""
+        return list(self.trackers) if self.trackers else [None]
+
+    def at(self, station: str | None) -> tuple[np.ndarray, np.ndarray | None, str]:
+        """(readings of ``station`` (bool (n,)), its tracker position (3,) mm, " of station LABEL" or "")."""
+        if station is None:
+            return np.ones(len(self.axis), bool), self.tracker, ""
+        return self.station == station, self.trackers[station], f" of station {station}"
+
+
+def _tag(station: str | None) -> dict:
+    """The ``extra`` entry naming the station of a per-station candidate (none for one station)."""
+    return {"station": station} if station else {}
 
 
 def _on(g: Geometry, axis: str) -> np.ndarray:
@@ -145,22 +163,36 @@ def pitch_grid(positions: np.ndarray, linear: bool, max_harmonic: int) -> tuple[
     return np.geomspace(lo, hi, n), (lo, hi)
 
 
-def thermal_drift(g: Geometry, target: str, tau: float, t0: float) -> Candidate:
-    on = {"spindle": g.side == "tool", "table": g.side == "table", "tracker": np.ones(len(g.axis), bool)}[target]
+def thermal_drift(g: Geometry, target: str, tau: float, t0: float, station: str | None = None) -> Candidate:
+    """A side (spindle, table) or the tracker (of ``station``: its readings only) drifting from t0 (s)."""
+    rows, _, of = g.at(station)
+    on = {"spindle": g.side == "tool", "table": g.side == "table", "tracker": rows}[target]
     dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
     G = S.thermal_drift_signature(dt, float(tau)) * on[:, None, None]
-    c = Candidate("thermal_drift", None, f"{target}, tau={tau:.0f} s", G,
+    c = Candidate("thermal_drift", None, f"{target}{of}, tau={tau:.0f} s", G,
                   ["A_x (mm)", "A_y (mm)", "A_z (mm)"], family="thermal_drift",
-                  extra={"target": target, "tau_s": float(tau), "t0_s": float(t0)})
-    c.refine = lambda t: thermal_drift(g, target, t, t0)
+                  extra={"target": target, "tau_s": float(tau), "t0_s": float(t0),
+                         **_tag(station)})
+    c.refine = lambda t: thermal_drift(g, target, t, t0, station)
     c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c
 
 
-def tracker_scale(g: Geometry) -> Candidate:
-    G = S.tracker_scale_signature(g.xyz, g.tracker)
-    return Candidate("tracker_scale", None, "about the tracker", G[:, :, None], ["ppm"], family="tracker_scale",
-                     extra={"tracker": [float(v) for v in g.tracker]})
+def tracker_scale(g: Geometry, station: str | None = None) -> Candidate:
+    """The distances of the tracker (of ``station``: its readings only) scaled about it (ppm).  Per station, the
+    column is centred on the station's readings: its mean is a translation of the station, which the base's
+    alignment unknowns absorb (the fit is the same; the separability, relative to the column, is not dwarfed by
+    the tracker's distance).  A scale common to every station is a scale of the machine frame (the axes' scale
+    errors): per station, the scale is relative to the first station's (mtcal.diagnose.candidates)."""
+    on, t, of = g.at(station)
+    G = np.zeros((len(on), 3))
+    G[on] = S.tracker_scale_signature(g.xyz[on], t)
+    if station is not None:  # less its mean over the station, a translation that its alignment absorbs
+        G[on] -= G[on].mean(axis=0)
+    rel = f" relative to station {g.stations()[0]}" if station is not None else ""
+    return Candidate("tracker_scale", None, f"about the tracker{of}{rel}", G[:, :, None], ["ppm"],
+                     family="tracker_scale",
+                     extra={"tracker": [float(v) for v in t], **_tag(station)})
 
 
 def outlier(g: Geometry, rows: np.ndarray, mode: str, where: dict) -> Candidate:
@@ -185,16 +217,19 @@ def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
                      extra={"variant": "re-seated nest", **where})
 
 
-def tracker_knock(g: Geometry, t0: float, where: dict) -> Candidate:
-    """The tracker (stand) knocked at ``t0`` (s): every reading from t0 on, of every axis and reflector, displaced
-    by one constant vector (mm, machine frame) -- the planted effect ``offset`` of mtcal.effects.  The change
-    point t0 is scanned over the gaps between reading times (mtcal.diagnose._knock_scan)."""
-    on = (np.isfinite(g.time_s) & (g.time_s >= t0)).astype(float)
+def tracker_knock(g: Geometry, t0: float, where: dict, station: str | None = None) -> Candidate:
+    """The tracker (stand; of ``station``: its readings only, until it is re-aligned) knocked at ``t0`` (s): every
+    reading from t0 on, of every axis and reflector, displaced by one constant vector (mm, machine frame) -- the
+    planted effect ``offset`` of mtcal.effects.  The change point t0 is scanned over the gaps between reading
+    times (mtcal.diagnose.scans.knock_scan)."""
+    rows, _, of = g.at(station)
+    on = (rows & np.isfinite(g.time_s) & (g.time_s >= t0)).astype(float)
     G = S.outlier_signature(on)
-    label = (f"tracker knocked at t0 = {t0:.6g} s (from axis {where['from_axis']} round {where['round']} point "
-             f"{where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
+    label = (f"tracker{of} knocked at t0 = {t0:.6g} s (from axis {where['from_axis']} round {where['round']} "
+             f"point {where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
     return Candidate("offset", None, label, G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="offset",
-                     extra={"variant": "tracker knock", "t0_s": float(t0), **where})
+                     extra={"variant": "tracker knock", "t0_s": float(t0), **where,
+                            **_tag(station)})
 
 
 def reversal_angular(g: Geometry, axis: str, error: str) -> Candidate:
@@ -225,18 +260,21 @@ def nest_creep(g: Geometry, label: str, side: str, t0: float) -> Candidate:
                      extra={"point": str(label), "side": side, "t0_s": float(t0)})
 
 
-def tracker_settling(g: Geometry, tau: float, t0: float) -> Candidate:
-    """The tracker turning slowly about an axis through it: rotation vector w dt + a (1 - exp(-dt/tau)) (rad/s,
-    rad; x, y, z components), every reading rotated about the tracker position."""
+def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = None) -> Candidate:
+    """The tracker (of ``station``: its readings only) turning slowly about an axis through it: rotation vector
+    w dt + a (1 - exp(-dt/tau)) (rad/s, rad; x, y, z components), every reading rotated about the tracker."""
+    on, t, of = g.at(station)
     dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
-    cols = [S.tracker_settling_signature(g.xyz, g.tracker, u, dt, float(tau)) for u in np.eye(3)]
-    G = np.concatenate(cols, axis=-1)
+    G = np.zeros((len(on), 3, 6))
+    G[on] = np.concatenate([S.tracker_settling_signature(g.xyz[on], t, u, dt[on], float(tau)) for u in np.eye(3)],
+                           axis=-1)
     params = [f"{k}_{c}" for c in "xyz" for k in ("w (rad/s)", "a (rad)")]
-    c = Candidate("tracker_settling", None, f"about the tracker, tau={tau:.0f} s", G, params,
+    c = Candidate("tracker_settling", None, f"about the tracker{of}, tau={tau:.0f} s", G, params,
                   family="tracker_settling", extra={"tau_s": float(tau), "t0_s": float(t0),
-                                                    "t_end_s": float(np.nanmax(g.time_s)),
-                                                    "tracker": [float(v) for v in g.tracker]})
-    c.refine = lambda t: tracker_settling(g, t, t0)
+                                                    "t_end_s": float(np.nanmax(g.time_s[on])),
+                                                    "tracker": [float(v) for v in t],
+                                                    **_tag(station)})
+    c.refine = lambda t: tracker_settling(g, t, t0, station)
     c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c
 

@@ -55,11 +55,27 @@ class NoiseModel:
 
     @classmethod
     def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, **details) -> "NoiseModel":
-        W = np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
-        return cls(W, kind, how, [float(v) for v in tracker], dict(details))
+        return cls(_whitening(xyz, tracker), kind, how, [float(v) for v in tracker], dict(details))
+
+    @classmethod
+    def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray]) -> "NoiseModel":
+        """The AT960 covariance of every reading about its own station's tracker (several stations)."""
+        W = np.empty((len(xyz), 3, 3))
+        for label, t in trackers.items():
+            on = station == label
+            W[on] = _whitening(xyz[on], t)
+        return cls(W, "AT960 (given trackers, per station)",
+                   "each reading weighted by the AT960 covariance about its own station's tracker (the recording's "
+                   "station and tracker_x,y,z columns)", None,
+                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}})
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
+
+
+def _whitening(xyz: np.ndarray, tracker: np.ndarray) -> np.ndarray:
+    """W (n, 3, 3), W^T W = the inverse AT960 covariance of the readings xyz (n, 3) mm about ``tracker`` (3,)."""
+    return np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
 
 
 def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -> NoiseModel:

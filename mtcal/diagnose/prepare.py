@@ -15,6 +15,10 @@ uses the reference readings of all its axes.  A parked axis still sits in an err
 (the side of its backlash it was last approached from): the base gives each tied axis a free rigid motion of its
 side (mtcal.diagnose.design), so only what moves one reflector relative to the others is no longer absorbed.
 
+Several tracker stations (design.md; ``tracker`` a dict label -> tracker position): every reading is weighted
+by the AT960 covariance about its own station's tracker, and the tracker-dependent candidates are per station
+(``Geometry.station``, ``Geometry.trackers``); the base adds every station's alignment (mtcal.diagnose.design).
+
 The weights (whitening W, W^T W = covariance^-1) come from mtcal.diagnose.noise.
 """
 from __future__ import annotations
@@ -56,6 +60,11 @@ class Prepared:
     @property
     def weighted(self) -> bool:
         return self.noise.weighted
+
+    @property
+    def stations(self) -> list[str]:
+        """The station labels of a multi-station recording (each with its own alignment unknowns), else []."""
+        return list(self.geometry.trackers or {})
 
 
 def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -124,8 +133,9 @@ def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.
 def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
             max_degree: int = 3, tie_positions: bool = TIE_POSITIONS) -> Prepared:
     """Nominal positions, point Jacobians and weights of every reading (see module docstring); ``tracker`` (3,)
-    mm or None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise,
-    with the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
+    mm, a dict station label -> (3,) mm (several stations: the recording's station column labels the rows), or
+    None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise, with
+    the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
     from the same reference pose (module docstring), else one per (axis, reflector)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
@@ -171,12 +181,17 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
             Aoff[mask] = m.rigid_motion(s, av[mask])[1]
             J[mask] = m.point_jacobian_errors(s, av[mask], local[mask])
     y = rec.xyz - nominal
-    t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
+    several = isinstance(tracker, dict)
+    t = None if tracker is None or several else np.asarray(tracker, dtype=float).reshape(3)
     g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
                     rotation=Aoff, temperature_c=rec.temperature_c)
+    if several:
+        g.station = rec.stations()
+        g.trackers = {k: np.asarray(v, dtype=float).reshape(3) for k, v in tracker.items()}
     prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group, local,
                     NoiseModel.isotropic(n))
-    prep.noise = noise_model(prep, t, max_degree)
+    prep.noise = (NoiseModel.stations(rec.xyz, g.station, g.trackers) if several
+                  else noise_model(prep, t, max_degree))
     if t is None and prep.noise.tracker is not None:
         prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)
     return prep

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import logging
 
+import numpy as np
+
 from mtcal.diagnose.candidates import candidates, screen
 from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
@@ -22,8 +24,10 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
              level: float = 0.01, max_degree: int = MAX_DEGREE, max_effects: int = 8,
              tie_positions: bool = TIE_POSITIONS) -> Diagnosis:
     """Diagnose a recording (see mtcal.diagnose).  ``level``: family-wise significance level; ``tracker`` (3,)
-    mm or None (noise model estimated from the data); ``tie_positions``: reflector positions shared by the axes
-    measured from the same reference pose (mtcal.diagnose.prepare), else one per (axis, reflector)."""
+    mm or None (noise model estimated from the data; a recording of several stations weighs each about its own
+    tracker_x,y,z columns and fits every station's alignment, mtcal.diagnose.design); ``tie_positions``:
+    reflector positions shared by the axes measured from the same reference pose (mtcal.diagnose.prepare), else
+    one per (axis, reflector)."""
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
@@ -70,7 +74,11 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                  f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
                  f"selected effects in the fit)", "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
-                          + _positions(prep)}
+                          + _positions(prep) + _alignments(prep)}
+    if prep.stations:
+        base_info["alignment"] = {"stations": prep.stations, "fixed": prep.stations[0],
+                                  "per_station": "tx, ty, tz (mm), wx, wy, wz (rad) about the station's readings' "
+                                                 "centroid"}
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep)
@@ -85,14 +93,29 @@ def _positions(prep) -> str:
             "these axes with a free rigid motion of its side), else per (axis, point)")
 
 
+def _alignments(prep) -> str:
+    """The station alignment unknowns of the base (mtcal.diagnose.design), in words ("" for one station)."""
+    if not prep.stations:
+        return ""
+    return (f"; {len(prep.stations)} tracker stations ({', '.join(prep.stations)}): a rigid alignment (3 "
+            f"translations mm, 3 rotations rad about the station's readings' centroid) per station but the first "
+            f"{prep.stations[0]} (gauge: the first station's alignment is the frame)")
+
+
 def _station_tracker(rec: Recording, tracker):
-    """The tracker position for the noise model: ``tracker`` if given, else the recording's own tracker_x,y,z
-    columns (design.md).  The diagnosis models one station: station alignments are not among its unknowns, so a
-    recording of several stations is refused (choose one with ``Recording.select`` / ``--station``)."""
-    labels = sorted(set(rec.stations()))
+    """The tracker position(s) of the noise model: ``tracker`` if given, else the recording's own tracker_x,y,z
+    columns (design.md); several stations: a dict station label -> tracker position (3,) mm (each station's
+    readings are then weighted about its own tracker and the base carries every station's alignment)."""
+    labels = list(dict.fromkeys(rec.stations().tolist()))
     if len(labels) > 1:
-        raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}); the diagnosis "
-                         "analyses one station at a time (station alignments are not modelled): give --station LABEL")
+        if tracker is not None:
+            raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}): one --tracker "
+                             "position cannot weigh them; give the tracker_x,y,z columns or --station LABEL")
+        if rec.tracker_xyz is None:
+            raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}) but no "
+                             "tracker_x,tracker_y,tracker_z columns: add each station's tracker position, or "
+                             "give --station LABEL")
+        return {k: rec.tracker_xyz[np.flatnonzero(rec.stations() == k)[0]] for k in labels}
     if tracker is None and rec.tracker_xyz is not None:
         return rec.tracker_xyz[0]
     return tracker

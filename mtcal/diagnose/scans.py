@@ -144,19 +144,22 @@ def outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
     return best, count
 
 
-def knock_scan(prep: Prepared, eng: Engine) -> tuple[dict | None, int]:
-    """Change point of a tracker knock: every reading from t0 on (all axes, all reflectors) shifted by one
-    vector.  t0 is scanned over the gaps between distinct reading times; each step column (whitened W_i on the
-    readings after t0) is scored by running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across
-    the base blocks.  Returns (best {"delta", "t0", "rows"}, number of separable change points scanned)."""
+def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None) -> tuple[dict | None, int]:
+    """Change point of a tracker knock: every reading from t0 on (all axes, all reflectors; of the readings
+    ``among``, bool (n,), e.g. one tracker station's, else all) shifted by one vector.  t0 is scanned over the
+    gaps between distinct reading times; each step column (whitened W_i on the readings after t0) is scored by
+    running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across the base blocks.  Returns (best
+    {"delta", "t0", "rows"}, number of separable change points scanned)."""
     rec = prep.rec
     n = len(rec)
-    if n < 3 or not np.isfinite(rec.time_s).all():
+    o = np.argsort(prep.order)
+    if among is not None:
+        o = o[among[o]]
+    if len(o) < 3 or not np.isfinite(rec.time_s).all():
         return None, 0
     W = prep.W
     r = eng.r.reshape(n, 3)
     Qf = eng.full_rows()
-    o = np.argsort(prep.order)
     t = rec.time_s[o]
     Wo = W[o]
     A = np.cumsum((Wo.transpose(0, 2, 1) @ Wo)[::-1], axis=0)[::-1]                  # G^T G
