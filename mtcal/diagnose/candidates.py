@@ -105,6 +105,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes
 
+
 def reversal_named(prep: Prepared, axis: str) -> list[fx.Candidate]:
     """The named reversal effects of an axis: backlash and, for a linear axis, the reversals of its two
     straightnesses and three angular errors -- together every rigid motion of the carriage that differs between

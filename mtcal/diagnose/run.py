@@ -5,10 +5,10 @@ import logging
 
 import numpy as np
 
+from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import candidates, screen
 from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
-from mtcal.diagnose import effects as fx
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
 from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward, select_degrees
