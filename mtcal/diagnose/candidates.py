@@ -12,6 +12,7 @@ from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
 
+BIDIRECTIONAL = "every target was approached from one direction; measure bidirectionally (ISO 230-2)"
 NOT_SEPARABLE = {
     "scale": "a linear positioning error is part of the fitted error function E_JJ; compare with a reference model "
              "(--model) or measure a length standard (a second tracker station does not separate it: a scale "
@@ -37,11 +38,11 @@ NOT_SEPARABLE = {
     "tracker_scale station": "the stations see the machine from too similar directions: a scale of one station "
                              "relative to the first looks like the axes' errors; measure from a station at a "
                              "right angle to the others",
-    "backlash": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
+    "backlash": BIDIRECTIONAL,
     "thermal_drift": "the recording has no time_s column",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
-    "reversal_angular": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
-    "reversal_straightness": "every target was approached from one direction; measure bidirectionally (ISO 230-2)",
+    "reversal_angular": BIDIRECTIONAL,
+    "reversal_straightness": BIDIRECTIONAL,
     "thermal_temperature": "the recording has no (varying) temperature_c column",
     "nest_creep": "the recording has no time_s column",
     "tracker_settling": "the recording has no time_s column",
@@ -57,8 +58,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         on = rec.axis == a
         dirs = set(rec.direction[on].tolist())
         if {1, -1} <= dirs:
-            out.append(fx.backlash(g, a))
-            out += reversal_named(prep, a)[1:]
+            out += reversal_named(prep, a)
             out.append(fx.reversal_free(g, a))
         else:
             notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
