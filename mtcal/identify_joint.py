@@ -85,8 +85,9 @@ class JointResult:
         the reference key included (zero, no variance)."""
         lay = self.layout
         keys = sorted(lay.axes[axis] + [lay.reference[axis]])
-        cols = np.array([[lay.err_index.get((axis, *k), -1) + j for j in range(6)] for k in keys])
-        known = cols >= 0
+        first = np.array([lay.err_index.get((axis, *k), -1) for k in keys])  # -1: the reference (the gauge)
+        known = np.repeat(first >= 0, 6).reshape(len(keys), 6)
+        cols = np.where(known, first[:, None] + np.arange(6), 0)
         vals = np.where(known, self.x[np.maximum(cols, 0)], 0.0)
         c = self.covariance[np.ix_(np.maximum(cols, 0).ravel(), np.maximum(cols, 0).ravel())]
         c = c * np.outer(known.ravel(), known.ravel())

@@ -230,3 +230,20 @@ def test_plan_json_stations_and_their_bad_values():
     assert list(pl.stations) == ["front", "left"] and pl.stations["left"] == (-1500.0, 0.0, 150.0)
     with pytest.raises(InputError, match=r"p.json: stations.left must be \[x, y, z\] in mm"):
         plan_from_dict({"stations": {"left": [1, 2]}}, "p.json", M)
+
+
+def test_reference_row_is_zero_with_zero_variance_and_the_other_rows_are_the_truth():
+    """Issue 22: ``JointResult.errors`` took the reference position's six components from columns -1..4 (another
+    position's values and variances).  Noise-free: the reference row is exactly zero with zero variance (the gauge),
+    and every other row is the same whether or not the reference row is looked at."""
+    rec, _ = simulate_stations(_truth(), [FRONT, LEFT], machine=M, rounds=1, seed=2, plan=SMALL, noise=False)
+    res = joint_fit(rec, M, per_round=False)
+    assert res.x[:6].any()  # the first position's columns (which the old lookup read) are not zero
+    for axis in rec.axes():
+        keys, vals, cov = res.errors(axis)
+        i = keys.index(res.layout.reference[axis])
+        assert np.all(vals[i] == 0.0) and np.all(cov[i] == 0.0) and np.all(cov[:, :, i] == 0.0)
+        for k, key in enumerate(keys):
+            if k != i:
+                first = res.layout.err_index[(axis, *key)]
+                assert np.array_equal(vals[k], res.x[first:first + 6])
