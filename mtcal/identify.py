@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import logging
 import warnings as _warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Iterable
 
 import numpy as np
@@ -341,19 +341,18 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         joint = identify_joint.joint_fit(rec, m, t)
         warnings += joint.warnings
         results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
-    for axis in ([] if joint is not None else rec.axes()):
+    linear = [a for a in rec.axes() if m.kind(a) == "linear"]
+    for axis in ([] if joint is not None else linear):
         log.info("identifying axis %s", axis)
         results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
-    slopes = {}
-    for axis, ar in results.items():
-        if m.axis_kinds[m.axes.index(axis)] != "linear":
-            continue
-        for nm in ar.names[:3]:
-            if nm == m.positioning_errors[axis]:
-                continue  # positioning error: no reference line
-            a, b = fitting.reference_line(ar.positions, ar.mean[:, ar.names.index(nm)], reference)
-            ar.lines[nm] = {"method": reference, "intercept": a, "slope": b}
-            slopes[nm] = b
+    slopes = _reference_lines(results, m, reference)
+    if joint is None and len(linear) < len(rec.axes()):
+        iso, t_iso = _in_iso_frame(rec, t, m, slopes)
+        for axis in rec.axes():
+            if axis not in linear:
+                log.info("identifying axis %s (readings turned into the ISO frame of the linear axes)", axis)
+                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, outlier_k, max_deviation_mm)
+        results = {a: results[a] for a in rec.axes()}
     sq = fitting.squareness(slopes)
     sq_stats = _squareness_type_a(results, m, reference, sq)
     lin = [a for a, k in zip(m.axes, m.axis_kinds) if k == "linear"]
@@ -371,6 +370,50 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         res.joint["squareness_sigma"] = squareness_sigma(results, reference)
         model.meta["squareness_sigma"] = res.joint["squareness_sigma"]
     return res
+
+
+def _reference_lines(results: dict[str, AxisResult], m: Machine, reference: str) -> dict[str, float]:
+    """Fit the reference straight line of every straightness of the linear axes (stored in ``AxisResult.lines``)
+    and return their slopes {E_IJ: mm/mm}: they define the ISO frame (design.md gauge) and the squareness."""
+    slopes = {}
+    for axis, ar in results.items():
+        if m.kind(axis) != "linear":
+            continue
+        for nm in ar.names[:3]:
+            if nm == m.positioning_errors[axis]:
+                continue  # positioning error: no reference line
+            a, b = fitting.reference_line(ar.positions, ar.mean[:, ar.names.index(nm)], reference)
+            ar.lines[nm] = {"method": reference, "intercept": a, "slope": b}
+            slopes[nm] = b
+    return slopes
+
+
+def iso_frame_rotation(m: Machine, slopes: dict[str, float]) -> np.ndarray:
+    """Small rotation (rx, ry, rz) rad that turns the measuring frame into the ISO frame of the linear axes
+    (design.md gauge: x along the motion of the linear axis that moves along x, y in the plane of the x and y
+    motions), from the straightness reference-line slopes ``slopes`` (mm/mm).  A linear axis moving along
+    (1, s_y, s_z) is turned onto x by rz = -s_y, ry = +s_z; the y-moving axis' z slope s_z' by rx = -s_z'.
+    Slopes that are missing count as zero (that part of the frame stays the measuring frame's)."""
+    along = {m.error_motions(a).index(m.positioning_errors[a]): m.error_motions(a)
+             for a in m.axes if m.kind(a) == "linear"}
+    phi = np.zeros(3)
+    if 0 in along:
+        phi[2] = -slopes.get(along[0][1], 0.0)
+        phi[1] = slopes.get(along[0][2], 0.0)
+    if 1 in along:
+        phi[0] = -slopes.get(along[1][2], 0.0)
+    return phi
+
+
+def _in_iso_frame(rec: Recording, tracker, m: Machine, slopes: dict[str, float]):
+    """The recording (and the tracker position) with every reading turned about the machine origin into the ISO
+    frame of the linear axes, so that the rotary axes' errors are identified in the frame the linear axes'
+    reference lines put those in (three-point path; the joint fit holds that frame by its gauge)."""
+    phi = np.concatenate([np.zeros(3), iso_frame_rotation(m, slopes)])
+    def turn(v):
+        return None if v is None else tp.rigid_point(np.asarray(v, dtype=float).reshape(-1, 3), phi)
+    turned = replace(rec, xyz=turn(rec.xyz), tracker_xyz=turn(rec.tracker_xyz))
+    return turned, (None if tracker is None else turn(tracker)[0])
 
 
 def _squareness_type_a(results: dict[str, AxisResult], m: Machine, reference: str, sq: dict) -> dict:
