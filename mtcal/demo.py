@@ -113,7 +113,7 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     # 2. identify ----------------------------------------------------------------------------------------
     model_path = out / "model.json"
     ident = _cli(["identify", str(rec_path), "-o", str(model_path), f"--tracker={tracker}", "--plots", str(plots),
-                  "--method", "three-point",  # the thesis method; the stations step below shows the joint fit
+                  "--method", "joint",  # identify's default with a tracker position (the stations step: three-point)
                   *mach])
     prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
     model = load_model(model_path)

@@ -40,6 +40,7 @@ from mtcal.generated import threepoint_numpy as tp
 from mtcal.machine import Machine
 from mtcal.recordings import Recording
 
+FIT_VARIANCE_FLOOR = 1e-12  # noise-free readings: the fits are sized as if the data were this precise (not exactly 0)
 GN_STEPS = 2  # Gauss-Newton steps (errors are um and urad: the second step changes nothing measurable)
 
 
@@ -375,8 +376,8 @@ def axis_result(res: JointResult, rec: Recording, m: Machine, axis: str):
     sig = np.sqrt(np.diagonal(c).reshape(len(positions), 6) * max(1, len(rounds)))
     points = tuple(sorted({str(p) for p in rec.point[rows]}))
     out = AxisResult(axis, positions, rounds, points, per_round, np.sqrt(rss / np.maximum(cnt, 1)), sig,
-                     m.error_motions(axis), res.layout.reference[axis][0], True, reversal=reversal)
-    out.covariance = c
+                     m.error_motions(axis), res.layout.reference[axis][0], True, reversal=reversal, covariance=c,
+                     fit_variance_factor=float(np.clip(res.birge**2, FIT_VARIANCE_FLOOR, 1.0)))
     return out
 
 

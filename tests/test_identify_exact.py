@@ -101,3 +101,13 @@ def test_every_path_gives_the_truth_back_in_the_iso_frame(campaign, how):
     m, truth, rec, tracker = campaign
     model = identify(rec, machine=m, **PATHS[how](tracker)).model
     assert gauged_rms_um(m, tables_only(model), truth) < 0.1, (m.name, how)
+
+
+@pytest.mark.parametrize("how", PATHS)
+def test_noise_free_fits_give_the_truth_back(campaign, how):
+    """The fitted functions (what compensation and the exporters evaluate), sized by the precision the data show:
+    noise-free readings give the truth back (0.1 um after the gauge).  The joint path sized them by the AT960
+    law it assumes (degree 0-1 kept for cubic functions), the three-point path by a held-out rule."""
+    m, truth, rec, tracker = campaign
+    model = identify(rec, machine=m, **PATHS[how](tracker)).model
+    assert gauged_rms_um(m, model, truth) < 0.1, (m.name, how)
