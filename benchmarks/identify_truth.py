@@ -91,9 +91,12 @@ def run(n: int = 54) -> dict:
         for path, kw in PATHS.items():
             model = identify(rec, machine=m, **kw(tracker)).model
             c = compare_models(m, model, truth, poses)
+            w = model.meta.get("worth") or {}
             rows.append({"campaign": k, "machine": m.name, "tracker": list(tracker), "rounds": rounds, "seed": seed,
                          "path": path, "gauged_rms_um": c.gauged_rms_um, "truth_rms_um": c.truth_rms_um,
                          "compensated_rms_um": c.compensated_rms_um, "worse": c.worse,
+                         "predicted_error_rms_um": w.get("predicted_error_rms_um"), "warned": w.get("may_worsen"),
+                         "corrects_rms_um": w.get("corrects_rms_um"),
                          "fit_as_close": fits_vs_tables(model, truth, m)})
         print(f"[{k + 1}/{n}] {m.name} rounds {rounds} tracker {tracker}: "
               + ", ".join(f"{r['path']} {r['gauged_rms_um']:.1f}" for r in rows[-len(PATHS):]) + " um",
@@ -112,6 +115,10 @@ def summarise(rows: list[dict]) -> dict:
                      "compensated_median_um": float(np.median([x["compensated_rms_um"] for x in r])),
                      "uncompensated_median_um": float(np.median([x["truth_rms_um"] for x in r])),
                      "worse_share": float(np.mean([x["worse"] for x in r])),
+                     "warned_share": float(np.mean([bool(x["warned"]) for x in r])),
+                     "worse_not_warned_share": float(np.mean([x["worse"] and not x["warned"] for x in r])),
+                     "predicted_over_actual_median": float(np.median([x["predicted_error_rms_um"] / x["gauged_rms_um"]
+                                                                      for x in r])),
                      "fit_as_close_share": float(np.mean(fits)) if fits else float("nan")}
     if "auto" in out and "joint+tracker" in out:
         a = np.array([x["gauged_rms_um"] for x in rows if x["path"] == "auto"])
@@ -126,12 +133,14 @@ def main() -> int:
     ap.add_argument("--json", help="write every row and the summary to this file")
     args = ap.parse_args()
     res = run(args.n)
-    print(f"{'path':22s} {'model-truth um (median, p10-p90)':34s} {'compensated/uncomp. um':24s} worse  fit>=table")
+    print(f"{'path':20s} {'model-truth um, median (p10-p90)':33s} {'uncompensated um':17s} worse warned "
+          f"worse&not-warned predicted/actual fit>=table")
     for path, s in res["paths"].items():
         lo, hi = s["model_error_p10_um"], s["model_error_p90_um"]
-        print(f"{path:22s} {s['model_error_median_um']:6.2f} ({lo:.2f}-{hi:.2f})"
-              f"{'':14s} {s['compensated_median_um']:6.2f} / {s['uncompensated_median_um']:6.2f}{'':8s}"
-              f"{s['worse_share']:5.0%}  {s['fit_as_close_share']:5.1%}")
+        print(f"{path:20s} {s['model_error_median_um']:6.2f} ({lo:.2f}-{hi:.2f}){'':14s} "
+              f"{s['uncompensated_median_um']:6.2f}{'':11s} {s['worse_share']:4.0%} {s['warned_share']:5.0%} "
+              f"{s['worse_not_warned_share']:9.0%}{'':8s} {s['predicted_over_actual_median']:6.2f}{'':10s} "
+              f"{s['fit_as_close_share']:5.1%}")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(res, fh, indent=1)

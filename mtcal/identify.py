@@ -23,12 +23,14 @@ import numpy as np
 
 from mtcal import fitting
 from mtcal import tracker as trk
+from mtcal.compare import split_half_worth
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
 from mtcal.io import read_text
 from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.model import ErrorFunction, ErrorModel
 from mtcal.recordings import Recording
+from mtcal.tracker_position import LR_LEVEL, PositionEstimate, estimate_position
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
 log = logging.getLogger(__name__)
@@ -247,6 +249,7 @@ class IdentifyResult:
                 "axes": {a: r.to_json() for a, r in self.axes.items()},
                 "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
                 "squareness_convention": fitting.SQUARENESS_CONVENTION,
+                **{k: self.model.meta[k] for k in ("tracker_estimated",) if k in self.model.meta},
                 "warnings": self.warnings}
 
 
@@ -314,21 +317,26 @@ def _passes(rec: Recording, axis: str):
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto") -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto", worth: bool = True) -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
     method: "three-point" (per position, this module), "joint" (one weighted fit of all readings of all
-    stations, mtcal.identify_joint) or "auto" (joint when the tracker position is known, else three-point)."""
+    stations, mtcal.identify_joint) or "auto" (joint when the tracker position is known or can be estimated from
+    the scatter of the rounds, ``estimate_station``; else three-point, with a warning); worth: also run the
+    estimator on two halves of the rounds to state the model's predicted error against what it corrects
+    (``model.meta["worth"]``, mtcal.compare.split_half_worth) and warn when compensating may make the machine
+    worse."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     if method not in METHODS:
         raise InputError(f"--method must be one of {METHODS}, got {method!r}")
+    warnings: list[str] = []
+    estimated = None
     if method == "auto":
-        method = "joint" if tracker is not None or rec.tracker_xyz is not None else "three-point"
+        method, tracker, estimated = _auto_method(rec, tracker, warnings)
     if reference not in fitting.REFERENCE_METHODS:
         raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
-    warnings: list[str] = []
     results: dict[str, AxisResult] = {}
     for axis in rec.axes():
         if axis not in m.axes:
@@ -364,6 +372,15 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None or joint is not None,
                    warnings)
     model.meta["method"] = METHOD_TEXT[method]
+    if estimated is not None:
+        model.meta["tracker_estimated"] = {"position_mm": estimated.position.tolist(),
+                                           "sigma_mm": estimated.sigma_mm.tolist(),
+                                           "noise_scale_vs_at960": estimated.scale,
+                                           "how": "estimated from the scatter of the repeated rounds "
+                                                  "(mtcal.tracker_position)"}
+    if worth:
+        _state_worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
+                                                     max_harmonics=max_harmonics, method=method))
     model.meta["warnings"] = list(warnings)
     if sq_stats:
         model.meta["squareness_type_a"] = sq_stats
@@ -374,6 +391,93 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         res.joint["squareness_sigma"] = squareness_sigma(results, reference)
         model.meta["squareness_sigma"] = res.joint["squareness_sigma"]
     return res
+
+
+def _state_worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], kw: dict) -> None:
+    """model.meta["worth"] from the same estimator on the even and the odd rounds (``split_half_worth``), and a
+    warning when compensating with the model may leave the machine worse than without it."""
+    rounds = np.unique(rec.round)
+    if len(rounds) < 2:
+        warnings.append("one round: the model's error cannot be predicted from the data (measure two or more rounds)")
+        return
+    halves = (rounds[::2], rounds[1::2])
+    quiet = logging.getLogger("mtcal")
+    level = quiet.level
+    quiet.setLevel(max(level, logging.WARNING))  # the halves' progress is not the user's
+    try:
+        a, b = [identify(rec.select(np.isin(rec.round, h)), machine=m, worth=False, **kw).model for h in halves]
+    except InputError as e:  # a half lacks what the whole has (a position measured in one round only)
+        warnings.append(f"the model's error was not predicted: a half of the rounds cannot be identified ({e})")
+        return
+    finally:
+        quiet.setLevel(level)
+    w = split_half_worth(m, model, a, b, len(halves[0]), len(halves[1]))
+    model.meta["worth"] = w.to_dict()
+    log.info("model: corrects %.1f um RMS over the measured volume; predicted error %.1f um RMS (%s)",
+             w.corrects_rms_um, w.predicted_error_rms_um, w.how)
+    if w.may_worsen:
+        warnings.append(f"compensating with this model may make the machine worse: it corrects {w.corrects_rms_um:.1f} "
+                        f"um RMS and is itself uncertain by {w.predicted_error_rms_um:.1f} um RMS over the measured "
+                        f"volume; measure more rounds or from more tracker stations (mtcal plan shows the gain)")
+
+
+def _auto_method(rec: Recording, tracker, warnings: list[str]):
+    """identify's default estimator: (method, tracker position or None, the estimate or None).  The joint fit
+    when the tracker position is given or estimated from the rounds' scatter; else three-point, with a warning
+    naming what is lost."""
+    estimated = None
+    if tracker is None and rec.tracker_xyz is None:
+        estimated, why = estimate_station(rec)
+        if estimated is None and len(np.unique(rec.round)) > 1 and not np.any(round_scatter(rec)):  # noise-free
+            log.info("tracker position not estimated (%s): three-point method", why)
+        elif estimated is None:
+            warnings.append(f"{rec.source}: tracker position not given and not estimated ({why}): three-point "
+                            f"method, readings weighted equally; lost: the weighting by the tracker's anisotropic "
+                            f"noise and the joint fit (about twice the model error, benchmarks/identify_truth.py); "
+                            f"give --tracker x,y,z")
+        else:
+            tracker = estimated.position
+            log.info("tracker position estimated from the scatter: %s mm", station_text(estimated))
+    method = "joint" if tracker is not None or rec.tracker_xyz is not None else "three-point"
+    return method, tracker, estimated
+
+
+def round_scatter(rec: Recording) -> np.ndarray:
+    """(n, 3) mm: each reading minus the mean of its cell (station, axis, position, point, direction) over the
+    rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased); 0 for cells of one reading.  What the
+    tracker's noise (and any drift) does between repeated rounds, no model needed."""
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), np.round(rec.position, 6).tolist(),
+                    rec.point.tolist(), rec.direction.tolist()))
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    cell = np.array([index[k] for k in keys])
+    m = np.bincount(cell)[cell].astype(float)
+    mean = np.stack([np.bincount(cell, rec.xyz[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
+    return np.where(m[:, None] > 1, (rec.xyz - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
+
+
+def estimate_station(rec: Recording) -> tuple[PositionEstimate | None, str]:
+    """Where the tracker stood, from the scatter of the repeated rounds (mtcal.tracker_position): (estimate, "")
+    or (None, why not).  One station only (a multi-station recording carries its trackers' positions)."""
+    if len(set(rec.stations().tolist())) > 1:
+        return None, "several stations without tracker_x,y,z columns"
+    if len(set(rec.round.tolist())) < 2:
+        return None, "one round: no repeated readings to show the beam directions"
+    r = round_scatter(rec)
+    if not np.any(r):
+        return None, "the rounds repeat exactly: no scatter (noise-free readings?)"
+    groups = [sel for a in rec.axes() for p in np.unique(rec.point[rec.axis == a])
+              if (sel := (rec.axis == a) & (rec.point == p)).sum() >= 6]
+    est = estimate_position(rec.xyz, r, groups)
+    if not est.accepted:
+        return None, (f"the scatter shows no tracker shape (likelihood ratio {est.likelihood_ratio:.1f}, "
+                      f"p = {est.p_isotropic:.2g})" if est.p_isotropic >= LR_LEVEL else
+                      "the scatter does not pin the position down")
+    return est, ""
+
+
+def station_text(est: PositionEstimate) -> str:
+    """'x, y, z +- sx, sy, sz' (mm)."""
+    return (", ".join(f"{v:.0f}" for v in est.position) + " +- " + ", ".join(f"{v:.0f}" for v in est.sigma_mm))
 
 
 def _reference_lines(results: dict[str, AxisResult], m: Machine, reference: str) -> dict[str, float]:

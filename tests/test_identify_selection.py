@@ -42,3 +42,23 @@ def test_selection_uses_the_rounds_scatter_not_a_rule_that_prefers_zero():
         table_err.append(np.sqrt(np.mean((pr.mean(0) - truth) ** 2)))
     assert zeros == 0
     assert np.mean(fit_err) <= np.mean(table_err)
+
+
+def test_the_tracker_position_is_estimated_from_the_scatter_when_not_given():
+    """The bundled campaign was measured from (250, -1500, 150) mm (demo_campaign.truth.json): without --tracker,
+    identify estimates the station from the rounds' scatter (within 3 of its sigmas and 30 mm), stores it in the
+    model's metadata and runs the joint fit (today: the three-point path, unweighted)."""
+    res = identify(read_recording(data_path("demo_campaign.csv")))
+    est = res.model.meta["tracker_estimated"]
+    true = np.array([250.0, -1500.0, 150.0])
+    d = np.abs(np.array(est["position_mm"]) - true)
+    assert np.all(d < np.maximum(3 * np.array(est["sigma_mm"]), 1.0)) and np.all(d < 30), est
+    assert res.method == "joint" and res.to_json()["tracker_estimated"] == est
+
+
+def test_without_repeated_rounds_the_station_is_not_guessed_and_the_loss_is_said():
+    rec = read_recording(data_path("demo_campaign.csv"))
+    one = rec.select(rec.round == 1)
+    res = identify(one)
+    assert res.method == "three-point" and "tracker_estimated" not in res.model.meta
+    assert any("not estimated (one round" in w and "joint fit" in w for w in res.warnings), res.warnings

@@ -103,7 +103,14 @@ def run(args: argparse.Namespace) -> int:
                         "max_c_correction_deg": round(rep.max_c_correction, 6), "b_clipped": comp.clipped_b},
         "warnings": {"outside_range": comp.outside_counts, "uncompensated_rapids": rep.uncompensated_rapids},
         "tables": tables, "seconds": round(dt, 3),
+        "model_worth": model.meta.get("worth"),
     }
+    worth = model.meta.get("worth")
+    if worth and worth.get("may_worsen"):
+        log.warning("warning: %s: compensating with this model may make the machine worse: it corrects %.1f um RMS "
+                    "and is itself uncertain by %.1f um RMS over its measured volume (identify's split-half "
+                    "prediction); measure more rounds or from more tracker stations", args.model,
+                    worth["corrects_rms_um"], worth["predicted_error_rms_um"])
     if args.json:
         print(dumps(res))
         return 0
@@ -114,6 +121,10 @@ def run(args: argparse.Namespace) -> int:
     print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um -> predicted residual "
           f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written; exact model on "
           f"{r['evaluated_on']})")
+    if worth:
+        print(f"model     : corrects {worth['corrects_rms_um']:.1f} um RMS over its measured volume; its own error, "
+              f"predicted from the rounds, {worth['predicted_error_rms_um']:.1f} um RMS (the residual above is the "
+              f"model agreeing with itself)")
     lab = "controllable" if full else "not corrected (scope position)"
     print(f"tool axis : uncompensated max {res['uncompensated']['orientation_urad']['max']:.2f} urad -> residual "
           f"max {r['orientation_urad']['max']:.3f} urad, RMS {r['orientation_urad']['rms']:.3f} urad ({lab})")

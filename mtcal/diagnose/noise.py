@@ -13,26 +13,23 @@ from the convergence of the beams; Nelder-Mead from that start and from 1.5 m al
 (4) twice: the base refitted with the weights of the estimate, and the fit of (3) repeated on its residuals (the
 unweighted fit leaks the large transverse noise into the radial residuals of other readings). The estimate is used
 when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); else (or with one round)
-the readings are weighted equally, sigma from the residuals. Units: mm."""
+the readings are weighted equally, sigma from the residuals. The estimation itself (starts, likelihood, test) is
+mtcal.tracker_position, shared with identify. Units: mm."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import stats
 
 from mtcal.tracker import covariance
+from mtcal.tracker_position import LR_LEVEL, beam_starts, isotropic_nll, refine
 
 if TYPE_CHECKING:
     from mtcal.diagnose.prepare import Prepared
 
-LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (estimated tracker) vs isotropic
-START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
-MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
 ITERATIONS = 2          # refits of the base with the estimated weights
-SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (AT960)
 
 
 @dataclass
@@ -88,21 +85,14 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
     if len(set(prep.rec.round.tolist())) < 2:
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
     r = _base_residuals(prep, max_degree)
-    starts = [s for s in (_beam_intersection(prep, r),) if s is not None]
-    c = xyz.mean(axis=0)
-    u = _mean_beam(prep, r)
-    starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
-    starts = [s for s in starts if math.isfinite(_nll(xyz, r, np.append(s, 0.0)))]
-    if not starts:  # the beams give no usable start: try the six directions around the machine
-        starts = [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
-    t, nll = min((_refine(xyz, r, s) for s in starts), key=lambda v: v[1])
+    groups = list(_groups(prep))
+    t, _, nll = min((refine(xyz, r, s) for s in beam_starts(xyz, r, groups)), key=lambda v: v[2])
     for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "").W)
-        t, nll = _refine(xyz, r, t)
-    live = int(np.any(r != 0, axis=1).sum())
-    nll_iso = 1.5 * live * (math.log(float(np.sum(r**2)) / (3 * live)) + 1.0)
-    lr = 2.0 * (nll_iso - nll)
+        t, _, nll = refine(xyz, r, t)
+    c = xyz.mean(axis=0)
+    lr = 2.0 * (isotropic_nll(r) - nll)
     p = float(stats.chi2.sf(max(lr, 0.0), 3))
     details = {"likelihood_ratio": lr, "p_isotropic": p,
                "distance_mm": float(np.linalg.norm(t - c))}
@@ -151,52 +141,3 @@ def _groups(prep: "Prepared"):
             sel = (rec.axis == a) & (rec.point == lab)
             if sel.sum() >= 6:
                 yield sel
-
-
-def _least_spread(r: np.ndarray) -> np.ndarray:
-    return np.linalg.eigh(r.T @ r)[1][:, 0]
-
-
-def _beam_intersection(prep: "Prepared", r: np.ndarray) -> np.ndarray | None:
-    """The point closest (least squares) to the beam lines of every reflector (mm), None if they are parallel."""
-    A, b = np.zeros((3, 3)), np.zeros(3)
-    for sel in _groups(prep):
-        u = _least_spread(r[sel])
-        P = np.eye(3) - np.outer(u, u)
-        A += P
-        b += P @ prep.rec.xyz[sel].mean(axis=0)
-    lam = np.linalg.eigvalsh(A)
-    if lam[-1] <= 0 or lam[0] < 1e-3 * lam[-1]:
-        return None
-    return np.linalg.solve(A, b)
-
-
-def _mean_beam(prep: "Prepared", r: np.ndarray) -> np.ndarray:
-    """The mean least-spread direction (sign-aligned), a unit vector."""
-    us = [_least_spread(r[sel]) for sel in _groups(prep)] or [_least_spread(r)]
-    M = sum(np.outer(u, u) for u in us)
-    return np.linalg.eigh(M)[1][:, -1]
-
-
-def _nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
-    """Negative log-likelihood (up to a constant) of the residuals under c * AT960 covariance about the tracker
-    t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
-    it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
-    t, logc = v[:3], float(v[3])
-    d = np.linalg.norm(xyz - t, axis=1)
-    if not np.all(np.isfinite(v)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
-        return math.inf
-    C = covariance(xyz, t)
-    q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
-    live = np.any(r != 0, axis=1)
-    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * int(live.sum()) * logc
-                  + float(np.sum(np.linalg.slogdet(C[live])[1]))
-                  + (logc / SCALE_PRIOR) ** 2)
-
-
-def _refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float]:
-    x0 = np.append(np.asarray(start, float), 0.0)
-    simplex = x0 + np.vstack([np.zeros(4), np.diag([300.0, 300.0, 300.0, 0.3])])
-    res = optimize.minimize(lambda v: _nll(xyz, r, v), x0, method="Nelder-Mead",
-                            options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 1500})
-    return res.x[:3], float(res.fun)
