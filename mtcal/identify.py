@@ -676,7 +676,8 @@ def _check_rounds(rec, axis, names, positions, rounds, per_round, var_round, k, 
     for r in range(len(rounds)):
         others = np.delete(per_round, r, axis=0)
         n_o = np.isfinite(others[..., 0]).sum(axis=0)[:, None]
-        with np.errstate(invalid="ignore", divide="ignore"):
+        with np.errstate(invalid="ignore", divide="ignore"), _warnings.catch_warnings():
+            _warnings.simplefilter("ignore", RuntimeWarning)  # a position no other round has: NaN, said elsewhere
             mo = np.nanmean(others, axis=0)
             vo = np.nansum(np.delete(var_round, r, axis=0), axis=0) / n_o**2
             z = np.abs(per_round[r] - mo) / np.sqrt(var_round[r] + vo)
