@@ -17,8 +17,8 @@ from mtcal.recordings import read_recording
 
 NAME = "identify"
 log = logging.getLogger("mtcal." + NAME)
-HELP = ("identify the six error motions per axis and position (three-point method, Type A uncertainty over "
-        "rounds), squareness and fitted error functions from a laser-tracker recording")
+HELP = ("identify the six error motions per axis and position (joint weighted fit, or the three-point method; "
+        "Type A uncertainty over rounds), squareness and fitted error functions from a laser-tracker recording")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -28,7 +28,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", metavar="MODEL.json", help="write the error model (mm, rad) here")
     p.add_argument("--plots", metavar="DIR", help="write PNG plots (errors with +-2 sigma bars, fits, reference lines)")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz,
-                   help="tracker position in the machine frame (mm): weight the least squares by the AT960 covariance")
+                   help="tracker position in the machine frame (mm): weight the least squares by the AT960 covariance "
+                        "(default: estimated from the scatter of the rounds)")
     p.add_argument("--reference", choices=fitting.REFERENCE_METHODS, default="least-squares",
                    help="ISO 230-1 reference straight line for straightness and squareness (default least-squares)")
     p.add_argument("--layout", choices=("tidy", "inspire"), default="tidy",
@@ -39,7 +40,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--method", choices=("auto", "three-point", "joint"), default="auto",
                    help="joint: one weighted fit of all readings and stations (error motions, reflector positions, "
                         "station alignments; needs the tracker position); three-point: per position (Zhang & Hu); "
-                        "auto (default): joint when the tracker position is known, else three-point")
+                        "auto (default): joint when the tracker position is known or estimated from the rounds' "
+                        "scatter, else three-point (with a warning)")
     machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--max-degree", type=integer(0, 15), default=7, help="highest polynomial degree tried (default 7)")
     p.add_argument("--outlier-k", type=nonnegative, default=5.0,
