@@ -145,6 +145,13 @@ def read_text(path: str | os.PathLike, what: str = "input") -> str:
     data = p.read_bytes()
     if not data.strip():
         raise InputError(f"empty {what} file", p)
+    utf16 = _utf16(data)
+    if utf16 is not None:
+        warnings.warn(InputWarning(f"{p}: UTF-16 text (\"Unicode Text\" export); read as {utf16}"), stacklevel=2)
+        try:
+            return data.decode(utf16).removeprefix("\ufeff")
+        except UnicodeDecodeError as exc:
+            raise InputError(f"UTF-16 text with an undecodable byte at offset {exc.start}", p) from None
     if b"\0" in data:
         line = data[:data.index(b"\0")].count(b"\n") + 1
         raise InputError(f"NUL byte: a binary file, not a {what} file", p, line)
@@ -163,20 +170,37 @@ def read_text(path: str | os.PathLike, what: str = "input") -> str:
     raise AssertionError("latin-1 decodes every byte")  # pragma: no cover
 
 
+def _utf16(data: bytes) -> str | None:
+    """The codec of UTF-16 text (a byte-order mark; or, without one, a NUL in every other byte of the first line,
+    as Excel's "Unicode Text" writes ASCII), else None."""
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        return "utf-16"
+    head = data[:200]
+    if len(head) >= 4 and len(data) % 2 == 0:
+        if head[1::2].count(0) == len(head[1::2]) and 0 not in head[0::2]:
+            return "utf-16-le"
+        if head[0::2].count(0) == len(head[0::2]) and 0 not in head[1::2]:
+            return "utf-16-be"
+    return None
+
+
 _DECIMAL_COMMA = re.compile(r"^\s*[+-]?\d*,\d+(?:[eE][+-]?\d+)?\s*$")
 
 
 def read_csv_rows(path: str | os.PathLike, what: str) -> list[tuple[int, list[str]]]:
     """Non-empty, non-comment (``#``) rows of a CSV input as (file line, fields); see ``read_text`` for encodings.
 
-    The separator is ``,``; a header with ``;`` and no ``,`` is a spreadsheet export with ``;`` separators, whose
-    decimal commas (``1,25``) are read as decimal points: said in a warning naming the file."""
+    The separator is ``,``; a header with tabs and no ``,`` is tab-separated (said in a warning); a header with ``;``
+    and no ``,`` is a spreadsheet export with ``;`` separators, whose decimal commas (``1,25``) are read as decimal
+    points: said in a warning naming the file."""
     text = read_text(path, what)
     lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError(f"empty {what} file (only comments or blank lines)", path)
     head = lines[0][1]
-    sep = ";" if ";" in head and "," not in head else ","
+    sep = "\t" if "\t" in head and "," not in head else ";" if ";" in head and "," not in head else ","
+    if sep == "\t":
+        warnings.warn(InputWarning(f"{path}: tab-separated"), stacklevel=2)
     rows = [(i, _csv_fields(ln, sep, path, i)) for i, ln in lines]
     if sep == ";":
         commas = 0

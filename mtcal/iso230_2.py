@@ -212,24 +212,39 @@ def _passes(rec: Recording, axis: str, point: str | None, notes: list[str]) -> d
             raise InputError(f"{rec.where(i)}: point {rec.point[i]} read twice in one pass (first at line "
                              f"{int(rec.line[g[rec.point[i]]])}); give the repeat its own round")
         g[str(rec.point[i])] = int(i)
-    refs: dict[int, tuple[float, dict[str, int]]] = {}
-    for r in sorted({k[0] for k in groups}):
-        ri = idx[rec.round[idx] == r]
-        q0 = float(np.round(rec.position[ri][np.argmin(np.abs(rec.position[ri]))], 6))
-        at = ri[np.round(rec.position[ri], 6) == q0]
-        first = {pt: int(min(at[rec.point[at] == pt], key=lambda i: order[i])) for pt in set(rec.point[at].tolist())}
-        refs[r] = (q0, first)
-    keys = sorted(groups)
-    for k in keys:
-        missing = [pt for pt in points if pt not in groups[k] or pt not in refs[k[0]][1]]
-        if missing:
-            i = next(iter(groups[k].values()))
-            raise InputError(f"{rec.where(i)}: axis {axis}, round {k[0]}, position {k[1]:g}, direction {k[2]:+d}: "
-                             f"point(s) {missing} missing here or at the round's reference position "
-                             f"{refs[k[0]][0]:g}; every pass needs all of {points} (or choose one with --point)")
-    return {"keys": keys, "points": points, "q0": np.array([refs[k[0]][0] for k in keys]),
+    datum = _datum(rec, idx, order, axis)
+    keys, dropped = [], []
+    for k in sorted(groups):
+        missing = [pt for pt in points if pt not in groups[k]]
+        if missing:  # a missing reading is missing: that run has no value at this target (never re-referenced)
+            dropped.append(f"round {k[0]} at {k[1]:g} ({'up' if k[2] > 0 else 'down'}: {', '.join(missing)} "
+                           f"missing, line {int(rec.line[next(iter(groups[k].values()))])})")
+            continue
+        keys.append(k)
+    if dropped:
+        notes.append(f"axis {axis}: {len(dropped)} run(s) left out where a reflector's reading is missing, so the "
+                     f"targets' statistics use the runs that have it: " + "; ".join(dropped[:6])
+                     + (" ..." if len(dropped) > 6 else ""))
+    if not keys:
+        raise InputError(f"{rec.source}: axis {axis}: no pass has a reading of every reflector {points} "
+                         f"(choose one with --point)")
+    q0 = datum[0]
+    return {"keys": keys, "points": points, "q0": np.full(len(keys), q0),
             "rows": np.array([[groups[k][pt] for pt in points] for k in keys]),
-            "ref_rows": np.array([[refs[k[0]][1][pt] for pt in points] for k in keys])}
+            "ref_rows": np.array([[datum[1][pt] for pt in points] for _ in keys])}
+
+
+def _datum(rec: Recording, idx: np.ndarray, order: np.ndarray, axis: str) -> tuple[float, dict[str, int]]:
+    """The one datum of every run (ISO 230-2: x_ij = P_ij - P_i from the same datum): the position closest to
+    zero, q0, and each reflector's first reading there (in time, or file order) over the whole recording."""
+    q0 = float(np.round(rec.position[idx][np.argmin(np.abs(rec.position[idx]))], 6))
+    at = idx[np.round(rec.position[idx], 6) == q0]
+    first = {pt: int(min(at[rec.point[at] == pt], key=lambda i: order[i])) for pt in set(rec.point[at].tolist())}
+    missing = sorted(set(rec.point[idx].tolist()) - set(first))
+    if missing:
+        raise InputError(f"{rec.source}: axis {axis}: reflector(s) {missing} never read at the datum position "
+                         f"{q0:g}: their deviations have no datum (choose another with --point)")
+    return q0, first
 
 
 def _check_size(rec: Recording, d_m: np.ndarray, rows: np.ndarray, unit: str) -> None:
@@ -343,8 +358,8 @@ def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = D
         _warn_design(t, positions, a, notes)
         kind = m.axis_kinds[m.axes.index(a)]
         refs = sorted(set(runs.reference.tolist()))
-        notes.append(f"deviations are referred to each round's first reading at its position closest to zero "
-                     f"({', '.join(f'{r:g}' for r in refs)}): that run is zero there by construction")
+        notes.append(f"one datum for every run (ISO 230-2 x_ij = P_ij - P_i): each reflector's first reading at "
+                     f"the position closest to zero ({', '.join(f'{r:g}' for r in refs)})")
         out[a] = AxisEvaluation(a, kind, runs.unit, "mm" if kind == "linear" else "deg", positions, t, params, runs,
                                 refs, notes)
     temp = None

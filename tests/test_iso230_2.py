@@ -89,14 +89,11 @@ def _build(axis, passes, dev, place, temperature=None, with_direction=True):
 
 
 def _relative(passes, dev):
-    """The deviations the evaluation must report: each round referred to its first pass at the position
-    closest to zero (design.md)."""
-    ref = {}
-    for (r, p, d) in passes:
-        best = min((q for (rr, q, _) in passes if rr == r), key=abs)
-        if p == best and r not in ref:
-            ref[r] = dev[(r, p, d)]
-    return [(p, d, dev[(r, p, d)] - ref[r]) for (r, p, d) in passes]
+    """The deviations the evaluation must report: every run from one datum (ISO 230-2: x_ij = P_ij - P_i), the
+    first pass at the position closest to zero (the datum reading is zero there by construction)."""
+    q0 = min((q for (_, q, _) in passes), key=abs)
+    first = next(k for k in passes if k[1] == q0)
+    return [(p, d, dev[(r, p, d)] - dev[first]) for (r, p, d) in passes]
 
 
 def _linear_x(pt, q, dev_um):
@@ -259,13 +256,74 @@ def test_target_points_select_and_unknown_target_fails():
         evaluate(rec, axis="X", targets=[0, 250])
 
 
-def test_missing_reflector_in_a_pass_names_the_line():
-    rng = np.random.default_rng(8)
-    passes = _passes([0.0, 100.0, 200.0], 2)
-    rec = _build("X", passes, _planted(passes, rng), _linear_x)
+def _without_line(rec, k: int, name: str):
+    """The recording's file text with data row k (0-based, after the header) removed, read back as ``name``."""
     text = format_recording(rec, precision=9).splitlines()
-    del text[8]  # one reading of round 1
-    with pytest.raises(InputError, match=r"cut\.csv:\d+: axis X, round 1.*point\(s\) \['[PQK]'\] missing"):
+    line = text.pop(k + 1)
+    return parse_recording("\n".join(text) + "\n", name), line
+
+
+def test_a_missing_reading_is_a_missing_run_not_an_error_nor_a_re_reference():
+    """One reflector's reading of round 1 at 100 mm (up) is missing: that run is missing at that target (the
+    target's statistics use the other runs, and a note names it); nothing else moves."""
+    rng = np.random.default_rng(8)
+    passes = _passes([0.0, 100.0, 200.0], 3)
+    dev = _planted(passes, rng)
+    rec = _build("X", passes, dev, _linear_x)
+    k = 3 * passes.index((1, 100.0, 1)) + 1  # its Q reading
+    cut, _ = _without_line(rec, k, "cut.csv")
+    ev = evaluate(cut, axis="X").axes["X"]
+    kept = [q for q in passes if q != (1, 100.0, 1)]
+    _check(ev, [r for r, q in zip(_relative(passes, dev), passes) if q in kept], 1e-5)
+    assert ev.targets["n_up"].tolist() == [3, 2, 3]
+    assert any("1 run(s) left out" in n and "round 1 at 100 (up: Q missing" in n for n in ev.notes), ev.notes
+
+
+def test_drift_per_run_shows_in_the_repeatability():
+    """ISO 230-2 takes every run from one datum, so a drift of 3 um per run is what R shows (re-zeroing each run at
+    its own reading near 0 hid it: R of a few um).  Expected values by the standard's definitions in this file."""
+    passes = _passes([-200.0, -100.0, 0.0, 100.0, 200.0], 5)
+    dev = {(r, p, d): 0.01 * p + 3.0 * (r - 1) for (r, p, d) in passes}
+    ev = evaluate(_build("X", passes, dev, _linear_x), axis="X").axes["X"]
+    _check(ev, _relative(passes, dev), 1e-5)
+    assert ev.parameters["R"] == pytest.approx(iso_oracle(_relative(passes, dev))[2]["R"], abs=1e-6)
+    assert ev.parameters["R"] == pytest.approx(4 * np.std([0, 3, 6, 9, 12], ddof=1), abs=1e-5)  # 18.97 um
+
+
+def test_a_missing_reference_reading_is_not_re_referenced():
+    """Round 2's reading of P at the reference target (0 mm) is missing: only that run at 0 is missing; round 2's
+    other runs keep the one datum (before: round 2 was re-referenced to another reading, R 56 -> 100 um on the
+    public data)."""
+    rng = np.random.default_rng(9)
+    passes = _passes([0.0, 100.0, 200.0, 300.0], 3)
+    dev = _planted(passes, rng, spread_um=4.0)
+    rec = _build("X", passes, dev, _linear_x)
+    cut, _ = _without_line(rec, 3 * passes.index((2, 0.0, 1)), "cut.csv")
+    ev = evaluate(cut, axis="X").axes["X"]
+    _check(ev, [r for r, q in zip(_relative(passes, dev), passes) if q != (2, 0.0, 1)], 1e-5)
+
+
+def test_an_outlier_on_the_reference_target_stays_in_its_own_run():
+    """A 10 um outlier in round 3 at the reference target: it is that run's deviation there, nothing else (a
+    re-zero of round 3 on it moved all of round 3 by -10 um)."""
+    rng = np.random.default_rng(10)
+    passes = _passes([0.0, 100.0, 200.0], 5)
+    dev = _planted(passes, rng, spread_um=0.5)
+    dev[(3, 0.0, 1)] += 10.0
+    ev = evaluate(_build("X", passes, dev, _linear_x), axis="X").axes["X"]
+    _check(ev, _relative(passes, dev), 1e-5)
+    assert ev.targets["s_up"][1] < 1.5 and ev.targets["s_up"][0] > 3.0  # 100 mm untouched; 0 mm holds it
+
+
+def test_a_reflector_never_read_at_the_datum_is_named():
+    rng = np.random.default_rng(8)
+    passes = _passes([0.0, 100.0], 1)
+    rec = _build("X", passes, _planted(passes, rng), _linear_x)
+    rows = [i for i in range(len(rec)) if rec.position[i] == 0.0 and rec.point[i] == "K"]
+    text = format_recording(rec, precision=9).splitlines()
+    for i in sorted(rows, reverse=True):
+        del text[i + 1]
+    with pytest.raises(InputError, match=r"cut\.csv: axis X: reflector\(s\) \['K'\] never read at the datum"):
         evaluate(parse_recording("\n".join(text) + "\n", "cut.csv"), axis="X")
 
 
