@@ -74,6 +74,20 @@ class Runs:
                     [ln for ln, k in zip(self.lines, keep) if k], self.unit, self.reference[keep])
 
 
+RESULT_UNITS = {"um": ("um", 1.0), "mm": ("um", 1e-3), "inch": ("um", 1.0 / 25400.0),
+                "arcsec": ("arcsec", 1.0), "urad": ("arcsec", 1e6 / ANGLE_UNITS["arcsec"]),
+                "deg": ("arcsec", 1.0 / 3600.0)}  # result unit -> (the unit it converts from, factor)
+
+
+def in_unit(runs: Runs, unit: str) -> Runs:
+    """The runs' deviations in ``unit`` (RESULT_UNITS: um, mm, inch for a linear axis; arcsec, urad, deg rotary)."""
+    if unit not in RESULT_UNITS or RESULT_UNITS[unit][0] != runs.unit:
+        fit = [u for u, (base, _) in RESULT_UNITS.items() if base == runs.unit]
+        raise InputError(f"result unit {unit!r} does not fit deviations in {runs.unit} (use {', '.join(fit)})")
+    return Runs(runs.position, runs.direction, runs.round, runs.deviation * RESULT_UNITS[unit][1], runs.lines, unit,
+                runs.reference)
+
+
 @dataclass
 class AxisEvaluation:
     """ISO 230-2 results of one axis; per-target arrays (one entry per target position) in ``unit``."""
@@ -268,7 +282,13 @@ def _linear(rec: Recording, axis: str, d_m, d1, rows, pos, q0, alpha: float | No
         i = int(rows[np.isnan(temps)][0])
         raise InputError(f"{rec.where(i)}: no temperature_c; temperature normalisation needs it on every "
                          f"reading of axis {axis}")
-    return dev - alpha * (temps.mean(axis=-1) - 20.0) * (pos - q0) * 1e3
+    return normalise_20c(dev, temps.mean(axis=-1), pos, q0, alpha)
+
+
+def normalise_20c(dev_um: np.ndarray, temp_c: np.ndarray, pos_mm: np.ndarray, p0_mm, alpha: float) -> np.ndarray:
+    """Deviations (um) of a linear axis normalised to 20 C: x - alpha (T - 20 C) (P - P_0) (the nominal
+    differential expansion of the scale / part over the travel from the datum P_0; alpha in 1/K, T in C)."""
+    return dev_um - alpha * (np.asarray(temp_c) - 20.0) * (np.asarray(pos_mm) - p0_mm) * 1e3
 
 
 def _rotary(rec: Recording, axis: str, pts, dls, rf1, rrel1, points, angle_unit: str) -> np.ndarray:
@@ -353,17 +373,26 @@ def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = D
         if a not in rec.axes():
             raise InputError(f"{rec.source}: no readings of axis {a} (axes present: {', '.join(rec.axes())})")
         notes: list[str] = []
-        runs = _select_targets(deviations(rec, a, m, point, angle_unit, alpha, notes), targets, a, notes)
-        positions, t, params = statistics(runs.position, runs.direction, runs.deviation)
-        _warn_design(t, positions, a, notes)
-        kind = m.axis_kinds[m.axes.index(a)]
-        refs = sorted(set(runs.reference.tolist()))
+        runs = deviations(rec, a, m, point, angle_unit, alpha, notes)
         notes.append(f"one datum for every run (ISO 230-2 x_ij = P_ij - P_i): each reflector's first reading at "
-                     f"the position closest to zero ({', '.join(f'{r:g}' for r in refs)})")
-        out[a] = AxisEvaluation(a, kind, runs.unit, "mm" if kind == "linear" else "deg", positions, t, params, runs,
-                                refs, notes)
-    temp = None
-    if alpha is not None:
-        temp = {"alpha_per_K": alpha, "formula": "x <- x - alpha * (T - 20 C) * (P - P_0) (linear axes; T: the "
-                "pass' mean temperature_c, P_0: the reference position)"}
-    return Iso230Result(rec.source, out, temp)
+                     f"the position closest to zero ({', '.join(f'{r:g}' for r in sorted(set(runs.reference)))})")
+        out[a] = evaluate_runs(runs, a, m.kind(a), targets, notes)
+    return Iso230Result(rec.source, out, _temperature(alpha))
+
+
+def _temperature(alpha: float | None) -> dict | None:
+    if alpha is None:
+        return None
+    return {"alpha_per_K": alpha, "formula": "x <- x - alpha * (T - 20 C) * (P - P_0) (linear axes; T: the "
+            "material temperature of the run, P_0: the datum position)"}
+
+
+def evaluate_runs(runs: Runs, axis: str, kind: str, targets=None, notes: list[str] | None = None) -> AxisEvaluation:
+    """ISO 230-2 evaluation of one axis from its runs' deviations (any input: a tracker recording through
+    ``deviations``, or an interferometer's readings, mtcal.iso230_2_readings); ``kind`` "linear" | "rotary"."""
+    notes = [] if notes is None else notes
+    runs = _select_targets(runs, targets, axis, notes)
+    positions, t, params = statistics(runs.position, runs.direction, runs.deviation)
+    _warn_design(t, positions, axis, notes)
+    return AxisEvaluation(axis, kind, runs.unit, "mm" if kind == "linear" else "deg", positions, t, params, runs,
+                          sorted(set(runs.reference.tolist())), notes)

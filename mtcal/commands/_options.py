@@ -19,7 +19,7 @@ import numpy as np
 from mtcal.errors import InputError
 
 # options whose value may start with '-' (a negative first number): pre-joined as --OPT=VALUE
-NEGATIVE_OK = ("--tracker",)
+NEGATIVE_OK = ("--tracker", "--target-points")
 _NUMBERISH = re.compile(r"^-[0-9.]")
 
 

@@ -23,8 +23,16 @@ ORDER = ("A", "A_up", "A_down", "E", "E_up", "E_down", "M", "R", "R_up", "R_down
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("recording", metavar="REC.csv", help="tidy recording (design.md)")
-    p.add_argument("--axis", metavar="NAME", help="axis to evaluate (default: every axis in the recording)")
+    p.add_argument("recording", metavar="FILE.csv",
+                   help="a tidy tracker recording (design.md), or an interferometer's readings: target_UNIT, run, "
+                        "direction, measured_UNIT or deviation_UNIT[, air_temperature_c, material_temperature_c]")
+    p.add_argument("--unit", choices=("mm", "um", "in", "deg", "arcsec"),
+                   help="readings layout: the unit of target / measured / deviation columns without a unit suffix")
+    p.add_argument("--result-unit", choices=("um", "mm", "inch", "arcsec", "urad", "deg"),
+                   help="unit of the deviations reported (default um for a linear axis, arcsec or --angle-unit for "
+                        "a rotary one)")
+    p.add_argument("--axis", metavar="NAME", help="axis to evaluate (default: every axis in the recording; "
+                                                  "readings layout: the axis' name in the report, default 'axis')")
     p.add_argument("--target-points", metavar="P,P,...",
                    help="evaluate only these target positions (mm or deg; default: every position recorded)")
     p.add_argument("--alpha", type=real(-1e-3, 1e-3, "1/K"), metavar="PER_K",
@@ -53,20 +61,13 @@ def _targets(text: str | None) -> list[float] | None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from mtcal.iso230_2 import evaluate
-    from mtcal.recordings import read_recording
-
     if args.temperature_normalise != (args.alpha is not None):
         raise InputError("temperature normalisation needs both --temperature-normalise and --alpha PER_K")
-    if args.output:
-        refuse_overwrite([], args.recording, dirs={args.output: ["iso230-2_*"]})
-    rec = read_recording(args.recording, args.machine)
-    res = evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine,
-                   targets=_targets(args.target_points), alpha=args.alpha, angle_unit=args.angle_unit,
-                   point=args.point)
+    res = _evaluate(args)
+    planned = _planned(res, Path(args.output), args.recording) if args.output else {}
     out = res.to_dict()
     if args.output:
-        out["files"] = _write(res, Path(args.output), args.recording)
+        out["files"] = _write(res, planned)
     if args.json:
         print(dumps(out))
         return 0
@@ -77,18 +78,56 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _write(res, folder: Path, source: str) -> list[str]:
+def _evaluate(args: argparse.Namespace):
+    """The evaluation of a tracker recording or of an interferometer's readings (by the file's header)."""
+    from mtcal.io import read_csv_rows
+    from mtcal.iso230_2 import Iso230Result, evaluate, evaluate_runs, in_unit, _temperature
+    from mtcal.iso230_2_readings import is_readings_header, read_readings
+    from mtcal.recordings import read_recording
+
+    targets = _targets(args.target_points)
+    if is_readings_header(read_csv_rows(args.recording, "ISO 230-2 input")[0][1]):
+        runs, kind, notes = read_readings(args.recording, args.unit, args.alpha)
+        unit = args.result_unit or ("um" if kind == "linear" else args.angle_unit)
+        axis = args.axis or "axis"
+        ev = evaluate_runs(in_unit(runs, unit), axis, kind, targets, notes)
+        return Iso230Result(args.recording, {axis: ev}, _temperature(args.alpha))
+    if args.unit:
+        raise InputError(f"{args.recording}: --unit is for the readings layout (target_UNIT, run, direction, ...); a "
+                         f"tracker recording is in mm and deg (design.md)")
+    rec = read_recording(args.recording, args.machine)
+    res = evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine, targets=targets,
+                   alpha=args.alpha, angle_unit=args.angle_unit, point=args.point)
+    if args.result_unit:
+        for a, ev in res.axes.items():
+            res.axes[a] = evaluate_runs(in_unit(ev.runs, args.result_unit), a, ev.kind, None, ev.notes)
+    return res
+
+
+def _planned(res, folder: Path, source: str) -> dict[str, dict]:
+    """Every output of every axis checked before the first is written: {axis: {file name: path}}."""
+    planned = {}
+    for a in res.axes:
+        names = [f"iso230-2_{a}.csv", f"iso230-2_{a}_parameters.csv", f"iso230-2_{a}.md", f"iso230-2_{a}.png"]
+        planned[a] = {n: folder / n for n in names}
+        for path in planned[a].values():
+            if path.is_dir():
+                raise InputError(f"output {path} is a directory; nothing was written")
+            refuse_overwrite(path, source)
+    return planned
+
+
+def _write(res, planned: dict[str, dict]) -> list[str]:
     from mtcal.plots_iso230_2 import plot_evaluation
     files = []
     for a, ev in res.axes.items():
+        p = planned[a]
         texts = {f"iso230-2_{a}.csv": targets_csv(ev), f"iso230-2_{a}_parameters.csv": parameters_csv(ev),
                  f"iso230-2_{a}.md": markdown(ev, res.source, res.temperature)}
-        for name in list(texts) + [f"iso230-2_{a}.png"]:
-            refuse_overwrite(folder / name, source)
         for name, text in texts.items():
-            atomic_write_text(folder / name, text)
-            files.append(str(folder / name))
-        files.append(str(plot_evaluation(ev, folder / f"iso230-2_{a}.png")))
+            atomic_write_text(p[name], text)
+            files.append(str(p[name]))
+        files.append(str(plot_evaluation(ev, p[f"iso230-2_{a}.png"])))
     return files
 
 
