@@ -43,6 +43,7 @@ class PlateData:
     positions: list[np.ndarray]
     source: str = "<arrays>"
     rows: list[int] = field(default_factory=list)  # file line of each point (for messages)
+    resolution: float = 0.0  # the last printed digit of the file's coordinates (0: arrays, full precision)
 
     @property
     def n(self) -> int:
@@ -91,6 +92,7 @@ def read_plate_csv(path: str | os.PathLike) -> PlateData:
     rows: list[int] = []
     pos: list[list[tuple[float, float]]] = [[] for _ in range(k_max)]
     seen: dict[str, int] = {}
+    decimals = 0
     for line, rec in body[1:]:
         if len(rec) != len(cols):
             raise InputError(f"{src}:{line}: {len(rec)} fields, header has {len(cols)}")
@@ -106,11 +108,20 @@ def read_plate_csv(path: str | os.PathLike) -> PlateData:
                 raise InputError(f"{src}:{line}: point {pid!r} has no position-{k + 1} values "
                                  f"(x{k + 1},y{k + 1}); every point must be measured in every position")
             pos[k].append((_num(xs, src, line, f"x{k + 1}"), _num(ys, src, line, f"y{k + 1}")))
+            decimals = max(decimals, *(_decimals(t) for t in (xs, ys)))
         ids.append(pid)
         rows.append(line)
-    data = PlateData(ids, [np.array(q, dtype=float).reshape(-1, 2) for q in pos], src, rows)
+    data = PlateData(ids, [np.array(q, dtype=float).reshape(-1, 2) for q in pos], src, rows, 10.0 ** -decimals)
     validate(data)
     return data
+
+
+def _decimals(text: str) -> int:
+    """Digits printed after the decimal point (``1.250`` -> 3, ``2e-3`` -> 3, ``12`` -> 0)."""
+    t = text.strip().lower()
+    mant, _, exp = t.partition("e")
+    d = len(mant.split(".", 1)[1]) if "." in mant else 0
+    return max(0, d - (int(exp) if exp.lstrip("+-").isdigit() else 0))
 
 
 def plate_from_arrays(ids: Sequence, *positions, source: str = "<arrays>") -> PlateData:
@@ -152,11 +163,23 @@ def plate_from_pairs(pos1: dict, pos2: dict, source: str = "<arrays>") -> PlateD
     return plate_from_arrays(ids, [m1[i] for i in ids], [m2[i] for i in ids], source=source)
 
 
+MAX_COORDINATE = 1e7  # no plate is this large in any length unit: a misreading (an exponent, a pasted id)
+FAR_FROM_CENTRE = 5.0  # a point this many times the median distance from the plate centre: a misreading
+
+
 def validate(data: PlateData) -> None:
-    """Refuse what the fit cannot use: < 3 points, collinear points, mixed units."""
+    """Refuse what the fit cannot use: < 3 points, coordinates no plate has, a point far off the plate, collinear
+    points, mixed units."""
     src = data.source
     if data.n < 3:
         raise InputError(f"{src}: {data.n} point(s); the plate fit needs at least 3 non-collinear points")
+    for k, p in enumerate(data.positions):
+        big = np.flatnonzero(np.abs(p).max(axis=1) > MAX_COORDINATE)
+        if len(big):
+            i = int(big[0])
+            raise InputError(f"{data.where(i)}: point {data.ids[i]!r}: position {k + 1} coordinate "
+                             f"{np.abs(p[i]).max():.3g} is beyond {MAX_COORDINATE:g}: no plate is that large (a "
+                             f"misreading?)")
     for k, p in enumerate(data.positions):
         c = p - p.mean(axis=0)
         s = np.linalg.svd(c, compute_uv=False)
@@ -190,6 +213,15 @@ def validate(data: PlateData) -> None:
                     raise InputError(f"{data.where(i)}: point {data.ids[i]!r}: position {k + 1} lies "
                                      f"{q:.4g} times as far from {where} as in position 1 "
                                      f"(mixed units?{_unit_hint(q)})")
+    for k, p in enumerate(data.positions):  # a whole row in another unit or misread: far off the plate
+        r = np.hypot(*(p - _spatial_median(p)).T)
+        med = float(np.median(r))
+        if med > 0 and r.max() > FAR_FROM_CENTRE * med:
+            i = int(np.argmax(r))
+            q = float(r[i] / med)
+            raise InputError(f"{data.where(i)}: point {data.ids[i]!r} lies {q:.3g} times as far from the plate "
+                             f"centre as the median point in position {k + 1} (a row in another unit?"
+                             f"{_unit_hint(q)}; or a misreading)")
 
 
 def _spatial_median(p: np.ndarray, iterations: int = 100) -> np.ndarray:
@@ -322,6 +354,19 @@ def measured_turns(data: PlateData) -> list[float]:
     return out
 
 
+def nominal_turns(turns: list[float], notes: list[str]) -> tuple[float, ...]:
+    """The nominal turn of each position (rad, clockwise): the paper's 0, 90, 180, 270 deg, or, when position 2
+    was turned counter-clockwise, 0, -90, -180, -270 deg (said in ``notes``); alpha, beta, gamma keep their
+    meaning (beta: the turn's deviation from this nominal)."""
+    sense = 1.0 if turns and _wrap(turns[0]) >= 0 else -1.0
+    nom = [sense * t for t in NOMINAL_TURN[:len(turns) + 1]]
+    if turns and sense < 0:
+        notes.append(f"position 2 is turned counter-clockwise ({math.degrees(turns[0]):.3f} deg clockwise = "
+                     f"{-math.degrees(turns[0]):.3f} deg counter-clockwise), not clockwise as the paper's: fitted "
+                     f"with the turn the data show")
+    return tuple(nom)
+
+
 def _wrap(a: float) -> float:
     return (a + math.pi) % (2 * math.pi) - math.pi
 
@@ -347,21 +392,22 @@ def _closed_form(data: PlateData, offsets: bool) -> np.ndarray:
     return np.concatenate([abg, eps])
 
 
-def _linear_system(data: PlateData, names: list[str], cols: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _linear_system(data: PlateData, names: list[str], cols: np.ndarray, nom: tuple = NOMINAL_TURN
+                   ) -> tuple[np.ndarray, np.ndarray]:
     """Stacked first-order design (N, m, p) and reduced observations (N, m) over positions 2..K."""
     n, kk = data.n, len(data.positions)
     J = np.zeros((n, 2 * (kk - 1), len(names)))
     Y = np.zeros((n, 2 * (kk - 1)))
     for k in range(1, kk):
-        d = G.design_first_order(data.positions[k], NOMINAL_TURN[k])  # (N, 2, 5)
-        Y[:, 2 * (k - 1):2 * k] = G.reduced_observation(data.positions[0], data.positions[k], NOMINAL_TURN[k])
+        d = G.design_first_order(data.positions[k], nom[k])  # (N, 2, 5)
+        Y[:, 2 * (k - 1):2 * k] = G.reduced_observation(data.positions[0], data.positions[k], nom[k])
         for g, j in enumerate(cols[k - 1]):
             if j >= 0:
                 J[:, 2 * (k - 1):2 * k, j] += d[:, :, g]
     return J, Y
 
 
-def _exact_system(data: PlateData, values: np.ndarray, cols: np.ndarray, w: float
+def _exact_system(data: PlateData, values: np.ndarray, cols: np.ndarray, w: float, nom: tuple = NOMINAL_TURN
                   ) -> tuple[np.ndarray, np.ndarray]:
     """Exact residuals (N, m) and their Jacobian (N, m, p) at ``values``."""
     n, kk = data.n, len(data.positions)
@@ -369,7 +415,7 @@ def _exact_system(data: PlateData, values: np.ndarray, cols: np.ndarray, w: floa
     J = np.zeros((n, 2 * (kk - 1), len(values)))
     pp = _position_params(values, cols)
     for k in range(1, kk):
-        args = (data.positions[0], data.positions[k], pp[k - 1], NOMINAL_TURN[k], w)
+        args = (data.positions[0], data.positions[k], pp[k - 1], nom[k], w)
         R[:, 2 * (k - 1):2 * k] = G.residual_exact(*args)
         d = G.jacobian_exact(*args)
         for g, j in enumerate(cols[k - 1]):
@@ -378,17 +424,17 @@ def _exact_system(data: PlateData, values: np.ndarray, cols: np.ndarray, w: floa
     return R, J
 
 
-def _gauss_newton(data: PlateData, start: np.ndarray, cols: np.ndarray, w: float,
+def _gauss_newton(data: PlateData, start: np.ndarray, cols: np.ndarray, w: float, nom: tuple = NOMINAL_TURN,
                   max_iter: int = 50) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Least squares on the exact model with the generated residual and Jacobian (Gauss-Newton)."""
     x = start.copy()
     for _ in range(max_iter):
-        R, J = _exact_system(data, x, cols, w)
+        R, J = _exact_system(data, x, cols, w, nom)
         step, *_ = np.linalg.lstsq(J.reshape(-1, len(x)), -R.ravel(), rcond=None)
         x = x + step
         if np.max(np.abs(step)) < 1e-15 * max(1.0, np.max(np.abs(x))):
             break
-    R, J = _exact_system(data, x, cols, w)
+    R, J = _exact_system(data, x, cols, w, nom)
     return x, R, J
 
 
@@ -462,19 +508,19 @@ def _gage_frame(est: np.ndarray, ids: list[str], origin: str | None, align: str 
     return q, (ids[io] if translate else "(coordinate origin)"), ids[ia], axis
 
 
-def _check_turns(data: PlateData, turns: list[float], exact: bool | None) -> None:
+def _check_turns(data: PlateData, turns: list[float], exact: bool | None, nom: tuple = NOMINAL_TURN) -> None:
     """Position 2 may be turned by any angle the reversal can use (exact fit): not within MIN_TURN of 0 or
     180 deg, where C = A B^-1 A^-1 no longer depends on the machine metric A; the optional positions 3 and 4
     (Reeve-style redundancy) must be about 180 and 270 deg; a forced first-order fit needs a turn near nominal."""
     for k, t in enumerate(turns, start=2):
-        dev = _wrap(t - NOMINAL_TURN[k - 1])
+        dev = _wrap(t - nom[k - 1])
         where = f"position {k} is turned {math.degrees(t) % 360:.3f} deg clockwise from position 1"
         if k == 2 and abs(math.sin(t)) < math.sin(MIN_TURN):
             raise InputError(f"{where}: a reversal needs a turn away from 0 and 180 deg (at least "
                              f"{math.degrees(MIN_TURN):g} deg away; about 90 deg is best) to separate the machine's "
                              "non-orthogonality from the plate's", data.source)
         if (k > 2 and abs(dev) > MAX_TURN_ERROR) or (exact is False and abs(dev) > FIRST_ORDER_TURN):
-            raise InputError(f"{where}; expected about {math.degrees(NOMINAL_TURN[k - 1]):.0f} deg (clockwise, viewed "
+            raise InputError(f"{where}; expected about {math.degrees(nom[k - 1]):.0f} deg (clockwise, viewed "
                              f"from the top){' for the first-order fit (use the exact fit)' if k == 2 else ''}",
                              data.source)
 
@@ -497,13 +543,14 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     kk = len(data.positions)
     notes: list[str] = []
     turns = measured_turns(data)
-    _check_turns(data, turns, exact)
+    nom = nominal_turns(turns, notes)
+    _check_turns(data, turns, exact, nom)
     names, cols = _param_layout(kk, offsets, scale)
     w = float(G.METRIC_SHARE[metric])
 
     # first order: closed form for the paper's two positions, linear least squares otherwise
-    J, Y = _linear_system(data, names, cols)
-    if kk == 2 and scale:
+    J, Y = _linear_system(data, names, cols, nom)
+    if kk == 2 and scale and nom[1] == NOMINAL_TURN[1]:
         values = _closed_form(data, offsets)
     else:
         values, *_ = np.linalg.lstsq(J.reshape(-1, len(names)), Y.ravel(), rcond=None)
@@ -511,7 +558,7 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     dof = J.shape[0] * J.shape[1] - len(names)
     sigma1 = math.sqrt(float(np.sum(R**2)) / dof) if dof > 0 else 0.0
     method = "first_order"
-    if exact is None and any(abs(_wrap(t - NOMINAL_TURN[k])) > FIRST_ORDER_TURN for k, t in enumerate(turns, 1)):
+    if exact is None and any(abs(_wrap(t - nom[k])) > FIRST_ORDER_TURN for k, t in enumerate(turns, 1)):
         exact = True
         notes.append(f"turn(s) {', '.join(f'{math.degrees(t):.3f}' for t in turns)} deg are more than "
                      f"{math.degrees(FIRST_ORDER_TURN):g} deg from nominal: exact fit used")
@@ -520,23 +567,26 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
         for k in range(1, kk):
             pk = data.positions[k]
             rad = np.max(np.hypot(*(pk - (pk.mean(axis=0) if offsets else 0.0)).T))
-            beta = _wrap(turns[k - 1] - NOMINAL_TURN[k])
+            beta = _wrap(turns[k - 1] - nom[k])
             worst = max(worst, 0.5 * beta**2 * rad)
         if worst > 0.5 * sigma1:
             exact = True
             notes.append(f"first-order model error beta^2 R / 2 = {worst:.3g} exceeds sigma / 2 = "
                          f"{0.5 * sigma1:.3g} (turn off 90 deg by "
-                         f"{math.degrees(abs(_wrap(turns[0] - NOMINAL_TURN[1]))) * 3600:.1f} "
+                         f"{math.degrees(abs(_wrap(turns[0] - nom[1]))) * 3600:.1f} "
                          "arcsec; the paper asks for about 10 arcsec): exact fit used")
     if exact:
         start = values.copy()
         for k in range(1, kk):  # start each beta at the measured turn (first order is wrong for large beta)
-            start[cols[k - 1][1]] = _wrap(turns[k - 1] - NOMINAL_TURN[k])
+            start[cols[k - 1][1]] = _wrap(turns[k - 1] - nom[k])
         if offsets:
             start[[c for k in range(kk - 1) for c in cols[k][3:]]] = 0.0
-        values, R, J = _gauss_newton(data, start, cols, w)
+        values, R, J = _gauss_newton(data, start, cols, w, nom)
         method = "exact"
     sigma, dof, cov, flagged, rule = _statistics(J, R, data.ids, level)
+    floor = data.resolution or 1e-12 * float(max(np.abs(p).max() for p in data.positions))
+    flagged = [f for f in flagged if max(abs(v) for v in f["residual"]) > floor]  # not numerical / rounding noise
+    rule += f"; and a residual above the data's resolution ({floor:.3g})"
 
     # corrected coordinates (eq. 20): mean of the estimates from every position; gamma not applied for "none"
     pp = _position_params(values, cols)
@@ -547,7 +597,7 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     p1par[1] = 0.0
     est = est_fn(data.positions[0], p1par, 0.0, w)
     for k in range(1, kk):
-        est = est + est_fn(data.positions[k], pp[k - 1], NOMINAL_TURN[k], w)
+        est = est + est_fn(data.positions[k], pp[k - 1], nom[k], w)
     est /= kk
     corrected, o, a, ax = _gage_frame(est, data.ids, origin, align, align_axis, translate)
     return PlateFit(data, metric, offsets, method, names, values, cov, sigma, dof, R, J,

@@ -473,3 +473,59 @@ def test_benchmark_runs():
     spec.loader.exec_module(mod)
     out = mod.run(n=500)
     assert set(out) >= {"plate_1e4_points_s"} and out["plate_1e4_points_s"] > 0
+
+
+# ----------------------------------------------------------------------------- issue 20: careless plate files
+def _plate_file(tmp_path, data, name="p.csv", shift=(400.0, 250.0), digits=12, scale_row=None):
+    rows = ["point,x1,y1,x2,y2"]
+    for i, (pid, a, b) in enumerate(zip(data.ids, *data.positions)):
+        s = 25.4 if i == scale_row else 1.0
+        rows.append(f"{pid}," + ",".join(f"{v * s:.{digits}f}" for v in (a[0] + shift[0], a[1] + shift[1],
+                                                                          b[0] + shift[0], b[1] + shift[1])))
+    f = tmp_path / name
+    f.write_text("\n".join(rows) + "\n")
+    return f
+
+
+@pytest.mark.parametrize("turn_deg", [-90.0, -89.99, 45.0, -45.0])
+def test_counter_clockwise_and_45_degree_turns_are_fitted_as_the_data_show(tmp_path, capsys, turn_deg):
+    """A plate turned counter-clockwise (or by 45 deg): alpha and gamma recovered to 1e-9 from noise-free data
+    (eqs. 1, 6, 11 written out in `synthetic`), the turn reported; before, a counter-clockwise turn was absorbed
+    into beta (beta = -pi) and alpha moved."""
+    truth = dict(alpha=4e-6, beta=math.radians(turn_deg - 90.0), gamma=1.2e-5, ex=-1.5e-5, ey=9e-6)
+    f = _plate_file(tmp_path, synthetic(n=25, noise=0.0, size=300.0, **truth))
+    assert main(["plate", str(f), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["turn_deg"][0] == pytest.approx(turn_deg, abs=1e-3)
+    for k in ("alpha", "gamma"):
+        assert out[k] == pytest.approx(truth[k], abs=1e-9), k
+    if turn_deg < 0:
+        assert any("counter-clockwise" in n for n in out["notes"]), out["notes"]
+        assert abs(out["beta"] - math.radians(turn_deg + 90.0)) < 1e-9  # the deviation from -90 deg
+
+
+def test_a_row_in_another_unit_is_refused_naming_the_point(tmp_path, capsys):
+    """One row of an inch plate typed in mm (both positions 25.4 times too large): refused naming point and line
+    (it gave alpha = -4.7e14 or a plausible fit with the point 300 inches off the plate, exit 0)."""
+    f = _plate_file(tmp_path, synthetic(n=12, noise=2e-6, size=10.0), shift=(0.0, 0.0), digits=6, scale_row=4)
+    assert main(["plate", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "p.csv:6: point 'P4' lies" in err and "as far from the plate centre" in err and "another unit?" in err
+
+
+def test_coordinates_no_plate_has_are_refused(tmp_path, capsys):
+    f = _plate_file(tmp_path, synthetic(n=6, noise=0.0))
+    text = f.read_text().splitlines()
+    text[3] = "P2,1e200,5,5,1e200"
+    f.write_text("\n".join(text) + "\n")
+    assert main(["plate", str(f)]) == 2
+    assert "p.csv:4: point 'P2': position 1 coordinate 1e+200 is beyond" in capsys.readouterr().err
+
+
+def test_no_point_is_flagged_on_residuals_below_the_printed_resolution(tmp_path, capsys):
+    """Exact data written with 6 decimals: the residuals are rounding (<= 1e-6); none is flagged (before, a point
+    was flagged on a residual of 4e-15: numerical noise tested as if it were data)."""
+    f = _plate_file(tmp_path, synthetic(n=30, noise=0.0, size=10.0), shift=(0.0, 0.0), digits=6)
+    assert main(["plate", str(f), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["flagged"] == [] and "resolution (1e-06)" in out["flag_rule"]
