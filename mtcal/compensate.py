@@ -22,7 +22,7 @@ from __future__ import annotations
 import io
 import itertools
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
@@ -467,7 +467,8 @@ class ProgramCompensator:
     def __init__(self, comp: Compensator, tolerance: float = 0.001, precision: int | None = None,
                  chunk_lines: int = 20000, max_subdivisions: int = 256,
                  progress: Callable[[int, int], None] | None = None, residual_every: int = RESIDUAL_EVERY,
-                 max_correction: float = MAX_CORRECTION_MM, max_rotary_correction: float = MAX_ROTARY_CORRECTION_DEG):
+                 max_correction: float = MAX_CORRECTION_MM, max_rotary_correction: float = MAX_ROTARY_CORRECTION_DEG,
+                 allow_subprograms: bool = False):
         self.comp = comp
         self.tolerance = float(tolerance)
         p = 4 if precision is None else int(precision)
@@ -488,7 +489,7 @@ class ProgramCompensator:
         self.report = Report(residual_every=int(residual_every))
         self.fast = True  # byte-level path for plain blocks (False: every block through parse_chunk)
         m = comp.machine
-        self.words = gcode.words(m)  # the machine's axis words (its axis names)
+        self.words = replace(gcode.words(m), allow_subprograms=allow_subprograms)  # the machine's axis words
         self._ti, self._ri = m.index(m.ik_info["tilt_axis"]), m.index(m.ik_info["rotary_axis"])
 
     # ---------------------------------------------------------------- driver

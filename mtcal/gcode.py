@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import functools
 import re
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.errors import InputError
+from mtcal.errors import InputError, InputWarning
 
 INCH = 25.4  # mm
 ENCODING = "latin-1"  # byte-transparent
@@ -46,6 +47,7 @@ class Words:
     checks: tuple          # (pattern, message) run on suspect chunks, in order
     suspect: frozenset     # characters that send a chunk through the checks
     table: bytes           # byte codes of the fast path (see _byte_table)
+    allow_subprograms: bool = False  # subprogram / macro calls passed with a warning instead of refused
 
 
 @functools.cache
@@ -95,6 +97,26 @@ _SPECIAL = re.compile(r"(?i)(?P<tcpm>TRAORI|(?<![A-Z])M[ \t]*0*128(?![\d.]))|(?P
 _BADNUM = re.compile(r"[A-Za-z][ \t]*(?>[-+]?(?:\d+\.?\d*|\.\d+))(?:[ \t]*[-+.\d]|[eE][-+]?\d)\S*")
 
 
+# subprogram calls: Fanuc / ISO M98 (call), M99 (return), Heidenhain CALL PGM / CALL LBL: the moves they run are in
+# another program, which a compensation of this one does not reach (macro calls G65 / G66: _g_refusal)
+_SUBPROGRAM = re.compile(r"(?i)(?<![A-Z])M[ \t]*0*9[89](?![\d.])|CALL[ \t]+(?:PGM|LBL)")
+_SUBPROGRAM_B = re.compile(_SUBPROGRAM.pattern.encode())
+_SUBPROGRAM_TEXT = "the moves it runs are in another program, which compensating this one does not reach"
+
+
+def _subprograms(code: str, first_line: int, source: str, w: Words) -> None:
+    """Refuse a subprogram / macro call naming its line, or (``w.allow_subprograms``) warn that its moves stay
+    uncompensated."""
+    for m in _SUBPROGRAM.finditer(code):
+        line = _line_of(code, m.start(), first_line)
+        if not w.allow_subprograms:
+            raise _error(source, line, f"{m.group()!r} is a subprogram call: {_SUBPROGRAM_TEXT}; compensate the "
+                                       f"called program too, or pass the call with --allow-subprograms (its moves "
+                                       f"stay uncompensated)")
+        warnings.warn(InputWarning(f"{source}:{line}: {m.group()!r} is a subprogram call: passed unchanged "
+                                   f"(--allow-subprograms), its moves are NOT compensated"), stacklevel=2)
+
+
 def _badnum_reason(word: str) -> str:
     tail = word.lstrip("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz \t+-")
     if re.match(r"[\d.]*[eE]", tail):
@@ -118,6 +140,9 @@ def _g_refusal(gs: str) -> str | None:
         return f"G{gs} {_CYCLE}"
     if v in (51.0, 51.1, 52.0, 92.0) or 68.0 <= v < 69.0:
         return f"G{gs} {_FRAME}"
+    if v in (65.0, 66.0, 66.1):
+        return (f"G{gs} is a macro call: {_SUBPROGRAM_TEXT}, and its arguments are address letters that may be "
+                f"axis words here; expand the macro into G0/G1 moves (refused even with --allow-subprograms)")
     if v in _HANDLED_G or v in _PASS_G:
         return None
     return f"G{gs} is not supported (it moves in another frame, runs a cycle or changes how coordinates are read)"
@@ -131,6 +156,7 @@ def _check(code: str, first_line: int, source: str, w: Words) -> None:
     if m:
         msg = f": {_TCPM}" if m.group("tcpm") else f" {_CYCLE}" if m.group("cycle") else f" {_FRAME}"
         raise _error(source, _line_of(code, m.start(), first_line), f"{m.group()!r}{msg}")
+    _subprograms(code, first_line, source, w)
     for g in _GWORD.finditer(code):
         msg = _g_refusal(g.group(1))
         if msg:
@@ -307,7 +333,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     code = _mask_comments(text) if commented else text
     chars = set(code)
     suspect = (bool(chars & w.suspect) or w.checks[-1][0].search(code) is not None or "128" in code
-               or _BADNUM.search(code) is not None)
+               or _BADNUM.search(code) is not None or _SUBPROGRAM.search(code) is not None)
     if suspect:  # find which check, for the message
         _check(code, first_line, source, w)
     n = len(lines)
@@ -823,7 +849,7 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
         code_b, craw = buf, raw
     w = w or words()
     vraw = craw.translate(w.table)
-    if b"\x14" in vraw:
+    if b"\x14" in vraw or _SUBPROGRAM_B.search(craw):
         return None  # words that cannot be compensated: parse_chunk names them
     vpad = vraw + _PAD_BYTES
     v = np.frombuffer(vpad, dtype=np.uint8)

@@ -164,3 +164,37 @@ def test_cl_tool_axis_written_to_three_decimals_is_normalised():
     poses, nos = gcode.parse_cl(lines_of("1 2 3 0.707 0 0.707\r"), 1, "a.cl")
     np.testing.assert_allclose(poses, [[1, 2, 3, 0.5 ** 0.5, 0, 0.5 ** 0.5]], rtol=1e-15)
     assert nos.tolist() == [1]
+
+
+# ----------------------------------------------------------------------------- issue 20: subprogram calls
+@pytest.mark.parametrize("call", ["M98 P1000", "M99", "CALL PGM TNC:\\SUB.H", "CALL LBL 5"])
+def test_a_subprogram_call_is_refused_or_passed_with_a_warning(tmp_path, capsys, call):
+    """Its moves are in another program: refused naming the line (it passed with exit 0 and no word); with
+    --allow-subprograms passed unchanged with a warning naming the line."""
+    from mtcal.cli import main
+    from mtcal.model import ErrorModel, save_model
+    prog = tmp_path / "sub.nc"
+    prog.write_text(f"G90 G21\nG0 X10 Y10 Z10 B0 C0\n{call}\nG1 X20 Y10 Z10 B0 C0 F100\n")
+    model = tmp_path / "m.json"
+    save_model(ErrorModel("dmu50", {"E_C0Y": 1e-5}, {}), model)
+    out = tmp_path / "o.nc"
+    assert main(["compensate", str(prog), "--model", str(model), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "sub.nc, line 3:" in err and "subprogram call" in err and not out.exists()
+    if call.startswith("CALL"):
+        return  # Heidenhain conversational: named, but no ISO G-code to pass it through
+    assert main(["compensate", str(prog), "--model", str(model), "-o", str(out), "--allow-subprograms"]) == 0
+    err = capsys.readouterr().err
+    assert "sub.nc:3:" in err and "NOT compensated" in err
+    assert out.read_text().splitlines()[2] == call
+
+
+def test_a_macro_call_is_refused_even_when_subprograms_are_allowed(tmp_path, capsys):
+    from mtcal.cli import main
+    from mtcal.model import ErrorModel, save_model
+    prog = tmp_path / "g65.nc"
+    prog.write_text("G90 G21\nG0 X10 Y10 Z10 B0 C0\nG65 P9010 A1 B2\n")
+    model = tmp_path / "m.json"
+    save_model(ErrorModel("dmu50", {"E_C0Y": 1e-5}, {}), model)
+    assert main(["compensate", str(prog), "--model", str(model), "-o", str(tmp_path / "o"), "--allow-subprograms"]) == 2
+    assert "g65.nc, line 3: G65 is a macro call" in capsys.readouterr().err

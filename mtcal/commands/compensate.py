@@ -28,6 +28,9 @@ HELP = "compensate an NC program (G-code or CL data) for the errors in a model, 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("program", help="NC program: G-code (G0/G1, X Y Z B C) or CL data (x y z i j k; .cl or --input cl)")
     p.add_argument("--model", required=True, help="error model JSON (mtcal identify)")
+    p.add_argument("--allow-subprograms", action="store_true",
+                   help="pass subprogram calls (M98, M99, CALL PGM / LBL) unchanged with a warning: the moves of the "
+                        "called program are NOT compensated (default: refused)")
     p.add_argument("-o", "--output", required=True, help="compensated G-code to write")
     p.add_argument("--scope", choices=("position", "full"), default="position",
                    help="position: X Y Z put the tool tip on target (L-VOL, R-VOL); full: B C also correct the tool "
@@ -80,7 +83,8 @@ def run(args: argparse.Namespace) -> int:
 
     pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress,
                             residual_every=args.residual_every, max_correction=args.max_correction,
-                            max_rotary_correction=args.max_rotary_correction)
+                            max_rotary_correction=args.max_rotary_correction,
+                            allow_subprograms=args.allow_subprograms)
     rep = pc.run(args.program, args.output, args.input)
     dt = time.perf_counter() - t0
     tables = write_tables(model, comp.machine, args.tables) if args.tables else []
