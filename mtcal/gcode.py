@@ -100,7 +100,13 @@ _BADNUM = re.compile(r"[A-Za-z][ \t]*(?>[-+]?(?:\d+\.?\d*|\.\d+))(?:[ \t]*[-+.\d
 # subprogram calls: Fanuc / ISO M98 (call), M99 (return), Heidenhain CALL PGM / CALL LBL: the moves they run are in
 # another program, which a compensation of this one does not reach (macro calls G65 / G66: _g_refusal)
 _SUBPROGRAM = re.compile(r"(?i)(?<![A-Z])M[ \t]*0*9[89](?![\d.])|CALL[ \t]+(?:PGM|LBL)")
-_SUBPROGRAM_B = re.compile(_SUBPROGRAM.pattern.encode())
+# the fast path's screen (a superset: a hit sends the block to parse_chunk, which decides)
+_SUBPROGRAM_B = re.compile(rb"[Mm][ \t]*0*9[89]|[Cc][Aa][Ll][Ll][ \t]")
+
+
+def _may_call(raw: bytes) -> bool:
+    """Whether a block's bytes may hold a subprogram call (memchr screens first: most blocks have no M word)."""
+    return (b"M" in raw or b"m" in raw or b"L" in raw or b"l" in raw) and _SUBPROGRAM_B.search(raw) is not None
 _SUBPROGRAM_TEXT = "the moves it runs are in another program, which compensating this one does not reach"
 
 
@@ -849,7 +855,7 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
         code_b, craw = buf, raw
     w = w or words()
     vraw = craw.translate(w.table)
-    if b"\x14" in vraw or _SUBPROGRAM_B.search(craw):
+    if b"\x14" in vraw or _may_call(craw):
         return None  # words that cannot be compensated: parse_chunk names them
     vpad = vraw + _PAD_BYTES
     v = np.frombuffer(vpad, dtype=np.uint8)
