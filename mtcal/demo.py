@@ -115,11 +115,11 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     import mtcal
     from mtcal.model import load_model
 
+    m = mtcal.load_machine(machine or BUNDLED)  # before anything is written: a bad name writes nothing
     out.mkdir(parents=True, exist_ok=True)
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
     prog = Progress()
-    m = mtcal.load_machine(machine or BUNDLED)
     summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
     mach = ["--machine", m.name]
 

@@ -38,10 +38,9 @@ class Machine:
     """Kinematics of one machine (see ``load_machine``)."""
 
     def __init__(self, name: str):
-        try:
-            self._np = importlib.import_module(f"mtcal.generated.{name}_numpy")
-        except ModuleNotFoundError:
-            raise InputError(f"unknown machine {name!r}; available: {', '.join(available_machines())}") from None
+        if name not in available_machines():  # also the generated modules that are no machine (plate, ...)
+            raise InputError(f"unknown machine {name!r}; available: {', '.join(available_machines())}")
+        self._np = importlib.import_module(f"mtcal.generated.{name}_numpy")
         m = self._np
         self.name: str = m.MACHINE
         self.title: str = m.TITLE

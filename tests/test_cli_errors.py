@@ -240,3 +240,20 @@ def test_signal_leaves_no_temporary(tmp_path, sig, code, word):
     assert proc.returncode == code
     assert err.strip().splitlines()[-1] == f"mtcal compensate: {word}" and "Traceback" not in err
     assert sorted(os.listdir(tmp_path)) == ["p.nc"]
+
+
+_DATA = Path(__file__).resolve().parent.parent / "mtcal" / "data"
+
+
+@pytest.mark.parametrize("name", ["plate", "threepoint", "signatures", "nosuch"])
+@pytest.mark.parametrize("argv", [["identify", str(_DATA / "demo_campaign.csv")], ["plan"], ["simulate", "-o", "{out}"],
+                                  ["diagnose", str(_DATA / "demo_campaign.csv")],
+                                  ["iso230-2", str(_DATA / "demo_campaign.csv")], ["demo", "--out", "{out}"]])
+def test_a_name_that_is_no_machine_exits_2_listing_the_machines(tmp_path, capsys, argv, name):
+    """Issue 20: `--machine plate` (a generated module that is not a machine) ended in exit 1 with an
+    AttributeError; every command that takes --machine names the machines there are."""
+    out = tmp_path / "out"
+    assert main([a.format(out=out) for a in argv] + ["--machine", name]) == 2
+    err = capsys.readouterr().err
+    assert f"unknown machine {name!r}; available: dmu50, headbc, xyzac" in err and "Traceback" not in err
+    assert not out.exists()
