@@ -45,7 +45,9 @@ GROUPS = ("axis", "round", "position", "point")  # required names of a mapping
 DIRECTIONS = {"+": 1, "+1": 1, "1": 1, "up": 1, "pos": 1, "-": -1, "-1": -1, "down": -1, "dn": -1, "neg": -1}
 HEADER_NAMES = {"collection": "collection", "group": "group", "target": "target", "point": "target",
                 "name": "target", "x": "x", "y": "y", "z": "z", "ux": "ux", "uy": "uy", "uz": "uz",
-                "time": "time", "timestamp": "time", "time stamp": "time", "time_s": "time"}
+                "time": "time", "timestamp": "time", "time stamp": "time", "time_s": "time",
+                "tolerance": "tolerance", "tol": "tolerance"}
+PLAUSIBLE_MM = 20000.0  # no machine tool is measured over more than this: beyond it the length unit is wrong
 _STAMP = re.compile(r"^\d{4}[-/]\d{2}[-/]\d{2}([ T]\d{1,2}:\d{2}(:\d{2}(\.\d+)?)?)?$")
 
 
@@ -128,6 +130,13 @@ def _positional(fields: list[str], k: int, where: str) -> SAPoint:
     if None in xyz:
         raise InputError(f"{where}: x y z must be numbers, got {fields[k:k + 3]!r}")
     rest = fields[k + 3:]
+    numbers = len(rest) if all(_number(f) is not None for f in rest) else None
+    if numbers in (1, 2, 5, 6):  # SA's optional tolerance, 3 uncertainties, time: these counts are ambiguous
+        raise InputError(f"{where}: {numbers} number(s) after x y z ({rest!r}): a tolerance, uncertainties or a "
+                         f"time stamp cannot be told apart by position; add a header line naming the columns "
+                         f"(e.g. Collection, Group, Target, X, Y, Z, Tolerance, Time)"
+                         + ("; or, if the target names are numbers, numbered targets need --name-fields 3"
+                            if k < 3 and "::" not in fields[0] else ""))
     unc = None
     if len(rest) >= 3 and all(_number(f) is not None for f in rest[:3]):
         unc, rest = tuple(_number(f) for f in rest[:3]), rest[3:]
@@ -137,11 +146,19 @@ def _positional(fields: list[str], k: int, where: str) -> SAPoint:
     return SAPoint(c, g, t, tuple(xyz), unc, _time(rest, where), 0)
 
 
-def _header(fields: list[str]) -> dict[str, int] | None:
+def _header(fields: list[str], where: str) -> dict[str, int] | None:
     keys = [HEADER_NAMES.get(f.strip().lower()) for f in fields]
     if not {"x", "y", "z", "target"} <= set(keys):
         return None
-    return {k: i for i, k in enumerate(keys) if k is not None}
+    col: dict[str, int] = {}
+    for i, k in enumerate(keys):
+        if k is None:
+            continue
+        if k in col:
+            raise InputError(f"{where}: columns {col[k] + 1} ({fields[col[k]].strip()!r}) and {i + 1} "
+                             f"({fields[i].strip()!r}) both name {k!r}: which one is meant is ambiguous")
+        col[k] = i
+    return col
 
 
 def _by_header(fields: list[str], col: dict[str, int], n: int, where: str) -> SAPoint:
@@ -173,7 +190,7 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
         if not line or line.startswith("//"):
             continue
         where, fields = f"{source}:{n}", _split(line)
-        if not points and col is None and (h := _header(fields)) is not None:
+        if not points and col is None and (h := _header(fields, where)) is not None:
             col, width = h, len(fields)
             unknown = [f for f in fields if f.strip().lower() not in HEADER_NAMES]
             if unknown:
@@ -210,6 +227,9 @@ def read_mapping(path: str | Path) -> TargetMap:
     if not rows:
         raise InputError(f"{p}: empty mapping file")
     header = [h.strip().lower() for h in rows[0][1]]
+    dup = sorted({h for h in header if header.count(h) > 1})
+    if dup:
+        raise InputError(f"{p}:{rows[0][0]}: column(s) {dup} appear twice in the mapping's header")
     need = ("target",) + GROUPS
     if not set(need) <= set(header) or not set(header) <= set(need + ("direction",)):
         raise InputError(f"{p}:{rows[0][0]}: header must be target,axis,round,position,point[,direction], "
@@ -241,11 +261,18 @@ def compile_pattern(pattern: str) -> re.Pattern:
     return rx
 
 
-def _lookup(p: SAPoint, mapping: TargetMap | None, rx: re.Pattern | None) -> dict[str, str] | None:
+def _lookup(p: SAPoint, mapping: TargetMap | None, rx: re.Pattern | None, source: str) -> dict[str, str] | None:
     if mapping is not None:
         return mapping.get(p.target, mapping.get(p.full_name))
     m = rx.fullmatch(p.target) or rx.fullmatch(p.full_name)
-    return None if m is None else {k: v for k, v in m.groupdict().items() if v is not None}
+    if m is None:
+        return None
+    found = {k: v for k, v in m.groupdict().items() if v is not None}
+    absent = [g for g in GROUPS if g not in found]
+    if absent:
+        raise InputError(f"{source}:{p.line}: target {p.full_name} matches --pattern but its group(s) {absent} took "
+                         f"no part in the match (optional groups?): every target needs {list(GROUPS)}")
+    return found
 
 
 def _keys(found: dict[str, str], where: str, axes: tuple[str, ...]) -> tuple[str, int, float, str, int]:
@@ -295,7 +322,7 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
     points = read_sa_points(text, source, name_fields, notes)
     keep, keys, skipped = [], [], []
     for p in points:
-        found = _lookup(p, mapping, rx)
+        found = _lookup(p, mapping, rx, source)
         if found is None:
             skipped.append((p.full_name, p.line))
             continue
@@ -314,12 +341,25 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
     _check_duplicates(keep, keys, source)
     if any(p.uncertainty is not None for p in keep):
         notes.append("coordinate uncertainties were read but the tidy recording has no column for them: not carried")
-    scale = UNITS_MM[units]
-    xyz = np.array([p.xyz for p in keep], dtype=float) * scale
+    xyz = _in_mm(np.array([p.xyz for p in keep], dtype=float), units, keep, source)
     ax, rnd, pos, pt, d = (list(c) for c in zip(*keys))
     rec = make_recording(ax, rnd, pos, pt, xyz, _times(keep, source), d, source=source)
     rec.line = np.array([p.line for p in keep])
     return ImportResult(rec, len(keep), skipped, notes)
+
+
+def _in_mm(xyz: np.ndarray, units: str, points: list[SAPoint], source: str) -> np.ndarray:
+    """Readings in mm; refused when the result is not a machine tool's size (the export's unit is another)."""
+    with np.errstate(over="ignore"):
+        mm = xyz * UNITS_MM[units]
+    size = np.abs(mm).max(axis=1)
+    bad = np.flatnonzero(~np.isfinite(size) | (size > PLAUSIBLE_MM))
+    if len(bad):
+        i = int(bad[0])
+        raise InputError(f"{source}:{points[i].line}: target {points[i].full_name} at {size[i]:.4g} mm after "
+                         f"converting from {units}: beyond {PLAUSIBLE_MM:g} mm, no machine tool's size (is the "
+                         f"export really in {units}? --units)")
+    return mm
 
 
 def _check_duplicates(points: list[SAPoint], keys: list[tuple], source: str) -> None:

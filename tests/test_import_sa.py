@@ -134,7 +134,7 @@ def test_numeric_target_names_need_the_name_field_count(tmp_path):
     m.write_text("target,axis,round,position,point,direction\n12,X,1,0,P,+\n13,X,1,50,P,+\n")
     from mtcal.import_sa import read_mapping
     text = "Coll Grp 12 70.0 0.0 10.0\nColl Grp 13 120.0 0.0 10.0\n"
-    with pytest.raises(InputError, match=r"match no mapping row: Coll::Grp \(line 1\).*numbered targets need "
+    with pytest.raises(InputError, match=r"e.txt:1: 1 number\(s\) after x y z.*numbered targets need "
                                          r"--name-fields 3"):
         import_sa(text, "e.txt", mapping=read_mapping(m))
     res = import_sa(text, "e.txt", mapping=read_mapping(m), name_fields=3)
@@ -146,3 +146,24 @@ def test_header_columns_not_used_are_named():
     text = "Collection,Group,Target,X,Y,Z,RMS\nA,B,X_r1_0_P_up,1,2,3,0.004\n"
     res = import_sa(text, "h.csv", pattern=PATTERN)
     assert res.recording.xyz.tolist() == [[1, 2, 3]] and res.notes == ["h.csv:1: column(s) ['RMS'] not used"]
+
+
+# ----------------------------------------------------------------------------- issue 20: careless exports
+@pytest.mark.parametrize("text,message", [
+    ("A B X_r1_0_P_up 70.0 0.0 10.0 0.0025\n", r"e\.txt:1: 1 number\(s\) after x y z.*tolerance"),
+    ("Collection,Group,Target,X,Y,Z,X\nA,B,X_r1_0_P_up,1,2,3,4\n", r"e\.txt:1: columns 4 \('X'\) and 7 \('X'\) both"),
+    ("A B X_r1_0_P_up 1e308 0.0 10.0\n", r"e\.txt:1: target A::B::X_r1_0_P_up at inf mm after converting from m"),
+    ("A B X_r1_0_P_up 70000 0.0 10.0\n", r"e\.txt:1: .* 7e\+07 mm after converting from m.*really in m"),
+])
+def test_careless_exports_are_refused_naming_line_and_problem(text, message):
+    """A tolerance column read as a time, a duplicate X column taken silently, an inf or a wrong --units written
+    through (issue 20)."""
+    with pytest.raises(InputError, match=message):
+        import_sa(text, "e.txt", pattern=PATTERN, units="m")
+
+
+def test_a_pattern_group_that_takes_no_part_is_named_not_a_key_error():
+    with pytest.raises(InputError, match=r"e\.txt:1: target A::B::X_r1_0_P_up matches --pattern but its group\(s\) "
+                                         r"\['axis'\] took no part"):
+        import_sa("A B X_r1_0_P_up 70.0 0.0 10.0\n", "e.txt",
+                  pattern=r"(?P<axis>Q)?X_r(?P<round>\d+)_(?P<position>[\d.]+)_(?P<point>[A-Z]+)_up")
