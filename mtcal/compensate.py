@@ -582,7 +582,7 @@ class ProgramCompensator:
             bad = (q_nom[:, i] < lim[0]) | (q_nom[:, i] > lim[1])
             if bad.any():
                 r = int(np.flatnonzero(bad)[0])
-                raise InputError(f"{self._src}, line {lines[r]}: {comp.machine.axes[i]} = {q_nom[r, i]:g} "
+                raise InputError(f"{self._src}, line {lines[r]}: {comp.machine.axes[i]} = {q_nom[r, i]:.10g} "
                                  f"{comp.machine.unit(comp.machine.axes[i])} is outside its range "
                                  f"[{lim[0]:g}, {lim[1]:g}]")
         unknown = np.isnan(q_nom).any(axis=1)
@@ -591,8 +591,11 @@ class ProgramCompensator:
             if feed.any():
                 r = int(np.flatnonzero(feed)[0])
                 miss = "".join(a for a, u in zip(self.words.letters, np.isnan(q_nom[r])) if u)
+                after = ch.fresh is not None and bool(ch.fresh[r])
                 raise InputError(f"{self._src}, line {lines[r]}: feed move while {miss} is not known yet "
-                                 "(program every linear axis before the first G1)")
+                                 + ("(the machine-coordinate move before it, G28 / G30 / G53, left them in machine "
+                                    "coordinates: program them again before the G1)" if after else
+                                    "(program every linear axis before the first G1)"))
             rep.uncompensated_rapids.extend(lines[unknown].tolist())
         known = ~unknown
         all_known = bool(known.all())

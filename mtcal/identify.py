@@ -270,8 +270,13 @@ def _passes(rec: Recording, axis: str):
     idx = np.flatnonzero(rec.axis == axis)
     points = _order_points(rec.point[idx])
     if len(points) < 3:
-        raise InputError(f"{rec.source}: axis {axis} has only {len(points)} point label(s) {list(points)} "
+        raise InputError(f"{rec.source}: axis {axis} has only {len(points)} point label(s) {[str(p) for p in points]} "
                          f"(lines {_lines(rec, idx)}); the three-point method needs >= 3 (P, Q, K)")
+    at = np.unique(np.round(rec.position[idx], 6))
+    if len(at) < 2:
+        raise InputError(f"{rec.source}: axis {axis} is measured at one position only ({at[0]:g}"
+                         f", lines {_lines(rec, idx)}): its errors are relative to the reference position, so an "
+                         f"axis needs two or more positions")
     has_time = np.isfinite(rec.time_s[idx]).all()
     order_key = rec.time_s if has_time else rec.line.astype(float)
     pos_key = np.round(rec.position[idx], 6)
@@ -796,14 +801,17 @@ def parse_positions(text: str) -> np.ndarray:
     return p
 
 
-def read_inspire(paths, axis: str, positions=None) -> Recording:
+def read_inspire(paths, axis: str, positions=None, machine: str | Machine = DEFAULT_MACHINE) -> Recording:
     """Recording from Inspire exports as the thesis used them: one CSV per round (file order = round 1, 2, ...),
     rows 'label, x, y, z' (mm, machine frame), in blocks of K, P, Q readings over the same positions (one
     direction).  ``positions`` (mm or deg) default to the thesis plan of the axis when the block length matches.
     A first line that is not numeric is taken as a header; any other bad line is an error naming file and line."""
     from mtcal.recordings import make_recording
     from mtcal.simulate import default_positions
+    m = machine if isinstance(machine, Machine) else load_machine(machine)
     axis = axis.upper()
+    if axis not in m.axes:
+        raise InputError(f"--axis {axis}: not an axis of machine {m.name} ({', '.join(m.axes)})")
     rows: dict[str, list] = {k: [] for k in ("round", "position", "point", "xyz", "line", "file")}
     for r, path in enumerate(paths, start=1):
         text = read_text(path, "Inspire export")
@@ -827,7 +835,7 @@ def read_inspire(paths, axis: str, positions=None) -> Recording:
             raise InputError(f"{path}: {len(data)} readings is not three equal blocks (K, P, Q) of one per position")
         n = len(data) // 3
         pos = (np.asarray(positions, dtype=float) if positions is not None
-               else default_positions(load_machine()).get(axis))
+               else default_positions(m).get(axis))
         if pos is None or len(pos) != n:
             raise InputError(f"{path}: blocks of {n} readings; give the {n} positions of axis {axis} "
                              f"(--positions start:stop:count)")

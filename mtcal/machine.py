@@ -164,7 +164,7 @@ class Machine:
             if out.any():
                 idx = tuple(int(i) for i in np.argwhere(out)[0]) if col.ndim else ()
                 val = float(col[idx]) if col.ndim else float(col)
-                raise InputError(f"{name} = {val:g} {'deg' if self.axis_kinds[k] == 'rotary' else 'mm'} at index "
+                raise InputError(f"{name} = {val:.10g} {'deg' if self.axis_kinds[k] == 'rotary' else 'mm'} at index "
                                  f"{idx} is outside its range [{lim[0]:g}, {lim[1]:g}]")
         return a
 

@@ -350,8 +350,8 @@ def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
         if out.any():
             i = int(np.flatnonzero(out)[0])
             unit = "deg" if m.axis_kinds[k] == "rotary" else "mm"
-            raise InputError(f"{pl.source}: measuring axis {rows.axis[i]} puts {name} at {rows.axes[i, k]:g} {unit}, "
-                             f"outside its range [{lim[0]:g}, {lim[1]:g}] {unit} on {m.name}")
+            raise InputError(f"{pl.source}: measuring axis {rows.axis[i]} puts {name} at {rows.axes[i, k]:.10g} "
+                             f"{unit}, outside its range [{lim[0]:g}, {lim[1]:g}] {unit} on {m.name}")
 
 
 # ---------------------------------------------------------------------------------------------- campaign

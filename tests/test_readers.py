@@ -4,6 +4,7 @@ plain UTF-8, comma-separated file must read to identical numbers."""
 from __future__ import annotations
 
 import json
+import re
 import warnings
 from pathlib import Path
 
@@ -123,3 +124,58 @@ def test_bad_plates_name_file_and_line(tmp_path, capsys, content, message):
     assert main(["plate", str(f)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("mtcal plate: error: ") and message in err and err.count("\n") == 1
+
+
+# ----------------------------------------------------------------------------- issue 20: messages that name the problem
+def _write(path, data):
+    path.write_bytes(data if isinstance(data, bytes) else data.encode())
+    return path
+
+
+def _demo_rows(pattern: str) -> str:
+    from mtcal.demo import data_path
+    lines = data_path("demo_campaign.csv").read_text().splitlines()
+    return "\n".join([lines[0]] + [ln for ln in lines[1:] if re.match(pattern, ln)]) + "\n"
+
+
+def test_an_axis_measured_at_one_position_is_named_with_the_file(tmp_path, capsys):
+    from mtcal.cli import main
+    f = tmp_path / "one.csv"
+    f.write_text(_demo_rows(r"X,[12],0,"))
+    assert main(["identify", str(f), "--method", "three-point"]) == 2
+    assert f"{f}: axis X is measured at one position only (0, lines 2" in capsys.readouterr().err
+
+
+def test_tab_separated_and_utf16_recordings_are_read(tmp_path):
+    from mtcal.recordings import read_recording
+    text = _demo_rows(r"X,1,")
+    ref = read_recording(_write(tmp_path / "c.csv", text))
+    for name, data, said in (("t.csv", text.replace(",", "\t").encode(), "tab-separated"),
+                             ("u.csv", text.encode("utf-16"), "UTF-16"),
+                             ("v.csv", text.replace(",", "\t").encode("utf-16-le"), "read as utf-16-le")):
+        with pytest.warns(UserWarning, match=said):  # read, and said (a tab CSV was "missing column(s)", UTF-16
+            rec = read_recording(_write(tmp_path / name, data))  # "a binary file")
+        np.testing.assert_array_equal(rec.xyz, ref.xyz)
+
+
+def test_a_value_just_outside_an_axis_range_is_printed_as_given(capsys):
+    from mtcal import load_machine
+    from mtcal.errors import InputError
+    with pytest.raises(InputError, match=r"B = 180\.0001 deg"):
+        load_machine("dmu50").check_axes(np.array([[0, 0, 0, 180.0001, 0]]))
+
+
+def test_inspire_axis_that_is_no_axis_is_named(tmp_path, capsys):
+    from mtcal.cli import main
+    f = _write(tmp_path / "r1.csv", "K,1,2,3\n")
+    assert main(["identify", str(f), "--layout", "inspire", "--axis", "Q"]) == 2
+    assert "--axis Q: not an axis of machine dmu50 (X, Y, Z, B, C)" in capsys.readouterr().err
+
+
+def test_a_feed_move_after_g53_names_the_machine_coordinate_move(tmp_path, capsys):
+    from mtcal.cli import main
+    from mtcal.model import ErrorModel, save_model
+    prog = _write(tmp_path / "p.nc", "G90 G21\nG53 X10 Y10 Z10 B0 C0\nG1 X20 F100\n")
+    save_model(ErrorModel("dmu50", {"E_C0Y": 1e-5}, {}), tmp_path / "m.json")
+    assert main(["compensate", str(prog), "--model", str(tmp_path / "m.json"), "-o", str(tmp_path / "o.nc")]) == 2
+    assert "p.nc, line 3:" in (err := capsys.readouterr().err) and "G28 / G30 / G53" in err

@@ -76,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.axis:
             raise InputError("--layout inspire needs --axis (the axis the exports measured)")
         positions = None if args.positions is None else parse_positions(args.positions)
-        rec = read_inspire(args.recording, args.axis, positions)
+        rec = read_inspire(args.recording, args.axis, positions, args.machine)
     elif len(args.recording) != 1:
         raise InputError(f"a tidy recording is one file, got {len(args.recording)} (use --layout inspire for exports)")
     else:
