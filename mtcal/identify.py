@@ -353,7 +353,8 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         from mtcal import identify_joint
         log.info("joint weighted fit of %d readings from %d station(s)", len(rec), len(set(rec.stations().tolist())))
         for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
-            _passes(rec.select(rec.axis == axis), axis)
+            sub = rec.select(rec.axis == axis)
+            _check_shape(sub, axis, _passes(sub, axis))
         joint = identify_joint.joint_fit(rec, m, t)
         warnings += joint.warnings
         results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
@@ -575,13 +576,7 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
                          f"from where the commanded motion takes its reference reading (line {int(rec.line[j])}); "
                          f"geometric errors are far smaller: positions must be in {unit} and readings in mm in the "
                          f"machine frame (positions in metres or radians? another axis moving?)")
-    ref_pts = pts[ps["position"] == ps["q0"]]
-    shape = tp.point_shape(ref_pts.reshape(-1, 9))[..., 0] if pts.shape[-2] == 3 else _shape(ref_pts)
-    if np.any(shape < MIN_SHAPE):
-        k = int(np.flatnonzero(ps["position"] == ps["q0"])[int(np.argmin(shape))])
-        raise InputError(f"{rec.source}, lines {_lines(rec, ref_rows[k])}: the points {list(ps['points'])} of axis "
-                         f"{axis} are (nearly) collinear (shape measure {float(shape.min()):.2e}, 1 = equilateral, "
-                         f"minimum {MIN_SHAPE:g}): the rotation about their line cannot be identified")
+    _check_shape(rec, axis, ps)
     cov = var_ref = None
     if t is not None:
         c_read, c_ref = delta_covariance(readings, refs, rrel, rf, t, parts=True)
@@ -668,6 +663,20 @@ def _propagate(pts: np.ndarray, cov: np.ndarray, part: np.ndarray) -> np.ndarray
     mid = np.einsum("...nki,...nkl,...nlj->...ij", wa, part, wa)
     inv = np.linalg.inv(info)
     return inv @ mid @ inv
+
+
+def _check_shape(rec: Recording, axis: str, ps: dict) -> None:
+    """Refuse reflectors that are (nearly) collinear at the reference readings (a rigid motion keeps the shape, so
+    the machine-frame readings serve every path)."""
+    ref = ps["position"] == ps["q0"]
+    ref_pts = rec.xyz[ps["ref_rows"][ref]]
+    shape = tp.point_shape(ref_pts.reshape(-1, 9))[..., 0] if ref_pts.shape[-2] == 3 else _shape(ref_pts)
+    if np.any(shape < MIN_SHAPE):
+        k = int(np.flatnonzero(ref)[int(np.argmin(shape))])
+        raise InputError(f"{rec.source}, lines {_lines(rec, ps['ref_rows'][k])}: the points "
+                         f"{[str(p) for p in ps['points']]} of axis {axis} are (nearly) collinear (shape measure "
+                         f"{float(shape.min()):.2e}, 1 = equilateral, minimum {MIN_SHAPE:g}): the rotation about "
+                         f"their line cannot be identified")
 
 
 def _shape(pts: np.ndarray) -> np.ndarray:

@@ -277,6 +277,10 @@ def test_fuzz_case(cid, corpus, capsys, monkeypatch):
                and not any(p.startswith(r) for r in case.get("rewrites", []))]
     if changed:
         problems.append(f"inputs modified or removed: {changed}")
+    if code == 2 and "signal" not in case:  # a refusal writes nothing (every command, issue 20)
+        new = sorted(p for p in post if p not in pre)
+        if new:
+            problems.append(f"refused, yet wrote {new}")
     left = sorted(_dotfiles(case_dir) - dots)
     if left:
         problems.append(f"temporary files left: {left}")

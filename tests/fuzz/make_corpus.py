@@ -884,11 +884,11 @@ def cases_more_paths(C: Corpus):
           {"rec.csv": rows_to_csv(*recording_x_only())},
           [err(None, None, "-o", "--output", "output", "empty", "path", option=True)])
     utf16 = rows_to_csv(*recording_x_only(), sep="\t").encode("utf-16")
+    # Excel's "Unicode Text" (UTF-16, tab-separated): read and said (issue 20; it was called "a binary file")
     C.add("identify_utf16_export", "identify", "recording CSV", ["rec.csv", "-o", "model.json"], {"rec.csv": utf16},
-          [err("rec.csv", None, "UTF-16", "utf-16", "encoding", "decode", "binary", "NUL")])
+          [ok(say=["UTF-16"])])
     C.add("plate_utf16_export", "plate", "plate CSV", ["pos.csv"],
-          {"pos.csv": (DATA / "nbs_table1_corrected.csv").read_text().encode("utf-16")},
-          [err("pos.csv", None, "UTF-16", "utf-16", "encoding", "decode", "binary", "NUL")])
+          {"pos.csv": (DATA / "nbs_table1_corrected.csv").read_text().encode("utf-16")}, [ok(say=["UTF-16"])])
     C.add("compensate_model_bom", "compensate", "model JSON", ["prog.nc", "--model", "model.json", "-o", "out.nc"],
           {**base, "model.json": b"\xef\xbb\xbf" + hand.encode()},
           [ok(gcode_check()), err("model.json", None, "BOM", "byte-order", "byte order", "JSON", "decode")])
@@ -1172,6 +1172,110 @@ def cases_signals(C: Corpus):
           [{"exit": 130, "quiet": True, "checks": []}], signal={"sig": "SIGINT", "when": "delay", "delay": 2.0})
 
 
+def b02_readings(header="target_mm,run,direction,measured_mm", scale=1.0, sep=",", extra=None):
+    """The public b02 axis' readings (tests/data/iso230_2_b02_x.csv) in another spelling: header, length scale,
+    separator; ``extra`` (column name, value) appended to every row."""
+    src = Path(__file__).resolve().parents[1] / "data" / "iso230_2_b02_x.csv"
+    rows = [ln.split(",") for ln in src.read_text().splitlines() if ln and not ln.startswith("#")][1:]
+    out = [(header + (f",{extra[0]}" if extra else "")).replace(",", sep)]
+    for t, r, d, m in rows:
+        vals = [f"{float(t) * scale:.9g}", r, d, f"{float(m) * scale:.12g}"] + ([str(extra[1])] if extra else [])
+        out.append(sep.join(vals))
+    return "\n".join(out) + "\n"
+
+
+def cases_issue20(C: Corpus):
+    """Issue 20: ISO 230-2 readings, careless SpatialAnalyzer exports, plates, subprogram calls, names that are
+    no machine: each refusal names file, line and problem and writes nothing; each valid input is read and said."""
+    ok_json = ok({"kind": "stdout_json", "keys": ["axes"]})
+    iso = [
+        ("readings_b02", b02_readings(), [], [ok_json]),
+        ("readings_inch", b02_readings("target_in,run,direction,measured_in", 1 / 25.4), [], [ok_json]),
+        ("readings_unit_option", b02_readings("target,run,direction,measured"), ["--unit", "mm"], [ok_json]),
+        ("readings_unit_undeclared", b02_readings("target,run,direction,measured"), [],
+         [err("r.csv", 1, "not declared")]),
+        ("readings_semicolon", b02_readings(sep=";"), [], [ok({"kind": "stdout_json", "keys": ["axes"]}, say=[";"])]),
+        ("readings_tab", b02_readings(sep="\t"), [], [ok({"kind": "stdout_json", "keys": ["axes"]}, say=["tab"])]),
+        ("readings_utf16", b02_readings().encode("utf-16"), [], [ok(say=["UTF-16"])]),
+        ("readings_temperature_2000", b02_readings(extra=("material_temperature_c", 2000)), [],
+         [err("r.csv", 2, "degC", "outside")]),
+        ("readings_duplicate_column", b02_readings("target_mm,run,direction,measured_mm,measured_mm"), [],
+         [err("r.csv", 1, "twice")]),
+        ("readings_measured_and_deviation", b02_readings(extra=("deviation_um", 1)), [],
+         [err("r.csv", 1, "ambiguous")]),
+        ("readings_mixed_units", b02_readings("target_mm,run,direction,measured_deg"), [], [err("r.csv", 1, "mix")]),
+        ("readings_inf", b02_readings().replace("-20,1,up,-20.0492258741", "-20,1,up,inf", 1), [],
+         [err("r.csv", 2, "finite")]),
+        ("readings_bad_direction", b02_readings().replace(",up,", ",sideways,", 1), [], [err("r.csv", 2, "up/down")]),
+        ("readings_run_not_whole", b02_readings().replace("-20,1,up", "-20,1.5,up", 1), [], [err("r.csv", 2, "whole")]),
+        ("readings_read_twice", b02_readings() + b02_readings().splitlines()[1] + "\n", [],
+         [err("r.csv", 92, "twice")]),
+        ("readings_alpha_without_temperature", b02_readings(), ["--alpha", "11.5e-6", "--temperature-normalise"],
+         [err("r.csv", None, "material_temperature_c")]),
+        ("readings_negative_target_points", b02_readings(), ["--target-points", "-10,0,10"], [ok_json]),
+    ]
+    for cid, text, argv, expect in iso:
+        C.add(f"iso230_2_{cid}", "iso230-2", "ISO 230-2 readings", ["r.csv", "--json", *argv], {"r.csv": text}, expect)
+    C.add("iso230_2_later_output_is_a_folder", "iso230-2", "path", ["r.csv", "--axis", "X", "-o", "rep"],
+          {"r.csv": b02_readings()}, [err("iso230-2_X.png", None, "directory")], dirs=["rep/iso230-2_X.png"])
+    header, rows = recording_x_only()
+    C.add("iso230_2_unit_on_a_recording", "iso230-2", "option", ["rec.csv", "--unit", "in"],
+          {"rec.csv": rows_to_csv(header, rows)}, [err("rec.csv", None, "--unit")])
+    # SpatialAnalyzer
+    line = "DMU50 Run1 X_r1_0_P_up_0"
+    base = ["export.txt", "--pattern", SA_PATTERN, "-o", "out.csv"]
+    for cid, text, argv, words, ln in [
+        ("tolerance_or_time", f"{line} 70.0 0.0 10.0 0.0025\n", [], ["tolerance"], 1),
+        ("duplicate_x_column", "Collection,Group,Target,X,Y,Z,X\nDMU50,Run1,X_r1_0_P_up_0,1,2,3,4\n", [],
+         ["ambiguous"], 1),
+        ("units_m_on_mm", f"{line} 70.0 0.0 10.0\nDMU50 Run1 X_r1_50_P_up_1 120.0 0.0 10.0\n", ["--units", "m"],
+         ["really in m"], 1),
+        ("overflow_to_inf", f"{line} 1e308 0.0 10.0\n", ["--units", "m"], ["inf"], 1)]:
+        C.add(f"import_sa_{cid}", "import-sa", "SA export", base + argv, {"export.txt": text},
+              [err("export.txt", ln, *words)])
+    C.add("import_sa_pattern_group_absent", "import-sa", "SA export",
+          ["export.txt", "--pattern", r"(?P<axis>Q)?X_r(?P<round>\d+)_(?P<position>[\d.]+)_(?P<point>[A-Z]+)_up_0",
+           "-o", "out.csv"], {"export.txt": f"{line} 70.0 0.0 10.0\n"}, [err("export.txt", 1, "took no part")])
+    C.add("import_sa_mapping_duplicate_column", "import-sa", "mapping", ["export.txt", "--mapping", "map.csv", "-o",
+          "out.csv"], {"export.txt": f"{line} 70.0 0.0 10.0\n",
+                       "map.csv": "target,axis,axis,round,position,point\nX_r1_0_P_up_0,X,X,1,0,P\n"},
+          [err("map.csv", 1, "twice")])
+    # plates
+    ccw = plate_csv(turn_deg=-90.0)
+    C.add("plate_counter_clockwise", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": ccw},
+          [ok({"kind": "stdout_json", "keys": ["notes"]}, say=["counter-clockwise"])])
+    C.add("plate_turn_45", "plate", "plate CSV", ["pos.csv", "--json"], {"pos.csv": plate_csv(turn_deg=45.0)},
+          [ok({"kind": "stdout_json", "keys": ["alpha"]})])
+    lines = plate_csv().splitlines()
+    big = "\n".join(lines[:3] + [lines[3].split(",")[0] + ",1e200,5,5,1e200"] + lines[4:]) + "\n"
+    C.add("plate_coordinate_1e200", "plate", "plate CSV", ["pos.csv"], {"pos.csv": big}, [err("pos.csv", 4, "beyond")])
+    f = lines[5].split(",")
+    row_mm = ",".join([f[0]] + [f"{float(v) * 25.4:.6f}" for v in f[1:]])
+    C.add("plate_row_in_mm", "plate", "plate CSV", ["pos.csv"],
+          {"pos.csv": "\n".join(lines[:5] + [row_mm] + lines[6:]) + "\n"},
+          [err("pos.csv", 6, "another unit", "mixed units")])
+    # programs
+    prog = "G90 G21\nG0 X10 Y10 Z10 B0 C0\n{call}\nG1 X20 Y10 Z10 B0 C0 F100\n"
+    argv = ["prog.nc", "--model", "model.json", "-o", "out.nc"]
+    for cid, call, extra, expect in [
+            ("m98", "M98 P1000", [], [err("prog.nc", 3, "subprogram")]),
+            ("m99", "M99", [], [err("prog.nc", 3, "subprogram")]),
+            ("call_pgm", "CALL PGM SUB", [], [err("prog.nc", 3, "subprogram")]),
+            ("m98_allowed", "M98 P1000", ["--allow-subprograms"], [ok(say=["NOT compensated"])]),
+            ("g65", "G65 P9010 A1", [], [err("prog.nc", 3, "macro")]),
+            ("g65_allowed", "G65 P9010 A1", ["--allow-subprograms"], [err("prog.nc", 3, "macro")]),
+            ("g53_then_feed", "G53 X10 Y10 Z10 B0 C0\nG1 X30 F100", [], [err("prog.nc", 4, "G53")])]:
+        C.add(f"compensate_subprogram_{cid}", "compensate", "NC program", argv + extra,
+              {"prog.nc": prog.format(call=call), "model.json": jdump(HAND_MODEL)}, expect)
+    # names that are no machine
+    rec = rows_to_csv(header, rows)
+    for cmd, args in [("identify", ["rec.csv"]), ("plan", []), ("simulate", ["-o", "sim.csv"]),
+                      ("diagnose", ["rec.csv"]), ("iso230-2", ["rec.csv"]), ("demo", ["--out", "d"])]:
+        for name in ("plate", "threepoint"):
+            C.add(f"machine_{name}_{cmd}", cmd, "option", [*args, "--machine", name], {"rec.csv": rec},
+                  [err(None, None, "unknown machine")])
+
+
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
     C = Corpus(root)
@@ -1189,6 +1293,7 @@ def build(root: Path) -> list[dict]:
     cases_generated(C, rnd)
     cases_iso230_and_import(C)
     cases_export(C)
+    cases_issue20(C)
     cases_signals(C)
     C.write()
     return C.cases
