@@ -218,6 +218,20 @@ def _scale(name: str, units: dict) -> float:
     return LENGTH_UNITS[units["length"]] if name[2] in "XYZ" else ANGLE_UNITS[units["angle"]]
 
 
+# the --json answers of other commands, by keys only they have: given as a model, they are named, not parsed
+ANSWERS = (("diagnose", ("effects", "base_sigma")), ("plate", ("alpha", "beta", "gamma")),
+           ("identify --json", ("axes", "squareness", "weighted")), ("compensate --json", ("program", "residual")),
+           ("export --json", ("format", "files", "sign")), ("iso230-2 --json", ("standard", "axes")),
+           ("plan --json", ("tracker", "axes", "mid_travel")), ("simulate (truth)", ("effects", "tracker", "seed")))
+
+
+def _not_an_answer(raw: dict, source: str) -> None:
+    for cmd, keys in ANSWERS:
+        if all(k in raw for k in keys) and not ("functions" in raw or "constants" in raw):
+            raise InputError(f"this is the JSON answer of `mtcal {cmd}`, not an error model (an error model is "
+                             f"written by `mtcal identify REC.csv -o MODEL.json`)", source)
+
+
 def load_model(path: str | Path) -> ErrorModel:
     """Read an error model JSON; values are converted to mm and rad from its "units"."""
     return model_from_dict(read_json(path, "model"), str(path))
@@ -230,6 +244,7 @@ def model_from_dict(raw: Any, source: str = "<model>") -> ErrorModel:
     with (ISO 230-1: the last letter, E_XX over X), constants are any error name; every number finite."""
     from mtcal.machine import load_machine
     sc.obj(raw, source, "the model")
+    _not_an_answer(raw, source)
     machine = raw.get("machine", DEFAULT_MACHINE)
     if not isinstance(machine, str):
         raise InputError(f"machine must be a machine name, got {machine!r}", source)

@@ -40,9 +40,14 @@ PROGRAM = "G90 G21\nG0 X0 Y0 Z10\nG1 X50 Y20 Z0 F300\nX80\n"
 
 def test_model_typed_in_um_under_mm_is_refused(tmp_path, capsys):
     """Issue 11: E_XX 12.5 and E_C0Y 18 (um and urad typed under mm and rad) turned X50 into X-322.5 with exit 0."""
-    code, err, out = run_cli(tmp_path, capsys, PROGRAM, model_file(tmp_path, {"E_XX": 12.5, "E_C0Y": 18}))
+    model = model_file(tmp_path, {"E_XX": 12.5, "E_C0Y": 18})
+    code, err, out = run_cli(tmp_path, capsys, PROGRAM, model)
     assert code == 2 and not out.exists() and not list(tmp_path.glob(".out.nc.*"))
-    assert len(err.splitlines()) == 1
+    assert len(err.splitlines()) == 1  # issue 21: the model itself fails the plausibility guard (mtcal.plausibility)
+    assert "model.json: constant E_XX = 12500 um is beyond the plausibility bound 1000 um" in err
+    # past that guard (--force), the guard on what is written still refuses it, line by line
+    code, err, out = run_cli(tmp_path, capsys, PROGRAM, model, "--force")
+    assert code == 2 and not out.exists() and not list(tmp_path.glob(".out.nc.*"))
     assert "prog.nc, line 2: the correction of X by -12.5000 mm" in err and "--max-correction" in err
     assert "E_C0Y = 18 rad" in err and "E_XX = 12.5 mm" in err
 
@@ -63,10 +68,12 @@ def test_rotary_correction_bound(tmp_path, capsys):
     prog = "G90 G0 X10 Y10 Z10 B45 C30\nG1 X20 F100\n"
     model = model_file(tmp_path, {"E_A0C": 5e-3})
     code, err, out = run_cli(tmp_path, capsys, prog, model, "--scope", "full")
+    assert code == 2 and "constant E_A0C = 5000 urad is beyond the plausibility bound 2000 urad" in err
+    code, err, out = run_cli(tmp_path, capsys, prog, model, "--scope", "full", "--force")
     assert code == 2 and "line 1" in err and "--max-rotary-correction" in err and " deg " in err
     code, err, _ = run_cli(tmp_path, capsys, prog, model, "--scope", "full", "--max-rotary-correction", "1",
-                             "--max-correction", "5")
-    assert code == 0, err
+                             "--max-correction", "5", "--force")
+    assert code == 0 and "FORCED past the plausibility guard" in err, err
 
 
 def test_non_finite_corrections_are_refused_by_the_guard_itself(tmp_path):
@@ -192,7 +199,7 @@ def test_lone_cr_program_is_compensated_like_the_lf_program(tmp_path, capsys):
 def test_cl_data_refusal_names_the_cl_file_line(tmp_path, capsys):
     """CL data is compensated as generated G-code: a refusal still names the line of the CL file."""
     cl = b"$$ header\n# comment\n\n10 20 30 0 0 1\nGOTO/50,20,30,0,0,1\n"
-    code, err, out = run_cli(tmp_path, capsys, cl, model_file(tmp_path, {"E_XX": 12.5}), name="part.cl")
+    code, err, out = run_cli(tmp_path, capsys, cl, model_file(tmp_path, {"E_XX": 12.5}), "--force", name="part.cl")
     assert code == 2 and "part.cl, line 4: the correction of X by -12.5000 mm" in err and not out.exists()
 
 

@@ -17,7 +17,9 @@ from mtcal.compensate import (
     write_tables,
 )
 from mtcal.io import dumps, refuse_overwrite
+from mtcal.machine import load_machine
 from mtcal.model import load_model
+from mtcal.plausibility import check_model
 
 TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.write_tables writes
 NAME = "compensate"
@@ -28,6 +30,9 @@ HELP = "compensate an NC program (G-code or CL data) for the errors in a model, 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("program", help="NC program: G-code (G0/G1, X Y Z B C) or CL data (x y z i j k; .cl or --input cl)")
     p.add_argument("--model", required=True, help="error model JSON (mtcal identify)")
+    p.add_argument("--force", action="store_true",
+                   help="compensate with a model that fails the plausibility guard (mtcal.plausibility), with a loud "
+                        "warning")
     p.add_argument("--allow-subprograms", action="store_true",
                    help="pass subprogram calls (M98, M99, CALL PGM / LBL) unchanged with a warning: the moves of the "
                         "called program are NOT compensated (default: refused)")
@@ -68,6 +73,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     refuse_overwrite([args.output], args.program, args.model, dirs={args.tables: TABLE_FILES})
     model = load_model(args.model)
+    for w in check_model(model, load_machine(model.machine), args.force, args.model):
+        log.warning("warning: %s", w)
     if args.iterations is None:
         args.iterations = 2 if args.scope == "full" else 1
     comp = Compensator(model, scope=args.scope, tool_length=args.tool_length, iterations=args.iterations,

@@ -38,6 +38,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="comma-separated error names (e.g. E_XX,E_YX) that must be held; refused if the format cannot")
     p.add_argument("--kinematics-comp", action="store_true",
                    help="heidenhain: also write KinematicsComp tables KC_<axis>.COM (C1..C6 = ISO 230-1 errors)")
+    p.add_argument("--machine", metavar="NAME",
+                   help="the machine the tables are for: refused when the model is of another (default: the model's)")
+    p.add_argument("--force", action="store_true",
+                   help="write a model that fails the plausibility guard (values beyond a machine's errors, tables "
+                        "outside the travel, a diagnosis of another recording), with a loud warning")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,13 +54,13 @@ def run(args: argparse.Namespace) -> int:
     else:
         refuse_overwrite(args.output, args.model, args.diagnosis)
     model = load_model(args.model)
-    machine = load_machine(model.machine)
+    machine = load_machine(args.machine or model.machine)
     diag = read_json(args.diagnosis, "diagnosis") if args.diagnosis else None
     require = [n.strip() for n in args.require.split(",") if n.strip()]
     res = export_model(model, machine, args.format, args.output, args.model, args.step, args.max_points, diag,
                        args.comp_file_type, require, args.kinematics_comp,
                        protect=tuple(p for p in (args.model, args.diagnosis) if p),
-                       diagnosis_source=args.diagnosis or "diagnosis")
+                       diagnosis_source=args.diagnosis or "diagnosis", force=args.force)
     out = {"format": res.format, "files": res.files, "sign": res.sign, "held": res.held, "not_held": res.not_held,
            "tables": res.tables, "warnings": res.warnings,
            "units": {"positions": "mm (linear axes), deg (rotary axes)",

@@ -68,7 +68,8 @@ class Diagnosis:
     prep: Prepared | None = None
 
     def to_dict(self) -> dict:
-        return {"base_sigma": self.base_sigma, "base_sigma_ratio": self.base_sigma_ratio,
+        return {**({"machine": self.prep.machine.name, "recording": self.prep.rec.source} if self.prep else {}),
+                "base_sigma": self.base_sigma, "base_sigma_ratio": self.base_sigma_ratio,
                 "sigma_after": self.sigma_after, "sigma_ratio_after": self.sigma_ratio_after,
                 "effects": [e.to_dict() for e in self.effects], "located": [x.to_dict() for x in self.located],
                 "unexplained": [_unexplained(x) for x in self.unexplained],

@@ -6,6 +6,10 @@ format module only lays them out and states its source, units, spacing and sign 
 """
 from __future__ import annotations
 
+import fnmatch
+import os
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -14,6 +18,7 @@ from mtcal.export import heidenhain, isg, linuxcnc, siemens
 from mtcal.export.sampling import AxisTable, backlash_from, not_held, sample_axis
 from mtcal.io import atomic_write_text, refuse_overwrite
 from mtcal.model import ErrorModel
+from mtcal.plausibility import check_model
 
 # name -> (module, output kind: "dir" = a folder of files, "file" = one file)
 FORMATS = {"linuxcnc": (linuxcnc, "dir"), "siemens": (siemens, "file"), "heidenhain": (heidenhain, "dir"),
@@ -50,11 +55,17 @@ def _summary(t: AxisTable) -> dict:
 def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_path: str = "MODEL.json",
                  step: float | None = None, max_points: int | None = None, diagnosis: dict | None = None,
                  file_type: int = 0, require: list[str] | None = None, kinematics_comp: bool = False,
-                 protect: tuple = (), diagnosis_source: str = "diagnosis") -> ExportResult:
+                 protect: tuple = (), diagnosis_source: str = "diagnosis", force: bool = False) -> ExportResult:
     """Write ``fmt`` to ``out`` (a folder for "dir" formats, a file otherwise) atomically; refuse before writing
-    anything when a ``require``d error name is not held by the format."""
+    anything when the model fails the plausibility guard (mtcal.plausibility; ``force`` writes it with a loud
+    warning), the diagnosis is of another machine or recording, a ``require``d error name is not held by the
+    format, or there is nothing to write."""
     if fmt not in FORMATS:
         raise InputError(f"unknown format {fmt!r}; known: {', '.join(FORMATS)}")
+    if model.machine != machine.name:
+        raise InputError(f"{model_path}: the model is of machine {model.machine}, not {machine.name} (--machine)")
+    forced = check_model(model, machine, force, model_path)
+    forced += _check_diagnosis(diagnosis, model, machine, diagnosis_source, model_path, force)
     mod, kind = FORMATS[fmt]
     mp = max_points or mod.MAX_POINTS
     if mod.HARD_LIMIT and mp > mod.MAX_POINTS:
@@ -86,22 +97,76 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     if missing:
         raise InputError(f"format {fmt} cannot hold {', '.join(missing)} "
                          f"(it holds: {', '.join(sorted(held)) or 'nothing'})")
-    if not files or (kind == "dir" and not tables):
-        raise InputError(f"the model has nothing format {fmt} can hold (non-zero: {', '.join(not_held(model, set()))})")
-    paths = _write(files, Path(out), kind, protect)
+    if not files or not held:
+        raise InputError(f"{model_path}: the model has nothing format {fmt} can hold (non-zero: "
+                         f"{', '.join(not_held(model, set())) or 'none: an empty model'}); nothing was written")
     written = {t.axis for t in tables}
-    warnings = [f"reversal of axis {a} from the diagnosis not written: " +
-                (f"format {fmt} has no direction-dependent table" if fmt in isg.NAMES else
-                 "the model has no error function of that axis to give the table its range")
-                for a in reversal if fmt in isg.NAMES or a not in written]
+    warnings = forced + [f"reversal of axis {a} from the diagnosis not written: " +
+                         (f"format {fmt} has no direction-dependent table" if fmt in isg.NAMES else
+                          "the model has no error function of that axis to give the table its range")
+                         for a in reversal if fmt in isg.NAMES or a not in written]
+    if any(t.reversal for t in tables):
+        warnings.append(f"a direction-dependent (backlash) table is written: {mod.BACKLASH_NOTE}")
+    paths, stale = _write(files, Path(out), kind, protect, mod)
+    warnings += [f"{p}: a table of an earlier export that this export does not rewrite was removed" for p in stale]
     return ExportResult(fmt, paths, sign, sorted(held), not_held(model, held), [_summary(t) for t in tables], warnings)
 
 
-def _write(files: dict[str, str], out: Path, kind: str, protect: tuple) -> list[str]:
-    """Write every file atomically after checking that none of them is an input (``protect``)."""
+def _check_diagnosis(diagnosis: dict | None, model: ErrorModel, machine, source: str, model_path: str,
+                     force: bool) -> list[str]:
+    """A diagnosis must be of the model's machine and of the recording the model was identified from."""
+    if not isinstance(diagnosis, dict):
+        return []
+    problems = []
+    if diagnosis.get("machine", machine.name) != machine.name:
+        raise InputError(f"{source}: a diagnosis of machine {diagnosis['machine']}, the model is of {machine.name}")
+    rec, ident = diagnosis.get("recording"), model.meta.get("identified_from")
+    if rec and ident and Path(str(rec)).name != Path(str(ident)).name:
+        problems.append(f"{source} diagnoses {rec}, the model {model_path} was identified from {ident}: its "
+                        f"backlash is of another measurement")
+    if problems and not force:
+        raise InputError(problems[0] + "; nothing was written (--force writes it anyway)")
+    return [f"FORCED: {p}" for p in problems]
+
+
+def _write(files: dict[str, str], out: Path, kind: str, protect: tuple, mod) -> tuple[list[str], list[str]]:
+    """Write every file after checking that none of them is an input (``protect``): one file atomically; a folder
+    through a temporary folder beside it, renamed into place when new, else its files moved in one by one (each
+    atomic).  Files of an earlier mtcal export in that folder that this one does not rewrite (another axis' table)
+    are removed and returned, so no stale table stays beside the new ones."""
     paths = [out / name if kind == "dir" else out for name in files]
     for p in paths:
         refuse_overwrite(p, *protect)
-    for p, text in zip(paths, files.values()):
-        atomic_write_text(p, text)
-    return [str(p) for p in paths]
+    if kind != "dir":
+        atomic_write_text(out, next(iter(files.values())))
+        return [str(out)], []
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    try:
+        for name, text in files.items():
+            (tmp / name).write_text(text, encoding="utf-8", newline="")
+        if not out.exists():
+            os.replace(tmp, out)
+            return [str(p) for p in paths], []
+        index = _mtcal_text(out)
+        stale = sorted(p for p in out.iterdir() if p.is_file() and p.name not in files
+                       and fnmatch.fnmatch(p.name, mod.FILES) and p.name in index)
+        for name in files:
+            os.replace(tmp / name, out / name)
+        for p in stale:
+            p.unlink()
+        return [str(p) for p in paths], [str(p) for p in stale]
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _mtcal_text(folder: Path) -> str:
+    """The text of the files an earlier mtcal export wrote into ``folder`` (they say "mtcal export" and name the
+    tables they wrote): a table is removed as stale only when one of them names it."""
+    out = []
+    for p in folder.iterdir():
+        if p.is_file() and p.stat().st_size < 1_000_000:
+            text = p.read_text(encoding="utf-8", errors="replace")
+            if "mtcal export" in text[:2000]:
+                out.append(text)
+    return "\n".join(out)

@@ -26,6 +26,9 @@ NAME = "heidenhain"
 MAX_POINTS = 256
 HARD_LIMIT = True   # the controller cannot take more points
 CROSS = True
+FILES = "*.COM"  # the tables this format writes (a re-export removes stale ones)
+BACKLASH_NOTE = ("the BACKLASH column is the reversal: set the machine parameter of the TNC's own backlash "
+                 "compensation (MP_backLash / CfgAxisComp backLash) to 0 so it is not compensated twice")
 SIGN = ("the COM tables hold the error (actual - nominal, joint-equivalent; = -correction); ASSUMED from the TNC "
         "407 / MANUALplus 620 Technical Manuals (not confirmed for TNC 640): verify on the machine")
 
@@ -85,5 +88,5 @@ def render(tables: list[AxisTable], machine, model: ErrorModel, model_path: str,
     if kinematics_comp:
         files.update(kc_files(model, machine, step, max_points))
     files["README.txt"] = (f"mtcal export {model_path} --format heidenhain\nsign: {SIGN}\nunits: mm (linear), deg "
-                           "(rotary); AXISPOS from the machine datum\n")
+                           f"(rotary); AXISPOS from the machine datum\nfiles: {', '.join(files)}\n")
     return files

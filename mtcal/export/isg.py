@@ -23,6 +23,9 @@ from mtcal.model import ErrorModel
 NAMES = ("tf5280", "etalon")
 MAX_POINTS = 1000
 HARD_LIMIT = False  # the point limit is configurable on the controller
+FILES = "*.csv"
+BACKLASH_NOTE = ("set the controller's own backlash compensation of that axis to 0 so the reversal is not "
+                 "compensated twice")
 SIGN = ("the file holds the ISO 230-1 errors (deviations), not corrections; TF5280 computes the compensation; no "
         "`negate` needed; source: Beckhoff TF5280 Volumetric Compensation (file formats, modification of values); "
         "squareness/location sign convention assumed right-handed (design.md)")

@@ -20,6 +20,9 @@ NAME = "linuxcnc"
 MAX_POINTS = 256
 HARD_LIMIT = True   # the controller cannot take more points
 CROSS = False  # a joint table holds the joint's own positioning only
+FILES = "joint*.comp"  # the tables this format writes (a re-export removes stale ones)
+BACKLASH_NOTE = ("with a COMP_FILE loaded, LinuxCNC uses its forward/reverse trims (control.c compute_screw_comp): "
+                 "set [JOINT_n]BACKLASH = 0 so the reversal is not compensated twice")
 SIGN = {1: "type 1: forward/reverse trim added to the commanded joint position (= -error); source: LinuxCNC "
            "usrmotintf.cc usrmotLoadComp and control.c compute_screw_comp",
         0: "type 0: actual position reached when moving forward/reverse (= nominal + error; the loader takes "

@@ -217,8 +217,15 @@ def backlash_from(diagnosis: dict | None, source: str = "diagnosis") -> dict[str
             b = e.get("estimate")
             if not isinstance(b, (int, float)) or not math.isfinite(b):
                 raise InputError(f"{source}: backlash of axis {e.get('axis')} has no finite estimate")
-            out[str(e["axis"])] = float(b)
+            unit = e.get("unit", "mm or rad")
+            if unit not in FINDING_UNITS:
+                raise InputError(f"{source}: backlash of axis {e.get('axis')}: unit {unit!r} is not one of "
+                                 f"{', '.join(FINDING_UNITS)}")
+            out[str(e["axis"])] = float(b) * FINDING_UNITS[unit]
     return out
+
+
+FINDING_UNITS = {"mm or rad": 1.0, "mm": 1.0, "rad": 1.0, "um": 1e-3, "urad": 1e-6, "deg": math.pi / 180}
 
 
 def not_held(model: ErrorModel, held: set[str]) -> list[str]:

@@ -22,6 +22,9 @@ NAME = "siemens"
 MAX_POINTS = 256
 HARD_LIMIT = False  # the point limit is configurable on the controller
 CROSS = True
+FILES = "*.MPF"
+BACKLASH_NOTE = ("set the axis' own backlash compensation $MA_BACKLASH (MD32450) to 0 so the reversal is not "
+                 "compensated twice")
 SIGN = ("each value is the measured error (actual - nominal, joint-equivalent; = -correction) that the NC adds to "
         "the axis' actual value, so the axis moves by -value; source: SINUMERIK K3 Compensations / 808D Function "
         "Manual LEC; CEC: same convention assumed")

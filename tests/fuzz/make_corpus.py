@@ -453,14 +453,16 @@ def cases_compensate(C: Corpus, rnd: random.Random):
     um = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {"E_C0Y": 18},
           "functions": {"E_XX": {"axis": "X", "positions": [-500, 500], "values": [12.5, 12.5]}}}
     um_prog = "G90 G21\nG0 X0 Y0 Z50\nG1 X50 Y10 Z10 F500\nM30\n"
-    model_case("um_under_mm_guard", jdump(um), [err("prog.nc", 2, "correction", "implausible", "max-correction",
+    model_case("um_under_mm_guard", jdump(um), [err("model.json", None, "plausibility bound"),
+                                                err("prog.nc", 2, "correction", "implausible", "max-correction",
                                                     "residual")], um_prog)
     big = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
            "functions": {"E_XX": {"axis": "X", "positions": [-500, 500], "values": [2.0, 2.0]}}}
-    model_case("correction_2mm_guard", jdump(big), [err("prog.nc", 2, "correction", "implausible",
+    model_case("correction_2mm_guard", jdump(big), [err("model.json", None, "plausibility bound"),
+                                                    err("prog.nc", 2, "correction", "implausible",
                                                         "max-correction")], um_prog)
     C.add("compensate_model_correction_2mm_allowed", "compensate", "option",
-          argv + ["--max-correction", "5"], {"prog.nc": um_prog, "model.json": jdump(big)},
+          argv + ["--max-correction", "5", "--force"], {"prog.nc": um_prog, "model.json": jdump(big)},
           [ok(gcode_check(oracle={"exx": [[-500, 500], [2.0, 2.0]], "c0y": 0.0, "scale": 1.0}, bound=2.1))])
     # a model saved by a Windows editor in cp1252: refused, or read as such and said (it is then a zero model)
     model_case("latin1_bytes", '{"machine": "dmu50", "note": "20\xb0C"}'.encode("latin-1"),
