@@ -65,6 +65,9 @@ def test_an_implausible_model_is_refused_in_every_format_and_nothing_is_written(
     assert code == 2 and re.search(message, cap.err) and "bad.json" in cap.err, cap.err
     assert not out.exists() and not list(tmp_path.glob(".out_*"))
     code, cap, out = _export(tmp_path, capsys, bad, fmt, "--force")  # the user who knows better: loud warning
+    if fmt == "heidenhain" and code == 2:  # 1e300 mm does not fit a 14-character TNC column: still refused
+        assert "a TNC column holds 13" in cap.err and not out.exists()
+        return
     assert code == 0 and "FORCED past the plausibility guard" in cap.err
 
 
@@ -116,7 +119,7 @@ def test_a_backlash_in_um_is_converted_and_its_double_compensation_is_warned(tmp
                                  str(_diag(tmp_path, unit, amount)), "--json")
         assert code == 0, cap.err
         texts.append((out / "joint0_X.comp").read_text())
-        assert "BACKLASH = 0" in cap.err or "BACKLASH = 0" in cap.out
+        assert "[JOINT_n]BACKLASH" in cap.out  # the instruction, in the answer's warnings
     assert texts[0] == texts[1]
     rows = np.array([[float(v) for v in ln.split()] for ln in texts[0].splitlines()])
     assert np.allclose(rows[:, 2] - rows[:, 1], -0.005, atol=1e-9) or np.allclose(rows[:, 1] - rows[:, 2], 0.005)

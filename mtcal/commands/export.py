@@ -38,11 +38,31 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="comma-separated error names (e.g. E_XX,E_YX) that must be held; refused if the format cannot")
     p.add_argument("--kinematics-comp", action="store_true",
                    help="heidenhain: also write KinematicsComp tables KC_<axis>.COM (C1..C6 = ISO 230-1 errors)")
+    p.add_argument("--control", choices=("840d", "828d", "808d"), default="840d",
+                   help="siemens: the SINUMERIK control (808D / 828D: 200 points per table, 828D: 8 CEC tables; "
+                        "840D sl: sized by MD38000 / MD18342; default 840d)")
+    p.add_argument("--measuring-system", type=int, choices=(0, 1), default=0,
+                   help="siemens: index e of $AA_ENC_COMP[e,N,AXi], the axis' encoder the LEC table belongs to "
+                        "(default 0, the first; 1 = the second, as machines whose MD38000[1] is sized)")
+    p.add_argument("--linear-units", choices=("mm", "inch"), default="mm",
+                   help="linuxcnc: the machine INI's [TRAJ]LINEAR_UNITS; linear joints' tables are written in it "
+                        "(default mm)")
     p.add_argument("--machine", metavar="NAME",
                    help="the machine the tables are for: refused when the model is of another (default: the model's)")
     p.add_argument("--force", action="store_true",
                    help="write a model that fails the plausibility guard (values beyond a machine's errors, tables "
                         "outside the travel, a diagnosis of another recording), with a loud warning")
+
+
+def _options(args: argparse.Namespace) -> dict:
+    """The format's own options (the rest are refused for formats they do not apply to)."""
+    if args.measuring_system or args.control != "840d":
+        if args.format != "siemens":
+            raise InputError(f"--measuring-system and --control are siemens options, not {args.format}'s")
+    if args.linear_units != "mm" and args.format != "linuxcnc":
+        raise InputError(f"--linear-units is a linuxcnc option, not {args.format}'s")
+    return ({"measuring_system": args.measuring_system, "control": args.control} if args.format == "siemens" else
+            {"linear_units": args.linear_units} if args.format == "linuxcnc" else {})
 
 
 def run(args: argparse.Namespace) -> int:
@@ -60,7 +80,8 @@ def run(args: argparse.Namespace) -> int:
     res = export_model(model, machine, args.format, args.output, args.model, args.step, args.max_points, diag,
                        args.comp_file_type, require, args.kinematics_comp,
                        protect=tuple(p for p in (args.model, args.diagnosis) if p),
-                       diagnosis_source=args.diagnosis or "diagnosis", force=args.force)
+                       diagnosis_source=args.diagnosis or "diagnosis", force=args.force,
+                       options=_options(args))
     out = {"format": res.format, "files": res.files, "sign": res.sign, "held": res.held, "not_held": res.not_held,
            "tables": res.tables, "warnings": res.warnings,
            "units": {"positions": "mm (linear axes), deg (rotary axes)",

@@ -55,11 +55,14 @@ def _summary(t: AxisTable) -> dict:
 def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_path: str = "MODEL.json",
                  step: float | None = None, max_points: int | None = None, diagnosis: dict | None = None,
                  file_type: int = 0, require: list[str] | None = None, kinematics_comp: bool = False,
-                 protect: tuple = (), diagnosis_source: str = "diagnosis", force: bool = False) -> ExportResult:
+                 protect: tuple = (), diagnosis_source: str = "diagnosis", force: bool = False,
+                 options: dict | None = None) -> ExportResult:
     """Write ``fmt`` to ``out`` (a folder for "dir" formats, a file otherwise) atomically; refuse before writing
     anything when the model fails the plausibility guard (mtcal.plausibility; ``force`` writes it with a loud
     warning), the diagnosis is of another machine or recording, a ``require``d error name is not held by the
-    format, or there is nothing to write."""
+    format, or there is nothing to write.  ``options``: the format's own (siemens: measuring_system, control;
+    linuxcnc: linear_units)."""
+    options = dict(options or {})
     if fmt not in FORMATS:
         raise InputError(f"unknown format {fmt!r}; known: {', '.join(FORMATS)}")
     if model.machine != machine.name:
@@ -67,7 +70,8 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     forced = check_model(model, machine, force, model_path)
     forced += _check_diagnosis(diagnosis, model, machine, diagnosis_source, model_path, force)
     mod, kind = FORMATS[fmt]
-    mp = max_points or mod.MAX_POINTS
+    mp = max_points or (fmt == "siemens" and siemens.CONTROLS.get(options.get("control", "840d"), (None,))[0]
+                        or mod.MAX_POINTS)
     if mod.HARD_LIMIT and mp > mod.MAX_POINTS:
         raise InputError(f"format {fmt} holds at most {mod.MAX_POINTS} points per table, got --max-points {mp}")
     reversal = backlash_from(diagnosis, diagnosis_source)
@@ -85,9 +89,9 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         tables = _tables(model, machine, mod, step, mp, reversal)
         held = {n for t in tables for s in t.sources.values() for n in s}
         if fmt == "linuxcnc":
-            files, sign = linuxcnc.render(tables, machine, file_type, model_path), linuxcnc.SIGN[file_type]
+            files, sign = linuxcnc.render(tables, machine, file_type, model_path, **options), linuxcnc.SIGN[file_type]
         elif fmt == "siemens":
-            files, sign = siemens.render(tables, machine, model_path, ""), siemens.SIGN
+            files, sign = siemens.render(tables, machine, model_path, "", **options), siemens.SIGN
         else:
             files = heidenhain.render(tables, machine, model, model_path, kinematics_comp, step, mp)
             sign = heidenhain.SIGN

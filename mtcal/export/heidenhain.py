@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mtcal.errors import InputError
 from mtcal.export import isg
 from mtcal.export.sampling import AxisTable
 from mtcal.model import ErrorModel
@@ -29,20 +30,38 @@ CROSS = True
 FILES = "*.COM"  # the tables this format writes (a re-export removes stale ones)
 BACKLASH_NOTE = ("the BACKLASH column is the reversal: set the machine parameter of the TNC's own backlash "
                  "compensation (MP_backLash / CfgAxisComp backLash) to 0 so it is not compensated twice")
+LAYOUT = ("TNC 6xx / MANUALplus 620 nonlinear axis error compensation (*.COM value tables, CONFIG.CMA activation); "
+          "fixed-width columns of 14 characters")
+POINTS_NOTE = ("at most 256 compensation points per COM table (TNC 407 Technical Manual, module 9095); the total over "
+               "all tables is a control limit: check your control's Technical Manual before loading")
+COMPTAB_NOTE = ("the KC_<axis>.COM tables act only where the machine's kinematics description references them (COMPTAB "
+                "entries of the kinematics model, iTNC 530 HSCI Technical Manual): the machine builder wires them")
 SIGN = ("the COM tables hold the error (actual - nominal, joint-equivalent; = -correction); ASSUMED from the TNC "
         "407 / MANUALplus 620 Technical Manuals (not confirmed for TNC 640): verify on the machine")
 
 
+WIDTH = 14  # characters of every column, its blank separator included
+
+
 def _table(name: str, unit: str, cols: list[str], rows: list[list[str]]) -> str:
-    """A TNC table: BEGIN line, fixed-width columns (14 characters; an empty field stays blank), [END]."""
-    w = 14
-    out = [f"BEGIN {name} {unit}", "".join(c.ljust(w) for c in ["NR"] + cols).rstrip()]
-    out += ["".join(c.ljust(w) for c in [str(i)] + r).rstrip() for i, r in enumerate(rows)]
+    """A TNC table: BEGIN line, the column names and every row padded to the full fixed width (each field
+    WIDTH characters, left-aligned under its name, trailing blanks kept as real TNC tables have them; an empty
+    field stays blank), [END].  A field that does not fit its column leaves no blank before the next and would be
+    read as another number: refused."""
+    for r in rows:
+        for c, f in zip(cols, r):
+            if len(f) >= WIDTH:
+                raise InputError(f"{name}: value {f} of column {c} is {len(f)} characters, a TNC column holds "
+                                 f"{WIDTH - 1}: nothing was written")
+    out = [f"BEGIN {name} {unit}".rstrip(), "".join(c.ljust(WIDTH) for c in ["NR"] + cols)]
+    out += ["".join(c.ljust(WIDTH) for c in [str(i)] + r) for i, r in enumerate(rows)]
     return "\n".join(out + ["[END]", ""])
 
 
-def _v(x: float) -> str:
-    return f"{x:+.6f}"
+def _v(x: float, decimals: int = 6) -> str:
+    """+d.dddddd; a value that rounds to zero is +0 (no "-0.000000")."""
+    r = round(float(x), decimals)
+    return f"{0.0 if r == 0 else r:+.{decimals}f}"
 
 
 def com_file(t: AxisTable) -> tuple[str, str]:
@@ -70,7 +89,7 @@ def kc_files(model: ErrorModel, machine, step: float | None, max_points: int) ->
     for ax, (q, vals, _) in isg.samples(model, machine, step, max_points).items():
         cols = [vals.get(f"E_{c}{ax}", np.zeros(len(q))) for c in "XYZABC"]
         cols[3:] = [np.degrees(v) for v in cols[3:]]
-        rows = [[_v(p)] + [f"{v[i]:+.9f}" for v in cols] for i, p in enumerate(q)]
+        rows = [[_v(p)] + [_v(v[i], 9) for v in cols] for i, p in enumerate(q)]
         name = f"KC_{ax}.COM"
         files[name] = _table(name, "MM", ["AXISPOS", "C1", "C2", "C3", "C4", "C5", "C6"], rows)
     return files
@@ -87,6 +106,11 @@ def render(tables: list[AxisTable], machine, model: ErrorModel, model_path: str,
     files["CONFIG.CMA"] = cma_file(tables, machine)
     if kinematics_comp:
         files.update(kc_files(model, machine, step, max_points))
-    files["README.txt"] = (f"mtcal export {model_path} --format heidenhain\nsign: {SIGN}\nunits: mm (linear), deg "
-                           f"(rotary); AXISPOS from the machine datum\nfiles: {', '.join(files)}\n")
+    files["README.txt"] = "\n".join([
+        f"mtcal export {model_path} --format heidenhain", f"sign: {SIGN}",
+        "units: mm (linear), deg (rotary); AXISPOS from the machine datum",
+        f"layout: {LAYOUT}", f"points: {POINTS_NOTE}",
+        f"backlash: {BACKLASH_NOTE}" if any(t.reversal for t in tables) else "backlash: no BACKLASH column written",
+        *([f"KinematicsComp: {COMPTAB_NOTE}"] if kinematics_comp else []),
+        f"files: {', '.join(files)}", ""])
     return files

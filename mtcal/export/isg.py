@@ -55,6 +55,13 @@ def samples(model: ErrorModel, machine, step: float | None, max_points: int) -> 
     return out
 
 
+def _num(v: float) -> str:
+    """Fixed-point, as every example of the TF5280 file formats (no exponent notation, no "-0"): 12 decimals
+    (1e-12 mm / rad), trailing zeros dropped."""
+    text = f"{float(v):.12f}".rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0", "0") else text
+
+
 def render_csv(model: ErrorModel, machine, step, max_points, model_path: str) -> dict[str, str]:
     lines = [f"// mtcal export {model_path} --format tf5280 (ISG CSV)", f"// {SIGN}",
              "// units: errors mm and rad; positions mm (linear) and deg (rotary)"]
@@ -62,12 +69,12 @@ def render_csv(model: ErrorModel, machine, step, max_points, model_path: str) ->
     if model.constants:
         names = sorted(model.constants)
         blocks.append(["// position errors (constants)", " ".join(iso_name(n) for n in names),
-                       " ".join(f"{model.constants[n]:.12g}" for n in names)])
+                       " ".join(_num(model.constants[n]) for n in names)])
     for ax, (q, vals, st) in samples(model, machine, step, max_points).items():
         names = list(vals)
         b = [f"// component errors of axis {ax}: {len(q)} points, step {st:g}",
              " ".join([ax] + [iso_name(n) for n in names])]
-        b += [" ".join([f"{p:.6f}"] + [f"{vals[n][i]:.12g}" for n in names]) for i, p in enumerate(q)]
+        b += [" ".join([f"{p:.6f}"] + [_num(vals[n][i]) for n in names]) for i, p in enumerate(q)]
         blocks.append(b)
     body = []
     for i, b in enumerate(blocks):
@@ -79,11 +86,11 @@ def render_etalon(model: ErrorModel, machine, step, max_points, model_path: str)
     lines = [f"// mtcal export {model_path} --format etalon (Etalon exchange format, variant Vendor)", f"// {SIGN}",
              "// units: errors mm and rad; positions mm (linear) and deg (rotary)"]
     for n in sorted(model.constants):
-        lines += [f"[{iso_name(n)}]", f"VALUE = {model.constants[n]:.12g}"]
+        lines += [f"[{iso_name(n)}]", f"VALUE = {_num(model.constants[n])}"]
     for q, vals, st in samples(model, machine, step, max_points).values():
         for n, v in vals.items():
             lines += [f"// {n}: {len(q)} points, step {st:g}", f"[{iso_name(n)}]", "Gridpoints = {"]
-            lines += [f"    {p:.6f} {x:.12g}" for p, x in zip(q, v)]
+            lines += [f"    {p:.6f} {_num(x)}" for p, x in zip(q, v)]
             lines.append(f"}}  // end of {iso_name(n)}")
     return {"": "\n".join(lines) + "\n"}
 

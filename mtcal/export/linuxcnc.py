@@ -14,6 +14,7 @@ position the joint actually reaches when commanded to the nominal position (= no
 """
 from __future__ import annotations
 
+from mtcal.errors import InputError
 from mtcal.export.sampling import AxisTable
 
 NAME = "linuxcnc"
@@ -21,26 +22,38 @@ MAX_POINTS = 256
 HARD_LIMIT = True   # the controller cannot take more points
 CROSS = False  # a joint table holds the joint's own positioning only
 FILES = "joint*.comp"  # the tables this format writes (a re-export removes stale ones)
-BACKLASH_NOTE = ("with a COMP_FILE loaded, LinuxCNC uses its forward/reverse trims (control.c compute_screw_comp): "
-                 "set [JOINT_n]BACKLASH = 0 so the reversal is not compensated twice")
+BACKLASH_NOTE = ("the table's forward/reverse trims hold the reversal; LinuxCNC ignores [JOINT_n]BACKLASH while a "
+                 "COMP_FILE is loaded (control.c), set it to 0 anyway so that removing the table does not bring "
+                 "back a second backlash compensation")
 SIGN = {1: "type 1: forward/reverse trim added to the commanded joint position (= -error); source: LinuxCNC "
            "usrmotintf.cc usrmotLoadComp and control.c compute_screw_comp",
         0: "type 0: actual position reached when moving forward/reverse (= nominal + error; the loader takes "
            "trim = nominal - actual); source: LinuxCNC usrmotintf.cc usrmotLoadComp"}
 
 
-def comp_file(t: AxisTable, file_type: int) -> str:
-    """The three-column text of one joint (machine units, no header)."""
-    fwd, rev = t.directional(+1), t.directional(-1)
+LINEAR_UNITS = {"mm": 1.0, "inch": 1.0 / 25.4}  # the INI's [TRAJ]LINEAR_UNITS -> factor from mm
+
+
+def comp_file(t: AxisTable, file_type: int, scale: float = 1.0) -> str:
+    """The three-column text of one joint (machine units: ``scale`` converts a linear joint's mm, no header)."""
+    k = scale if t.unit == "mm" else 1.0
+    pos, fwd, rev = t.positions * k, t.directional(+1) * k, t.directional(-1) * k
     if file_type == 0:
-        fwd, rev = t.positions - fwd, t.positions - rev
-    return "".join(f"{p:.6f} {f:.9f} {r:.9f}\n" for p, f, r in zip(t.positions, fwd, rev))
+        fwd, rev = pos - fwd, pos - rev
+    return "".join(f"{p:.6f} {f:.9f} {r:.9f}\n" for p, f, r in zip(pos, fwd, rev))
 
 
-def render(tables: list[AxisTable], machine, file_type: int, model_path: str) -> dict[str, str]:
-    """{file name: text}: one comp file per joint and linuxcnc_comp.ini (the [JOINT_n] lines to merge)."""
+def render(tables: list[AxisTable], machine, file_type: int, model_path: str,
+           linear_units: str = "mm") -> dict[str, str]:
+    """{file name: text}: one comp file per joint and linuxcnc_comp.ini (the [JOINT_n] lines to merge);
+    ``linear_units``: the machine's [TRAJ]LINEAR_UNITS (mm or inch): linear joints' tables in that unit."""
+    if linear_units not in LINEAR_UNITS:
+        raise InputError(f"--linear-units must be mm or inch (the INI's [TRAJ]LINEAR_UNITS), got {linear_units!r}")
+    scale = LINEAR_UNITS[linear_units]
     files, ini = {}, [f"# mtcal export {model_path} --format linuxcnc: merge into the machine's INI file.",
                       f"# {SIGN[file_type]}.",
+                      f"# units: linear joints in {linear_units} (this must be the INI's [TRAJ]LINEAR_UNITS; "
+                      f"converted from mm), rotary joints in deg.",
                       "# Joint numbers follow the machine's axis order (trivkins); change n if your joints differ.",
                       "# With a COMP_FILE loaded, control.c uses its trims and ignores [JOINT_n]BACKLASH.",
                       "# Outside a table the end trims are held: a rotary joint beyond its table range (e.g. C past "
@@ -48,9 +61,10 @@ def render(tables: list[AxisTable], machine, file_type: int, model_path: str) ->
     for t in tables:
         n = machine.axes.index(t.axis)
         name = f"joint{n}_{t.axis}.comp"
-        files[name] = comp_file(t, file_type)
-        ini += [f"[JOINT_{n}]", f"# axis {t.axis}: {len(t.positions)} points, step {t.step:g} {t.unit}, "
-                f"from {', '.join(t.sources[t.axis])}; reversal {t.reversal:.6g} {t.unit}",
+        files[name] = comp_file(t, file_type, scale)
+        unit, k = (linear_units, scale) if t.unit == "mm" else (t.unit, 1.0)
+        ini += [f"[JOINT_{n}]", f"# axis {t.axis}: {len(t.positions)} points, step {t.step * k:g} {unit}, "
+                f"from {', '.join(t.sources[t.axis])}; reversal {t.reversal * k:.6g} {unit}",
                 f"COMP_FILE = {name}", f"COMP_FILE_TYPE = {file_type}", ""]
     files["linuxcnc_comp.ini"] = "\n".join(ini)
     return files

@@ -8,6 +8,12 @@ value of point 0, above MAX the value of the last point); SINUMERIK 808D Functio
 axis-specific position actual value is modified by the compensation value ... a positive compensation value causes
 the machine axis to move in the negative direction".
 Units and spacing: mm for linear and deg for rotary axes (metric basic system), regular step, MAX = MIN + n STEP.
+Layout: as K3's examples, `%_N_AX_EEC_INI` / `CHANDATA(1)` / assignments / `M17` (LEC) and `%_N_NC_CEC_INI` ... `M17`
+(CEC) in one file; the header comments name every machine datum to set (MD38000 / MD18342 sizing, MD32700 /
+MD32710 enable, SD41300 / SD41310 table enable and weight, MD32450 backlash). Measuring system: index e of
+$AA_ENC_COMP[e,N,AXi], 0 by default (K3's example), 1 for tables on the second encoder. Unlimited rotary axes:
+tables over one full turn with IS_MODULO = 1. Controls: 840D sl sized by machine data; 808D / 828D 200 points per
+table, 828D at most 8 CEC tables (``CONTROLS``).
 Sign: every table value is the measured error (joint-equivalent deviation actual - nominal, = minus the
 correction), added by the NC to the axis' actual value so that the axis moves by minus the value; for CEC the same
 convention as LEC is ASSUMED (K3 treats both as interpolatory compensation of the compensation axis position).
@@ -16,6 +22,12 @@ Reversal: the LEC table is unidirectional; a backlash finding is written as two 
 """
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from mtcal.errors import InputError
 from mtcal.export.sampling import AxisTable
 
 NAME = "siemens"
@@ -30,55 +42,127 @@ SIGN = ("each value is the measured error (actual - nominal, joint-equivalent; =
         "Manual LEC; CEC: same convention assumed")
 
 
+CONTROLS = {  # control -> (points per table, CEC tables): fixed limits of the smaller controls
+    "840d": (None, None),  # sized by MD38000 / MD18342 (the header names the value needed)
+    "828d": (200, 8),      # issue 21 (808D/828D function manuals: 200 interpolation points; 828D: 8 CEC tables)
+    "808d": (200, None),   # 808D Function Manual 01/2017: "Up to 200 interpolation points (N = 0...199)"
+}
+
+
 def _fmt(v: float) -> str:
-    return f"{v:.9f}".rstrip("0").rstrip(".") if v != 0 else "0"
+    if v == 0:
+        return "0"
+    text = f"{v:.9f}".rstrip("0").rstrip(".")
+    return "0" if float(text) == 0 else text  # no "-0"
 
 
 def _ax(machine, axis: str) -> str:
     return f"AX{machine.axes.index(axis) + 1}"
 
 
-def _modulo(machine, tab: AxisTable) -> int:
-    """1 for a rotary axis without limits whose table spans exactly one turn (K3: the table repeats cyclically)."""
-    k = machine.axes.index(tab.axis)
-    span = tab.positions[-1] - tab.positions[0]
-    return int(machine.axis_kinds[k] == "rotary" and machine.limits[k] is None and abs(span - 360.0) < 1e-9)
+def _unlimited_rotary(machine, axis: str) -> bool:
+    k = machine.axes.index(axis)
+    return machine.axis_kinds[k] == "rotary" and machine.limits[k] is None
 
 
-def _cec(lines: list[str], t: int, inp: str, out: str, values, tab: AxisTable, direction: int) -> None:
+def modulo_table(tab: AxisTable, machine) -> AxisTable:
+    """An unlimited rotary axis' table over one full turn from its first position (K3: a modulo table spans the
+    modulo range and its first and last values agree): the measured values resampled periodically (linear between
+    the last measured position and the first one, a turn later) onto the finest step of whole divisions of 360 deg
+    not coarser than the table's; other tables unchanged."""
+    if not _unlimited_rotary(machine, tab.axis):
+        return tab
+    n = int(math.ceil(360.0 / tab.step - 1e-9))
+    x = tab.positions[0] + np.arange(n + 1) * (360.0 / n)
+    per = {o: np.interp(x, tab.positions, c, period=360.0) for o, c in tab.corrections.items()}
+    for c in per.values():
+        c[-1] = c[0]
+    return replace(tab, positions=x, step=360.0 / n, corrections=per)
+
+
+def _cec(lines: list[str], t: int, inp: str, out: str, values, tab: AxisTable, direction: int, modulo: int) -> None:
     lines += [f"$AN_CEC[{t},{i}]={_fmt(v)}" for i, v in enumerate(values)]
     lines += [f"$AN_CEC_INPUT_AXIS[{t}]=({inp})", f"$AN_CEC_OUTPUT_AXIS[{t}]=({out})",
               f"$AN_CEC_STEP[{t}]={_fmt(tab.step)}", f"$AN_CEC_MIN[{t}]={_fmt(tab.positions[0])}",
               f"$AN_CEC_MAX[{t}]={_fmt(tab.positions[-1])}", f"$AN_CEC_DIRECTION[{t}]={direction}",
-              f"$AN_CEC_MULT_BY_TABLE[{t}]=0", f"$AN_CEC_IS_MODULO[{t}]=0"]
+              f"$AN_CEC_MULT_BY_TABLE[{t}]=0", f"$AN_CEC_IS_MODULO[{t}]={modulo}"]
 
 
-def render(tables: list[AxisTable], machine, model_path: str, name: str) -> dict[str, str]:
-    """{name: MPF text}: LEC tables for each axis' own positioning, CEC tables for cross terms and reversal."""
-    head = [f"; mtcal export {model_path} --format siemens", f"; sign: {SIGN}",
-            "; units: mm (linear axes), deg (rotary axes); load with MD32700 ENC_COMP_ENABLE = 0 and "
-            "MD32710 CEC_ENABLE = 0, then enable, NEWCONF and reference the axes",
-            "; axes: " + ", ".join(f"{a} = {_ax(machine, a)}" for a in machine.axes) +
-            " (general machine axis names; edit if yours differ)", "CHANDATA(1)"]
-    lec, cec, t = [], [], 0
+def _machine_data(lec_points: dict[str, int], cec_points: list[int], e: int, backlash: list[str]) -> list[str]:
+    """The comment lines naming every machine datum to set (K3; 808D/828D function manuals)."""
+    out = ["; MACHINE DATA TO SET before loading (K3 Compensations; check each against your machine's archive):",
+           "; * sizing, reformats the NC user memory at the next POWER ON: BACK UP FIRST (series start-up archive)"]
+    out += [f";   MD38000 $MA_MM_ENC_COMP_MAX_POINTS[{e},{a}] >= {n}" for a, n in lec_points.items()]
+    out += [f";   MD18342 $MN_MM_CEC_MAX_POINTS[{t}] >= {n}" for t, n in enumerate(cec_points)]
+    out += [f"; * while loading: MD32700 $MA_ENC_COMP_ENABLE[{e},AXn] = 0 and MD32710 $MA_CEC_ENABLE[AXn] = 0; "
+            f"then 1, NEWCONF, reference the axes"]
+    if cec_points:
+        out += [f"; * SD41300 $SN_CEC_TABLE_ENABLE[{t}] = 1, SD41310 $SN_CEC_TABLE_WEIGHT[{t}] = 1.0"
+                for t in range(len(cec_points))]
+    if backlash:
+        out += [f"; * a direction-dependent (backlash) table is written for {', '.join(backlash)}: MD32450 "
+                f"$MA_BACKLASH[{e},AXn] = 0 on that axis, else the reversal is compensated twice"]
+    return out
+
+
+def _limits(tables: list[AxisTable], cec_count: int, control: str) -> None:
+    pts, cec_max = CONTROLS[control]
+    for t in tables:
+        if pts is not None and len(t.positions) > pts:
+            raise InputError(f"SINUMERIK {control.upper()} holds {pts} interpolation points per table; axis {t.axis} "
+                             f"needs {len(t.positions)} at step {t.step:g} {t.unit} (--step or --max-points {pts})")
+    if cec_max is not None and cec_count > cec_max:
+        raise InputError(f"SINUMERIK {control.upper()} holds at most {cec_max} CEC (sag / cross) tables; this model "
+                         f"needs {cec_count} (--require fewer errors, or compensate the rest with `mtcal compensate`)")
+
+
+def render(tables: list[AxisTable], machine, model_path: str, name: str, measuring_system: int = 0,
+           control: str = "840d") -> dict[str, str]:
+    """{name: text}: the LEC tables (`%_N_AX_EEC_INI`) for each axis' own positioning and the CEC tables
+    (`%_N_NC_CEC_INI`) for cross terms and reversal, each section CHANDATA(1) ... M17 as K3's examples;
+    ``measuring_system``: the index e of $AA_ENC_COMP[e, N, AXi] (0 = the first measuring system)."""
+    if control not in CONTROLS:
+        raise InputError(f"--control must be one of {', '.join(CONTROLS)}, got {control!r}")
+    if measuring_system not in (0, 1):
+        raise InputError(f"--measuring-system must be 0 or 1 (the axis' first or second encoder), got "
+                         f"{measuring_system}")
+    e = measuring_system
+    tables = [modulo_table(t, machine) for t in tables]
+    lec, cec, cec_points, lec_points, backlash = [], [], [], {}, []
     for tab in tables:
         ax = _ax(machine, tab.axis)
+        modulo = int(_unlimited_rotary(machine, tab.axis))
         if tab.axis in tab.corrections:
             lec.append(f"; LEC {tab.axis} = F({tab.axis}) from {', '.join(tab.sources[tab.axis])}: "
                        f"{len(tab.positions)} points, step {tab.step:g} {tab.unit}")
-            lec += [f"$AA_ENC_COMP[0,{i},{ax}]={_fmt(-v)}" for i, v in enumerate(tab.corrections[tab.axis])]
-            lec += [f"$AA_ENC_COMP_STEP[0,{ax}]={_fmt(tab.step)}", f"$AA_ENC_COMP_MIN[0,{ax}]={_fmt(tab.positions[0])}",
-                    f"$AA_ENC_COMP_MAX[0,{ax}]={_fmt(tab.positions[-1])}",
-                    f"$AA_ENC_COMP_IS_MODULO[0,{ax}]={_modulo(machine, tab)}"]
+            lec += [f"$AA_ENC_COMP[{e},{i},{ax}]={_fmt(-v)}" for i, v in enumerate(tab.corrections[tab.axis])]
+            lec += [f"$AA_ENC_COMP_STEP[{e},{ax}]={_fmt(tab.step)}",
+                    f"$AA_ENC_COMP_MIN[{e},{ax}]={_fmt(tab.positions[0])}",
+                    f"$AA_ENC_COMP_MAX[{e},{ax}]={_fmt(tab.positions[-1])}",
+                    f"$AA_ENC_COMP_IS_MODULO[{e},{ax}]={modulo}"]
+            lec_points[ax] = len(tab.positions)
         for out, c in tab.corrections.items():
             if out == tab.axis:
                 continue
-            cec.append(f"; CEC table {t}: {out} = F({tab.axis}) from {', '.join(tab.sources[out])}")
-            _cec(cec, t, ax, _ax(machine, out), -c, tab, 0)
-            t += 1
+            cec.append(f"; CEC table {len(cec_points)}: {out} = F({tab.axis}) from {', '.join(tab.sources[out])}")
+            _cec(cec, len(cec_points), ax, _ax(machine, out), -c, tab, 0, modulo)
+            cec_points.append(len(tab.positions))
         if tab.reversal:
+            backlash.append(tab.axis)
             for d in (1, -1):
-                cec.append(f"; CEC table {t}: reversal of {tab.axis} ({'positive' if d > 0 else 'negative'} direction)")
-                _cec(cec, t, ax, ax, [d * tab.reversal / 2] * len(tab.positions), tab, d)
-                t += 1
-    return {name: "\n".join(head + lec + cec + ["M30", ""])}
+                cec.append(f"; CEC table {len(cec_points)}: reversal of {tab.axis} "
+                           f"({'positive' if d > 0 else 'negative'} direction)")
+                _cec(cec, len(cec_points), ax, ax, [d * tab.reversal / 2] * len(tab.positions), tab, d, modulo)
+                cec_points.append(len(tab.positions))
+    _limits(tables, len(cec_points), control)
+    head = [f"; mtcal export {model_path} --format siemens --control {control} --measuring-system {e}",
+            f"; sign: {SIGN}", "; units: mm (linear axes), deg (rotary axes), metric basic system",
+            "; axes: " + ", ".join(f"{a} = {_ax(machine, a)}" for a in machine.axes) +
+            " (general machine axis names; edit if yours differ)",
+            *_machine_data(lec_points, cec_points, e, backlash)]
+    sections = []
+    if lec:
+        sections += ["%_N_AX_EEC_INI", "CHANDATA(1)", *head, *lec, "M17"]
+    if cec:
+        sections += ["%_N_NC_CEC_INI", "CHANDATA(1)", *([] if lec else head), *cec, "M17"]
+    return {name: "\n".join(sections + [""])}
