@@ -81,22 +81,11 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         what = ([f"diagnosis backlash axes {foreign}"] if foreign else []) + (
             [f"error names {unknown}"] if unknown else [])
         raise InputError(f"not of machine {machine.name}: " + "; ".join(what))
-    if fmt in isg.NAMES:
-        render = isg.render_csv if fmt == "tf5280" else isg.render_etalon
-        files, held, tables = render(model, machine, step, mp, model_path), isg.held(model), []
-        sign = isg.SIGN
-    else:
-        tables = _tables(model, machine, mod, step, mp, reversal)
-        held = {n for t in tables for s in t.sources.values() for n in s}
-        if fmt == "linuxcnc":
-            files, sign = linuxcnc.render(tables, machine, file_type, model_path, **options), linuxcnc.SIGN[file_type]
-        elif fmt == "siemens":
-            files, sign = siemens.render(tables, machine, model_path, "", **options), siemens.SIGN
-        else:
-            files = heidenhain.render(tables, machine, model, model_path, kinematics_comp, step, mp)
-            sign = heidenhain.SIGN
-            if kinematics_comp:
-                held |= heidenhain.kc_held(model)
+    try:
+        files, held, tables, sign = _render(model, machine, fmt, step, mp, reversal, model_path, file_type,
+                                            kinematics_comp, options)
+    except InputError as exc:  # what the format cannot hold, said of the model it came from
+        raise InputError(f"{model_path}: {exc}") from None
     missing = sorted(set(require or []) - held)
     if missing:
         raise InputError(f"format {fmt} cannot hold {', '.join(missing)} "
@@ -114,6 +103,24 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     paths, stale = _write(files, Path(out), kind, protect, mod)
     warnings += [f"{p}: a table of an earlier export that this export does not rewrite was removed" for p in stale]
     return ExportResult(fmt, paths, sign, sorted(held), not_held(model, held), [_summary(t) for t in tables], warnings)
+
+
+def _render(model: ErrorModel, machine, fmt: str, step, mp: int, reversal: dict, model_path: str, file_type: int,
+            kinematics_comp: bool, options: dict) -> tuple[dict[str, str], set[str], list[AxisTable], str]:
+    """The format's files, the error names they hold, the sampled tables and the sign statement."""
+    mod = FORMATS[fmt][0]
+    if fmt in isg.NAMES:
+        render = isg.render_csv if fmt == "tf5280" else isg.render_etalon
+        return render(model, machine, step, mp, model_path), isg.held(model), [], isg.SIGN
+    tables = _tables(model, machine, mod, step, mp, reversal)
+    held = {n for t in tables for s in t.sources.values() for n in s}
+    if fmt == "linuxcnc":
+        return (linuxcnc.render(tables, machine, file_type, model_path, **options), held, tables,
+                linuxcnc.SIGN[file_type])
+    if fmt == "siemens":
+        return siemens.render(tables, machine, model_path, "", **options), held, tables, siemens.SIGN
+    files = heidenhain.render(tables, machine, model, model_path, kinematics_comp, step, mp)
+    return files, held | (heidenhain.kc_held(model) if kinematics_comp else set()), tables, heidenhain.SIGN
 
 
 def _check_diagnosis(diagnosis: dict | None, model: ErrorModel, machine, source: str, model_path: str,

@@ -1154,6 +1154,81 @@ def cases_export(C: Corpus):
     C.add("export_model_is_directory", "export", "path", lc, dirs=["model.json"],
           expect=[err("model.json", None, "directory")])
 
+def cases_export_guard(C: Corpus):
+    """Issue 21: what reaches a controller passes the plausibility guard; each refusal says what the file is, which
+    value and which limit, and writes nothing (the harness checks every refused case for new files)."""
+    hand = HAND_MODEL
+    formats = [("linuxcnc", "lc"), ("siemens", "C.INI"), ("heidenhain", "tnc"), ("tf5280", "v.csv"),
+               ("etalon", "e.txt")]
+
+    def variant(**kw):
+        m = json.loads(jdump(hand))
+        m.update(kw)
+        return jdump(m)
+    exx = hand["functions"]["E_XX"]
+    um = variant(functions={"E_XX": {**exx, "values": [v * 1000 for v in exx["values"]]}})
+    big = variant(constants={"E_C0Y": 1e300})
+    for fmt, out in formats:  # a model in um read as mm, and 1e300: refused in every format
+        C.add(f"export_guard_um_as_mm_{fmt}", "export", "model JSON", ["model.json", "--format", fmt, "-o", out],
+              {"model.json": um}, [err("model.json", None, "plausibility bound")])
+        C.add(f"export_guard_1e300_{fmt}", "export", "model JSON", ["model.json", "--format", fmt, "-o", out],
+              {"model.json": big}, [err("model.json", None, "plausibility bound")])
+    C.add("export_guard_um_as_mm_forced", "export", "option",
+          ["model.json", "--format", "linuxcnc", "-o", "lc", "--force"], {"model.json": um}, [ok(say=["FORCED"])])
+    b270 = variant(functions={"E_CB": {"axis": "B", "positions": [0, 90, 180, 270], "values": [0, 1e-5, 2e-5, 3e-5]}})
+    c400 = variant(functions={"E_CC": {"axis": "C", "positions": [0, 200, 400], "values": [0, 1e-5, 2e-5]}})
+    for cid, text, words in [("b_over_travel", b270, ["travel", "[0, 180]"]), ("c_over_a_turn", c400, ["turn"]),
+                             ("constants_only", jdump({"machine": "dmu50", "constants": {"E_C0Y": 1e-5}}),
+                              ["nothing format"]),
+                             ("empty_model", jdump({"machine": "dmu50"}), ["empty model", "nothing format"])]:
+        C.add(f"export_guard_{cid}", "export", "model JSON", ["model.json", "--format", "siemens", "-o", "C.INI"],
+              {"model.json": text}, [err("model.json", None, *words)])
+    answers = [("diagnose", {"base_sigma": 0.01, "effects": [], "located": []}),
+               ("plate", {"alpha": 1e-6, "beta": 0.0, "gamma": 0.0}),
+               ("identify", {"axes": {}, "squareness": {}, "weighted": False}),
+               ("compensate", {"program": "p.nc", "residual": {}})]
+    for cmd, answer in answers:  # another command's JSON given as the model: named as such
+        for fmt, out in (("siemens", "C.INI"), ("linuxcnc", "lc")):
+            C.add(f"export_guard_{cmd}_answer_{fmt}", "export", "model JSON",
+                  ["model.json", "--format", fmt, "-o", out], {"model.json": jdump(answer)},
+                  [err("model.json", None, f"answer of `mtcal {cmd}")])
+    diag = {"machine": "dmu50", "recording": "other.csv", "base_sigma": 0.01,
+            "effects": [{"name": "backlash", "axis": "X", "significant": True, "estimate": 0.004, "unit": "mm"}]}
+    ident = variant(identified_from="campaign.csv")
+    C.add("export_guard_diagnosis_of_another_recording", "export", "model JSON",
+          ["model.json", "--format", "linuxcnc", "-o", "lc", "--diagnosis", "diag.json"],
+          {"model.json": ident, "diag.json": jdump(diag)}, [err("diag.json", None, "other.csv")])
+    C.add("export_guard_diagnosis_of_another_machine", "export", "model JSON",
+          ["model.json", "--format", "linuxcnc", "-o", "lc", "--diagnosis", "diag.json"],
+          {"model.json": jdump(hand), "diag.json": jdump({**diag, "machine": "xyzac", "recording": "x"})},
+          [err("diag.json", None, "machine xyzac")])
+    C.add("export_guard_backlash_unit_bogus", "export", "model JSON",
+          ["model.json", "--format", "linuxcnc", "-o", "lc", "--diagnosis", "diag.json"],
+          {"model.json": jdump(hand), "diag.json": jdump({**diag, "recording": "x", "effects": [
+              {**diag["effects"][0], "unit": "furlong"}]})}, [err("diag.json", None, "furlong")])
+    for cid, argv, words in [("machine_other", ["--machine", "xyzac"], ["machine dmu50, not xyzac"]),
+                             ("machine_not_a_machine", ["--machine", "plate"], ["unknown machine"]),
+                             ("control_on_linuxcnc", ["--control", "828d"], ["siemens option"]),
+                             ("linear_units_on_siemens", ["--linear-units", "inch", "--format", "siemens"],
+                              ["linuxcnc option"])]:
+        fmt = [] if "--format" in argv else ["--format", "linuxcnc"]
+        C.add(f"export_guard_{cid}", "export", "option", ["model.json", "-o", "out", *fmt, *argv],
+              {"model.json": jdump(hand)}, [err(None, None, *words, option=True), err("model.json", None, *words)])
+    C.add("export_guard_828d_points", "export", "option",
+          ["model.json", "--format", "siemens", "-o", "C.INI", "--control", "828d", "--max-points", "256"],
+          {"model.json": jdump(hand)}, [err(None, None, "200 interpolation points", option=True)])
+    C.add("export_guard_heidenhain_too_wide", "export", "model JSON",
+          ["model.json", "--format", "heidenhain", "-o", "tnc", "--force"],
+          {"model.json": variant(functions={"E_XX": {**exx, "values": [123456789.0] * len(exx["values"])}})},
+          [err("model.json", None, "TNC column")])
+    C.add("export_guard_reexport_removes_stale", "export", "path",
+          ["x.json", "--format", "linuxcnc", "-o", "lc"],
+          {"model.json": variant(functions={"E_XX": exx, "E_YY": {**exx, "axis": "Y"}}),
+           "x.json": variant(constants={})},
+          [ok({"kind": "absent", "path": "lc/joint1_Y.comp"}, say=["earlier export"])],
+          setup=[["export", "model.json", "--format", "linuxcnc", "-o", "lc"]], rewrites=["lc/"])
+
+
 def cases_signals(C: Corpus):
     big = ["%", "G90 G21", "G0 X0 Y0 Z50", "G1 Z5 F1000"]
     for k in range(150_000):
@@ -1296,6 +1371,7 @@ def build(root: Path) -> list[dict]:
     cases_iso230_and_import(C)
     cases_export(C)
     cases_issue20(C)
+    cases_export_guard(C)
     cases_signals(C)
     C.write()
     return C.cases
