@@ -18,8 +18,11 @@ def run() -> dict:
     rng = np.random.default_rng(0)
     pts, dls = rng.uniform(-200, 200, (100_000, 9)), rng.normal(0, 0.01, (100_000, 9))
     return {
-        "identify_campaign_unweighted_s": best_of(lambda: identify(rec), 5),
-        "identify_campaign_weighted_s": best_of(lambda: identify(rec, tracker=DEFAULT_TRACKER), 5),
+        "identify_campaign_three_point_s": best_of(lambda: identify(rec, method="three-point", worth=False), 5),
+        "identify_campaign_joint_s": best_of(lambda: identify(rec, tracker=DEFAULT_TRACKER, worth=False), 5),
+        # identify's default: the station estimated from the scatter, the joint fit, and the split-half prediction
+        # of the model's error (two more fits)
+        "identify_campaign_default_s": best_of(lambda: identify(rec), 3),
         "readings": len(rec),
         "ls_solve_per_position_us": best_of(lambda: tp.ls_solve(pts, dls), 5) / 1e5 * 1e6,
     }
