@@ -361,9 +361,11 @@ def _warn_design(t: dict[str, np.ndarray], positions: np.ndarray, axis: str, not
 
 
 def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = DEFAULT_MACHINE, targets=None,
-             alpha: float | None = None, angle_unit: str = "arcsec", point: str | None = None) -> Iso230Result:
+             alpha: float | None = None, angle_unit: str = "arcsec", point: str | None = None,
+             result_unit: str | None = None) -> Iso230Result:
     """ISO 230-2 evaluation of ``axis`` (default: every axis in the recording); ``targets``: evaluate only these
-    positions (mm / deg); ``alpha`` (1/K): normalise linear axes to 20 C; ``point``: use one reflector only."""
+    positions (mm / deg); ``alpha`` (1/K): normalise linear axes to 20 C; ``point``: use one reflector only;
+    ``result_unit``: the deviations' unit (RESULT_UNITS; default um for linear, ``angle_unit`` for rotary axes)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     axes = [axis] if axis else rec.axes()
     out: dict[str, AxisEvaluation] = {}
@@ -373,14 +375,17 @@ def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = D
         if a not in rec.axes():
             raise InputError(f"{rec.source}: no readings of axis {a} (axes present: {', '.join(rec.axes())})")
         notes: list[str] = []
-        runs = deviations(rec, a, m, point, angle_unit, alpha, notes)
+        runs = deviations(rec, a, m, point, "arcsec" if result_unit else angle_unit, alpha, notes)
+        if result_unit is not None:
+            runs = in_unit(runs, result_unit)
         notes.append(f"one datum for every run (ISO 230-2 x_ij = P_ij - P_i): each reflector's first reading at "
                      f"the position closest to zero ({', '.join(f'{r:g}' for r in sorted(set(runs.reference)))})")
         out[a] = evaluate_runs(runs, a, m.kind(a), targets, notes)
-    return Iso230Result(rec.source, out, _temperature(alpha))
+    return Iso230Result(rec.source, out, temperature_normalisation(alpha))
 
 
-def _temperature(alpha: float | None) -> dict | None:
+def temperature_normalisation(alpha: float | None) -> dict | None:
+    """The normalisation statement of a result (None without alpha)."""
     if alpha is None:
         return None
     return {"alpha_per_K": alpha, "formula": "x <- x - alpha * (T - 20 C) * (P - P_0) (linear axes; T: the "

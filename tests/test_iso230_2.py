@@ -374,3 +374,19 @@ def test_cli_options_checked(tmp_path, capsys):
     assert "no readings of axis Y" in capsys.readouterr().err
     assert main(["iso230-2", str(rec)]) == 0
     assert "| 100 | 2 | 2 | 0.00 |" in capsys.readouterr().out
+
+
+def test_tracker_results_in_the_unit_asked(tmp_path, capsys):
+    """--result-unit on a tracker recording: the same evaluation in mm (um / 1000) and inch (um / 25400)."""
+    rng = np.random.default_rng(11)
+    passes = _passes([0.0, 100.0, 200.0], 3)
+    f = tmp_path / "rec.csv"
+    f.write_text(format_recording(_build("X", passes, _planted(passes, rng), _linear_x), precision=9))
+    out = {}
+    for unit in ("um", "mm", "inch"):
+        assert main(["iso230-2", str(f), "--axis", "X", "--json", "--result-unit", unit]) == 0
+        out[unit] = json.loads(capsys.readouterr().out)["axes"]["X"]
+    assert out["mm"]["unit"] == "mm" and out["inch"]["unit"] == "inch"
+    for k in ("A", "R", "E", "B_mean"):
+        assert out["mm"]["parameters"][k] == pytest.approx(out["um"]["parameters"][k] / 1000)
+        assert out["inch"]["parameters"][k] == pytest.approx(out["um"]["parameters"][k] / 25400)

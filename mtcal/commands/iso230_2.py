@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
 def _evaluate(args: argparse.Namespace):
     """The evaluation of a tracker recording or of an interferometer's readings (by the file's header)."""
     from mtcal.io import read_csv_rows
-    from mtcal.iso230_2 import Iso230Result, evaluate, evaluate_runs, in_unit, _temperature
+    from mtcal.iso230_2 import Iso230Result, evaluate, evaluate_runs, in_unit, temperature_normalisation
     from mtcal.iso230_2_readings import is_readings_header, read_readings
     from mtcal.recordings import read_recording
 
@@ -91,17 +91,13 @@ def _evaluate(args: argparse.Namespace):
         unit = args.result_unit or ("um" if kind == "linear" else args.angle_unit)
         axis = args.axis or "axis"
         ev = evaluate_runs(in_unit(runs, unit), axis, kind, targets, notes)
-        return Iso230Result(args.recording, {axis: ev}, _temperature(args.alpha))
+        return Iso230Result(args.recording, {axis: ev}, temperature_normalisation(args.alpha))
     if args.unit:
         raise InputError(f"{args.recording}: --unit is for the readings layout (target_UNIT, run, direction, ...); a "
                          f"tracker recording is in mm and deg (design.md)")
     rec = read_recording(args.recording, args.machine)
-    res = evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine, targets=targets,
-                   alpha=args.alpha, angle_unit=args.angle_unit, point=args.point)
-    if args.result_unit:
-        for a, ev in res.axes.items():
-            res.axes[a] = evaluate_runs(in_unit(ev.runs, args.result_unit), a, ev.kind, None, ev.notes)
-    return res
+    return evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine, targets=targets,
+                    alpha=args.alpha, angle_unit=args.angle_unit, point=args.point, result_unit=args.result_unit)
 
 
 def _planned(res, folder: Path, source: str) -> dict[str, dict]:
@@ -131,6 +127,9 @@ def _write(res, planned: dict[str, dict]) -> list[str]:
     return files
 
 
+DIGITS = {"mm": 5, "inch": 6, "deg": 7}  # decimals shown per result unit (um, arcsec, urad: 2)
+
+
 def _num(v: float, digits: int = 2) -> str:
     if v is None or math.isnan(v):
         return ""
@@ -144,8 +143,8 @@ def targets_csv(ev) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow([f"position_{ev.position_unit}"] + [k if k.startswith("n_") else f"{k}_{ev.unit}" for k, _ in COLUMNS])
     for i, p in enumerate(ev.positions):
-        w.writerow([f"{p:g}"] + [int(ev.targets[k][i]) if k.startswith("n_") else _num(ev.targets[k][i], 4)
-                                 for k, _ in COLUMNS])
+        w.writerow([f"{p:g}"] + [int(ev.targets[k][i]) if k.startswith("n_") else
+                                 _num(ev.targets[k][i], DIGITS.get(ev.unit, 2) + 2) for k, _ in COLUMNS])
     return buf.getvalue()
 
 
@@ -155,7 +154,7 @@ def parameters_csv(ev) -> str:
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["parameter", f"value_{ev.unit}", "meaning"])
     for k in ORDER:
-        w.writerow([k, _num(ev.parameters[k], 4), PARAMETERS[k]])
+        w.writerow([k, _num(ev.parameters[k], DIGITS.get(ev.unit, 2) + 2), PARAMETERS[k]])
     return buf.getvalue()
 
 
@@ -169,9 +168,10 @@ def markdown(ev, source: str, temperature: dict | None) -> str:
         lines.append(f"Normalised to 20 °C with α = {temperature['alpha_per_K']:g} /K: {temperature['formula']}.")
     lines += ["", "| target | " + " | ".join(h for _, h in COLUMNS) + " |", "|" + "---:|" * (len(COLUMNS) + 1)]
     for i, p in enumerate(ev.positions):
-        cells = [str(int(ev.targets[k][i])) if k.startswith("n_") else _num(ev.targets[k][i]) for k, _ in COLUMNS]
+        cells = [str(int(ev.targets[k][i])) if k.startswith("n_") else _num(ev.targets[k][i], DIGITS.get(ev.unit, 2))
+                 for k, _ in COLUMNS]
         lines.append(f"| {p:g} | " + " | ".join(cells) + " |")
     lines += ["", f"| parameter | {ev.unit} | meaning |", "|---|---:|---|"]
-    lines += [f"| {k} | {_num(ev.parameters[k])} | {PARAMETERS[k]} |" for k in ORDER]
+    lines += [f"| {k} | {_num(ev.parameters[k], DIGITS.get(ev.unit, 2))} | {PARAMETERS[k]} |" for k in ORDER]
     lines += [""] + [f"- note: {n}" for n in ev.notes] + [""]
     return "\n".join(lines)
