@@ -70,8 +70,8 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     forced = check_model(model, machine, force, model_path)
     forced += _check_diagnosis(diagnosis, model, machine, diagnosis_source, model_path, force)
     mod, kind = FORMATS[fmt]
-    mp = max_points or (fmt == "siemens" and siemens.CONTROLS.get(options.get("control", "840d"), (None,))[0]
-                        or mod.MAX_POINTS)
+    control_limit = siemens.CONTROLS.get(options.get("control"), (None,))[0] if fmt == "siemens" else None
+    mp = max_points or control_limit or mod.MAX_POINTS
     if mod.HARD_LIMIT and mp > mod.MAX_POINTS:
         raise InputError(f"format {fmt} holds at most {mod.MAX_POINTS} points per table, got --max-points {mp}")
     reversal = backlash_from(diagnosis, diagnosis_source)
@@ -128,16 +128,16 @@ def _check_diagnosis(diagnosis: dict | None, model: ErrorModel, machine, source:
     """A diagnosis must be of the model's machine and of the recording the model was identified from."""
     if not isinstance(diagnosis, dict):
         return []
-    problems = []
     if diagnosis.get("machine", machine.name) != machine.name:
         raise InputError(f"{source}: a diagnosis of machine {diagnosis['machine']}, the model is of {machine.name}")
     rec, ident = diagnosis.get("recording"), model.meta.get("identified_from")
-    if rec and ident and Path(str(rec)).name != Path(str(ident)).name:
-        problems.append(f"{source} diagnoses {rec}, the model {model_path} was identified from {ident}: its "
-                        f"backlash is of another measurement")
-    if problems and not force:
-        raise InputError(problems[0] + "; nothing was written (--force writes it anyway)")
-    return [f"FORCED: {p}" for p in problems]
+    if not (rec and ident and Path(str(rec)).name != Path(str(ident)).name):
+        return []
+    problem = (f"{source} diagnoses {rec}, the model {model_path} was identified from {ident}: its backlash is of "
+               f"another measurement")
+    if not force:
+        raise InputError(problem + "; nothing was written (--force writes it anyway)")
+    return [f"FORCED: {problem}"]
 
 
 def _write(files: dict[str, str], out: Path, kind: str, protect: tuple, mod) -> tuple[list[str], list[str]]:
