@@ -407,6 +407,11 @@ def _state_worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[s
         warnings.append("one round: the model's error cannot be predicted from the data (measure two or more rounds)")
         return
     halves = (rounds[::2], rounds[1::2])
+    short = [a for a in rec.axes() for h in halves if not np.isin(rec.round[rec.axis == a], h).any()]
+    if short:
+        warnings.append(f"the model's error was not predicted: axis {short[0]} is not measured in both halves of the "
+                        f"rounds (even and odd)")
+        return
     quiet = logging.getLogger("mtcal")
     level = quiet.level
     quiet.setLevel(max(level, logging.WARNING))  # the halves' progress is not the user's

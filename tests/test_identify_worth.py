@@ -60,3 +60,14 @@ def test_identify_and_compensate_warn_when_the_model_may_make_the_machine_worse(
     assert "may make the machine worse" in capsys.readouterr().err
     assert main(["identify", str(rec), "-o", str(mj)]) == 0
     assert "may make the machine worse" not in capsys.readouterr().err
+
+
+def test_no_prediction_when_an_axis_is_missing_from_a_half_of_the_rounds():
+    """C measured in the odd rounds only: a half-model without C would count all of C as model error (a false
+    'may make the machine worse'); the prediction is left out and said instead."""
+    from mtcal.demo import data_path
+    from mtcal.recordings import read_recording
+    rec = read_recording(data_path("demo_campaign.csv"))
+    res = identify(rec.select(~((rec.axis == "C") & (rec.round % 2 == 0))), method="three-point")
+    assert "worth" not in res.model.meta
+    assert any("axis C is not measured in both halves" in w for w in res.warnings)
