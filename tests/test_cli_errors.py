@@ -221,6 +221,12 @@ def test_hard_link_to_an_input_is_the_input(tmp_path):
 
 
 # ----------------------------------------------------------------------------- signals (subprocess)
+def _default_sigint() -> None:
+    """The child's SIGINT at its default even when the suite runs as a background job (a shell starts those with
+    SIGINT ignored, which a child inherits and Python then leaves ignored)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.parametrize("sig, code, word", [(signal.SIGTERM, 143, "terminated"), (signal.SIGINT, 130, "interrupted")])
 def test_signal_leaves_no_temporary(tmp_path, sig, code, word):
     """A long compensation is stopped while its output is being streamed into .out.nc.XXXX: exit code, one line,
@@ -230,7 +236,7 @@ def test_signal_leaves_no_temporary(tmp_path, sig, code, word):
     (tmp_path / "p.nc").write_text("G90 G0 X0 Y0 Z0 B0 C0\nG1 F1000\n" + "\n".join(moves) + "\n")
     proc = subprocess.Popen([sys.executable, "-m", "mtcal.cli", "compensate", "p.nc", "--model", str(MODEL),
                              "-o", "out.nc"], cwd=tmp_path, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL,
-                            text=True)
+                            text=True, preexec_fn=_default_sigint)
     deadline = time.monotonic() + 120
     while not glob.glob(str(tmp_path / ".out.nc.*")) and proc.poll() is None and time.monotonic() < deadline:
         time.sleep(0.005)
