@@ -6,7 +6,7 @@ import time
 
 def run() -> dict:
     from mtcal.diagnose import diagnose
-    from mtcal.simulate import Plan, simulate_campaign
+    from mtcal.campaign.simulate import Plan, simulate_campaign
     DEFAULT_TRACKER = Plan().tracker
 
     out = {}

@@ -9,8 +9,8 @@ from timing import best_of
 
 def run() -> dict:
     from mtcal.generated import threepoint_numpy as tp
-    from mtcal.identify import identify
-    from mtcal.simulate import Plan, simulate_campaign
+    from mtcal.identify.core import identify
+    from mtcal.campaign.simulate import Plan, simulate_campaign
     DEFAULT_TRACKER = Plan().tracker
 
     rec = simulate_campaign(None, tracker=DEFAULT_TRACKER, seed=0)

@@ -1,4 +1,4 @@
-"""Benchmark: the joint weighted fit (mtcal.identify_joint) of the spec's full campaign (X, Y, Z, B, C; 11 positions
+"""Benchmark: the joint weighted fit (mtcal.identify.joint) of the spec's full campaign (X, Y, Z, B, C; 11 positions
 per linear axis, B 0-180 step 10, C 0-340 step 20, bidirectional) from one station (4 rounds) and from four
 stations (1 round each, the same 1680 readings), against the three-point method on the same one-station data
 timed in this run.  It must stay interactive: seconds."""
@@ -8,9 +8,9 @@ from timing import best_of
 
 
 def run() -> dict:
-    from mtcal.identify import identify
-    from mtcal.simulate import Plan, simulate_campaign
-    from mtcal.simulate_stations import simulate_stations
+    from mtcal.identify.core import identify
+    from mtcal.campaign.simulate import Plan, simulate_campaign
+    from mtcal.campaign.stations import simulate_stations
 
     tracker = Plan().tracker
     one = simulate_campaign(None, tracker=tracker, seed=0)

@@ -1,4 +1,5 @@
-"""Timing of `mtcal.plate.fit_plate` on a large synthetic plate (no asserts; `python benchmarks/bench_plate.py`)."""
+"""Timing of `mtcal.plate.reversal.fit_plate` on a large synthetic plate (no asserts; `python
+benchmarks/bench_plate.py`)."""
 from __future__ import annotations
 
 import math
@@ -8,7 +9,7 @@ import numpy as np
 
 
 def _plate(n: int, seed: int = 0):
-    from mtcal.plate import plate_from_arrays
+    from mtcal.plate.reversal import plate_from_arrays
     rng = np.random.default_rng(seed)
     X = rng.uniform(0, 400.0, (n, 2))  # mm
     a, b, g, eps = 5e-6, -1.4e-4, 1.2e-5, np.array([-0.004, 0.003])
@@ -23,7 +24,7 @@ def _plate(n: int, seed: int = 0):
 def run(n: int = 10_000) -> dict:
     """Seconds for a full first-order fit (closed form + statistics + flags + gage frame) and an exact fit
     of an n-point plate; the key names say 1e4 (the default n)."""
-    from mtcal.plate import fit_plate
+    from mtcal.plate.reversal import fit_plate
     data = _plate(n)
     fit_plate(data)  # warm-up (imports, scipy.stats)
     t0 = time.perf_counter()

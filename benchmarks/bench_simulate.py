@@ -10,8 +10,8 @@ from timing import best_of
 
 def run() -> dict:
     from mtcal import load_machine
-    from mtcal.plan import linear_covariance, monte_carlo, placement_map
-    from mtcal.simulate import Plan, simulate_campaign
+    from mtcal.planning.plan import linear_covariance, monte_carlo, placement_map
+    from mtcal.campaign.simulate import Plan, simulate_campaign
 
     m = load_machine("dmu50")
     pl = Plan()

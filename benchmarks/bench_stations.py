@@ -4,9 +4,9 @@ volumetric RMS of identified model - truth over 2000 poses of the demo's work vo
 Truth: the bundled demo truth (mtcal/data/demo_truth.json) and the same truth in the ISO frame of the linear
 axes (linear part of E_YX, E_ZX, E_ZY removed; the estimate is in that frame and no tracker can see the frame's
 rotation relative to the table).  Campaigns: the demo plan (mtcal.data.make_demo_data.DEMO_PLAN) simulated
-through the exact kinematics; one station = thesis Pos. 1, 4 rounds (mtcal.simulate, no alignment error);
+through the exact kinematics; one station = thesis Pos. 1, 4 rounds (mtcal.campaign.simulate, no alignment error);
 four stations = front, left, front-right, elevated 1.2 m, 1 round each, each station misaligned by
-N(0, 20 um) / N(0, 30 urad) (mtcal.simulate_stations, translations centred: the gauge)."""
+N(0, 20 um) / N(0, 30 urad) (mtcal.campaign.stations, translations centred: the gauge)."""
 from __future__ import annotations
 
 import copy
@@ -20,7 +20,7 @@ WIDE = {"tool": {"P": [210, 0, 30], "Q": [-105, 180, 120], "K": [-105, -180, 210
 
 
 def iso_framed(truth):
-    from mtcal.model import ErrorFunction
+    from mtcal.model.errormodel import ErrorFunction
     t = copy.deepcopy(truth)
     for nm in ("E_YX", "E_ZX", "E_ZY"):
         f = t.functions[nm]
@@ -33,9 +33,9 @@ def iso_framed(truth):
 def _identify(m, truth, case: str, seed: int):
     """The identified model of one campaign of ``case`` (see module docstring)."""
     from mtcal.data.make_demo_data import DEMO_PLAN
-    from mtcal.identify import identify
-    from mtcal.simulate import simulate
-    from mtcal.simulate_stations import simulate_stations
+    from mtcal.identify.core import identify
+    from mtcal.campaign.simulate import simulate
+    from mtcal.campaign.stations import simulate_stations
     if case.startswith("1_station"):
         rec = simulate(truth, machine=m, seed=seed, plan=DEMO_PLAN, rounds=None)[0]
         method = "three-point" if case.endswith("three_point") else "joint"
@@ -52,8 +52,8 @@ CASES = ("1_station_three_point", "1_station_joint", "4_stations", "4_stations_2
 
 def run(seeds=range(1, 6)) -> dict:
     import mtcal
-    from mtcal.demo import data_path
-    from mtcal.model import load_model
+    from mtcal.demo.run import data_path
+    from mtcal.model.errormodel import load_model
     m = mtcal.load_machine("dmu50")
     rng = np.random.default_rng(0)
     grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000),

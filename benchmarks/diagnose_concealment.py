@@ -7,8 +7,8 @@ from __future__ import annotations
 import sys
 
 from mtcal.diagnose import diagnose
-from mtcal.model import ErrorModel
-from mtcal.simulate import Plan, simulate_campaign
+from mtcal.model.errormodel import ErrorModel
+from mtcal.campaign.simulate import Plan, simulate_campaign
 
 ROWS = [  # (effect, parameters, base: "fit" = fitted, "model" = an empty given model)
     ("backlash", {"axis": "X", "amount": 0.004}, "fit"),

@@ -1,6 +1,6 @@
 """False-positive rate of ``mtcal diagnose`` at its defaults (no --tracker, level 0.01) on clean campaigns.
 
-Campaigns from the physical simulator (mtcal.simulate, AT960 noise, no planted effect) of varied design: the
+Campaigns from the physical simulator (mtcal.campaign.simulate, AT960 noise, no planted effect) of varied design: the
 tracker in front (the spec's station), at the side, or far; 3 to 6 rounds; five axes or three; every second
 position of the default plan (kept small).  A campaign is a false positive when any effect is reported
 significant or any mismatch "unexplained".  Run: python benchmarks/fp_rate_diagnose.py [N] (default 50).
@@ -12,7 +12,7 @@ import sys
 import numpy as np
 
 from mtcal.diagnose import diagnose
-from mtcal.simulate import Plan, simulate_campaign
+from mtcal.campaign.simulate import Plan, simulate_campaign
 
 STATIONS = {"front": None, "side": (1900.0, 250.0, 350.0), "far": (400.0, -4500.0, 900.0)}
 AXES = ("XYZBC", "XYC", "YZB")

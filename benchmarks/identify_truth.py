@@ -9,7 +9,8 @@ noise, seeds fixed: campaign k uses seed 1000 + k.  Every campaign is identified
   joint+tracker       one weighted fit of all readings with the tracker position (identify's default with --tracker)
   auto                identify's default without the tracker position
 Reported per path over all campaigns: the model's error (truth - model, RMS over 2000 poses inside the measured
-ranges, after the re-setup gauge; mtcal.compare), the share of campaigns where compensating with the model leaves the
+ranges, after the re-setup gauge; mtcal.identify.compare), the share of campaigns where compensating with the model
+leaves the
 true machine worse than no compensation, and the share of (function, campaign) pairs whose fitted function is at
 least as close to the truth as its table (RMS over the table's positions; 0.05 um tolerance).
 """
@@ -24,10 +25,10 @@ import time
 import numpy as np
 
 import mtcal
-from mtcal.compare import compare_models
+from mtcal.identify.compare import compare_models
 from mtcal.data.make_demo_data import DEMO_PLAN, build, build_for
-from mtcal.identify import identify
-from mtcal.simulate import as_plan, default_positions, simulate
+from mtcal.identify.core import identify
+from mtcal.campaign.simulate import as_plan, default_positions, simulate
 
 SPECS = ("dmu50", "headbc", "xyzac")
 TRACKERS = {"dmu50": [(250, -1500, 150), (-1500, 225, 150), (1200, -1200, 600)],

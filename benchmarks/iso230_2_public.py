@@ -18,8 +18,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
 from iso230_2_oracle import evaluate as oracle, read_dat  # noqa: E402
 
-from mtcal.iso230_2 import evaluate_runs  # noqa: E402
-from mtcal.iso230_2_readings import read_readings  # noqa: E402
+from mtcal.iso230_2.evaluate import evaluate_runs  # noqa: E402
+from mtcal.iso230_2.readings import read_readings  # noqa: E402
 
 MIRROR = "/work/.mirror/anderssandstrom+ecmc_target_muts_logger/repo"
 KEYS = ("A", "E", "M", "R", "B", "B_mean")

@@ -9,7 +9,7 @@ the generated point Jacobian column of that error (Machine.point_jacobian_errors
 ``tool_point_jacobian_errors`` / ``table_point_jacobian_errors``, mm per mm or mm per rad), so the kinematics
 stays in derive/kinematics.py.
 
-The same model is emitted for simulation (mtcal.effects): ``<effect>_model`` gives the increment of the affected
+The same model is emitted for simulation (mtcal.campaign.effects): ``<effect>_model`` gives the increment of the affected
 error function (mm or rad), which the simulator adds to the machine's errors and carries to the reflectors
 through the exact error-inclusive kinematics; ``thermal_drift_displacement`` and ``tracker_scale_reading`` move
 the readings themselves.  So each effect is written once, and tests/test_effects_physics.py and tests/test_effects_new_physics.py show that
@@ -20,7 +20,7 @@ started, s):
 * backlash       positioning error + d * b / 2                                        -> column * d / 2
                  (b = error(+ approach) - error(- approach) of the positioning error in its own ISO 230-1 sense;
                  ISO 230-2's reversal value B (commanded sense) = b on a linear axis, s b on a rotary axis with
-                 s = +1 when a positive command turns about +z of its stator, else -1 (DMU 50's C); mtcal.effects)
+                 s = +1 when a positive command turns about +z of its stator, else -1 (DMU 50's C); mtcal.campaign.effects)
 * reversal_angular  angular error (E_A/E_B/E_C of a linear axis) + d * r / 2             -> column * d / 2
                  (pitch / yaw / roll differs by r between + and - approach; the same reversal law as backlash)
 * scale          positioning error + 1e-6 * ppm * q (q in mm, or rad for rotary)       -> column * q * 1e-6

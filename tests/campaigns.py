@@ -1,5 +1,5 @@
 """Planted campaigns for the diagnosis proof (issue 13): an independent generator of small laser-tracker campaigns
-of varied design, made by the physical simulator (mtcal.simulate: effects as physics through the exact
+of varied design, made by the physical simulator (mtcal.campaign.simulate: effects as physics through the exact
 error-inclusive kinematics, AT960 noise), seeded, with the truth.  It never uses the diagnosis' signatures.
 
 Design (``Design``): station in front of the machine, at the side or far (placed here from the machine's travel,
@@ -10,7 +10,7 @@ recording has no tracker columns in either case).
 
 API:
 * ``make(design, effects, seed, *, model=None, reference=None, positions=None, temperature=None, name="")``
-  -> Campaign: one campaign with the planted effects (mtcal.effects names and parameters);
+  -> Campaign: one campaign with the planted effects (mtcal.campaign.effects names and parameters);
 * ``random_design(rng, machine="dmu50", need=())`` -> Design: a varied design (``need``: axes that must be in);
 * ``clean(seed, machine="dmu50")`` -> Campaign: a varied design, nothing planted (false-positive rate);
 * ``planted(seed, machine="dmu50")`` -> Campaign: a varied design with one or two effects drawn from ``POOL``;
@@ -18,7 +18,8 @@ API:
   a knock overlapping it, C location of the axis measured last vs a knock at its start, a real warm-up with a
   temperature channel, direction-dependent pitch, an aliased pitch, a creeping nest, periodic X, tracker scale).
 
-``Campaign.expect``: what a right answer contains, [{"name": effect name (design.md / mtcal.effects), "axis": ...,
+``Campaign.expect``: what a right answer contains, [{"name": effect name (design.md / mtcal.campaign.effects),
+"axis": ...,
 "error": ..., "alternatives": [names that are an acceptable "confounded_with" partner or reading], ...}].
 Units as everywhere: mm, rad, deg (rotary positions), s.
 """
@@ -30,10 +31,10 @@ import numpy as np
 
 from mtcal import load_machine
 from mtcal.data.make_demo_data import build_for
-from mtcal.machine import Machine
-from mtcal.model import ErrorFunction, ErrorModel
-from mtcal.recordings import Recording
-from mtcal.simulate import Plan, default_positions, simulate
+from mtcal.kinematics.machine import Machine
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
+from mtcal.measurement.recordings import Recording
+from mtcal.campaign.simulate import Plan, default_positions, simulate
 
 STATIONS = ("front", "side", "far")
 

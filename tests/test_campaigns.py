@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import campaigns as C
-from mtcal import tracker as trk
+from mtcal.measurement import tracker as trk
 
 
 def test_seeded_and_varied():
@@ -42,7 +42,7 @@ def test_cases_are_planted_well_above_the_noise(name):
     assert len(base.recording) == len(c.recording)
     d = c.recording.xyz - base.recording.xyz
     # signal to noise of the whole effect: sqrt(sum d^T C^-1 d) with C the AT960 covariance of each reading
-    # (mtcal.tracker); > 10 means that a test of this one pattern would find it at z > 10
+    # (mtcal.measurement.tracker); > 10 means that a test of this one pattern would find it at z > 10
     cov = trk.covariance(base.recording.xyz, c.tracker_true)
     snr = np.sqrt(np.einsum("ni,ni->", d, np.linalg.solve(cov, d[..., None])[..., 0]))
     assert snr > 10, (name, snr)

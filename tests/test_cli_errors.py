@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mtcal import cli
+from mtcal.cli import _main as cli
 from mtcal.cli import main
 from mtcal.errors import InputError
 
@@ -86,7 +86,7 @@ def test_negative_tracker_coordinate_is_a_value(capsys, form):
 
 
 def test_join_negative_values_only_for_listed_options():
-    from mtcal.commands._options import join_negative_values
+    from mtcal.cli._options import join_negative_values
     assert join_negative_values(["plan", "--tracker", "-1,2,3", "--seed", "4"]) == ["plan", "--tracker=-1,2,3",
                                                                                     "--seed", "4"]
     assert join_negative_values(["--tracker", "--json"]) == ["--tracker", "--json"]
@@ -122,7 +122,7 @@ def test_os_errors_are_one_line_naming_the_path(tmp_path, monkeypatch, capsys):
 ])
 def test_os_error_words(monkeypatch, capsys, exc, words):
     """Read-only and full disks cannot be made here (tests run as root): the boundary's wording is checked."""
-    from mtcal.commands import plan
+    from mtcal.cli import plan
     monkeypatch.setattr(plan, "run", lambda args: (_ for _ in ()).throw(exc))
     assert main(["plan"]) == 2
     assert _err(capsys) == f"mtcal plan: error: {words}"
@@ -139,7 +139,7 @@ def _raise(exc):
                                  KeyError("E_XX")])
 def test_a_bug_is_not_bad_input(monkeypatch, capsys, exc):
     """LinAlgError is a ValueError: neither it nor a bare ValueError may pass as the user's fault (exit 2)."""
-    from mtcal.commands import plan
+    from mtcal.cli import plan
     monkeypatch.setattr(plan, "run", _raise(exc))
     assert main(["plan"]) == 1
     err = capsys.readouterr().err
@@ -152,14 +152,14 @@ def test_a_bug_is_not_bad_input(monkeypatch, capsys, exc):
 
 
 def test_keyboard_interrupt_exits_130_quietly(monkeypatch, capsys):
-    from mtcal.commands import plan
+    from mtcal.cli import plan
     monkeypatch.setattr(plan, "run", _raise(KeyboardInterrupt()))
     assert main(["plan"]) == 130
     assert _err(capsys) == "mtcal plan: interrupted"
 
 
 def test_input_error_from_library_is_exit_2(monkeypatch, capsys):
-    from mtcal.commands import plan
+    from mtcal.cli import plan
     monkeypatch.setattr(plan, "run", _raise(InputError("word X1.2.3 is not a number", "p.nc", 7)))
     assert main(["plan"]) == 2
     assert _err(capsys) == "mtcal plan: error: p.nc:7: word X1.2.3 is not a number"

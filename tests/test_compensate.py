@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal import gcode
+from mtcal.nc import gcode
 from mtcal.cli import main
-from mtcal.compensate import (Compensator, ProgramCompensator, example_model, iso_types, thesis_model,
+from mtcal.compensate.core import (Compensator, ProgramCompensator, example_model, iso_types, thesis_model,
                               write_tables)
 from mtcal.errors import InputError
-from mtcal.model import ErrorFunction, ErrorModel, save_model
+from mtcal.model.errormodel import ErrorFunction, ErrorModel, save_model
 
 SAMPLE = Path(mtcal.__file__).parent / "data" / "sample_5axis.nc"
 M = mtcal.load_machine("dmu50")
@@ -280,7 +280,7 @@ _MEMORY = """
 import resource, sys
 sys.path.insert(0, {tests!r})
 from test_compensate import _program, MODEL, M
-from mtcal.compensate import Compensator, ProgramCompensator
+from mtcal.compensate.core import Compensator, ProgramCompensator
 _program(sys.argv[1], int(sys.argv[2]))
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 ProgramCompensator(Compensator(MODEL, M, "position"), chunk_lines=5000).run(sys.argv[1], sys.argv[1] + ".out")
@@ -352,7 +352,7 @@ def test_byte_level_path_writes_what_the_line_path_writes(tmp_path, scope, nl):
 
 def test_fused_first_order_equals_deviation_and_jacobian():
     """Scope position, first order: the generated machine-frame step equals -J_xyz^-1 (jacobian_errors @ e)[:3]."""
-    for name in mtcal.machine.available_machines():  # every spec
+    for name in mtcal.kinematics.machine.available_machines():  # every spec
         m = mtcal.load_machine(name)
         rng = np.random.default_rng(9)
         q = rng.uniform(-200, 200, (500, 5))

@@ -11,9 +11,9 @@ import pytest
 
 import mtcal
 from mtcal.cli import main
-from mtcal.compensate import Compensator, ProgramCompensator, example_model
+from mtcal.compensate.core import Compensator, ProgramCompensator, example_model
 from mtcal.errors import InputError
-from mtcal.model import save_model
+from mtcal.model.errormodel import save_model
 
 M = mtcal.load_machine("dmu50")
 MODEL = example_model(M)
@@ -43,7 +43,8 @@ def test_model_typed_in_um_under_mm_is_refused(tmp_path, capsys):
     model = model_file(tmp_path, {"E_XX": 12.5, "E_C0Y": 18})
     code, err, out = run_cli(tmp_path, capsys, PROGRAM, model)
     assert code == 2 and not out.exists() and not list(tmp_path.glob(".out.nc.*"))
-    assert len(err.splitlines()) == 1  # issue 21: the model itself fails the plausibility guard (mtcal.plausibility)
+    # issue 21: the model itself fails the plausibility guard (mtcal.model.plausibility)
+    assert len(err.splitlines()) == 1
     assert "model.json: constant E_XX = 12500 um is beyond the plausibility bound 1000 um" in err
     # past that guard (--force), the guard on what is written still refuses it, line by line
     code, err, out = run_cli(tmp_path, capsys, PROGRAM, model, "--force")

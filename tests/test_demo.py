@@ -8,10 +8,10 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.data import make_demo_data as mk
-from mtcal.demo import data_path
+from mtcal.demo.run import data_path
 from mtcal.io import dumps
-from mtcal.recordings import format_recording
-from mtcal.simulate import simulate
+from mtcal.measurement.recordings import format_recording
+from mtcal.campaign.simulate import simulate
 
 
 @pytest.fixture(scope="module")

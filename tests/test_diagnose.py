@@ -1,6 +1,6 @@
 """mtcal diagnose: planted (concealed) effects are found, named, estimated; clean campaigns stay clean.
 
-Campaigns come from mtcal.simulate (AT960 noise, tracker at thesis Pos. 1) reduced to the axes an effect
+Campaigns come from mtcal.campaign.simulate (AT960 noise, tracker at thesis Pos. 1) reduced to the axes an effect
 touches and 3 rounds, so the file stays fast.  "Subtle": every planted effect is a few tracker sigmas
 (transverse sigma ~12 um, radial ~0.4 um at 1.5 m).  Dynamic effects are diagnosed against the fitted
 quasi-static base; quasi-static effects (scale, squareness, ...) are concealed from a given model that lacks
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from mtcal.diagnose import diagnose, diagnose_plate
-from mtcal.model import ErrorModel
-from mtcal.simulate import Plan, simulate_campaign
+from mtcal.model.errormodel import ErrorModel
+from mtcal.campaign.simulate import Plan, simulate_campaign
 
 DEFAULT_POSITIONS = Plan().positions
 T = Plan().tracker
@@ -64,7 +64,7 @@ def test_concealed_effect_found_ranked_first_and_estimated(name, params, axes, m
 
 
 def test_tracker_knock_is_one_offset_step_of_every_later_reading():
-    # mtcal.effects "offset": the tracker (stand) knocked at t_from_s, every later reading (all axes, all
+    # mtcal.campaign.effects "offset": the tracker (stand) knocked at t_from_s, every later reading (all axes, all
     # reflectors) displaced by one vector; diagnosed as ONE step with its change point t0 scanned over the
     # reading times, not as a re-seated nest plus a string of outlier bumps
     rec = simulate_campaign(seed=0, effects=[("offset", {"size": 0.03, "t_from_s": 3000.0})])
@@ -122,7 +122,7 @@ def test_located_by_direction_for_backlash():
 
 @pytest.mark.parametrize("how", ["held", "left_out"])
 def test_plate_reeve_without_scale_names_scale(how):
-    from mtcal.plate import fit_plate, load_example
+    from mtcal.plate.reversal import fit_plate, load_example
     data = load_example("nbs_table1_corrected")
     if how == "held":  # Reeve's model: gamma held at zero in the fit (mtcal plate --no-scale --diagnose)
         d = diagnose_plate(fit_plate(data, scale=False))
@@ -140,7 +140,7 @@ def test_plate_reeve_without_scale_names_scale(how):
 
 def test_plate_as_printed_also_flags_the_misprinted_point():
     # Table 1 as printed (the OCR row of point 1 lost a digit): scale first, then point 1 as an outlier
-    from mtcal.plate import fit_plate, load_example
+    from mtcal.plate.reversal import fit_plate, load_example
     d = diagnose_plate(fit_plate(load_example("nbs_table1"), scale=False))
     names = [(e["name"], e.get("parameter")) for e in d["effects"] if e["significant"]]
     assert names == [("scale", "gamma"), ("outlier", "1")]
@@ -149,21 +149,21 @@ def test_plate_as_printed_also_flags_the_misprinted_point():
 
 def test_plate_cli_diagnose(capsys):
     from mtcal.cli import main
-    from mtcal.plate import DATA_DIR
+    from mtcal.plate.reversal import DATA_DIR
     rc = main(["plate", str(DATA_DIR / "nbs_table1_corrected.csv"), "--no-scale", "--diagnose", "--json"])
     d = json.loads(capsys.readouterr().out)["diagnosis"]
     assert rc == 0 and d["effects"][0]["name"] == "scale" and set(d) >= {"base_sigma", "effects", "located"}
 
 
 def test_plate_full_model_clean():
-    from mtcal.plate import fit_plate, load_example
+    from mtcal.plate.reversal import fit_plate, load_example
     d = diagnose_plate(fit_plate(load_example("nbs_table1_corrected")))
     assert not any(e["significant"] for e in d["effects"])
 
 
 def test_cli_json(tmp_path, capsys):
     from mtcal.cli import main
-    from mtcal.recordings import write_recording
+    from mtcal.measurement.recordings import write_recording
     rec = campaign([("backlash", {"axis": "X", "amount": 0.006})], ["X"])
     path = tmp_path / "r.csv"
     write_recording(rec, path)
@@ -175,8 +175,8 @@ def test_cli_json(tmp_path, capsys):
 
 def test_without_tracker_and_given_model_cli(tmp_path, capsys):
     from mtcal.cli import main
-    from mtcal.model import save_model
-    from mtcal.recordings import write_recording
+    from mtcal.model.errormodel import save_model
+    from mtcal.measurement.recordings import write_recording
     rec = campaign([("squareness", {"error": "E_C0Y", "value": 40e-6})], ["Y"])
     d = diagnose(rec)  # no tracker: the noise model is estimated; the fitted base absorbs squareness
     assert d.noise.kind == "AT960 (estimated tracker)" and not any(e["significant"] for e in d.effects)
@@ -197,7 +197,7 @@ def test_bundled_demo_campaign_finds_only_the_planted_backlash():
     # used to report the cubic misfit as "periodic X, pitch 417 mm, 2.1 um": the tests' null hypothesis is now
     # the quasi-static family at its largest degree, and BIC re-selects the degrees with the backlash modelled.
     from mtcal.data import make_demo_data
-    from mtcal.recordings import read_recording
+    from mtcal.measurement.recordings import read_recording
     truth = json.loads((make_demo_data.HERE / "demo_campaign.truth.json").read_text())
     (planted,) = truth["effects"]
     assert planted["name"] == "backlash" and planted["axis"] == "X"

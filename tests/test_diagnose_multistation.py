@@ -1,6 +1,6 @@
 """Diagnosis of a multi-station recording in one fit (design.md: several tracker stations): every reading weighted
 about its own station's tracker, each station's alignment among the base's unknowns, the tracker effects per
-station.  Campaigns planted through the physical simulator (mtcal.simulate_stations: exact error-inclusive
+station.  Campaigns planted through the physical simulator (mtcal.campaign.stations: exact error-inclusive
 kinematics, AT960 noise from each station, each station misaligned by N(0, 20 um) / N(0, 30 urad)), never through
 the diagnosis' signatures; every test its own seeds."""
 from __future__ import annotations
@@ -10,10 +10,10 @@ import pytest
 
 import mtcal
 from mtcal.diagnose import diagnose
-from mtcal.effects import parse_effect
+from mtcal.campaign.effects import parse_effect
 from mtcal.errors import InputError
-from mtcal.simulate import tracker_positions
-from mtcal.simulate_stations import simulate_stations
+from mtcal.campaign.simulate import tracker_positions
+from mtcal.campaign.stations import simulate_stations
 
 M = mtcal.load_machine("dmu50")
 STATIONS = list(tracker_positions(M).items())[:2]   # the spec's first two stations: front and left of the machine

@@ -18,7 +18,7 @@ from mtcal.diagnose.design import base_design, engine_for, whiten
 from mtcal.diagnose.prepare import prepare
 from mtcal.diagnose.scans import outlier_scan, where_of
 from mtcal.diagnose.selection import Columns, inadequate_because
-from mtcal.simulate import Plan, simulate_campaign
+from mtcal.campaign.simulate import Plan, simulate_campaign
 
 # (case, size arguments): every class of the issue at a size clearly above the noise of its campaign (the
 # detection-against-size table is benchmarks/diagnose_sizes.py; README)

@@ -9,8 +9,8 @@ import mtcal
 from mtcal.cli import main
 from mtcal.diagnose import diagnose
 from mtcal.errors import InputError
-from mtcal.recordings import format_recording, read_recording
-from mtcal.simulate_stations import simulate_stations
+from mtcal.measurement.recordings import format_recording, read_recording
+from mtcal.campaign.stations import simulate_stations
 
 M = mtcal.load_machine("dmu50")
 FRONT, LEFT = (250.0, -1500.0, 150.0), (-1500.0, 0.0, 150.0)

@@ -13,7 +13,7 @@ from mtcal.diagnose import diagnose
 from mtcal.diagnose.design import base_design, engine_for, whiten
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.prepare import prepare
-from mtcal.simulate import Plan, simulate_campaign
+from mtcal.campaign.simulate import Plan, simulate_campaign
 
 POS = Plan().positions
 
@@ -120,7 +120,7 @@ def test_cli_per_axis_positions(tmp_path, capsys):
     import json
 
     from mtcal.cli import main
-    from mtcal.recordings import write_recording
+    from mtcal.measurement.recordings import write_recording
     path = tmp_path / "r.csv"
     write_recording(_campaign(), path)
     out = {}

@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal import iso230_2
+from mtcal.iso230_2 import evaluate as iso230_2
 from mtcal.cli import main
 from mtcal.generated import signatures_numpy as S
-from mtcal.recordings import read_recording
-from mtcal.simulate import Plan, default_positions, schedule, simulate
+from mtcal.measurement.recordings import read_recording
+from mtcal.campaign.simulate import Plan, default_positions, schedule, simulate
 
 SPECS = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 

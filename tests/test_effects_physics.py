@@ -16,7 +16,7 @@ import mtcal
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose import prepare
 from mtcal.generated import signatures_numpy as S
-from mtcal.simulate import Plan, default_positions, simulate
+from mtcal.campaign.simulate import Plan, default_positions, simulate
 
 SPECS = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 UNIT = {"+X": np.array([1.0, 0, 0]), "+Y": np.array([0, 1.0, 0]), "+Z": np.array([0, 0, 1.0])}

@@ -20,8 +20,8 @@ import pytest
 from mtcal.cli import main
 from mtcal.errors import InputError
 from mtcal.export import export_model
-from mtcal.machine import available_machines, load_machine
-from mtcal.model import ErrorFunction, ErrorModel, model_from_dict
+from mtcal.kinematics.machine import available_machines, load_machine
+from mtcal.model.errormodel import ErrorFunction, ErrorModel, model_from_dict
 
 M = load_machine("dmu50")
 RNG = np.random.default_rng(7)

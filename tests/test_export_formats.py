@@ -11,8 +11,8 @@ import pytest
 
 from mtcal.errors import InputError
 from mtcal.export import export_model
-from mtcal.machine import load_machine
-from mtcal.model import ErrorFunction, ErrorModel
+from mtcal.kinematics.machine import load_machine
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
 
 M = load_machine("dmu50")
 X = np.linspace(-250, 250, 11)

@@ -1,4 +1,4 @@
-"""Issue 21, item 1: one plausibility guard (mtcal.plausibility) for everything that reaches a machine, and an
+"""Issue 21, item 1: one plausibility guard (mtcal.model.plausibility) for everything that reaches a machine, and an
 export that writes atomically, removes the stale tables of an earlier export and writes nothing on refusal.
 Each case failed on the main before it: tables moved an axis by 23 mm (a model in um read as mm), 1e300 was
 written as 1e+300, a B table over 0..270 deg was written for an axis that travels 0..180, other commands' JSON
@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 from mtcal.cli import main
-from mtcal.demo import data_path
-from mtcal.identify import identify
-from mtcal.model import save_model
-from mtcal.recordings import read_recording
+from mtcal.demo.run import data_path
+from mtcal.identify.core import identify
+from mtcal.model.errormodel import save_model
+from mtcal.measurement.recordings import read_recording
 
 FORMATS = ["linuxcnc", "siemens", "heidenhain", "tf5280", "etalon"]
 

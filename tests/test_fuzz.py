@@ -311,7 +311,7 @@ def test_corpus_is_deterministic(tmp_path):
 # ---------------------------------------------------------------- bugs are bugs, not "bad input"
 
 def _bug(monkeypatch, exc):
-    import mtcal.commands.plate as plate_cmd
+    import mtcal.cli.plate as plate_cmd
 
     def boom(args):
         raise exc

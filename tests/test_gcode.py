@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mtcal import gcode
+from mtcal.nc import gcode
 from mtcal.errors import InputError
 
 PROGRAM = [

@@ -19,7 +19,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mtcal import gcode
+from mtcal.nc import gcode
 from mtcal.errors import InputError
 
 AXES = "XYZBC"  # this machine's axis words (the parser under test: gcode.words("dmu50").letters)

@@ -7,7 +7,7 @@ import io
 import numpy as np
 import pytest
 
-from mtcal import gcode
+from mtcal.nc import gcode
 from mtcal.errors import InputError
 
 HEAD = "G90 G21\nG0 X0 Y0 Z0\n"  # lines 1-2; the line under test is line 3
@@ -172,7 +172,7 @@ def test_a_subprogram_call_is_refused_or_passed_with_a_warning(tmp_path, capsys,
     """Its moves are in another program: refused naming the line (it passed with exit 0 and no word); with
     --allow-subprograms passed unchanged with a warning naming the line."""
     from mtcal.cli import main
-    from mtcal.model import ErrorModel, save_model
+    from mtcal.model.errormodel import ErrorModel, save_model
     prog = tmp_path / "sub.nc"
     prog.write_text(f"G90 G21\nG0 X10 Y10 Z10 B0 C0\n{call}\nG1 X20 Y10 Z10 B0 C0 F100\n")
     model = tmp_path / "m.json"
@@ -191,7 +191,7 @@ def test_a_subprogram_call_is_refused_or_passed_with_a_warning(tmp_path, capsys,
 
 def test_a_macro_call_is_refused_even_when_subprograms_are_allowed(tmp_path, capsys):
     from mtcal.cli import main
-    from mtcal.model import ErrorModel, save_model
+    from mtcal.model.errormodel import ErrorModel, save_model
     prog = tmp_path / "g65.nc"
     prog.write_text("G90 G21\nG0 X10 Y10 Z10 B0 C0\nG65 P9010 A1 B2\n")
     model = tmp_path / "m.json"

@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal import fitting
+from mtcal.identify import fitting
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.identify import error_names, identify, identify_position
-from mtcal.model import ErrorFunction, ErrorModel, load_model
-from mtcal.recordings import format_recording, make_recording, parse_recording
+from mtcal.identify.core import error_names, identify, identify_position
+from mtcal.model.errormodel import ErrorFunction, ErrorModel, load_model
+from mtcal.measurement.recordings import format_recording, make_recording, parse_recording
 
 M = mtcal.load_machine("dmu50")
 TOOL = {"P": (70.0, 0.0, 10.0), "Q": (-35.0, 60.0, 40.0), "K": (-35.0, -60.0, 70.0)}
@@ -40,7 +40,7 @@ def smooth_model(seed=1, trans=0.01, ang=5e-5, squareness=None) -> ErrorModel:
 
 
 def exact_recording(model: ErrorModel | None, axes=("X", "Y", "Z", "B", "C"), rounds=2, noise=0.0, seed=0):
-    """Minimal generator (independent of mtcal.simulate): exact generated kinematics, unidirectional passes."""
+    """Minimal generator (independent of mtcal.campaign.simulate): exact generated kinematics, unidirectional passes."""
     rng = np.random.default_rng(seed)
     rows = {k: [] for k in ("axis", "round", "position", "point", "xyz")}
     for ax in axes:
@@ -160,7 +160,7 @@ def test_noisy_round_trip_with_simulate_campaign_within_predicted_sigma():
     weighted identification is within 5 predicted sigma of the truth everywhere, and the empirical Type A
     spread agrees with the noise model: the median over all 30 errors of (RMS std / predicted sigma) is within
     0.6 .. 1.5 (each ratio alone has only ~3 degrees of freedom: all positions of a round share one reference)."""
-    from mtcal.simulate import simulate_campaign
+    from mtcal.campaign.simulate import simulate_campaign
     sq = {"E_C0Y": 3e-5, "E_B0Z": -2e-5, "E_A0Z": 1.5e-5}
     model = smooth_model(seed=2, trans=0.02, ang=1e-4, squareness=sq)
     rec = simulate_campaign(model, tracker=TRACKER, seed=11)
@@ -189,7 +189,7 @@ def _slopes(model, a, b):
 
 
 def test_weighting_by_the_tracker_covariance_reduces_the_scatter():
-    from mtcal.simulate import simulate_campaign
+    from mtcal.campaign.simulate import simulate_campaign
     rec = simulate_campaign(None, tracker=TRACKER, seed=3)
     un, w = identify(rec, method="three-point"), identify(rec, tracker=TRACKER, method="three-point")
     # E_YX (along the beam of a tracker in front of the machine) gains most: radial noise is 40x smaller
@@ -388,7 +388,7 @@ def test_inspire_layout_reader(tmp_path, capsys):
 
 def test_reversal_of_bidirectional_passes_shows_backlash():
     """A planted backlash (E_XX larger by b in the + direction) appears as the reversal of E_XX."""
-    from mtcal.simulate import simulate_campaign
+    from mtcal.campaign.simulate import simulate_campaign
     rec = simulate_campaign(None, noise=False)
     sel = (rec.axis == "X") & (rec.direction > 0)
     rec.xyz[sel, 0] += 0.004  # every + reading of X 4 um further along x

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal.identify import identify
-from mtcal.model import ErrorFunction, ErrorModel
-from mtcal.simulate import Plan, default_positions, simulate
+from mtcal.identify.core import identify
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
+from mtcal.campaign.simulate import Plan, default_positions, simulate
 
 from test_machines_e2e import SPECS
 

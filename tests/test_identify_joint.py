@@ -1,5 +1,5 @@
 """Joint weighted identification (issue 14): derived station geometry, recording columns, and the estimator on
-campaigns simulated physically through the exact kinematics (mtcal.simulate_stations: exact error-inclusive
+campaigns simulated physically through the exact kinematics (mtcal.campaign.stations: exact error-inclusive
 reflector positions, rigid station misalignment, AT960 noise) -- never by adding the estimator's linear model."""
 from __future__ import annotations
 
@@ -9,11 +9,11 @@ import pytest
 import mtcal
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
-from mtcal.identify import identify
-from mtcal.identify_joint import joint_fit
-from mtcal.model import ErrorFunction, ErrorModel
-from mtcal.recordings import format_recording, parse_recording
-from mtcal.simulate_stations import simulate_stations
+from mtcal.identify.core import identify
+from mtcal.identify.joint import joint_fit
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
+from mtcal.measurement.recordings import format_recording, parse_recording
+from mtcal.campaign.stations import simulate_stations
 
 M = mtcal.load_machine("dmu50")
 FRONT, LEFT, FRONT_RIGHT, HIGH = (250, -1500, 150), (-1500, 0, 150), (1300, -1300, 150), (-1000, -1000, 1200)
@@ -146,8 +146,8 @@ def demo():
     the ISO frame of the linear axes (design.md gauge) and a tracker cannot see the frame's rotation relative to
     the table, so a truth outside that frame would differ from any estimate by it (2.6 um on this metric)."""
     from mtcal.data.make_demo_data import DEMO_PLAN
-    from mtcal.demo import data_path
-    from mtcal.model import load_model
+    from mtcal.demo.run import data_path
+    from mtcal.model.errormodel import load_model
     truth = load_model(data_path("demo_truth.json"))
     for nm in ("E_YX", "E_ZX", "E_ZY"):
         f = truth.functions[nm]
@@ -180,8 +180,8 @@ def test_four_stations_two_rounds_or_wide_reflectors_within_2_2_um(demo, rounds,
 
 
 def test_one_station_joint_no_worse_than_three_point(demo):
-    """The thesis campaign (one station at Pos. 1, 4 rounds, mtcal.simulate): joint <= three-point."""
-    from mtcal.simulate import simulate
+    """The thesis campaign (one station at Pos. 1, 4 rounds, mtcal.campaign.simulate): joint <= three-point."""
+    from mtcal.campaign.simulate import simulate
     truth, plan, grid = demo
     rec, _ = simulate(truth, machine=M, seed=1, plan=plan, rounds=None)
     v3 = _vol(identify(rec, tracker=FRONT, machine=M, method="three-point").model, truth, grid)
@@ -225,7 +225,7 @@ def test_other_axes_positions_move_the_carrier():
 
 
 def test_plan_json_stations_and_their_bad_values():
-    from mtcal.simulate import plan_from_dict
+    from mtcal.campaign.simulate import plan_from_dict
     pl = plan_from_dict({"stations": {"front": [250, -1500, 150], "left": [-1500, 0, 150]}}, "p.json", M)
     assert list(pl.stations) == ["front", "left"] and pl.stations["left"] == (-1500.0, 0.0, 150.0)
     with pytest.raises(InputError, match=r"p.json: stations.left must be \[x, y, z\] in mm"):

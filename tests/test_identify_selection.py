@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal import fitting
-from mtcal.demo import data_path
-from mtcal.identify import identify
-from mtcal.model import load_model
-from mtcal.recordings import read_recording
+from mtcal.identify import fitting
+from mtcal.demo.run import data_path
+from mtcal.identify.core import identify
+from mtcal.model.errormodel import load_model
+from mtcal.measurement.recordings import read_recording
 
 TRUTH = load_model(data_path("demo_truth.json"))
 

@@ -1,7 +1,8 @@
 """Issue 22: identify and compensate say when a model is not worth applying.
 
 The model's error over the work volume is predicted from the data (the same estimator on two halves of the rounds,
-mtcal.compare.split_half_worth) and checked here against the truth of simulated campaigns (mtcal.compare, after
+mtcal.identify.compare.split_half_worth) and checked here against the truth of simulated campaigns
+(mtcal.identify.compare, after
 the re-setup gauge); a model predicted to carry an error comparable to what it corrects is warned about, in
 identify and in compensate."""
 from __future__ import annotations
@@ -13,13 +14,13 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.cli import main
-from mtcal.compare import compare_models
+from mtcal.identify.compare import compare_models
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
 import identify_truth as bench  # noqa: E402
 
-from mtcal.identify import identify  # noqa: E402
-from mtcal.simulate import simulate  # noqa: E402
+from mtcal.identify.core import identify  # noqa: E402
+from mtcal.campaign.simulate import simulate  # noqa: E402
 
 
 def _campaign(k: int):
@@ -48,7 +49,7 @@ def test_the_predicted_error_is_the_error_the_model_has():
 def test_identify_and_compensate_warn_when_the_model_may_make_the_machine_worse(tmp_path, capsys):
     """The bundled campaign by the unweighted three-point method: 14 um predicted error against 19 um corrected
     (over 54 campaigns such models made the machine worse in 41 %): both commands warn; the joint fit does not."""
-    from mtcal.demo import data_path
+    from mtcal.demo.run import data_path
     rec, prog = data_path("demo_campaign.csv"), data_path("sample_5axis.nc")
     m3, mj = tmp_path / "m3.json", tmp_path / "mj.json"
     assert main(["identify", str(rec), "--method", "three-point", "-o", str(m3)]) == 0
@@ -65,8 +66,8 @@ def test_identify_and_compensate_warn_when_the_model_may_make_the_machine_worse(
 def test_no_prediction_when_an_axis_is_missing_from_a_half_of_the_rounds():
     """C measured in the odd rounds only: a half-model without C would count all of C as model error (a false
     'may make the machine worse'); the prediction is left out and said instead."""
-    from mtcal.demo import data_path
-    from mtcal.recordings import read_recording
+    from mtcal.demo.run import data_path
+    from mtcal.measurement.recordings import read_recording
     rec = read_recording(data_path("demo_campaign.csv"))
     res = identify(rec.select(~((rec.axis == "C") & (rec.round % 2 == 0))), method="three-point")
     assert "worth" not in res.model.meta

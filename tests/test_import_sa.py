@@ -10,9 +10,9 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.import_sa import import_sa
-from mtcal.recordings import format_recording, make_recording, parse_recording, read_recording
-from mtcal.simulate import simulate
+from mtcal.measurement.import_sa import import_sa
+from mtcal.measurement.recordings import format_recording, make_recording, parse_recording, read_recording
+from mtcal.campaign.simulate import simulate
 
 PATTERN = r"(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+?)_(?P<direction>up|dn)"
 
@@ -120,7 +120,7 @@ def test_bad_mapping_and_pattern(tmp_path):
         import_sa(text, "e.txt", pattern=r"(?P<axis>")
     m = tmp_path / "map.csv"
     m.write_text("target,axis,round,position,point\nT1,X,1.5,0,P\n")
-    from mtcal.import_sa import read_mapping
+    from mtcal.measurement.import_sa import read_mapping
     with pytest.raises(InputError, match=r"e\.txt:1 \(mapping: .*map\.csv:2\): round must be an integer"):
         import_sa(text, "e.txt", mapping=read_mapping(m))
     m.write_text("target,axis,round,position\nT1,X,1,0\n")
@@ -132,7 +132,7 @@ def test_numeric_target_names_need_the_name_field_count(tmp_path):
     """SA targets are often numbered: 'Coll Grp 12 x y z' has no non-numeric target field to find."""
     m = tmp_path / "map.csv"
     m.write_text("target,axis,round,position,point,direction\n12,X,1,0,P,+\n13,X,1,50,P,+\n")
-    from mtcal.import_sa import read_mapping
+    from mtcal.measurement.import_sa import read_mapping
     text = "Coll Grp 12 70.0 0.0 10.0\nColl Grp 13 120.0 0.0 10.0\n"
     with pytest.raises(InputError, match=r"e.txt:1: 1 number\(s\) after x y z.*numbered targets need "
                                          r"--name-fields 3"):

@@ -1,6 +1,6 @@
 """ISO 230-2:2014 evaluation: recordings built here with a known run structure and planted deviations; the
 expected values are computed in this file by a plain loop over the standard's definitions, not by
-mtcal.iso230_2; plus end-to-end through `mtcal simulate` with planted scale and backlash."""
+mtcal.iso230_2.evaluate; plus end-to-end through `mtcal simulate` with planted scale and backlash."""
 from __future__ import annotations
 
 import json
@@ -11,8 +11,8 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.iso230_2 import evaluate, infer_directions
-from mtcal.recordings import format_recording, make_recording, parse_recording
+from mtcal.iso230_2.evaluate import evaluate, infer_directions
+from mtcal.measurement.recordings import format_recording, make_recording, parse_recording
 
 D = 154.996  # mm, B/C intersection height of the DMU 50 (dmu50.toml)
 ARCSEC = 180 / math.pi * 3600

@@ -1,4 +1,4 @@
-"""ISO 230-2 from an interferometer's readings (mtcal/iso230_2_readings.py) against the standard's definitions
+"""ISO 230-2 from an interferometer's readings (mtcal/iso230_2/readings.py) against the standard's definitions
 evaluated independently (tests/iso230_2_oracle.py) and against published real data: the readings of one motion
 axis of the public repository anderssandstrom/ecmc_target_muts_logger (b02/x/target_x.md_ISO230.dat, shipped as
 tests/data/iso230_2_b02_x.csv: the figures only)."""

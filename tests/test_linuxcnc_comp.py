@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from mtcal.export import export_model
-from mtcal.machine import load_machine
-from mtcal.model import model_from_dict
+from mtcal.kinematics.machine import load_machine
+from mtcal.model.errormodel import model_from_dict
 
 LINUXCNC = shutil.which("linuxcnc")
 pytestmark = pytest.mark.skipif(LINUXCNC is None or not Path("/usr/bin/python3").exists(),

@@ -14,13 +14,13 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal.compensate import Compensator
-from mtcal.machine import available_machines
+from mtcal.compensate.core import Compensator
+from mtcal.kinematics.machine import available_machines
 from mtcal.diagnose import diagnose
-from mtcal.identify import identify
-from mtcal.model import ErrorFunction, ErrorModel
-from mtcal.plan import plan_uncertainty
-from mtcal.simulate import Plan, default_positions, simulate
+from mtcal.identify.core import identify
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
+from mtcal.planning.plan import plan_uncertainty
+from mtcal.campaign.simulate import Plan, default_positions, simulate
 
 SPECS = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 
@@ -125,9 +125,9 @@ def test_nc_program_compensated_on_every_machine(identified, tmp_path):
     head's B on headbc), scope full (position and orientation, FOR through a head axis): the written program,
     read back and run on the true machine (exact kinematics), reaches the targets; another machine's axis word
     is refused with its line."""
-    from mtcal.compensate import ProgramCompensator
+    from mtcal.compensate.core import ProgramCompensator
     from mtcal.errors import InputError
-    from mtcal.gcode import read_moves
+    from mtcal.nc.gcode import read_moves
     m, truth, res = identified
     rng = np.random.default_rng(5)
     lo = {a: p.min() for a, p in default_positions(m).items()}

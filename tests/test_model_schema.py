@@ -1,4 +1,5 @@
-"""Error-model JSON schema (mtcal.model.model_from_dict, mtcal.schema): every command that reads a model refuses a
+"""Error-model JSON schema (mtcal.model.errormodel.model_from_dict, mtcal.model.schema): every command that reads a
+model refuses a
 wrong shape, type, name, axis or unit in one line naming the file and the field."""
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.model import load_model, model_from_dict
+from mtcal.model.errormodel import load_model, model_from_dict
 
 DATA = Path(__file__).resolve().parents[1] / "mtcal" / "data"
 FUNC = {"axis": "X", "positions": [0, 100, 200], "values": [0.0, 0.001, 0.003]}
@@ -108,7 +109,7 @@ def test_every_command_reading_a_model_refuses_it(tmp_path, capsys, command, raw
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.json"]
 
 
-# ----------------------------------------------------------------------------- plan JSON (mtcal.simulate)
+# ----------------------------------------------------------------------------- plan JSON (mtcal.campaign.simulate)
 @pytest.mark.parametrize("raw, message", [
     ([1], "a plan must be a JSON object"),
     ({"tracker": [True, 0, 0]}, "tracker must be [x, y, z] in mm (three finite numbers), got [True, 0, 0]"),
@@ -121,7 +122,7 @@ def test_every_command_reading_a_model_refuses_it(tmp_path, capsys, command, raw
     ({"rounds": True}, "rounds must be a positive integer, got True"),
 ])
 def test_bad_plans_refused_naming_the_field(raw, message):
-    from mtcal.simulate import plan_from_dict
+    from mtcal.campaign.simulate import plan_from_dict
     with pytest.raises(InputError) as exc:
         plan_from_dict(raw, "plan.json")
     assert str(exc.value).startswith("plan.json: ") and message in str(exc.value)

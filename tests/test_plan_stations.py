@@ -1,4 +1,4 @@
-"""mtcal.plan_stations: the predicted volumetric uncertainty of a multi-station campaign (linear propagation through
+"""mtcal.planning.stations: the predicted volumetric uncertainty of a multi-station campaign (linear propagation through
 the joint estimator's covariance) against a Monte Carlo through the real estimator on physically simulated
 campaigns, and the greedy design."""
 from __future__ import annotations
@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 
 import mtcal
-from mtcal.identify_joint import joint_fit
-from mtcal.plan_stations import deviation_map, design, poses, predict
-from mtcal.simulate import as_plan
-from mtcal.simulate_stations import simulate_stations
+from mtcal.identify.joint import joint_fit
+from mtcal.planning.stations import deviation_map, design, poses, predict
+from mtcal.campaign.simulate import as_plan
+from mtcal.campaign.stations import simulate_stations
 
 M = mtcal.load_machine("dmu50")
 PLAN = as_plan({"axes": {"X": {"start": -200, "stop": 200, "count": 5}, "Y": {"start": -200, "stop": 200, "count": 5},

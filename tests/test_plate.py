@@ -14,7 +14,7 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.plate import (DATA_DIR, PlateData, fit_plate, load_example, plate_from_arrays, plate_from_pairs,
+from mtcal.plate.reversal import (DATA_DIR, PlateData, fit_plate, load_example, plate_from_arrays, plate_from_pairs,
                          plot_plate, read_plate_csv)
 
 U = 1e-6  # the tables print parameters, offsets and sigma in units of 1e-6 (rad, 1, inch)
@@ -279,7 +279,7 @@ def test_four_positions_reeve_redundancy():
 
 def test_lstsq_path_equals_closed_form():
     """The generic least squares (used for > 2 positions) on the paper's two positions = closed form."""
-    from mtcal import plate as P
+    from mtcal.plate import reversal as P
     data = load_example("nbs_table2_corrected")
     names, cols = P._param_layout(2, True)
     J, Y = P._linear_system(data, names, cols)

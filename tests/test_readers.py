@@ -13,8 +13,8 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError, InputWarning
-from mtcal.plate import read_plate_csv
-from mtcal.recordings import read_recording
+from mtcal.plate.reversal import read_plate_csv
+from mtcal.measurement.recordings import read_recording
 
 DATA = Path(__file__).resolve().parents[1] / "mtcal" / "data"
 REC = ("axis,round,position,point,x,y,z\n"
@@ -133,7 +133,7 @@ def _write(path, data):
 
 
 def _demo_rows(pattern: str) -> str:
-    from mtcal.demo import data_path
+    from mtcal.demo.run import data_path
     lines = data_path("demo_campaign.csv").read_text().splitlines()
     return "\n".join([lines[0]] + [ln for ln in lines[1:] if re.match(pattern, ln)]) + "\n"
 
@@ -147,7 +147,7 @@ def test_an_axis_measured_at_one_position_is_named_with_the_file(tmp_path, capsy
 
 
 def test_tab_separated_and_utf16_recordings_are_read(tmp_path):
-    from mtcal.recordings import read_recording
+    from mtcal.measurement.recordings import read_recording
     text = _demo_rows(r"X,1,")
     ref = read_recording(_write(tmp_path / "c.csv", text))
     for name, data, said in (("t.csv", text.replace(",", "\t").encode(), "tab-separated"),
@@ -175,7 +175,7 @@ def test_inspire_axis_that_is_no_axis_is_named(tmp_path, capsys):
 
 def test_a_feed_move_after_g53_names_the_machine_coordinate_move(tmp_path, capsys):
     from mtcal.cli import main
-    from mtcal.model import ErrorModel, save_model
+    from mtcal.model.errormodel import ErrorModel, save_model
     prog = _write(tmp_path / "p.nc", "G90 G21\nG53 X10 Y10 Z10 B0 C0\nG1 X20 F100\n")
     save_model(ErrorModel("dmu50", {"E_C0Y": 1e-5}, {}), tmp_path / "m.json")
     assert main(["compensate", str(prog), "--model", str(tmp_path / "m.json"), "-o", str(tmp_path / "o.nc")]) == 2

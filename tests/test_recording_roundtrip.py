@@ -6,7 +6,7 @@ import numpy as np
 
 import campaigns as C
 from mtcal.diagnose import diagnose
-from mtcal.recordings import read_recording, write_recording
+from mtcal.measurement.recordings import read_recording, write_recording
 
 
 def test_positions_survive_the_csv(tmp_path):

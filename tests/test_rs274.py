@@ -1,6 +1,6 @@
 """A real NC stack: LinuxCNC's standalone interpreter `rs274` (Debian package linuxcnc-uspace) reads mtcal's
 compensated programs; its canonical moves (STRAIGHT_FEED / STRAIGHT_TRAVERSE, printed with 4 decimals) must be the
-program text's end points and mtcal's own block ends (mtcal.gcode.read_moves) to the printed resolution.
+program text's end points and mtcal's own block ends (mtcal.nc.gcode.read_moves) to the printed resolution.
 Skipped, with the reason, when rs274 is not installed (CI installs it when it can: .ci/run)."""
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import pytest
 
 import mtcal
 from mtcal.cli import main
-from mtcal.gcode import read_moves
+from mtcal.nc.gcode import read_moves
 
 RS274 = shutil.which("rs274")
 pytestmark = pytest.mark.skipif(RS274 is None, reason="rs274 (LinuxCNC, Debian package linuxcnc-uspace) is not "

@@ -7,13 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from mtcal import load_machine, tracker as trk
+from mtcal import load_machine
+
+from mtcal.measurement import tracker as trk
 from mtcal.cli import main
-from mtcal.effects import Effect, parse_effect
+from mtcal.campaign.effects import Effect, parse_effect
 from mtcal.errors import InputError
-from mtcal.model import ErrorModel, ErrorFunction
-from mtcal.recordings import read_recording
-from mtcal.simulate import Plan, plan_from_dict, schedule, simulate, simulate_campaign
+from mtcal.model.errormodel import ErrorModel, ErrorFunction
+from mtcal.measurement.recordings import read_recording
+from mtcal.campaign.simulate import Plan, plan_from_dict, schedule, simulate, simulate_campaign
 
 M = load_machine("dmu50")
 _DEFAULT = Plan(M)  # the spec's campaign (derive/machines/dmu50.toml [campaign])
@@ -81,7 +83,8 @@ def test_schedule_out_and_back_reference_first_and_times():
 
 
 def test_noise_has_the_at960_covariance():
-    """Whitened noise (L^-1 e with C = L L^T from mtcal.tracker) must be N(0, I): 20 rounds -> n = 8400 points.
+    """Whitened noise (L^-1 e with C = L L^T from mtcal.measurement.tracker) must be N(0, I): 20 rounds -> n = 8400
+    points.
 
     Sample covariance entries of N(0, I) have sd 1/sqrt(n) (off-diagonal) and sqrt(2/n) (diagonal): 5 sd bounds.
     The sum of squares is chi^2(3n): mean 3n, sd sqrt(6n)."""

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.model import ErrorFunction, ErrorModel, save_model
+from mtcal.model.errormodel import ErrorFunction, ErrorModel, save_model
 
 HERE = Path(__file__).resolve().parent
 TRAVEL = {"X": (-250.0, 250.0), "Y": (-225.0, 225.0), "Z": (-200.0, 200.0)}
@@ -63,8 +63,8 @@ def build_for(machine, seed: int = 20210601) -> ErrorModel:
     every error motion of every axis over its campaign positions (spec), zero at the reference position (the
     position closest to zero); harmonic for a rotary axis measured over (nearly) a full turn; squareness
     ~15 urad, location ~10 um / ~8 urad.  For `mtcal demo --machine NAME` on machines without bundled data."""
-    from mtcal import fitting
-    from mtcal.simulate import default_positions
+    from mtcal.identify import fitting
+    from mtcal.campaign.simulate import default_positions
     rng = np.random.default_rng(seed)
     funcs: dict[str, ErrorFunction] = {}
     for a, pos in default_positions(machine).items():
@@ -100,7 +100,7 @@ DEMO_SEED = 2021
 
 
 def write_all() -> None:
-    from mtcal.simulate import simulate, write_campaign
+    from mtcal.campaign.simulate import simulate, write_campaign
     truth = build()
     save_model(truth, HERE / "demo_truth.json")
     rec, planted = simulate(truth, plan=DEMO_PLAN, rounds=None, seed=DEMO_SEED, effects=[DEMO_EFFECT])

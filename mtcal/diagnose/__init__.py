@@ -21,7 +21,8 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
   from); other axes keep one position per (axis, reflector).  A shift of one (round, reflector) sequence (a
   re-seated nest) is the candidate effect "offset", and so is a tracker knock (effects.py "offset": every reading
   from t0 on shifted by one vector; t0 scanned over the gaps between reading times, counted in the multiplicity);
-* weights: the AT960 covariance (mtcal.tracker) of every reading about the tracker position, given or estimated
+* weights: the AT960 covariance (mtcal.measurement.tracker) of every reading about the tracker position, given or
+estimated
   from the scatter of the repeated rounds (mtcal.diagnose.noise; whitened least squares; sigma ratio 1 = the
   tracker's specification), else (one round, no tracker shape in the scatter) unweighted;
 * with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets;

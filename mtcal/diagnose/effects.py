@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from mtcal.generated import signatures_numpy as S
-from mtcal.machine import Machine
+from mtcal.kinematics.machine import Machine
 
 VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
               "cross_axis", "second_order", "tracker_scale", "offset", "reversal_angular", "nest_creep",
@@ -220,7 +220,7 @@ def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
 def tracker_knock(g: Geometry, t0: float, where: dict, station: str | None = None) -> Candidate:
     """The tracker (stand; of ``station``: its readings only, until it is re-aligned) knocked at ``t0`` (s): every
     reading from t0 on, of every axis and reflector, displaced by one constant vector (mm, machine frame) -- the
-    planted effect ``offset`` of mtcal.effects.  The change point t0 is scanned over the gaps between reading
+    planted effect ``offset`` of mtcal.campaign.effects.  The change point t0 is scanned over the gaps between reading
     times (mtcal.diagnose.scans.knock_scan)."""
     rows, _, of = g.at(station)
     on = (rows & np.isfinite(g.time_s) & (g.time_s >= t0)).astype(float)

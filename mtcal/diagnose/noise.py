@@ -1,7 +1,8 @@
 """The noise model of the diagnosis: the covariance of every reading, given or estimated from the data.
 
 A laser tracker's reading covariance is a small radial part along the beam and a much larger transverse part across
-it (angle encoders; AT960, mtcal.tracker). With the tracker position given (``--tracker``), the AT960 covariance
+it (angle encoders; AT960, mtcal.measurement.tracker). With the tracker position given (``--tracker``), the AT960
+covariance
 about it weights the readings. Without it, the position is estimated from the scatter of the repeated rounds: the
 residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread along the beam;
 each reading's residual is taken about the mean of its cell (axis, position, point, direction) over the rounds, so a
@@ -14,7 +15,7 @@ from the convergence of the beams; Nelder-Mead from that start and from 1.5 m al
 unweighted fit leaks the large transverse noise into the radial residuals of other readings). The estimate is used
 when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); else (or with one round)
 the readings are weighted equally, sigma from the residuals. The estimation itself (starts, likelihood, test) is
-mtcal.tracker_position, shared with identify. Units: mm."""
+mtcal.measurement.tracker_position, shared with identify. Units: mm."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -23,8 +24,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy import stats
 
-from mtcal.tracker import covariance
-from mtcal.tracker_position import LR_LEVEL, beam_starts, isotropic_nll, refine
+from mtcal.measurement.tracker import covariance
+from mtcal.measurement.tracker_position import LR_LEVEL, beam_starts, isotropic_nll, refine
 
 if TYPE_CHECKING:
     from mtcal.diagnose.prepare import Prepared

@@ -1,4 +1,4 @@
-"""Diagnosis of a Hocken-Borchardt plate fit (mtcal.plate) in the form of ``mtcal diagnose``."""
+"""Diagnosis of a Hocken-Borchardt plate fit (mtcal.plate.reversal) in the form of ``mtcal diagnose``."""
 from __future__ import annotations
 
 import math
@@ -13,7 +13,7 @@ PLATE_NAMES = {"gamma": "scale", "alpha": "squareness", "ex": "offset", "ey": "o
 
 
 def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> dict:
-    """Diagnosis of a plate fit (mtcal.plate.PlateFit) in the form of ``mtcal diagnose``.
+    """Diagnosis of a plate fit (mtcal.plate.reversal.PlateFit) in the form of ``mtcal diagnose``.
 
     Base model: the plate fit's design (``fit.design`` (N, m, p): the generated first-order design of
     derive/plate.py, or the Jacobian of the exact residual) without the columns named in ``leave_out``; the
@@ -23,7 +23,7 @@ def diagnose_plate(fit, leave_out: Sequence[str] = (), level: float = 0.01) -> d
     m observation rows).  Lengths in the plate's unit, angles in rad.
     """
     from mtcal.generated import plate_numpy as PG
-    from mtcal.plate import NOMINAL_TURN
+    from mtcal.plate.reversal import NOMINAL_TURN
 
     J = np.asarray(fit.design, dtype=float)
     if getattr(fit, "method", "first_order") == "exact":

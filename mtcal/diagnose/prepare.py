@@ -30,8 +30,8 @@ import numpy as np
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.noise import NoiseModel, noise_model
 from mtcal.errors import InputError
-from mtcal.machine import DEFAULT_MACHINE, Machine, load_machine
-from mtcal.recordings import Recording
+from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
+from mtcal.measurement.recordings import Recording
 
 TIE_POSITIONS = True   # default: reflector positions shared by axes measured from the same reference pose
 

@@ -13,8 +13,8 @@ from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_finding
 from mtcal.diagnose.scans import locate
 from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward, select_degrees
 from mtcal.errors import InputError
-from mtcal.machine import DEFAULT_MACHINE, Machine
-from mtcal.recordings import Recording
+from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine
+from mtcal.measurement.recordings import Recording
 
 log = logging.getLogger("mtcal.diagnose")
 MAX_DEGREE = 3

@@ -17,8 +17,8 @@ from mtcal.errors import InputError
 from mtcal.export import heidenhain, isg, linuxcnc, siemens
 from mtcal.export.sampling import AxisTable, backlash_from, not_held, sample_axis
 from mtcal.io import atomic_write_text, refuse_overwrite
-from mtcal.model import ErrorModel
-from mtcal.plausibility import check_model
+from mtcal.model.errormodel import ErrorModel
+from mtcal.model.plausibility import check_model
 
 # name -> (module, output kind: "dir" = a folder of files, "file" = one file)
 FORMATS = {"linuxcnc": (linuxcnc, "dir"), "siemens": (siemens, "file"), "heidenhain": (heidenhain, "dir"),
@@ -58,7 +58,7 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
                  protect: tuple = (), diagnosis_source: str = "diagnosis", force: bool = False,
                  options: dict | None = None) -> ExportResult:
     """Write ``fmt`` to ``out`` (a folder for "dir" formats, a file otherwise) atomically; refuse before writing
-    anything when the model fails the plausibility guard (mtcal.plausibility; ``force`` writes it with a loud
+    anything when the model fails the plausibility guard (mtcal.model.plausibility; ``force`` writes it with a loud
     warning), the diagnosis is of another machine or recording, a ``require``d error name is not held by the
     format, or there is nothing to write.  ``options``: the format's own (siemens: measuring_system, control;
     linuxcnc: linear_units)."""

@@ -21,7 +21,7 @@ import numpy as np
 from mtcal.errors import InputError
 from mtcal.export import isg
 from mtcal.export.sampling import AxisTable
-from mtcal.model import ErrorModel
+from mtcal.model.errormodel import ErrorModel
 
 NAME = "heidenhain"
 MAX_POINTS = 256

@@ -18,7 +18,7 @@ import numpy as np
 
 from mtcal.errors import InputError
 from mtcal.export.sampling import choose_step, grid
-from mtcal.model import ErrorModel
+from mtcal.model.errormodel import ErrorModel
 
 NAMES = ("tf5280", "etalon")
 MAX_POINTS = 1000

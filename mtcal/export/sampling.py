@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.model import ErrorModel
+from mtcal.model.errormodel import ErrorModel
 
 NICE = (1.0, 2.0, 2.5, 5.0)
 

@@ -1,0 +1,1 @@
+"""Campaign plans and the physical simulator: planted effects as physics, one or several tracker stations."""

@@ -1,0 +1,155 @@
+"""`mtcal` command line and its error boundary.  Each subcommand is a module of mtcal/cli/ with NAME, HELP,
+add_arguments(parser) and run(args) -> exit code; every subcommand offers --json (machine-readable stdout).
+
+Exit codes: 0 done; 2 bad input (a file, a field or an option: one line ``mtcal CMD: error: FILE:LINE: problem``,
+also an operating-system refusal such as a missing file, a directory, no permission, a full disk); 1 a bug in
+mtcal (a short request for a report; the traceback with ``--debug``); 130 interrupted (Ctrl-C); 143 terminated
+(SIGTERM).  Interrupted and terminated runs leave no temporary file (mtcal.io.atomic_open removes its own).
+"""
+from __future__ import annotations
+
+import argparse
+import errno
+import importlib
+import logging
+import pkgutil
+import signal
+import sys
+import traceback
+import warnings
+
+import mtcal.cli as commands
+from mtcal.cli._options import add_common_arguments, join_negative_values
+from mtcal.errors import InputError
+from mtcal.io import remove_temporaries
+
+EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_INTERRUPT, EXIT_TERMINATED = 0, 1, 2, 130, 143
+REPORT_URL = "the mtcal issue tracker"
+
+
+class Terminated(BaseException):
+    """SIGTERM as an exception, so that every ``finally``/cleanup (temporary files) runs on the way out."""
+
+
+def _modules():
+    for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
+        if not info.name.startswith("_"):
+            yield importlib.import_module(f"mtcal.cli.{info.name}")
+
+
+class _logging:
+    """Progress of every module goes through `logging` (logger "mtcal.<module>") to stderr as
+    "mtcal COMMAND: message"; -q keeps warnings only.  The previous configuration is restored on exit (the demo
+    runs commands in-process)."""
+
+    def __init__(self, command: str, quiet: bool):
+        self.log = logging.getLogger("mtcal")
+        self.command, self.quiet = command, quiet
+
+    def __enter__(self):
+        self.saved = (self.log.handlers[:], self.log.level, self.log.propagate)
+        h = logging.StreamHandler(sys.stderr)
+        h.setFormatter(logging.Formatter(f"mtcal {self.command}: %(message)s"))
+        self.log.handlers[:] = [h]
+        self.log.setLevel(logging.WARNING if self.quiet else logging.INFO)
+        self.log.propagate = False
+
+    def __exit__(self, *exc):
+        self.log.handlers[:], self.log.level, self.log.propagate = self.saved
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with a one-line error (no usage block): ``mtcal CMD: error: argument --OPT: problem``."""
+
+    def error(self, message: str):
+        self.exit(EXIT_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = _Parser(prog="mtcal", description="Machine-tool calibration with a laser tracker or a 2-D plate.")
+    debug_help = "on an internal error (exit 1) print the full traceback"
+    ap.add_argument("--debug", action="store_true", help=debug_help)
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for mod in _modules():
+        p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
+        add_common_arguments(p, debug_help)
+        mod.add_arguments(p)
+        p.set_defaults(_run=mod.run)
+    return ap
+
+
+def describe_os_error(exc: OSError) -> str:
+    """One line for an operating-system refusal: the path(s) and the problem in words."""
+    words = {errno.EISDIR: "is a directory", errno.ENOTDIR: "a parent of this path is not a directory",
+             errno.EACCES: "permission denied", errno.EPERM: "operation not permitted",
+             errno.EROFS: "read-only file system", errno.ENOSPC: "no space left on device",
+             errno.ENOENT: "no such file or directory", errno.EEXIST: "exists and is not a directory"}
+    problem = words.get(exc.errno) or (exc.strerror or str(exc)).rstrip(".").lower()
+    if exc.filename is None:
+        return problem if exc.strerror else str(exc)
+    paths = str(exc.filename) + (f" -> {exc.filename2}" if exc.filename2 is not None else "")
+    return f"{paths}: {problem}"
+
+
+def _terminate(signum, frame):  # pragma: no cover - exercised through a subprocess
+    raise Terminated()
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None, prog: str = "mtcal") -> None:
+    print(f"{prog}: warning: {message}", file=sys.stderr)
+
+
+def parse_args(argv: list[str]) -> argparse.Namespace:
+    """Parsed command line (``args._run(args)`` runs it without the error boundary, e.g. inside ``mtcal demo``);
+    a bad option raises SystemExit(2) after printing one line."""
+    return build_parser().parse_args(join_negative_values(list(argv)))
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``mtcal ARGV`` behind the error boundary (module docstring); returns the exit code."""
+    try:
+        args = parse_args(sys.argv[1:] if argv is None else argv)
+    except SystemExit as exc:  # --help (0) or a bad option (2, message printed)
+        return int(exc.code or 0)
+    prog = f"mtcal {args.command}"
+    old_term = _install(signal.SIGTERM, _terminate)
+    old_show = warnings.showwarning
+    warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog)
+    try:
+        with _logging(args.command, getattr(args, "quiet", False)):
+            return int(args._run(args) or 0)
+    except InputError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except OSError as exc:
+        print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)
+        return EXIT_INPUT
+    except KeyboardInterrupt:
+        remove_temporaries()
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPT
+    except Terminated:
+        remove_temporaries()
+        print(f"{prog}: terminated", file=sys.stderr)
+        return EXIT_TERMINATED
+    except Exception as exc:  # a bug: say so, never disguise it as bad input
+        print(f"{prog}: internal error ({type(exc).__name__}: {exc}); this is a bug in mtcal, please report it "
+              f"to {REPORT_URL} with the command line{'' if args.debug else ' and the output of --debug'}",
+              file=sys.stderr)
+        if args.debug:
+            traceback.print_exc()
+        return EXIT_BUG
+    finally:
+        warnings.showwarning = old_show
+        if old_term is not None:
+            signal.signal(signal.SIGTERM, old_term)
+
+
+def _install(sig: int, handler):
+    """Install a signal handler (main thread only; elsewhere, e.g. in a test thread, leave signals alone)."""
+    try:
+        return signal.signal(sig, handler)
+    except ValueError:
+        return None
+
+

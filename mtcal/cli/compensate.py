@@ -1,0 +1,154 @@
+"""`mtcal compensate`: corrected NC data (G-code or CL data) from an error model."""
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+import time
+
+from mtcal.cli._options import integer, real
+from mtcal.compensate.core import (
+    MAX_CORRECTION_MM,
+    MAX_ROTARY_CORRECTION_DEG,
+    RESIDUAL_EVERY,
+    Compensator,
+    ProgramCompensator,
+    iso_types,
+    write_tables,
+)
+from mtcal.io import dumps, refuse_overwrite
+from mtcal.kinematics.machine import load_machine
+from mtcal.model.errormodel import load_model
+from mtcal.model.plausibility import check_model
+
+TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.core.write_tables writes
+NAME = "compensate"
+log = logging.getLogger("mtcal." + NAME)
+HELP = "compensate an NC program (G-code or CL data) for the errors in a model, exactly to first order"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("program", help="NC program: G-code (G0/G1, X Y Z B C) or CL data (x y z i j k; .cl or --input cl)")
+    p.add_argument("--model", required=True, help="error model JSON (mtcal identify)")
+    p.add_argument("--force", action="store_true",
+                   help="compensate with a model that fails the plausibility guard (mtcal.model.plausibility), "
+                        "with a loud warning")
+    p.add_argument("--allow-subprograms", action="store_true",
+                   help="pass subprogram calls (M98, M99, CALL PGM / LBL) unchanged with a warning: the moves of the "
+                        "called program are NOT compensated (default: refused)")
+    p.add_argument("-o", "--output", required=True, help="compensated G-code to write")
+    p.add_argument("--scope", choices=("position", "full"), default="position",
+                   help="position: X Y Z put the tool tip on target (L-VOL, R-VOL); full: B C also correct the tool "
+                        "axis (FOR) outside the cone around B = 0 (default: position)")
+    p.add_argument("--tolerance", type=real(0.0, unit="mm", lo_open=True), default=0.001, metavar="MM",
+                   help="largest predicted mid-segment tool-tip error before a feed move is subdivided (default 0.001)")
+    p.add_argument("--tool-length", type=real(0.0, unit="mm"), default=0.0, metavar="MM",
+                   help="tool length below the error reference point (default 0)")
+    p.add_argument("--iterations", type=integer(1, 50), default=None, metavar="N",
+                   help="1: first-order correction; more: fixed-point iterations on the exact model (default 1 for "
+                        "scope position, 2 for full: first order leaves up to ~0.5 urad of second-order tool-axis "
+                        "error where the uncompensated error is ~180 urad)")
+    p.add_argument("--precision", type=integer(0, 9), default=None, metavar="N",
+                   help="least decimals written (mm and deg; inch one more); more if the input has more (default 4)")
+    p.add_argument("--cone", type=real(0.0, 45.0, "deg"), default=2.0, metavar="DEG",
+                   help="full scope: no B/C correction while the tool axis is within DEG of the C axis, blended in "
+                        "up to 2*DEG (default 2)")
+    p.add_argument("--input", choices=("auto", "gcode", "cl"), default="auto",
+                   help="input kind (default: by extension, .cl/.cls/.apt = CL data)")
+    p.add_argument("--outside", choices=("hold", "error"), default="hold",
+                   help="axis positions outside an error table: hold the end values and count them, or stop")
+    p.add_argument("--max-correction", type=real(0.0, unit="mm", lo_open=True), default=MAX_CORRECTION_MM,
+                   metavar="MM",
+                   help="refuse to write a program with a linear-axis correction larger than MM: a model in the wrong "
+                        f"units (default {MAX_CORRECTION_MM:g})")
+    p.add_argument("--max-rotary-correction", type=real(0.0, unit="deg", lo_open=True),
+                   default=MAX_ROTARY_CORRECTION_DEG, metavar="DEG",
+                   help=f"the same for rotary axes (default {MAX_ROTARY_CORRECTION_DEG:g})")
+    p.add_argument("--tables", metavar="DIR", help="also write per-axis compensation tables (CSV) to DIR")
+    p.add_argument("--residual-every", type=integer(1), default=RESIDUAL_EVERY, metavar="K",
+                   help="evaluate the exact error-inclusive residual of what is written on every K-th move (and on "
+                        f"every inserted point); 1: on all moves (default {RESIDUAL_EVERY}; the JSON says which)")
+
+
+def run(args: argparse.Namespace) -> int:
+    refuse_overwrite([args.output], args.program, args.model, dirs={args.tables: TABLE_FILES})
+    model = load_model(args.model)
+    for w in check_model(model, load_machine(model.machine), args.force, args.model):
+        log.warning("warning: %s", w)
+    if args.iterations is None:
+        args.iterations = 2 if args.scope == "full" else 1
+    comp = Compensator(model, scope=args.scope, tool_length=args.tool_length, iterations=args.iterations,
+                       cone=args.cone, outside=args.outside)
+    t0 = time.perf_counter()
+    last = [t0]
+
+    def progress(done: int, total: int) -> None:
+        now = time.perf_counter()
+        if total > 2_000_000 and (now - last[0] > 1.0 or done >= total):
+            last[0] = now
+            log.info("%5.1f%% of %s", 100 * done / total, args.program)
+
+    pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress,
+                            residual_every=args.residual_every, max_correction=args.max_correction,
+                            max_rotary_correction=args.max_rotary_correction,
+                            allow_subprograms=args.allow_subprograms)
+    rep = pc.run(args.program, args.output, args.input)
+    dt = time.perf_counter() - t0
+    tables = write_tables(model, comp.machine, args.tables) if args.tables else []
+    full = args.scope == "full"
+    res = {
+        "program": args.program, "output": args.output, "model": args.model, "machine": comp.machine.name,
+        "scope": args.scope, "iterations": args.iterations, "tool_length_mm": args.tool_length,
+        "iso_16907": iso_types(model, args.scope),
+        "lines": rep.lines, "moves": rep.moves, "lines_changed": rep.lines_changed,
+        "lines_inserted": rep.lines_inserted, "subdivided_moves": rep.subdivided_moves,
+        "residual": {"evaluated_on": rep.residual_evaluated_on(),
+                     "position_um": rep.position.as_dict(1e3),
+                     "orientation_urad": (rep.orientation if full else rep.orientation_all).as_dict(1e6),
+                     "orientation_all_urad": rep.orientation_all.as_dict(1e6),
+                     "mid_segment_um": rep.mid_position.as_dict(1e3)},
+        "uncompensated": {"evaluated_on": "all moves (first order)",
+                          "position_um": rep.before_position.as_dict(1e3),
+                          "orientation_urad": rep.before_orientation.as_dict(1e6)},
+        "singularity": {"cone_deg": args.cone, "moves_in_cone": rep.in_cone, "moves_blended": rep.blended,
+                        "max_c_correction_deg": round(rep.max_c_correction, 6), "b_clipped": comp.clipped_b},
+        "warnings": {"outside_range": comp.outside_counts, "uncompensated_rapids": rep.uncompensated_rapids},
+        "tables": tables, "seconds": round(dt, 3),
+        "model_worth": model.meta.get("worth"),
+    }
+    worth = model.meta.get("worth")
+    if worth and worth.get("may_worsen"):
+        log.warning("warning: %s: compensating with this model may make the machine worse: it corrects %.1f um RMS "
+                    "and is itself uncertain by %.1f um RMS over its measured volume (identify's split-half "
+                    "prediction); measure more rounds or from more tracker stations", args.model,
+                    worth["corrects_rms_um"], worth["predicted_error_rms_um"])
+    if args.json:
+        print(dumps(res))
+        return 0
+    r = res["residual"]
+    print(f"{args.program} -> {args.output}: {rep.moves} moves, {rep.lines_changed} lines changed, "
+          f"{rep.lines_inserted} inserted ({rep.subdivided_moves} moves subdivided), scope {args.scope}")
+    print(f"ISO/TR 16907: {', '.join(res['iso_16907']['covered']) or 'none (zero model)'}")
+    print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um -> predicted residual "
+          f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written; exact model on "
+          f"{r['evaluated_on']})")
+    if worth:
+        print(f"model     : corrects {worth['corrects_rms_um']:.1f} um RMS over its measured volume; its own error, "
+              f"predicted from the rounds, {worth['predicted_error_rms_um']:.1f} um RMS (the residual above is the "
+              f"model agreeing with itself)")
+    lab = "controllable" if full else "not corrected (scope position)"
+    print(f"tool axis : uncompensated max {res['uncompensated']['orientation_urad']['max']:.2f} urad -> residual "
+          f"max {r['orientation_urad']['max']:.3f} urad, RMS {r['orientation_urad']['rms']:.3f} urad ({lab})")
+    if full:
+        s = res["singularity"]
+        print(f"near B = 0: {s['moves_in_cone']} moves inside the {args.cone:g} deg cone (position only), "
+              f"{s['moves_blended']} blended; largest C correction {s['max_c_correction_deg']:.5f} deg")
+    if comp.outside_counts:
+        print(f"warning: {sum(comp.outside_counts.values())} error evaluations outside the measured range "
+              f"(end values held): {comp.outside_counts}", file=sys.stderr)
+    if rep.uncompensated_rapids:
+        print(f"warning: {len(rep.uncompensated_rapids)} rapid moves before all linear axes were known passed "
+              f"uncompensated (lines {rep.uncompensated_rapids[:5]})", file=sys.stderr)
+    for t in tables:
+        print(f"table: {t}")
+    return 0

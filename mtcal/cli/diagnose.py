@@ -1,0 +1,103 @@
+"""`mtcal diagnose`: locate where recordings and the quasi-static model disagree, name and model the left-out effect."""
+from __future__ import annotations
+
+import argparse
+import logging
+
+from mtcal.cli._options import machine_argument, probability, xyz
+
+NAME = "diagnose"
+log = logging.getLogger("mtcal." + NAME)
+HELP = "fit a quasi-static base model to tracker recordings, locate the misfit, name and model left-out effects"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("recording", metavar="REC.csv", help="laser-tracker recording (tidy CSV of design.md)")
+    p.add_argument("--model", metavar="MODEL.json", help="base model = this error model (residuals = recordings "
+                   "minus its simulation); default: fit smooth error functions to the recording")
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz,
+                   help="tracker position, mm, machine frame: weights readings by the AT960 covariance (default: "
+                   "the position estimated from the scatter of the repeated rounds; the JSON key noise_model says "
+                   "which was used)")
+    p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (default: "
+                   "every station in one fit, each weighted about its own tracker_x,y,z, with its own alignment)")
+    p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
+    p.add_argument("--per-axis-positions", action="store_true",
+                   help="one position per (axis, reflector) instead of sharing a reflector's position between the "
+                   "axes measured from the same reference pose (then a reflector creeping between the axes is "
+                   "absorbed; README, diagnosis base model)")
+    p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
+    machine_argument(p)
+
+
+def _fmt(e: dict) -> str:
+    u = e.get("unit", "")
+    est = e["estimate"]
+    scale, unit = (1e3, "um") if u == "mm" else (1e6, "urad") if u == "rad" else (1.0, u)
+    return f"{est * scale:.4g} +- {e['uncertainty'] * scale:.2g} {unit}"
+
+
+def run(args: argparse.Namespace) -> int:
+    from mtcal.diagnose import diagnose, plot_residuals
+    from mtcal.errors import InputError
+    from mtcal.io import dumps, refuse_overwrite
+    from mtcal.model.errormodel import load_model
+    from mtcal.kinematics.machine import DEFAULT_MACHINE
+    from mtcal.measurement.recordings import read_recording
+
+    refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
+    model = load_model(args.model) if args.model else None
+    machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
+    rec = read_recording(args.recording, machine)
+    if args.station is not None:
+        keep = rec.stations() == args.station
+        if not keep.any():
+            raise InputError(f"{args.recording}: no readings of station {args.station!r} "
+                             f"(stations: {', '.join(sorted(set(rec.stations())))})")
+        rec = rec.select(keep)
+    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level,
+                 tie_positions=not args.per_axis_positions)
+    out = d.to_dict()
+    if args.plots:
+        out["plots"] = plot_residuals(d, args.plots)
+    if args.json:
+        print(dumps(out))
+        return 0
+    unit = "sigma ratio (1 = AT960 spec)" if d.prep.weighted else "unweighted"
+    print(f"noise model: {d.noise.kind}: {d.noise.how}")
+    print(f"{args.recording}: {len(rec)} readings; base model: {d.base['kind']}, degrees "
+          f"{', '.join(f'{a}={k}' for a, k in d.base['degrees'].items())}")
+    print(f"sigma {d.base_sigma * 1e3:.3f} um before -> {d.sigma_after * 1e3:.3f} um after "
+          f"({unit}: {d.base_sigma_ratio:.3f} -> {d.sigma_ratio_after:.3f})")
+    sig = [e for e in d.effects if e["significant"]]
+    if not sig:
+        print("no effect left out: nothing significant at level", args.level)
+    for e in sig:
+        ev = e["evidence"]
+        print(f"  {e['name']:<14} {e['axis'] or '-':<2} {e.get('where', ''):<28} {_fmt(e):<24} "
+              f"F = {ev['F']:.1f}, p_adj = {ev['p_adjusted']:.2g}, cv gain = "
+              f"{'-' if ev['cv_gain'] is None else format(ev['cv_gain'], '.3g')}, "
+              f"sigma after {e['sigma_after'] * 1e3:.3f} um")
+    for e in sig:
+        for c in e.get("confounded_with", []):
+            print(f"    confounded with {c['name']} {c['axis'] or ''} {c['where']}: {c['separate_by']}")
+        if e.get("possible_alias"):
+            print(f"    {e['note']}")
+    for loc in d.located[:8]:
+        print(f"  located: axis {loc.axis} by {loc.by} = {loc.where} (score {loc.score:.1f}, {loc.kind})")
+    for u in d.unexplained[:8]:
+        size = f", {u.shift_mm * 1e3:.2f} um" if u.kind == "mean" else ""
+        print(f"  UNEXPLAINED: axis {u.axis} by {u.by} = {u.where} ({u.kind}{size}, p_adj = {u.p_adjusted:.2g})")
+    for e in d.effects:
+        if e.get("inadequate"):
+            print(f"  not named: {e['name']} {e['axis'] or ''} {e['where']}: {e['inadequate']}")
+    ns: dict[tuple[str, str], list[str]] = {}
+    for e in d.effects:
+        if e.get("not_separable"):
+            ns.setdefault((e["name"], e["not_separable"]), []).append(e["axis"] or "")
+    for (name, why), axes in ns.items():
+        where = f" ({' '.join(a for a in axes if a)})" if any(axes) else ""
+        print(f"  not separable: {name}{where}: {why}")
+    for p in out.get("plots", []):
+        log.info("plot: %s", p)
+    return 0

@@ -1,0 +1,106 @@
+"""`mtcal export`: controller compensation tables from an error model (formatting only; see mtcal/export/)."""
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from pathlib import Path
+
+from mtcal.cli._options import integer, real
+from mtcal.errors import InputError
+from mtcal.export import FORMATS, export_model
+from mtcal.io import dumps, read_json, refuse_overwrite
+from mtcal.kinematics.machine import load_machine
+from mtcal.model.errormodel import load_model
+
+NAME = "export"
+log = logging.getLogger("mtcal." + NAME)
+HELP = "write an error model as controller compensation tables (LinuxCNC, Siemens 840D sl, Heidenhain, TF5280)"
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("model", help="error model JSON (mtcal identify)")
+    p.add_argument("--format", required=True, choices=sorted(FORMATS),
+                   help="linuxcnc: folder of COMP_FILEs + INI snippet; siemens: one MPF (LEC + CEC); heidenhain: "
+                        "folder of *.COM + CONFIG.CMA; tf5280: ISG CSV file; etalon: Etalon exchange file")
+    p.add_argument("-o", "--output", required=True, help="output folder (linuxcnc, heidenhain) or file")
+    p.add_argument("--step", type=real(0.0, unit="mm or deg", lo_open=True), default=None, metavar="MM_OR_DEG",
+                   help="table spacing (mm for linear, deg for rotary axes; default: the finest 1/2/2.5/5 x 10^k "
+                        "that covers each axis' range within the format's point limit)")
+    p.add_argument("--max-points", type=integer(2), default=None, metavar="N",
+                   help="points per table (default: the format's limit: 256; tf5280/etalon 1000)")
+    p.add_argument("--diagnosis", metavar="DIAG.json",
+                   help="`mtcal diagnose --json` answer: significant backlash findings give direction-dependent tables")
+    p.add_argument("--comp-file-type", type=int, choices=(0, 1), default=0,
+                   help="linuxcnc COMP_FILE_TYPE: 0 = nominal, forward, reverse positions; 1 = nominal and trims "
+                        "(default 0)")
+    p.add_argument("--require", default="", metavar="NAMES",
+                   help="comma-separated error names (e.g. E_XX,E_YX) that must be held; refused if the format cannot")
+    p.add_argument("--kinematics-comp", action="store_true",
+                   help="heidenhain: also write KinematicsComp tables KC_<axis>.COM (C1..C6 = ISO 230-1 errors)")
+    p.add_argument("--control", choices=("840d", "828d", "808d"), default="840d",
+                   help="siemens: the SINUMERIK control (808D / 828D: 200 points per table, 828D: 8 CEC tables; "
+                        "840D sl: sized by MD38000 / MD18342; default 840d)")
+    p.add_argument("--measuring-system", type=int, choices=(0, 1), default=0,
+                   help="siemens: index e of $AA_ENC_COMP[e,N,AXi], the axis' encoder the LEC table belongs to "
+                        "(default 0, the first; 1 = the second, as machines whose MD38000[1] is sized)")
+    p.add_argument("--linear-units", choices=("mm", "inch"), default="mm",
+                   help="linuxcnc: the machine INI's [TRAJ]LINEAR_UNITS; linear joints' tables are written in it "
+                        "(default mm)")
+    p.add_argument("--machine", metavar="NAME",
+                   help="the machine the tables are for: refused when the model is of another (default: the model's)")
+    p.add_argument("--force", action="store_true",
+                   help="write a model that fails the plausibility guard (values beyond a machine's errors, tables "
+                        "outside the travel, a diagnosis of another recording), with a loud warning")
+
+
+def _options(args: argparse.Namespace) -> dict:
+    """The format's own options (the rest are refused for formats they do not apply to)."""
+    if args.measuring_system or args.control != "840d":
+        if args.format != "siemens":
+            raise InputError(f"--measuring-system and --control are siemens options, not {args.format}'s")
+    if args.linear_units != "mm" and args.format != "linuxcnc":
+        raise InputError(f"--linear-units is a linuxcnc option, not {args.format}'s")
+    return ({"measuring_system": args.measuring_system, "control": args.control} if args.format == "siemens" else
+            {"linear_units": args.linear_units} if args.format == "linuxcnc" else {})
+
+
+def run(args: argparse.Namespace) -> int:
+    if FORMATS[args.format][1] == "dir":
+        if Path(args.output).exists() and not Path(args.output).is_dir():
+            raise InputError(f"{args.output}: format {args.format} writes a folder, and this is a file")
+        # an existing folder is fine (a re-export); export_model checks every file it writes there against the inputs
+        refuse_overwrite([], args.model, args.diagnosis, dirs={args.output: []})
+    else:
+        refuse_overwrite(args.output, args.model, args.diagnosis)
+    model = load_model(args.model)
+    machine = load_machine(args.machine or model.machine)
+    diag = read_json(args.diagnosis, "diagnosis") if args.diagnosis else None
+    require = [n.strip() for n in args.require.split(",") if n.strip()]
+    res = export_model(model, machine, args.format, args.output, args.model, args.step, args.max_points, diag,
+                       args.comp_file_type, require, args.kinematics_comp,
+                       protect=tuple(p for p in (args.model, args.diagnosis) if p),
+                       diagnosis_source=args.diagnosis or "diagnosis", force=args.force,
+                       options=_options(args))
+    out = {"format": res.format, "files": res.files, "sign": res.sign, "held": res.held, "not_held": res.not_held,
+           "tables": res.tables, "warnings": res.warnings,
+           "units": {"positions": "mm (linear axes), deg (rotary axes)",
+                     "corrections": "unit of the output axis (mm or deg)"}}
+    if args.json:
+        print(dumps(out))
+        return 0
+    print(f"{args.model} -> {args.format}: {len(res.files)} file(s)")
+    print(f"sign: {res.sign}")
+    for t in res.tables:
+        outs = ", ".join(f"{o} from {'+'.join(v['errors'])} (max {v['max_abs_correction']:.4g} {v['unit']})"
+                         for o, v in t["outputs"].items())
+        print(f"  axis {t['axis']}: {t['points']} points, step {t['step']:g} {t['unit']}, "
+              f"[{t['from']:g}, {t['to']:g}]: {outs}" + (f"; reversal {t['reversal']:.4g}" if t["reversal"] else ""))
+    if res.not_held:
+        print(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
+              f"{', '.join(res.not_held)}", file=sys.stderr)
+    for w in res.warnings:
+        log.warning("warning: %s", w)
+    for f in res.files:
+        print(f"wrote {f}")
+    return 0

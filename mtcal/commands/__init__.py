@@ -1,1 +1,0 @@
-"""One module per `mtcal` subcommand (see mtcal/cli.py for the contract)."""

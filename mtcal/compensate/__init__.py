@@ -1,0 +1,1 @@
+"""First-order compensation of NC programs against an error model."""

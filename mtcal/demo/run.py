@@ -1,0 +1,411 @@
+"""`mtcal demo [--machine NAME]`: the whole calibration story, through the same commands a user runs.
+
+campaign (DMU 50: bundled, simulated with thesis-magnitude errors and one concealed effect; any other spec:
+simulated now from a synthetic truth of the same magnitudes, mtcal.data.make_demo_data.build_for) -> identify
+-> plan -> compensate a five-axis program (DMU 50: the bundled one; other machines: a tool path taken through
+the machine's inverse kinematics, written in its axis words) -> diagnose -> NBS plate reversal; numbers
+printed, PNG plots and a Markdown report written to DIR.  The truth behind the campaign is known, so the demo
+says how close identification and compensation came to it.
+"""
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import logging
+import shutil
+import time
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from mtcal.io import atomic_write_text, dumps, save_figure
+
+STEPS = 7
+log = logging.getLogger(__name__)
+
+
+def data_path(name: str) -> Path:
+    return Path(str(resources.files("mtcal.data").joinpath(name)))
+
+
+def _cli(args: list[str]) -> dict:
+    """Run one `mtcal ... --json` command in-process and return its JSON answer (stderr passes through)."""
+    from mtcal.cli import parse_args
+    buf = io.StringIO()
+    ns = parse_args(args + ["--json"])
+    with contextlib.redirect_stdout(buf):
+        code = ns._run(ns)
+    if code:
+        raise RuntimeError(f"`mtcal {' '.join(args)}` failed with exit code {code}")
+    return json.loads(buf.getvalue())
+
+
+class Progress:
+    """Numbered steps through `logging` (logger mtcal.demo.run); the commands run in-process log their own progress
+    unless ``quiet``."""
+
+    def __init__(self):
+        self.t0, self.k = time.perf_counter(), 0
+
+    def step(self, msg: str) -> None:
+        self.k += 1
+        log.info("[%d/%d] %s (%.1f s)", self.k, STEPS, msg, time.perf_counter() - self.t0)
+
+
+def _um(v: float) -> str:
+    return f"{v * 1e3:.2f}"
+
+
+def tool_tip_errors(machine, truth, q: np.ndarray, targets: np.ndarray, tool_length: float = 0.0) -> np.ndarray:
+    """|tool tip - target| in mm when the axes q run on the true machine (exact kinematics, truth errors)."""
+    pose = machine.forward(q, truth.errors_at(machine, q, extrapolate="hold"), tool_length)
+    return np.linalg.norm(pose[:, :3] - targets[:, :3], axis=1)
+
+
+BUNDLED = "dmu50"  # the machine whose campaign, truth and sample program ship in mtcal/data
+
+
+def _campaign(m, out: Path) -> tuple[Path, dict, object]:
+    """(recording path, planted truth, truth model): the bundled campaign of the DMU 50, else a simulated one."""
+    from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_SEED, build_for
+    from mtcal.model.errormodel import load_model
+    from mtcal.campaign.simulate import simulate, write_campaign
+    rec_path = out / "campaign.csv"
+    if m.name == BUNDLED:
+        shutil.copyfile(data_path("demo_campaign.csv"), rec_path)
+        return rec_path, json.loads(data_path("demo_campaign.truth.json").read_text()), load_model(
+            data_path("demo_truth.json"))
+    truth = build_for(m)
+    effect = (DEMO_EFFECT[0], {**DEMO_EFFECT[1], "axis": m.linear_axes[0]})
+    rec, planted = simulate(truth, machine=m, seed=DEMO_SEED, effects=[effect])
+    write_campaign(rec, planted, rec_path)
+    return rec_path, planted, truth
+
+
+def _sample_grid(m, n: int, rng: np.random.Generator) -> np.ndarray:
+    """Random axis positions (n, n_axes) inside the spec's campaign ranges (where the model was measured)."""
+    from mtcal.campaign.simulate import default_positions
+    pos = default_positions(m)
+    return np.column_stack([rng.uniform(pos[a].min(), pos[a].max(), n) for a in m.axes])
+
+
+SEEDS = 8  # other campaigns of the demo's design: the spread of its headline figure (one campaign is one draw)
+
+
+def _over_seeds(m, truth, planted: dict, volumetric) -> dict:
+    """model - truth RMS (um, as ``volumetric``) of SEEDS more campaigns of the same design, truth and planted
+    effect, identified as the demo does (default estimator, tracker given): {"n", "median", "min", "max"}."""
+    from mtcal.data.make_demo_data import DEMO_PLAN
+    from mtcal.identify.core import identify
+    from mtcal.campaign.simulate import simulate
+    plan = DEMO_PLAN if m.name == BUNDLED else None
+    effects = [(e["name"], e["params"]) for e in planted.get("effects", [])]
+    v = []
+    for seed in range(1, SEEDS + 1):
+        rec, _ = simulate(truth, machine=m, plan=plan, seed=seed, effects=effects, rounds=planted["rounds"],
+                          tracker=planted["tracker"])
+        v.append(volumetric(identify(rec, tracker=planted["tracker"], machine=m, worth=False).model))
+    return {"n": SEEDS, "median": float(np.median(v)), "min": float(np.min(v)), "max": float(np.max(v))}
+
+
+def run_demo(out: Path, machine: str | None = None) -> dict:
+    """The demo into ``out``; progress through logging (mtcal.demo.run and the commands; `mtcal -q` silences it)."""
+    import mtcal
+    from mtcal.model.errormodel import load_model
+
+    m = mtcal.load_machine(machine or BUNDLED)  # before anything is written: a bad name writes nothing
+    out.mkdir(parents=True, exist_ok=True)
+    plots = out / "plots"
+    plots.mkdir(exist_ok=True)
+    prog = Progress()
+    summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
+    mach = ["--machine", m.name]
+
+    # 1. campaign ---------------------------------------------------------------------------------------
+    rec_path, planted, truth = _campaign(m, out)
+    tracker = ",".join(f"{c:g}" for c in planted["tracker"])
+    prog.step(f"campaign: {rec_path.name} ({'bundled' if m.name == BUNDLED else 'simulated now'}: {m.name}, "
+              f"{len(m.axes)} axes x {planted['rounds']} rounds, tracker at {tracker} mm; one effect concealed)")
+
+    # 2. identify ----------------------------------------------------------------------------------------
+    model_path = out / "model.json"
+    ident = _cli(["identify", str(rec_path), "-o", str(model_path), f"--tracker={tracker}", "--plots", str(plots),
+                  "--method", "joint",  # identify's default with a tracker position (the stations step: three-point)
+                  *mach])
+    prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
+    model = load_model(model_path)
+    rng = np.random.default_rng(0)
+    if m.name == BUNDLED:  # travel centred on the C axis, as the bundled campaign
+        grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000),
+                                rng.uniform(-150, 150, 2000), rng.uniform(0, 120, 2000), rng.uniform(0, 360, 2000)])
+    else:
+        grid = _sample_grid(m, 2000, rng)
+    dev_true = m.deviation(grid, truth.errors_at(m, grid, "hold"), order=None)[:, :3]
+
+    def volumetric(mdl) -> float:
+        """Model - truth over the grid: RMS of the tool-tip deviation difference, um."""
+        d = m.deviation(grid, mdl.errors_at(m, grid, "hold"), order=None)[:, :3] - dev_true
+        return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
+
+    summary["identify"] = {
+        "squareness_urad": {k: v * 1e6 for k, v in ident["squareness"].items()},
+        "squareness_std_mean_urad": {k: v.get("std_mean", float("nan")) * 1e6
+                                     for k, v in ident.get("squareness_type_a", {}).items()},
+        "squareness_true_urad": {k: v * 1e6 for k, v in true_squareness(truth, ident).items()},
+        "volumetric_true_max_um": float(np.linalg.norm(dev_true, axis=1).max() * 1e3),
+        "volumetric_model_minus_true_rms_um": volumetric(model),
+        "over_seeds": _over_seeds(m, truth, planted, volumetric),
+        "worth": model.meta.get("worth"),
+        "warnings": ident.get("warnings", []),
+    }
+
+    # 3. plan --------------------------------------------------------------------------------------------
+    plan = _cli(["plan", f"--tracker={tracker}", "--plot", str(plots / "plan_map.png"), *mach])
+    prog.step("plan: predicted uncertainty of one round at this tracker placement, and a placement map")
+    observed = {}  # std over rounds at the plan's mid-travel position (the same machine coordinates)
+    for ax, res in ident["axes"].items():
+        k = int(np.argmin(np.abs(np.asarray(res["positions"], dtype=float) - plan["mid_travel"][ax])))
+        observed[ax] = {n: float(v["std"][k]) for n, v in res["errors"].items()}
+    summary["plan"] = {ax: {n: {"position": plan["mid_travel"][ax], "predicted": s,
+                                "observed_std_over_rounds": observed.get(ax, {}).get(n)}
+                            for n, s in plan["axes"][ax].items()} for ax in plan["axes"]}
+
+    # 4. compensate --------------------------------------------------------------------------------------
+    before, after, comp = _compensate_program(m, truth, model_path, out, rng)
+    summary["compensate"] = {"iso_16907": comp["iso_16907"], "lines_changed": comp["lines_changed"],
+                             "true_error_before_max_um": float(before.max() * 1e3),
+                             "true_error_before_rms_um": float(np.sqrt(np.mean(before**2)) * 1e3),
+                             "true_error_after_max_um": float(after.max() * 1e3),
+                             "true_error_after_rms_um": float(np.sqrt(np.mean(after**2)) * 1e3),
+                             "predicted_residual_um": comp["residual"]}
+    _plot_compensation(plots / "compensation_before_after.png", before, after)
+    prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
+
+    # 4b. several stations -------------------------------------------------------------------------------
+    from mtcal.demo.stations import plot_stations, run_stations
+
+    def compensate(mdl, name: str):  # the same sample program, in out/stations/ (the step's own files)
+        from mtcal.model.errormodel import save_model
+        (out / "stations").mkdir(exist_ok=True)
+        p = out / "stations" / f"model_{name}.json"
+        save_model(mdl, p)
+        return compensate_file(m, truth, p, out / "sample_5axis.nc",
+                               out / "stations" / f"sample_5axis_compensated_{name}.nc")[:2]
+    summary["stations"] = run_stations(m, truth, planted, volumetric, compensate)
+    st = summary["stations"]
+    plot_stations(st, plots / "stations.png")
+    prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
+              f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
+              f"stations, joint fit) at equal measuring time")
+
+    # 5. diagnose ----------------------------------------------------------------------------------------
+    diag = _cli(["diagnose", str(rec_path), f"--tracker={tracker}", "--plots", str(plots), *mach])
+    summary["diagnose"] = {"base_sigma": diag["base_sigma"],
+                           "effects": [e for e in diag["effects"] if e.get("significant")],
+                           "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
+                           "located": diag.get("located", [])[:5],
+                           "planted": [{"name": e["name"], **e.get("params", {})} for e in planted.get("effects", [])]}
+    prog.step("diagnose: what the quasi-static model leaves out, where, and how much")
+
+    # 6. plate -------------------------------------------------------------------------------------------
+    plate = _cli(["plate", str(data_path("nbs_table1_corrected.csv")), "--plot", str(plots / "plate_table1.png")])
+    reeve = _cli(["plate", str(data_path("nbs_table1_corrected.csv")), "--no-scale", "--diagnose"])
+    summary["plate"] = {k: plate[k] for k in ("alpha", "beta", "gamma", "ex", "ey", "sigma")}
+    summary["plate"]["without_scale"] = {"sigma": reeve["sigma"], "diagnosis": reeve.get("diagnosis")}
+    prog.step("plate: Hocken-Borchardt reversal of NBS Table 1 (ALBE3), and the model without the scale term")
+
+    summary["seconds"] = time.perf_counter() - prog.t0
+    atomic_write_text(out / "summary.json", dumps(summary) + "\n")
+    atomic_write_text(out / "report.md", report(summary, out))
+    return summary
+
+
+def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Generator
+                        ) -> tuple[np.ndarray, np.ndarray, dict]:
+    """`mtcal compensate` on a five-axis program (DMU 50: the bundled one; other machines: ``_sample_program``);
+    tool-tip errors on the true machine before / after."""
+    nc_in = out / "sample_5axis.nc"
+    if m.name == BUNDLED:
+        shutil.copyfile(data_path("sample_5axis.nc"), nc_in)
+    else:
+        atomic_write_text(nc_in, _sample_program(m, rng))
+    return compensate_file(m, truth, model_path, nc_in, out / "sample_5axis_compensated.nc")
+
+
+def compensate_file(m, truth, model_path: Path, nc_in: Path, nc_out: Path) -> tuple[np.ndarray, np.ndarray, dict]:
+    """`mtcal compensate` NC_IN -> NC_OUT with a model; tool-tip errors (mm) on the true machine before / after."""
+    from mtcal.nc.gcode import read_moves
+    comp = _cli(["compensate", str(nc_in), "--model", str(model_path), "-o", str(nc_out)])
+    q_nom, q_cmd = read_moves(nc_in, machine=m), read_moves(nc_out, machine=m)
+    targets = m.forward(q_nom)
+    return tool_tip_errors(m, truth, q_nom, targets), tool_tip_errors(m, truth, q_cmd, targets), comp
+
+
+def _sample_program(m, rng: np.random.Generator, n: int = 400) -> str:
+    """A five-axis G-code program in the machine's own axis words: a smooth motion between two random axis
+    configurations inside the measured ranges, taken through the forward and the inverse kinematics (so it is
+    what a post-processor would write for that tool path)."""
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    q = _sample_grid(m, 2, rng)
+    path = q[0] + (q[1] - q[0]) * (0.5 - 0.5 * np.cos(np.pi * t))
+    q_nom = m.inverse(m.forward(path), hint=path)
+    lines = ["(mtcal demo: five-axis tool path of " + m.name + ", machine axes, mm and deg)", "G90 G21"]
+    lines += ["G1 " + " ".join(f"{a}{v:.4f}" for a, v in zip(m.axes, row)) for row in q_nom]
+    return "\n".join(lines + ["M30", ""])
+
+
+def true_squareness(truth, ident: dict) -> dict[str, float]:
+    """ISO squareness of the truth model as identify defines it: the constants plus what the slopes of the
+    truth's straightness reference lines (over the measured positions) contribute."""
+    from mtcal.identify import fitting
+    slopes = {}
+    for name, f in truth.functions.items():
+        ax = f.axis
+        if ax in ident["axes"] and ident["axes"][ax].get("reference_lines", {}).get(name) is not None:
+            x = np.asarray(ident["axes"][ax]["positions"], dtype=float)
+            slopes[name] = fitting.reference_line(x, f(x))[1]
+    lines = fitting.squareness(slopes)
+    return {k: truth.constants.get(k, 0.0) + v for k, v in lines.items()}
+
+
+def _plot_compensation(path: Path, before: np.ndarray, after: np.ndarray) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    ax.plot(before * 1e3, label="nominal program on the true machine")
+    ax.plot(after * 1e3, label="compensated with the identified model")
+    ax.set_xlabel("move")
+    ax.set_ylabel("tool-tip error (um)")
+    ax.set_title("Sample five-axis program: tool-tip error before/after compensation")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    save_figure(fig, path, dpi=110)
+    plt.close(fig)
+
+
+def report(s: dict, out: Path) -> str:
+    """The Markdown report (links to the PNGs beside it)."""
+    i, c, d, p = s["identify"], s["compensate"], s["diagnose"], s["plate"]
+    lines = ["# mtcal demo report", "",
+             f"A simulated {s.get('title', 'DMU 50 eVolution')} with errors of the magnitudes measured in the "
+             "thesis, measured with a laser tracker (AT960 noise) in 4 rounds, with one effect concealed in the "
+             "campaign that the "
+             "quasi-static model does not contain. Units: um, urad unless stated.", "",
+             "## Identification", "",
+             "Squareness (right-hand ISO 230-1 convention; the thesis' eq. 3.16 prints the opposite signs), "
+             "identified +- std of the mean over rounds, and the truth's ISO squareness (its constants plus the "
+             "slopes of its straightness reference lines):", "",
+             "| squareness | identified (urad) | truth (urad) |", "|---|---|---|",
+             *[f"| {k} | {v:.1f} +- {i['squareness_std_mean_urad'].get(k, float('nan')):.1f} | "
+               f"{i['squareness_true_urad'].get(k, float('nan')):.1f} |" for k, v in i["squareness_urad"].items()],
+             "",
+             f"Volumetric error of the true machine over 2000 random poses: max {i['volumetric_true_max_um']:.1f} um; "
+             f"identified model minus truth: RMS {i['volumetric_model_minus_true_rms_um']:.1f} um; "
+             f"{_seeds_text(i['over_seeds'])}."
+             + (f" Predicted from the data (the estimator on two halves of the rounds): "
+                f"{i['worth']['predicted_error_rms_um']:.1f} um, against {i['worth']['corrects_rms_um']:.1f} um "
+                f"corrected." if i.get("worth") else ""), ""]
+    for png in sorted((out / "plots").glob("identify_*.png")):
+        lines.append(f"![{png.stem}](plots/{png.name})")
+    if "stations" in s:
+        from mtcal.demo.stations import report_lines
+        lines += report_lines(s["stations"])
+    lines += ["", "## Plan: predicted vs observed uncertainty of one round", "",
+              "`mtcal plan` at the campaign's tracker position predicts the standard uncertainty of one round; the "
+              "campaign's experimental standard deviation over its 4 rounds (itself uncertain by about 40 %) at the "
+              "same position is beside it.", "",
+              "| axis | position | error | predicted | observed std over rounds |", "|---|---|---|---|---|"]
+    for ax, errs in s["plan"].items():
+        for n, v in errs.items():
+            scale, unit = (1e3, "um") if n[2] in "XYZ" else (1e6, "urad")
+            obs = v["observed_std_over_rounds"]
+            lines.append(f"| {ax} | {v['position']:g} | {n} | {v['predicted'] * scale:.2f} {unit} | "
+                         f"{'' if obs is None else f'{obs * scale:.2f} {unit}'} |")
+    what = ("the sample five-axis program" if s.get("machine", BUNDLED) == BUNDLED
+            else "a five-axis program (a tool path through the inverse kinematics)")
+    lines += ["", "![plan map](plots/plan_map.png)", "", f"## Compensation of {what}", "",
+              f"ISO/TR 16907 types covered: {', '.join(c['iso_16907'].get('covered', []))}; partial: "
+              f"{', '.join(c['iso_16907'].get('partial', [])) or 'none'}. Lines changed: {c['lines_changed']}.", "",
+              "| tool-tip error on the true machine | max | RMS |", "|---|---|---|",
+              f"| nominal program | {c['true_error_before_max_um']:.2f} | {c['true_error_before_rms_um']:.2f} |",
+              f"| compensated with the identified model | {c['true_error_after_max_um']:.2f} | "
+              f"{c['true_error_after_rms_um']:.2f} |", "",
+              "What is left is the identification uncertainty (see the plan table): compensation is only as good "
+              "as the model.", "", "![compensation](plots/compensation_before_after.png)", "",
+              "## Diagnosis", "", f"Base model sigma: {d['base_sigma'] * 1e3:.2f} um.", "",
+              "| rank | effect | axis | significant | estimate | sigma after | evidence |",
+              "|---|---|---|---|---|---|---|"]
+    for k, e in enumerate(d["effects"], 1):
+        ev = e.get("evidence") or {}
+        evs = ", ".join(f"{a} = {b:.3g}" for a, b in ev.items() if isinstance(b, (int, float)))
+        lines.append(f"| {k} | {e['name']} | {e.get('axis') or ''} | {e.get('significant')} | {_estimate(e)} | "
+                     f"{e['sigma_after'] * 1e3:.3f} um | {evs} |")
+    lines += ["", f"{d['not_significant']} further candidate effects tested and not significant.", "",
+              "Planted in the campaign (hidden from the analysis): " + "; ".join(_planted(e) for e in d["planted"]) +
+              ".", ""]
+    for png in sorted((out / "plots").glob("diagnose*.png")):
+        lines.append(f"![{png.stem}](plots/{png.name})")
+    lines += ["", "## Plate reversal: NBS Table 1 (Hocken & Borchardt 1979)", "",
+              f"alpha = {p['alpha'] * 1e6:.2f}e-6 rad, beta = {p['beta'] * 1e6:.2f}e-6 rad, gamma = "
+              f"{p['gamma'] * 1e6:.2f}e-6, ex = {p['ex'] * 1e6:.2f} uin, ey = {p['ey'] * 1e6:.2f} uin, sigma = "
+              f"{p['sigma'] * 1e6:.2f} uin (paper: 4.81, -131.24, 13.69, -14.04, 9.45, 0.5).", "",
+              f"Without the scale term (Reeve's model): sigma = {p['without_scale']['sigma'] * 1e6:.1f} uin; "
+              f"diagnosis: {_plate_diag(p['without_scale']['diagnosis'])}.", "",
+              "![plate](plots/plate_table1.png)", "", f"Run time: {s['seconds']:.1f} s.", ""]
+    return "\n".join(lines)
+
+
+def _planted(e: dict) -> str:
+    return f"{e['name']} " + ", ".join(f"{k}={v}" for k, v in e.items() if k != "name")
+
+
+def _estimate(e: dict) -> str:
+    est, u, unit = e.get("estimate"), e.get("uncertainty"), e.get("unit") or ""
+    if not isinstance(est, (int, float)):
+        return str(est)
+    if unit == "mm":
+        est, u, unit = est * 1e3, (u or 0) * 1e3, "um"
+    elif unit == "rad":
+        est, u, unit = est * 1e6, (u or 0) * 1e6, "urad"
+    return f"{est:.3g} +- {u:.2g} {unit}" if u else f"{est:.4g} {unit}"
+
+
+def _plate_diag(diag) -> str:
+    if not diag or not diag.get("effects"):
+        return "nothing left out"
+    e = diag["effects"][0]
+    return f"{e['name']} left out (sigma after {e.get('sigma_after', float('nan')) * 1e6:.2f} uin)"
+
+
+def _seeds_text(o: dict) -> str:
+    return f"{o['n']} more campaigns of this design: median {o['median']:.1f} um, {o['min']:.1f}-{o['max']:.1f}"
+
+
+def print_summary(s: dict) -> None:
+    i, c, d, p = s["identify"], s["compensate"], s["diagnose"], s["plate"]
+    print(f"mtcal demo -> {s['out']} ({s['seconds']:.1f} s)")
+    print("  identify : squareness " + ", ".join(f"{k} {v:.1f} urad" for k, v in i["squareness_urad"].items())
+          + f"; model - truth RMS {i['volumetric_model_minus_true_rms_um']:.1f} um ({_seeds_text(i['over_seeds'])}; "
+            f"true volumetric error up to {i['volumetric_true_max_um']:.1f} um)")
+    print(f"  compensate: tool tip on the true machine max {c['true_error_before_max_um']:.1f} -> "
+          f"{c['true_error_after_max_um']:.1f} um, RMS {c['true_error_before_rms_um']:.1f} -> "
+          f"{c['true_error_after_rms_um']:.1f} um ({', '.join(c['iso_16907'].get('covered', []))})")
+    if "stations" in s:
+        st = s["stations"]
+        print("  stations : model - truth RMS " + ", ".join(
+            f"{lab} {st[k]['model_minus_true_rms_um']:.1f} um" for lab, k in (
+                ("one station three-point", "one_station_three_point"), ("joint", "one_station_joint"),
+                ("four stations", "four_stations_joint")))
+              + f"; compensated program RMS {st['one_station_three_point']['compensated_rms_um']:.1f} -> "
+                f"{st['four_stations_joint']['compensated_rms_um']:.1f} um")
+    print(f"  diagnose : base sigma {d['base_sigma'] * 1e3:.2f} um; "
+          + ("; ".join(f"{e['name']} {e.get('axis') or ''} {_estimate(e)}" for e in d["effects"]) or
+             "nothing significant") + "  (planted: " + "; ".join(_planted(e) for e in d["planted"]) + ")")
+    print(f"  plate    : NBS Table 1 alpha {p['alpha'] * 1e6:.2f}, beta {p['beta'] * 1e6:.2f}, gamma "
+          f"{p['gamma'] * 1e6:.2f} (x1e-6), sigma {p['sigma'] * 1e6:.2f} uin; without scale sigma "
+          f"{p['without_scale']['sigma'] * 1e6:.1f} uin -> {_plate_diag(p['without_scale']['diagnosis'])}")
+    print(f"  report   : {Path(s['out']) / 'report.md'}")

@@ -1,0 +1,1 @@
+"""The machine: chain-spec facts and the geometry API on the generated kinematics (Machine, load_machine)."""

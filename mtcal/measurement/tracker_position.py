@@ -1,0 +1,132 @@
+"""Where the tracker stood, estimated from the scatter of repeated readings (mm, machine frame).
+
+A laser tracker's reading covariance (mtcal.measurement.tracker) is small along the beam and large across it, so the
+scatter of
+repeated readings of one reflector is flattest along the line to the tracker.  ``estimate_position`` turns the
+scatter ``r`` (n, 3) of readings ``xyz`` (n, 3) into the station: (1) each group's (a reflector's) least-spread
+direction gives a beam line through it, (2) the point closest to all beam lines, and 1.5 m either side along the mean
+beam, start (3) a maximum-likelihood fit of the position under the AT960 covariance times a scale c near 1 (prior
+log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the convergence of
+the beams; Nelder-Mead).  The estimate is accepted when it beats isotropic noise by a likelihood-ratio test (chi^2
+with 3 dof, p < 1e-3); its covariance is the inverse of the negative log-likelihood's Hessian.  Used by the
+diagnosis (scatter = residuals of its base family) and by identify (scatter = readings about their mean over the
+rounds, no model needed).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize, stats
+
+from mtcal.measurement.tracker import covariance
+
+LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (a tracker) vs isotropic noise
+START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
+MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
+SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (AT960)
+HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01)  # mm, mm, mm, log c: central differences of the log-likelihood
+
+
+@dataclass(frozen=True)
+class PositionEstimate:
+    """The estimated station (mm), its covariance (mm^2; None when the Hessian is not positive definite), the
+    noise scale relative to the AT960 specification, and the likelihood-ratio test against isotropic noise."""
+
+    position: np.ndarray
+    covariance: np.ndarray | None
+    scale: float
+    likelihood_ratio: float
+    p_isotropic: float
+
+    @property
+    def accepted(self) -> bool:
+        """Whether the scatter shows a tracker's shape (p < ``LR_LEVEL``) and the position is determined."""
+        return self.p_isotropic < LR_LEVEL and self.covariance is not None
+
+    @property
+    def sigma_mm(self) -> np.ndarray:
+        return np.sqrt(np.diagonal(self.covariance)) if self.covariance is not None else np.full(3, np.inf)
+
+
+def least_spread(r: np.ndarray) -> np.ndarray:
+    """The unit direction in which the scatter r (n, 3) is smallest (the beam)."""
+    return np.linalg.eigh(r.T @ r)[1][:, 0]
+
+
+def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) -> list[np.ndarray]:
+    """Starting positions (mm): the point closest (least squares) to every group's beam line (unless they are
+    parallel), and START_DISTANCE either side of the readings' centre along the mean beam."""
+    A, b = np.zeros((3, 3)), np.zeros(3)
+    us = []
+    for sel in groups:
+        u = least_spread(r[sel])
+        us.append(u)
+        P = np.eye(3) - np.outer(u, u)
+        A += P
+        b += P @ xyz[sel].mean(axis=0)
+    lam = np.linalg.eigvalsh(A)
+    starts = [] if lam[-1] <= 0 or lam[0] < 1e-3 * lam[-1] else [np.linalg.solve(A, b)]
+    M = sum(np.outer(u, u) for u in (us or [least_spread(r)]))
+    u = np.linalg.eigh(M)[1][:, -1]
+    c = xyz.mean(axis=0)
+    starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
+    starts = [s for s in starts if math.isfinite(nll(xyz, r, np.append(s, 0.0)))]
+    return starts or [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
+
+
+def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
+    """Negative log-likelihood (up to a constant) of the scatter under c * AT960 covariance about the tracker
+    t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
+    it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
+    t, logc = v[:3], float(v[3])
+    d = np.linalg.norm(xyz - t, axis=1)
+    if not np.all(np.isfinite(v)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
+        return math.inf
+    C = covariance(xyz, t)
+    q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
+    live = np.any(r != 0, axis=1)
+    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * int(live.sum()) * logc
+                  + float(np.sum(np.linalg.slogdet(C[live])[1]))
+                  + (logc / SCALE_PRIOR) ** 2)
+
+
+def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Maximum likelihood from ``start``: (position mm, log c, negative log-likelihood)."""
+    x0 = np.append(np.asarray(start, float), 0.0)
+    simplex = x0 + np.vstack([np.zeros(4), np.diag([300.0, 300.0, 300.0, 0.3])])
+    res = optimize.minimize(lambda v: nll(xyz, r, v), x0, method="Nelder-Mead",
+                            options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 1500})
+    return res.x[:3], float(res.x[3]), float(res.fun)
+
+
+def isotropic_nll(r: np.ndarray) -> float:
+    """The negative log-likelihood of the scatter under isotropic noise of the variance it shows."""
+    live = int(np.any(r != 0, axis=1).sum())
+    return 1.5 * live * (math.log(float(np.sum(r**2)) / (3 * live)) + 1.0)
+
+
+def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> np.ndarray | None:
+    h = np.asarray(HESSIAN_STEP)
+    f0 = nll(xyz, r, v)
+    H = np.zeros((4, 4))
+    for i in range(4):
+        for j in range(i, 4):
+            ei, ej = np.eye(4)[i] * h[i], np.eye(4)[j] * h[j]
+            H[i, j] = H[j, i] = (nll(xyz, r, v + ei + ej) - nll(xyz, r, v + ei - ej) - nll(xyz, r, v - ei + ej)
+                                 + nll(xyz, r, v - ei - ej)) / (4 * h[i] * h[j]) if i != j else \
+                (nll(xyz, r, v + ei) - 2 * f0 + nll(xyz, r, v - ei)) / h[i] ** 2
+    if not np.all(np.isfinite(H)) or np.linalg.eigvalsh(H)[0] <= 0:
+        return None
+    return np.linalg.inv(H)[:3, :3]
+
+
+def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) -> PositionEstimate:
+    """The station (see module docstring) from readings ``xyz`` (n, 3) mm, their scatter ``r`` (n, 3) mm (rows of
+    zeros carry none) and the groups (boolean masks) of readings of one reflector."""
+    best = min((refine(xyz, r, s) for s in beam_starts(xyz, r, groups)), key=lambda v: v[2])
+    t, logc, f = best
+    lr = 2.0 * (isotropic_nll(r) - f)
+    p = float(stats.chi2.sf(max(lr, 0.0), 3))
+    return PositionEstimate(t, _covariance(xyz, r, np.append(t, logc)), math.exp(logc), lr, p)

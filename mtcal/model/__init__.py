@@ -1,0 +1,1 @@
+"""The error model: ErrorModel and its error functions (mm, rad), the JSON schema, the plausibility guard."""

@@ -1,0 +1,1 @@
+"""NC programs read as rows of axis positions (G-code)."""

@@ -1,0 +1,1 @@
+"""Hocken-Borchardt 2-D plate reversal (NBSIR 79-1752)."""
