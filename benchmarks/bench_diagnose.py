@@ -5,8 +5,9 @@ import time
 
 
 def run() -> dict:
+    from mtcal.campaign.plans import Plan
+    from mtcal.campaign.simulate import simulate_campaign
     from mtcal.diagnose import diagnose
-    from mtcal.campaign.simulate import Plan, simulate_campaign
     DEFAULT_TRACKER = Plan().tracker
 
     out = {}

@@ -2,15 +2,15 @@
 thesis plan: 11 positions per linear axis, B 0-180 step 10, C 0-340 step 20; 1680 readings).  Target < 1 s."""
 from __future__ import annotations
 
-
 import numpy as np
 from timing import best_of
 
 
 def run() -> dict:
+    from mtcal.campaign.plans import Plan
+    from mtcal.campaign.simulate import simulate_campaign
     from mtcal.generated import threepoint_numpy as tp
-    from mtcal.identify.core import identify
-    from mtcal.campaign.simulate import Plan, simulate_campaign
+    from mtcal.identify.run import identify
     DEFAULT_TRACKER = Plan().tracker
 
     rec = simulate_campaign(None, tracker=DEFAULT_TRACKER, seed=0)

@@ -8,9 +8,10 @@ from timing import best_of
 
 
 def run() -> dict:
-    from mtcal.identify.core import identify
-    from mtcal.campaign.simulate import Plan, simulate_campaign
+    from mtcal.campaign.plans import Plan
+    from mtcal.campaign.simulate import simulate_campaign
     from mtcal.campaign.stations import simulate_stations
+    from mtcal.identify.run import identify
 
     tracker = Plan().tracker
     one = simulate_campaign(None, tracker=tracker, seed=0)

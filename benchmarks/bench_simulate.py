@@ -10,8 +10,9 @@ from timing import best_of
 
 def run() -> dict:
     from mtcal import load_machine
+    from mtcal.campaign.plans import Plan
+    from mtcal.campaign.simulate import simulate_campaign
     from mtcal.planning.plan import linear_covariance, monte_carlo, placement_map
-    from mtcal.campaign.simulate import Plan, simulate_campaign
 
     m = load_machine("dmu50")
     pl = Plan()

@@ -32,10 +32,10 @@ def iso_framed(truth):
 
 def _identify(m, truth, case: str, seed: int):
     """The identified model of one campaign of ``case`` (see module docstring)."""
-    from mtcal.data.make_demo_data import DEMO_PLAN
-    from mtcal.identify.core import identify
     from mtcal.campaign.simulate import simulate
     from mtcal.campaign.stations import simulate_stations
+    from mtcal.data.make_demo_data import DEMO_PLAN
+    from mtcal.identify.run import identify
     if case.startswith("1_station"):
         rec = simulate(truth, machine=m, seed=seed, plan=DEMO_PLAN, rounds=None)[0]
         method = "three-point" if case.endswith("three_point") else "joint"

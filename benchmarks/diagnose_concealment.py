@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import sys
 
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate_campaign
 from mtcal.diagnose import diagnose
 from mtcal.model.errormodel import ErrorModel
-from mtcal.campaign.simulate import Plan, simulate_campaign
 
 ROWS = [  # (effect, parameters, base: "fit" = fitted, "model" = an empty given model)
     ("backlash", {"axis": "X", "amount": 0.004}, "fit"),

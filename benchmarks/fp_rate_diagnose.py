@@ -11,8 +11,9 @@ import sys
 
 import numpy as np
 
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate_campaign
 from mtcal.diagnose import diagnose
-from mtcal.campaign.simulate import Plan, simulate_campaign
 
 STATIONS = {"front": None, "side": (1900.0, 250.0, 350.0), "far": (400.0, -4500.0, 900.0)}
 AXES = ("XYZBC", "XYC", "YZB")

@@ -25,10 +25,12 @@ import time
 import numpy as np
 
 import mtcal
-from mtcal.identify.compare import compare_models
+from mtcal.campaign.plans import as_plan
+from mtcal.campaign.simulate import simulate
 from mtcal.data.make_demo_data import DEMO_PLAN, build, build_for
-from mtcal.identify.core import identify
-from mtcal.campaign.simulate import as_plan, default_positions, simulate
+from mtcal.identify.compare import compare_models
+from mtcal.identify.run import identify
+from mtcal.kinematics.defaults import default_positions
 
 SPECS = ("dmu50", "headbc", "xyzac")
 TRACKERS = {"dmu50": [(250, -1500, 150), (-1500, 225, 150), (1200, -1200, 600)],

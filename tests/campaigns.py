@@ -30,11 +30,13 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from mtcal import load_machine
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate
 from mtcal.data.make_demo_data import build_for
+from mtcal.kinematics.defaults import default_positions
 from mtcal.kinematics.machine import Machine
-from mtcal.model.errormodel import ErrorFunction, ErrorModel
 from mtcal.measurement.recordings import Recording
-from mtcal.campaign.simulate import Plan, default_positions, simulate
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
 
 STATIONS = ("front", "side", "far")
 

@@ -2,10 +2,10 @@
 the physical simulator with the truth, each effect well above the tracker noise."""
 from __future__ import annotations
 
+import campaigns as C
 import numpy as np
 import pytest
 
-import campaigns as C
 from mtcal.measurement import tracker as trk
 
 

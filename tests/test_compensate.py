@@ -9,12 +9,11 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal.nc import gcode
 from mtcal.cli import main
-from mtcal.compensate.core import (Compensator, ProgramCompensator, example_model, iso_types, thesis_model,
-                              write_tables)
+from mtcal.compensate.core import Compensator, ProgramCompensator, example_model, iso_types, thesis_model, write_tables
 from mtcal.errors import InputError
 from mtcal.model.errormodel import ErrorFunction, ErrorModel, save_model
+from mtcal.nc import gcode
 
 SAMPLE = Path(mtcal.__file__).parent / "data" / "sample_5axis.nc"
 M = mtcal.load_machine("dmu50")

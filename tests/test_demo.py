@@ -6,12 +6,12 @@ from pathlib import Path
 
 import pytest
 
+from mtcal.campaign.simulate import simulate
 from mtcal.cli import main
 from mtcal.data import make_demo_data as mk
 from mtcal.demo.run import data_path
 from mtcal.io import dumps
 from mtcal.measurement.recordings import format_recording
-from mtcal.campaign.simulate import simulate
 
 
 @pytest.fixture(scope="module")

@@ -13,9 +13,10 @@ import json
 import numpy as np
 import pytest
 
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate_campaign
 from mtcal.diagnose import diagnose, diagnose_plate
 from mtcal.model.errormodel import ErrorModel
-from mtcal.campaign.simulate import Plan, simulate_campaign
 
 DEFAULT_POSITIONS = Plan().positions
 T = Plan().tracker
@@ -175,8 +176,8 @@ def test_cli_json(tmp_path, capsys):
 
 def test_without_tracker_and_given_model_cli(tmp_path, capsys):
     from mtcal.cli import main
-    from mtcal.model.errormodel import save_model
     from mtcal.measurement.recordings import write_recording
+    from mtcal.model.errormodel import save_model
     rec = campaign([("squareness", {"error": "E_C0Y", "value": 40e-6})], ["Y"])
     d = diagnose(rec)  # no tracker: the noise model is estimated; the fitted base absorbs squareness
     assert d.noise.kind == "AT960 (estimated tracker)" and not any(e["significant"] for e in d.effects)

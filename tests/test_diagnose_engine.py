@@ -3,6 +3,7 @@ a plain least-squares F test: tests/test_diagnose.py)."""
 from __future__ import annotations
 
 import numpy as np
+
 from mtcal.diagnose import Engine
 
 

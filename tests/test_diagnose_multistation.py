@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal.diagnose import diagnose
 from mtcal.campaign.effects import parse_effect
-from mtcal.errors import InputError
-from mtcal.campaign.simulate import tracker_positions
 from mtcal.campaign.stations import simulate_stations
+from mtcal.diagnose import diagnose
+from mtcal.errors import InputError
+from mtcal.kinematics.defaults import tracker_positions
 
 M = mtcal.load_machine("dmu50")
 STATIONS = list(tracker_positions(M).items())[:2]   # the spec's first two stations: front and left of the machine

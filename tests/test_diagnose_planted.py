@@ -7,20 +7,22 @@ from __future__ import annotations
 
 import math
 
+import campaigns as C
 import numpy as np
 import pytest
-
-import campaigns as C
 from diagnose_judge import judge, out_of_reach
+
+from mtcal.campaign.plans import Plan
+
+# (case, size arguments): every class of the issue at a size clearly above the noise of its campaign (the
+from mtcal.campaign.simulate import simulate_campaign
 from mtcal.diagnose import diagnose
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.design import base_design, engine_for, whiten
 from mtcal.diagnose.prepare import prepare
 from mtcal.diagnose.scans import outlier_scan, where_of
 from mtcal.diagnose.selection import Columns, inadequate_because
-from mtcal.campaign.simulate import Plan, simulate_campaign
 
-# (case, size arguments): every class of the issue at a size clearly above the noise of its campaign (the
 # detection-against-size table is benchmarks/diagnose_sizes.py; README)
 FOUND = [("reversal_pitch", {}), ("aliased_pitch", {}), ("periodic_x", {}), ("c_location_with_model", {}),
          ("c_location_and_knock", {}), ("warm_up", {}), ("tracker_settling", {}), ("lateral_play", {}),

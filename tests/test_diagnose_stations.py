@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 import mtcal
+from mtcal.campaign.stations import simulate_stations
 from mtcal.cli import main
 from mtcal.diagnose import diagnose
 from mtcal.errors import InputError
 from mtcal.measurement.recordings import format_recording, read_recording
-from mtcal.campaign.stations import simulate_stations
 
 M = mtcal.load_machine("dmu50")
 FRONT, LEFT = (250.0, -1500.0, 150.0), (-1500.0, 0.0, 150.0)

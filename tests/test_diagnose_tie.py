@@ -3,17 +3,18 @@ the tie rule, the engine's shared base columns against plain least squares, and 
 nest creeping 10 um/h: missed with per-axis positions, F about 3)."""
 from __future__ import annotations
 
+import campaigns as C
 import numpy as np
 import pytest
+from diagnose_judge import judge
 from scipy import stats
 
-import campaigns as C
-from diagnose_judge import judge
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate_campaign
 from mtcal.diagnose import diagnose
 from mtcal.diagnose.design import base_design, engine_for, whiten
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.prepare import prepare
-from mtcal.campaign.simulate import Plan, simulate_campaign
 
 POS = Plan().positions
 

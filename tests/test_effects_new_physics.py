@@ -15,11 +15,13 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal.iso230_2 import evaluate as iso230_2
+from mtcal.campaign.plans import Plan, schedule
+from mtcal.campaign.simulate import simulate
 from mtcal.cli import main
 from mtcal.generated import signatures_numpy as S
+from mtcal.iso230_2 import evaluate as iso230_2
+from mtcal.kinematics.defaults import default_positions
 from mtcal.measurement.recordings import read_recording
-from mtcal.campaign.simulate import Plan, default_positions, schedule, simulate
 
 SPECS = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 

@@ -13,10 +13,12 @@ import numpy as np
 import pytest
 
 import mtcal
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose import prepare
 from mtcal.generated import signatures_numpy as S
-from mtcal.campaign.simulate import Plan, default_positions, simulate
+from mtcal.kinematics.defaults import default_positions
 
 SPECS = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 UNIT = {"+X": np.array([1.0, 0, 0]), "+Y": np.array([0, 1.0, 0]), "+Z": np.array([0, 0, 1.0])}

@@ -14,9 +14,9 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.demo.run import data_path
-from mtcal.identify.core import identify
-from mtcal.model.errormodel import save_model
+from mtcal.identify.run import identify
 from mtcal.measurement.recordings import read_recording
+from mtcal.model.errormodel import save_model
 
 FORMATS = ["linuxcnc", "siemens", "heidenhain", "tf5280", "etalon"]
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mtcal.nc import gcode
 from mtcal.errors import InputError
+from mtcal.nc import gcode
 
 PROGRAM = [
     "%\n",

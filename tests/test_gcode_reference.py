@@ -19,8 +19,8 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from mtcal.nc import gcode
 from mtcal.errors import InputError
+from mtcal.nc import gcode
 
 AXES = "XYZBC"  # this machine's axis words (the parser under test: gcode.words("dmu50").letters)
 INCH = 25.4

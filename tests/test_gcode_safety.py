@@ -7,8 +7,8 @@ import io
 import numpy as np
 import pytest
 
-from mtcal.nc import gcode
 from mtcal.errors import InputError
+from mtcal.nc import gcode
 
 HEAD = "G90 G21\nG0 X0 Y0 Z0\n"  # lines 1-2; the line under test is line 3
 

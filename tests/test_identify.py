@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 
 import mtcal
-from mtcal.identify import fitting
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.identify.core import error_names, identify, identify_position
-from mtcal.model.errormodel import ErrorFunction, ErrorModel, load_model
+from mtcal.identify import fitting
+from mtcal.identify.run import identify
+from mtcal.identify.threepoint import error_names, identify_position
 from mtcal.measurement.recordings import format_recording, make_recording, parse_recording
+from mtcal.model.errormodel import ErrorFunction, ErrorModel, load_model
 
 M = mtcal.load_machine("dmu50")
 TOOL = {"P": (70.0, 0.0, 10.0), "Q": (-35.0, 60.0, 40.0), "K": (-35.0, -60.0, 70.0)}

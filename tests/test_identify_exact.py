@@ -11,13 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_machines_e2e import SPECS
 
 import mtcal
-from mtcal.identify.core import identify
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate
+from mtcal.identify.run import identify
+from mtcal.kinematics.defaults import default_positions
 from mtcal.model.errormodel import ErrorFunction, ErrorModel
-from mtcal.campaign.simulate import Plan, default_positions, simulate
-
-from test_machines_e2e import SPECS
 
 SLOPE = 20e-6  # rad: the tilt of each linear axis' straightness reference line in the truth
 

@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 
 import mtcal
+from mtcal.campaign.stations import simulate_stations
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
-from mtcal.identify.core import identify
 from mtcal.identify.joint import joint_fit
-from mtcal.model.errormodel import ErrorFunction, ErrorModel
+from mtcal.identify.run import identify
 from mtcal.measurement.recordings import format_recording, parse_recording
-from mtcal.campaign.stations import simulate_stations
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
 
 M = mtcal.load_machine("dmu50")
 FRONT, LEFT, FRONT_RIGHT, HIGH = (250, -1500, 150), (-1500, 0, 150), (1300, -1300, 150), (-1000, -1000, 1200)
@@ -192,8 +192,9 @@ def test_one_station_joint_no_worse_than_three_point(demo):
 def test_cli_simulate_several_stations_then_identify(tmp_path, capsys):
     """mtcal simulate --tracker repeated writes station and tracker columns and the stations' alignment truth;
     mtcal identify fits them jointly (default) and estimates each station's alignment within 4 sigma."""
-    from mtcal.cli import main
     import json
+
+    from mtcal.cli import main
     rec = tmp_path / "ms.csv"
     assert main(["simulate", "--tracker", "250,-1500,150", "--tracker=-1500,0,150", "--tracker=-1000,-1000,1200",
                  "--seed", "3", "-o", str(rec), "--json"]) == 0
@@ -225,7 +226,7 @@ def test_other_axes_positions_move_the_carrier():
 
 
 def test_plan_json_stations_and_their_bad_values():
-    from mtcal.campaign.simulate import plan_from_dict
+    from mtcal.campaign.plans import plan_from_dict
     pl = plan_from_dict({"stations": {"front": [250, -1500, 150], "left": [-1500, 0, 150]}}, "p.json", M)
     assert list(pl.stations) == ["front", "left"] and pl.stations["left"] == (-1500.0, 0.0, 150.0)
     with pytest.raises(InputError, match=r"p.json: stations.left must be \[x, y, z\] in mm"):

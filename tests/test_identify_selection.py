@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal.identify import fitting
 from mtcal.demo.run import data_path
-from mtcal.identify.core import identify
-from mtcal.model.errormodel import load_model
+from mtcal.identify import fitting
+from mtcal.identify.run import identify
 from mtcal.measurement.recordings import read_recording
+from mtcal.model.errormodel import load_model
 
 TRUTH = load_model(data_path("demo_truth.json"))
 

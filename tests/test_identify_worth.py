@@ -19,8 +19,8 @@ from mtcal.identify.compare import compare_models
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
 import identify_truth as bench  # noqa: E402
 
-from mtcal.identify.core import identify  # noqa: E402
 from mtcal.campaign.simulate import simulate  # noqa: E402
+from mtcal.identify.run import identify  # noqa: E402
 
 
 def _campaign(k: int):

@@ -8,11 +8,11 @@ import json
 import numpy as np
 import pytest
 
+from mtcal.campaign.simulate import simulate
 from mtcal.cli import main
 from mtcal.errors import InputError
 from mtcal.measurement.import_sa import import_sa
 from mtcal.measurement.recordings import format_recording, make_recording, parse_recording, read_recording
-from mtcal.campaign.simulate import simulate
 
 PATTERN = r"(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+?)_(?P<direction>up|dn)"
 

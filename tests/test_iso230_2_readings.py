@@ -10,8 +10,8 @@ import re
 from pathlib import Path
 
 import pytest
-
 from iso230_2_oracle import evaluate as oracle
+
 from mtcal.cli import main
 
 B02 = Path(__file__).resolve().parent / "data" / "iso230_2_b02_x.csv"

@@ -14,13 +14,15 @@ import numpy as np
 import pytest
 
 import mtcal
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate
 from mtcal.compensate.core import Compensator
-from mtcal.kinematics.machine import available_machines
 from mtcal.diagnose import diagnose
-from mtcal.identify.core import identify
+from mtcal.identify.run import identify
+from mtcal.kinematics.defaults import default_positions
+from mtcal.kinematics.machine import available_machines
 from mtcal.model.errormodel import ErrorFunction, ErrorModel
 from mtcal.planning.plan import plan_uncertainty
-from mtcal.campaign.simulate import Plan, default_positions, simulate
 
 SPECS = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
 

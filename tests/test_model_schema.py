@@ -122,7 +122,7 @@ def test_every_command_reading_a_model_refuses_it(tmp_path, capsys, command, raw
     ({"rounds": True}, "rounds must be a positive integer, got True"),
 ])
 def test_bad_plans_refused_naming_the_field(raw, message):
-    from mtcal.campaign.simulate import plan_from_dict
+    from mtcal.campaign.plans import plan_from_dict
     with pytest.raises(InputError) as exc:
         plan_from_dict(raw, "plan.json")
     assert str(exc.value).startswith("plan.json: ") and message in str(exc.value)

@@ -8,11 +8,13 @@ import numpy as np
 import pytest
 
 from mtcal import load_machine
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate_campaign
 from mtcal.cli import main
+from mtcal.identify.threepoint import estimate
+from mtcal.kinematics.defaults import tracker_positions
 from mtcal.model.errormodel import ErrorFunction, ErrorModel
-from mtcal.identify.core import estimate
 from mtcal.planning.plan import linear_covariance, mid_position, monte_carlo, plan_uncertainty, plot_placement_map
-from mtcal.campaign.simulate import Plan, simulate_campaign, tracker_positions
 
 M = load_machine("dmu50")
 TRACKER_POSITIONS = tracker_positions(load_machine("dmu50"))
@@ -136,11 +138,11 @@ def test_cli_bad_input(capsys, args, message):
 
 
 def test_mtcal_identify_scatters_as_planned():
-    """mtcal.identify.core (another module) on 100 simulated rounds of X: its per-round values (out and back passes
+    """mtcal.identify.run (another module) on 100 simulated rounds of X: its per-round values (out and back passes
     averaged, shared reference) scatter as plan predicts with approaches=2, and its own sigma_pred is the same
     linear propagation.  Relative sd of a sample sd over 100 rounds: 7 %; the per-error mean over 10 correlated
     positions is tested within 25 % (> 3.5 sd even if fully correlated), the grand mean within 10 %."""
-    ident = pytest.importorskip("mtcal.identify.core")
+    ident = pytest.importorskip("mtcal.identify.run")
     pl = Plan(rounds=100, positions={"X": Plan().positions["X"]})
     rec = simulate_campaign(rounds=None, plan=pl, seed=5)
     ar = ident.identify(rec, tracker=pl.tracker, method="three-point").axes["X"]  # the estimator plan models
@@ -152,9 +154,10 @@ def test_mtcal_identify_scatters_as_planned():
 
 
 def test_monte_carlo_through_mtcal_identify_two_approaches():
-    """GUM S1 through mtcal.identify.core.identify_position (out and back averaged) vs linear propagation; n = 3000:
+    """GUM S1 through mtcal.identify.threepoint.identify_position (out and back averaged) vs linear propagation; n =
+    3000:
     relative sd of a sample sd 1.3 %, 5 sd = 6.5 %."""
-    pytest.importorskip("mtcal.identify.core")
+    pytest.importorskip("mtcal.identify.threepoint")
     pl = Plan()
     pos = pl.positions["B"][[3, 9, 18]]
     est = monte_carlo(M, pl, "B", pos, POS2, 3000, seed=2, approaches=2)

@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 
 import mtcal
-from mtcal.identify.joint import joint_fit
-from mtcal.planning.stations import deviation_map, design, poses, predict
-from mtcal.campaign.simulate import as_plan
+from mtcal.campaign.plans import as_plan
 from mtcal.campaign.stations import simulate_stations
+from mtcal.identify.joint import joint_fit
+from mtcal.planning.stations import design, deviation_map, poses, predict
 
 M = mtcal.load_machine("dmu50")
 PLAN = as_plan({"axes": {"X": {"start": -200, "stop": 200, "count": 5}, "Y": {"start": -200, "stop": 200, "count": 5},

@@ -14,8 +14,16 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.plate.reversal import (DATA_DIR, PlateData, fit_plate, load_example, plate_from_arrays, plate_from_pairs,
-                         plot_plate, read_plate_csv)
+from mtcal.plate.reversal import (
+    DATA_DIR,
+    PlateData,
+    fit_plate,
+    load_example,
+    plate_from_arrays,
+    plate_from_pairs,
+    plot_plate,
+    read_plate_csv,
+)
 
 U = 1e-6  # the tables print parameters, offsets and sigma in units of 1e-6 (rad, 1, inch)
 

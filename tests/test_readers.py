@@ -13,8 +13,8 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError, InputWarning
-from mtcal.plate.reversal import read_plate_csv
 from mtcal.measurement.recordings import read_recording
+from mtcal.plate.reversal import read_plate_csv
 
 DATA = Path(__file__).resolve().parents[1] / "mtcal" / "data"
 REC = ("axis,round,position,point,x,y,z\n"

@@ -2,9 +2,9 @@
 of them (0.43 um at 71.4286 mm with 6 significant digits) is a misfit the diagnosis sees as a periodic error."""
 from __future__ import annotations
 
+import campaigns as C
 import numpy as np
 
-import campaigns as C
 from mtcal.diagnose import diagnose
 from mtcal.measurement.recordings import read_recording, write_recording
 

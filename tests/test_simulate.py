@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from mtcal import load_machine
-
-from mtcal.measurement import tracker as trk
-from mtcal.cli import main
 from mtcal.campaign.effects import Effect, parse_effect
+from mtcal.campaign.plans import Plan, plan_from_dict, schedule
+from mtcal.campaign.simulate import simulate, simulate_campaign
+from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.model.errormodel import ErrorModel, ErrorFunction
+from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import read_recording
-from mtcal.campaign.simulate import Plan, plan_from_dict, schedule, simulate, simulate_campaign
+from mtcal.model.errormodel import ErrorFunction, ErrorModel
 
 M = load_machine("dmu50")
 _DEFAULT = Plan(M)  # the spec's campaign (derive/machines/dmu50.toml [campaign])

@@ -139,7 +139,7 @@ def test_point_shape():
     assert tp.point_shape(tri.ravel())[0] == pytest.approx(1.0, abs=1e-12)
     line = np.array([[0, 0, 0], [10, 20, 30], [25, 50, 75.0]])
     assert abs(tp.point_shape(line.ravel())[0]) < 1e-12
-    from mtcal.identify.core import _shape
+    from mtcal.identify.threepoint import _shape
     p = _points(10)
     assert np.allclose(tp.point_shape(p.reshape(-1, 9))[:, 0], _shape(p), rtol=1e-10)
 

@@ -76,7 +76,6 @@ from mtcal.errors import InputError
 from mtcal.generated import signatures_numpy as S
 
 
-
 def _axis(v: str) -> str:
     """An axis name (checked against the machine in ``Effect.bind``)."""
     a = str(v).strip().upper()

@@ -16,13 +16,14 @@ from typing import Iterable, Mapping, Sequence
 
 import numpy as np
 
-from mtcal.measurement import tracker as trk
+from mtcal.campaign.plans import as_plan
+from mtcal.campaign.simulate import simulate
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
 from mtcal.kinematics.machine import Machine, load_machine
-from mtcal.model.errormodel import ErrorModel
+from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import Recording, make_recording
-from mtcal.campaign.simulate import as_plan, simulate
+from mtcal.model.errormodel import ErrorModel
 
 ALIGNMENT_UM = 20.0  # default 1-sigma station alignment error: translation (um) and rotation (urad)
 ALIGNMENT_URAD = 30.0

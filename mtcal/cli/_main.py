@@ -17,8 +17,8 @@ import signal
 import sys
 import traceback
 import warnings
+from pathlib import Path
 
-import mtcal.cli as commands
 from mtcal.cli._options import add_common_arguments, join_negative_values
 from mtcal.errors import InputError
 from mtcal.io import remove_temporaries
@@ -32,7 +32,7 @@ class Terminated(BaseException):
 
 
 def _modules():
-    for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
+    for info in sorted(pkgutil.iter_modules([str(Path(__file__).parent)]), key=lambda m: m.name):
         if not info.name.startswith("_"):
             yield importlib.import_module(f"mtcal.cli.{info.name}")
 

@@ -11,15 +11,9 @@ from mtcal.compensate.core import (
     MAX_CORRECTION_MM,
     MAX_ROTARY_CORRECTION_DEG,
     RESIDUAL_EVERY,
-    Compensator,
-    ProgramCompensator,
-    iso_types,
-    write_tables,
 )
+from mtcal.compensate.run import compensate_program
 from mtcal.io import dumps, refuse_overwrite
-from mtcal.kinematics.machine import load_machine
-from mtcal.model.errormodel import load_model
-from mtcal.model.plausibility import check_model
 
 TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.core.write_tables writes
 NAME = "compensate"
@@ -72,15 +66,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     refuse_overwrite([args.output], args.program, args.model, dirs={args.tables: TABLE_FILES})
-    model = load_model(args.model)
-    for w in check_model(model, load_machine(model.machine), args.force, args.model):
-        log.warning("warning: %s", w)
-    if args.iterations is None:
-        args.iterations = 2 if args.scope == "full" else 1
-    comp = Compensator(model, scope=args.scope, tool_length=args.tool_length, iterations=args.iterations,
-                       cone=args.cone, outside=args.outside)
-    t0 = time.perf_counter()
-    last = [t0]
+    last = [time.perf_counter()]
 
     def progress(done: int, total: int) -> None:
         now = time.perf_counter()
@@ -88,35 +74,13 @@ def run(args: argparse.Namespace) -> int:
             last[0] = now
             log.info("%5.1f%% of %s", 100 * done / total, args.program)
 
-    pc = ProgramCompensator(comp, tolerance=args.tolerance, precision=args.precision, progress=progress,
-                            residual_every=args.residual_every, max_correction=args.max_correction,
-                            max_rotary_correction=args.max_rotary_correction,
-                            allow_subprograms=args.allow_subprograms)
-    rep = pc.run(args.program, args.output, args.input)
-    dt = time.perf_counter() - t0
-    tables = write_tables(model, comp.machine, args.tables) if args.tables else []
-    full = args.scope == "full"
-    res = {
-        "program": args.program, "output": args.output, "model": args.model, "machine": comp.machine.name,
-        "scope": args.scope, "iterations": args.iterations, "tool_length_mm": args.tool_length,
-        "iso_16907": iso_types(model, args.scope),
-        "lines": rep.lines, "moves": rep.moves, "lines_changed": rep.lines_changed,
-        "lines_inserted": rep.lines_inserted, "subdivided_moves": rep.subdivided_moves,
-        "residual": {"evaluated_on": rep.residual_evaluated_on(),
-                     "position_um": rep.position.as_dict(1e3),
-                     "orientation_urad": (rep.orientation if full else rep.orientation_all).as_dict(1e6),
-                     "orientation_all_urad": rep.orientation_all.as_dict(1e6),
-                     "mid_segment_um": rep.mid_position.as_dict(1e3)},
-        "uncompensated": {"evaluated_on": "all moves (first order)",
-                          "position_um": rep.before_position.as_dict(1e3),
-                          "orientation_urad": rep.before_orientation.as_dict(1e6)},
-        "singularity": {"cone_deg": args.cone, "moves_in_cone": rep.in_cone, "moves_blended": rep.blended,
-                        "max_c_correction_deg": round(rep.max_c_correction, 6), "b_clipped": comp.clipped_b},
-        "warnings": {"outside_range": comp.outside_counts, "uncompensated_rapids": rep.uncompensated_rapids},
-        "tables": tables, "seconds": round(dt, 3),
-        "model_worth": model.meta.get("worth"),
-    }
-    worth = model.meta.get("worth")
+    res = compensate_program(args.program, args.output, args.model, scope=args.scope, iterations=args.iterations,
+                             tool_length=args.tool_length, cone=args.cone, outside=args.outside,
+                             tolerance=args.tolerance, precision=args.precision, residual_every=args.residual_every,
+                             max_correction=args.max_correction, max_rotary_correction=args.max_rotary_correction,
+                             allow_subprograms=args.allow_subprograms, kind=args.input, tables=args.tables,
+                             force=args.force, progress=progress)
+    worth = res["model_worth"]
     if worth and worth.get("may_worsen"):
         log.warning("warning: %s: compensating with this model may make the machine worse: it corrects %.1f um RMS "
                     "and is itself uncertain by %.1f um RMS over its measured volume (identify's split-half "
@@ -126,8 +90,8 @@ def run(args: argparse.Namespace) -> int:
         print(dumps(res))
         return 0
     r = res["residual"]
-    print(f"{args.program} -> {args.output}: {rep.moves} moves, {rep.lines_changed} lines changed, "
-          f"{rep.lines_inserted} inserted ({rep.subdivided_moves} moves subdivided), scope {args.scope}")
+    print(f"{args.program} -> {args.output}: {res['moves']} moves, {res['lines_changed']} lines changed, "
+          f"{res['lines_inserted']} inserted ({res['subdivided_moves']} moves subdivided), scope {args.scope}")
     print(f"ISO/TR 16907: {', '.join(res['iso_16907']['covered']) or 'none (zero model)'}")
     print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um -> predicted residual "
           f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written; exact model on "
@@ -136,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"model     : corrects {worth['corrects_rms_um']:.1f} um RMS over its measured volume; its own error, "
               f"predicted from the rounds, {worth['predicted_error_rms_um']:.1f} um RMS (the residual above is the "
               f"model agreeing with itself)")
+    full = args.scope == "full"
     lab = "controllable" if full else "not corrected (scope position)"
     print(f"tool axis : uncompensated max {res['uncompensated']['orientation_urad']['max']:.2f} urad -> residual "
           f"max {r['orientation_urad']['max']:.3f} urad, RMS {r['orientation_urad']['rms']:.3f} urad ({lab})")
@@ -143,12 +108,14 @@ def run(args: argparse.Namespace) -> int:
         s = res["singularity"]
         print(f"near B = 0: {s['moves_in_cone']} moves inside the {args.cone:g} deg cone (position only), "
               f"{s['moves_blended']} blended; largest C correction {s['max_c_correction_deg']:.5f} deg")
-    if comp.outside_counts:
-        print(f"warning: {sum(comp.outside_counts.values())} error evaluations outside the measured range "
-              f"(end values held): {comp.outside_counts}", file=sys.stderr)
-    if rep.uncompensated_rapids:
-        print(f"warning: {len(rep.uncompensated_rapids)} rapid moves before all linear axes were known passed "
-              f"uncompensated (lines {rep.uncompensated_rapids[:5]})", file=sys.stderr)
-    for t in tables:
+    outside = res["warnings"]["outside_range"]
+    if outside:
+        print(f"warning: {sum(outside.values())} error evaluations outside the measured range "
+              f"(end values held): {outside}", file=sys.stderr)
+    rapids = res["warnings"]["uncompensated_rapids"]
+    if rapids:
+        print(f"warning: {len(rapids)} rapid moves before all linear axes were known passed "
+              f"uncompensated (lines {rapids[:5]})", file=sys.stderr)
+    for t in res["tables"]:
         print(f"table: {t}")
     return 0

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+
 from mtcal.cli._options import machine_argument
 
 NAME = "demo"

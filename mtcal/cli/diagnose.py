@@ -41,9 +41,9 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_residuals
     from mtcal.errors import InputError
     from mtcal.io import dumps, refuse_overwrite
-    from mtcal.model.errormodel import load_model
     from mtcal.kinematics.machine import DEFAULT_MACHINE
     from mtcal.measurement.recordings import read_recording
+    from mtcal.model.errormodel import load_model
 
     refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
     model = load_model(args.model) if args.model else None

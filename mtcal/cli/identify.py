@@ -6,14 +6,15 @@ import logging
 
 import numpy as np
 
-from mtcal.identify import fitting
 from mtcal.cli._options import integer, machine_argument, nonnegative, xyz
 from mtcal.errors import InputError
-from mtcal.identify.core import identify, parse_positions, read_inspire
+from mtcal.identify import fitting
+from mtcal.identify.run import identify
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.kinematics.machine import DEFAULT_MACHINE
-from mtcal.model.errormodel import save_model
+from mtcal.measurement.inspire import parse_positions, read_inspire
 from mtcal.measurement.recordings import read_recording
+from mtcal.model.errormodel import save_model
 
 NAME = "identify"
 log = logging.getLogger("mtcal." + NAME)

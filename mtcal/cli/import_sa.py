@@ -6,8 +6,8 @@ import argparse
 import logging
 from pathlib import Path
 
-from mtcal.io import dumps, read_text, refuse_overwrite
 from mtcal.cli._options import machine_argument
+from mtcal.io import dumps, read_text, refuse_overwrite
 from mtcal.kinematics.machine import DEFAULT_MACHINE
 
 NAME = "import-sa"

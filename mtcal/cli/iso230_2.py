@@ -8,10 +8,9 @@ import io
 import math
 from pathlib import Path
 
-from mtcal.cli._options import real
+from mtcal.cli._options import machine_argument, real
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, refuse_overwrite
-from mtcal.cli._options import machine_argument
 from mtcal.kinematics.machine import DEFAULT_MACHINE
 
 NAME = "iso230-2"

@@ -77,9 +77,9 @@ def _design(args: argparse.Namespace, plan) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from mtcal.planning.plan import plan_uncertainty, plot_placement_map
+    from mtcal.campaign.plans import Plan, load_plan
     from mtcal.kinematics.machine import load_machine
-    from mtcal.campaign.simulate import Plan, load_plan
+    from mtcal.planning.plan import plan_uncertainty, plot_placement_map
 
     if args.monte_carlo == 1:
         raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")

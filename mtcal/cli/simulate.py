@@ -5,8 +5,8 @@ import argparse
 import logging
 
 from mtcal.campaign import effects as fx
-from mtcal.io import dumps, refuse_overwrite
 from mtcal.cli._options import integer, machine_argument, real, xyz
+from mtcal.io import dumps, refuse_overwrite
 
 NAME = "simulate"
 log = logging.getLogger("mtcal." + NAME)
@@ -46,9 +46,10 @@ def _where(truth: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from mtcal.model.errormodel import load_model
+    from mtcal.campaign.plans import load_plan
+    from mtcal.campaign.simulate import simulate, truth_path, write_campaign
     from mtcal.kinematics.machine import DEFAULT_MACHINE
-    from mtcal.campaign.simulate import load_plan, simulate, truth_path, write_campaign
+    from mtcal.model.errormodel import load_model
 
     refuse_overwrite([args.output, truth_path(args.output)], args.model, args.plan)
     effects = [fx.parse_effect(e) for e in args.effect]

@@ -28,11 +28,11 @@ from typing import Callable
 
 import numpy as np
 
-from mtcal.nc import gcode
 from mtcal.errors import InputError
 from mtcal.io import atomic_open, atomic_write_text
 from mtcal.kinematics.machine import Machine, load_machine
 from mtcal.model.errormodel import ErrorEvaluator, ErrorFunction, ErrorModel
+from mtcal.nc import gcode
 
 SCOPES = ("position", "full")
 BLOCK = 4096  # rows per numeric block: keeps the generated functions' temporaries in cache

@@ -64,7 +64,7 @@ def build_for(machine, seed: int = 20210601) -> ErrorModel:
     position closest to zero); harmonic for a rotary axis measured over (nearly) a full turn; squareness
     ~15 urad, location ~10 um / ~8 urad.  For `mtcal demo --machine NAME` on machines without bundled data."""
     from mtcal.identify import fitting
-    from mtcal.campaign.simulate import default_positions
+    from mtcal.kinematics.defaults import default_positions
     rng = np.random.default_rng(seed)
     funcs: dict[str, ErrorFunction] = {}
     for a, pos in default_positions(machine).items():

@@ -9,8 +9,6 @@ says how close identification and compensation came to it.
 """
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import logging
 import shutil
@@ -20,7 +18,23 @@ from pathlib import Path
 
 import numpy as np
 
+from mtcal.campaign.plans import Plan
+from mtcal.campaign.simulate import simulate, write_campaign
+from mtcal.compensate.run import compensate_program
+from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_PLAN, DEMO_SEED, build_for
+from mtcal.demo.stations import plot_stations, report_lines, run_stations
+from mtcal.diagnose import diagnose, diagnose_plate, plot_residuals
+from mtcal.identify import fitting
+from mtcal.identify.plots import plot_all
+from mtcal.identify.run import identify
 from mtcal.io import atomic_write_text, dumps, save_figure
+from mtcal.kinematics.defaults import default_positions
+from mtcal.kinematics.machine import load_machine
+from mtcal.measurement.recordings import read_recording
+from mtcal.model.errormodel import load_model, save_model
+from mtcal.nc.gcode import read_moves
+from mtcal.planning.plan import plan_uncertainty, plot_placement_map
+from mtcal.plate.reversal import fit_plate, plot_plate, read_plate_csv
 
 STEPS = 7
 log = logging.getLogger(__name__)
@@ -30,21 +44,14 @@ def data_path(name: str) -> Path:
     return Path(str(resources.files("mtcal.data").joinpath(name)))
 
 
-def _cli(args: list[str]) -> dict:
-    """Run one `mtcal ... --json` command in-process and return its JSON answer (stderr passes through)."""
-    from mtcal.cli import parse_args
-    buf = io.StringIO()
-    ns = parse_args(args + ["--json"])
-    with contextlib.redirect_stdout(buf):
-        code = ns._run(ns)
-    if code:
-        raise RuntimeError(f"`mtcal {' '.join(args)}` failed with exit code {code}")
-    return json.loads(buf.getvalue())
+def _json(obj) -> dict:
+    """A library answer as its command's JSON (the same numbers `mtcal ... --json` prints)."""
+    return json.loads(dumps(obj))
 
 
 class Progress:
-    """Numbered steps through `logging` (logger mtcal.demo.run); the commands run in-process log their own progress
-    unless ``quiet``."""
+    """Numbered steps through `logging` (logger mtcal.demo.run); the library logs its own progress unless
+    ``quiet``."""
 
     def __init__(self):
         self.t0, self.k = time.perf_counter(), 0
@@ -69,9 +76,6 @@ BUNDLED = "dmu50"  # the machine whose campaign, truth and sample program ship i
 
 def _campaign(m, out: Path) -> tuple[Path, dict, object]:
     """(recording path, planted truth, truth model): the bundled campaign of the DMU 50, else a simulated one."""
-    from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_SEED, build_for
-    from mtcal.model.errormodel import load_model
-    from mtcal.campaign.simulate import simulate, write_campaign
     rec_path = out / "campaign.csv"
     if m.name == BUNDLED:
         shutil.copyfile(data_path("demo_campaign.csv"), rec_path)
@@ -86,7 +90,6 @@ def _campaign(m, out: Path) -> tuple[Path, dict, object]:
 
 def _sample_grid(m, n: int, rng: np.random.Generator) -> np.ndarray:
     """Random axis positions (n, n_axes) inside the spec's campaign ranges (where the model was measured)."""
-    from mtcal.campaign.simulate import default_positions
     pos = default_positions(m)
     return np.column_stack([rng.uniform(pos[a].min(), pos[a].max(), n) for a in m.axes])
 
@@ -97,9 +100,6 @@ SEEDS = 8  # other campaigns of the demo's design: the spread of its headline fi
 def _over_seeds(m, truth, planted: dict, volumetric) -> dict:
     """model - truth RMS (um, as ``volumetric``) of SEEDS more campaigns of the same design, truth and planted
     effect, identified as the demo does (default estimator, tracker given): {"n", "median", "min", "max"}."""
-    from mtcal.data.make_demo_data import DEMO_PLAN
-    from mtcal.identify.core import identify
-    from mtcal.campaign.simulate import simulate
     plan = DEMO_PLAN if m.name == BUNDLED else None
     effects = [(e["name"], e["params"]) for e in planted.get("effects", [])]
     v = []
@@ -112,28 +112,29 @@ def _over_seeds(m, truth, planted: dict, volumetric) -> dict:
 
 def run_demo(out: Path, machine: str | None = None) -> dict:
     """The demo into ``out``; progress through logging (mtcal.demo.run and the commands; `mtcal -q` silences it)."""
-    import mtcal
-    from mtcal.model.errormodel import load_model
-
-    m = mtcal.load_machine(machine or BUNDLED)  # before anything is written: a bad name writes nothing
+    m = load_machine(machine or BUNDLED)  # before anything is written: a bad name writes nothing
     out.mkdir(parents=True, exist_ok=True)
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
     prog = Progress()
     summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
-    mach = ["--machine", m.name]
 
     # 1. campaign ---------------------------------------------------------------------------------------
     rec_path, planted, truth = _campaign(m, out)
     tracker = ",".join(f"{c:g}" for c in planted["tracker"])
+    xyz = [float(c) for c in tracker.split(",")]  # as a user types it (6 significant digits)
     prog.step(f"campaign: {rec_path.name} ({'bundled' if m.name == BUNDLED else 'simulated now'}: {m.name}, "
               f"{len(m.axes)} axes x {planted['rounds']} rounds, tracker at {tracker} mm; one effect concealed)")
 
     # 2. identify ----------------------------------------------------------------------------------------
     model_path = out / "model.json"
-    ident = _cli(["identify", str(rec_path), "-o", str(model_path), f"--tracker={tracker}", "--plots", str(plots),
-                  "--method", "joint",  # identify's default with a tracker position (the stations step: three-point)
-                  *mach])
+    # identify's default with a tracker position (the stations step: three-point)
+    res = identify(read_recording(rec_path, m.name), tracker=xyz, machine=m.name, method="joint")
+    for w in res.warnings:
+        log.warning("warning: %s", w)
+    save_model(res.model, model_path)
+    plot_all(res, plots)
+    ident = _json({**res.to_json(), "tracker": xyz})
     prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
     model = load_model(model_path)
     rng = np.random.default_rng(0)
@@ -162,7 +163,8 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     }
 
     # 3. plan --------------------------------------------------------------------------------------------
-    plan = _cli(["plan", f"--tracker={tracker}", "--plot", str(plots / "plan_map.png"), *mach])
+    plan = _json(plan_uncertainty(xyz, Plan(m)).to_dict())
+    plot_placement_map(plots / "plan_map.png", Plan(m), tracker=plan["tracker"], z=plan["tracker"][2])
     prog.step("plan: predicted uncertainty of one round at this tracker placement, and a placement map")
     observed = {}  # std over rounds at the plan's mid-travel position (the same machine coordinates)
     for ax, res in ident["axes"].items():
@@ -184,10 +186,8 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
 
     # 4b. several stations -------------------------------------------------------------------------------
-    from mtcal.demo.stations import plot_stations, run_stations
 
     def compensate(mdl, name: str):  # the same sample program, in out/stations/ (the step's own files)
-        from mtcal.model.errormodel import save_model
         (out / "stations").mkdir(exist_ok=True)
         p = out / "stations" / f"model_{name}.json"
         save_model(mdl, p)
@@ -201,7 +201,9 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
               f"stations, joint fit) at equal measuring time")
 
     # 5. diagnose ----------------------------------------------------------------------------------------
-    diag = _cli(["diagnose", str(rec_path), f"--tracker={tracker}", "--plots", str(plots), *mach])
+    d = diagnose(read_recording(rec_path, m.name), None, machine=m.name, tracker=xyz)
+    plot_residuals(d, plots)
+    diag = _json(d.to_dict())
     summary["diagnose"] = {"base_sigma": diag["base_sigma"],
                            "effects": [e for e in diag["effects"] if e.get("significant")],
                            "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
@@ -210,8 +212,12 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     prog.step("diagnose: what the quasi-static model leaves out, where, and how much")
 
     # 6. plate -------------------------------------------------------------------------------------------
-    plate = _cli(["plate", str(data_path("nbs_table1_corrected.csv")), "--plot", str(plots / "plate_table1.png")])
-    reeve = _cli(["plate", str(data_path("nbs_table1_corrected.csv")), "--no-scale", "--diagnose"])
+    nbs = read_plate_csv(data_path("nbs_table1_corrected.csv"))
+    fit = fit_plate(nbs, exact=None)
+    plot_plate(fit, plots / "plate_table1.png")
+    plate = _json(fit.to_dict())
+    no_scale = fit_plate(nbs, exact=None, scale=False)
+    reeve = _json({**no_scale.to_dict(), "diagnosis": diagnose_plate(no_scale)})
     summary["plate"] = {k: plate[k] for k in ("alpha", "beta", "gamma", "ex", "ey", "sigma")}
     summary["plate"]["without_scale"] = {"sigma": reeve["sigma"], "diagnosis": reeve.get("diagnosis")}
     prog.step("plate: Hocken-Borchardt reversal of NBS Table 1 (ALBE3), and the model without the scale term")
@@ -236,8 +242,7 @@ def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Ge
 
 def compensate_file(m, truth, model_path: Path, nc_in: Path, nc_out: Path) -> tuple[np.ndarray, np.ndarray, dict]:
     """`mtcal compensate` NC_IN -> NC_OUT with a model; tool-tip errors (mm) on the true machine before / after."""
-    from mtcal.nc.gcode import read_moves
-    comp = _cli(["compensate", str(nc_in), "--model", str(model_path), "-o", str(nc_out)])
+    comp = _json(compensate_program(nc_in, nc_out, model_path))
     q_nom, q_cmd = read_moves(nc_in, machine=m), read_moves(nc_out, machine=m)
     targets = m.forward(q_nom)
     return tool_tip_errors(m, truth, q_nom, targets), tool_tip_errors(m, truth, q_cmd, targets), comp
@@ -259,7 +264,6 @@ def _sample_program(m, rng: np.random.Generator, n: int = 400) -> str:
 def true_squareness(truth, ident: dict) -> dict[str, float]:
     """ISO squareness of the truth model as identify defines it: the constants plus what the slopes of the
     truth's straightness reference lines (over the measured positions) contribute."""
-    from mtcal.identify import fitting
     slopes = {}
     for name, f in truth.functions.items():
         ax = f.axis
@@ -312,7 +316,6 @@ def report(s: dict, out: Path) -> str:
     for png in sorted((out / "plots").glob("identify_*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
     if "stations" in s:
-        from mtcal.demo.stations import report_lines
         lines += report_lines(s["stations"])
     lines += ["", "## Plan: predicted vs observed uncertainty of one round", "",
               "`mtcal plan` at the campaign's tracker position predicts the standard uncertainty of one round; the "

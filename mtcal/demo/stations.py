@@ -14,10 +14,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from mtcal.identify.core import identify
-from mtcal.planning.stations import default_floor, predict
-from mtcal.campaign.simulate import as_plan, simulate
+from mtcal.campaign.plans import as_plan
+from mtcal.campaign.simulate import simulate
 from mtcal.campaign.stations import simulate_stations
+from mtcal.identify.run import identify
+from mtcal.planning.stations import default_floor, predict
 
 RAISE_MM = 1050.0  # the elevated station: ~1.2 m above the floor when the others stand at 0.15 m
 

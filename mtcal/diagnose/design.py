@@ -23,13 +23,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Sequence
+from typing import Sequence
 
 import numpy as np
 
 from mtcal.diagnose.engine import Engine
-if TYPE_CHECKING:
-    from mtcal.diagnose.prepare import Prepared
+from mtcal.diagnose.prepared import Prepared
 
 
 def _basis(linear: bool, q: np.ndarray, q_ref: float, degree: int, span: float) -> np.ndarray:

@@ -18,65 +18,19 @@ the readings are weighted equally, sigma from the residuals. The estimation itse
 mtcal.measurement.tracker_position, shared with identify. Units: mm."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from dataclasses import replace
 
 import numpy as np
 from scipy import stats
 
-from mtcal.measurement.tracker import covariance
+from mtcal.diagnose.design import base_design, engine_for, whiten
+from mtcal.diagnose.prepared import NoiseModel, Prepared
 from mtcal.measurement.tracker_position import LR_LEVEL, beam_starts, isotropic_nll, refine
-
-if TYPE_CHECKING:
-    from mtcal.diagnose.prepare import Prepared
 
 ITERATIONS = 2          # refits of the base with the estimated weights
 
 
-@dataclass
-class NoiseModel:
-    """Whitening W (n, 3, 3) with W^T W = covariance^-1 (1/mm), and how it was obtained."""
-
-    W: np.ndarray
-    kind: str                          # "AT960 (given tracker)", "AT960 (estimated tracker)", "isotropic"
-    how: str
-    tracker: list[float] | None = None  # mm, machine frame
-    details: dict = field(default_factory=dict)
-
-    @property
-    def weighted(self) -> bool:
-        return self.kind != "isotropic"
-
-    @classmethod
-    def isotropic(cls, n: int, how: str = "") -> "NoiseModel":
-        return cls(np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), "isotropic", how)
-
-    @classmethod
-    def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, **details) -> "NoiseModel":
-        return cls(_whitening(xyz, tracker), kind, how, [float(v) for v in tracker], dict(details))
-
-    @classmethod
-    def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray]) -> "NoiseModel":
-        """The AT960 covariance of every reading about its own station's tracker (several stations)."""
-        W = np.empty((len(xyz), 3, 3))
-        for label, t in trackers.items():
-            on = station == label
-            W[on] = _whitening(xyz[on], t)
-        return cls(W, "AT960 (given trackers, per station)",
-                   "each reading weighted by the AT960 covariance about its own station's tracker (the recording's "
-                   "station and tracker_x,y,z columns)", None,
-                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}})
-
-    def to_dict(self) -> dict:
-        return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
-
-
-def _whitening(xyz: np.ndarray, tracker: np.ndarray) -> np.ndarray:
-    """W (n, 3, 3), W^T W = the inverse AT960 covariance of the readings xyz (n, 3) mm about ``tracker`` (3,)."""
-    return np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
-
-
-def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -> NoiseModel:
+def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> NoiseModel:
     """The noise model of ``prep``'s readings (see module docstring)."""
     xyz = prep.rec.xyz
     n = len(xyz)
@@ -106,12 +60,9 @@ def noise_model(prep: "Prepared", tracker: np.ndarray | None, max_degree: int) -
                             **details)
 
 
-def _base_residuals(prep: "Prepared", max_degree: int, W: np.ndarray | None = None) -> np.ndarray:
+def _base_residuals(prep: Prepared, max_degree: int, W: np.ndarray | None = None) -> np.ndarray:
     """(n, 3) residuals (mm) of the quasi-static base family (or the given model), fitted with the whitening W
     (None: unweighted)."""
-    from dataclasses import replace
-
-    from mtcal.diagnose.design import base_design, engine_for, whiten
     n = len(prep.rec)
     if W is not None:
         prep = replace(prep, noise=NoiseModel(W, "AT960", ""))
@@ -121,7 +72,7 @@ def _base_residuals(prep: "Prepared", max_degree: int, W: np.ndarray | None = No
     return _round_scatter(prep, raw)
 
 
-def _round_scatter(prep: "Prepared", raw: np.ndarray) -> np.ndarray:
+def _round_scatter(prep: Prepared, raw: np.ndarray) -> np.ndarray:
     """The scatter of the repeated rounds: each reading's residual minus the mean of its cell (axis, position,
     point, direction) over the rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased), so that a
     misfit that repeats in every round (an effect the base lacks) does not enter the noise model; cells of one
@@ -135,7 +86,7 @@ def _round_scatter(prep: "Prepared", raw: np.ndarray) -> np.ndarray:
     return np.where(m[:, None] > 1, (raw - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
 
 
-def _groups(prep: "Prepared"):
+def _groups(prep: Prepared):
     rec = prep.rec
     for a in prep.axes:
         for lab in np.unique(rec.point[rec.axis == a]):

@@ -23,48 +23,16 @@ The weights (whitening W, W^T W = covariance^-1) come from mtcal.diagnose.noise.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.noise import NoiseModel, noise_model
+from mtcal.diagnose.prepared import Prepared
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.recordings import Recording
 
 TIE_POSITIONS = True   # default: reflector positions shared by axes measured from the same reference pose
-
-
-@dataclass
-class Prepared:
-    rec: Recording
-    machine: Machine
-    geometry: fx.Geometry
-    y: np.ndarray            # (n, 3) readings minus nominal (incl. the given model), mm
-    axes: list[str]
-    q_ref: dict[str, float]
-    seq: np.ndarray          # (n,) index of the (axis, round, point) sequence of each reading
-    seq_keys: list[tuple]    # (axis, round, point) per sequence
-    order: np.ndarray        # (n,) reading order within the recording (time, else file line)
-    given_model: bool
-    Aoff: np.ndarray         # (n, 3, 3) d nominal / d point position (rigid motion of the reflector)
-    point_group: np.ndarray  # (n,) index of the reflector position of each reading (shared by tied axes)
-    local: np.ndarray        # (n, 3) the reflector's position from the reference readings, mm, the side's frame
-    noise: NoiseModel        # the weights: W (n, 3, 3), W^T W = covariance^-1 (1/mm), and how they were obtained
-
-    @property
-    def W(self) -> np.ndarray:
-        return self.noise.W
-
-    @property
-    def weighted(self) -> bool:
-        return self.noise.weighted
-
-    @property
-    def stations(self) -> list[str]:
-        """The station labels of a multi-station recording (each with its own alignment unknowns), else []."""
-        return list(self.geometry.trackers or {})
 
 
 def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -195,4 +163,3 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     if t is None and prep.noise.tracker is not None:
         prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)
     return prep
-

@@ -13,7 +13,6 @@ import numpy as np
 from mtcal.kinematics.machine import Machine
 from mtcal.model.errormodel import ErrorModel
 
-
 WORSEN_RATIO = 0.5  # warn that compensating may make the machine worse from predicted error = this x correction
 
 

@@ -34,10 +34,11 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sps
 
-from mtcal.measurement import tracker as trk
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
+from mtcal.identify.results import AxisResult
 from mtcal.kinematics.machine import Machine
+from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import Recording
 
 FIT_VARIANCE_FLOOR = 1e-12  # noise-free readings: the fits are sized as if the data were this precise (not exactly 0)
@@ -340,7 +341,7 @@ def axis_result(res: JointResult, rec: Recording, m: Machine, axis: str):
     ``per_round`` holds each round's values shifted so that their mean is the joint estimate (their spread over
     rounds, the Type A scatter, is kept); ``covariance`` (n_pos * 6, n_pos * 6) is the joint covariance (scaled by
     the Birge ratio when it exceeds 1)."""
-    from mtcal.identify.core import AxisResult
+
     keys, vals, cov = res.errors(axis)
     positions = np.unique([k[0] for k in keys])
     n_k = len(keys)

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mtcal.model.errormodel import ErrorFunction
 from mtcal.io import save_figure
+from mtcal.model.errormodel import ErrorFunction
 
 
 def _plt():

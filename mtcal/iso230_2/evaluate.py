@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.identify.core import MAX_DEVIATION_MM, frame_data, solve_frame
+from mtcal.identify.threepoint import MAX_DEVIATION_MM, frame_data, solve_frame
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.recordings import Recording
 

@@ -17,7 +17,6 @@ import numpy as np
 from mtcal.errors import InputError
 
 
-
 class StaleGeneratedCodeWarning(UserWarning):
     """generated/ was produced from a different derive/ than the one beside it."""
 

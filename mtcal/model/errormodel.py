@@ -19,10 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from mtcal.model import schema as sc
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.kinematics.machine import DEFAULT_MACHINE
+from mtcal.model import schema as sc
 
 LENGTH_UNITS = {"mm": 1.0, "um": 1e-3, "m": 1e3, "inch": 25.4}
 ANGLE_UNITS = {"rad": 1.0, "urad": 1e-6, "mrad": 1e-3, "deg": np.pi / 180, "arcsec": np.pi / 180 / 3600}

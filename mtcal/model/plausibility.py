@@ -27,7 +27,7 @@ FIT_SAMPLES = 201  # points at which a fitted function is evaluated over its tab
 
 
 def _travel_mm(machine: Machine) -> float:
-    from mtcal.campaign.simulate import default_positions
+    from mtcal.kinematics.defaults import default_positions
     pos = default_positions(machine)
     spans = [float(np.ptp(pos[a])) for a in machine.axes if machine.kind(a) == "linear" and a in pos]
     return max(spans or [500.0])

@@ -1,12 +1,13 @@
 """Measurement planning: the standard uncertainty of every identified error for a tracker placement.
 
-Estimator: mtcal.identify.core.estimate, the one three-point estimator (Zhang & Hu, thesis ch. 3): at one position q
+Estimator: mtcal.identify.threepoint.estimate, the one three-point estimator (Zhang & Hu, thesis ch. 3): at one
+position q
 of one round the readings r_i(q) of the reflectors (P, Q, K) and their reference readings r_i(q0) (the position
 closest to zero, same round) give 3 k equations for the six error motions of the measured axis (E_X<J> ..
 E_C<J>), written in the axis' own frame F (Machine.axis_frame) with the generated design rows; the reflector
 coordinates are taken from the reference readings themselves, as on the machine.  With ``--tracker`` the
 equations are weighted by the AT960 covariance (mtcal.measurement.tracker) of the reading AND of its reference reading
-(mtcal.identify.core.delta_covariance); the solution is generalised least squares through whitening and QR.
+(mtcal.identify.threepoint.delta_covariance); the solution is generalised least squares through whitening and QR.
 
 Linear propagation: Cov(e) = A Sigma A^T with A = (J^T W J)^-1 J^T W (W = Sigma^-1 for "tracker"
 weighting, I for "none"), i.e. J+ Sigma J+^T.  Monte Carlo (GUM Supplement 1): draw tracker noise for the
@@ -22,13 +23,14 @@ from typing import Iterable
 
 import numpy as np
 
-from mtcal.measurement import tracker as trk
+from mtcal.campaign.plans import Plan, as_plan
 from mtcal.errors import InputError
 from mtcal.generated import threepoint_numpy as tp
-from mtcal.identify.core import delta_covariance, estimate, frame_data
+from mtcal.identify.threepoint import delta_covariance, estimate, frame_data
 from mtcal.io import save_figure
+from mtcal.kinematics.defaults import tracker_positions
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
-from mtcal.campaign.simulate import Plan, as_plan, tracker_positions
+from mtcal.measurement import tracker as trk
 
 WEIGHTINGS = ("tracker", "none")
 log = logging.getLogger(__name__)
@@ -61,7 +63,8 @@ def linear_covariance(machine: Machine, plan: Plan, axis: str, positions, tracke
     """Cov (P, 6, 6) of the six identified errors of ``axis`` at ``positions`` (P,) for one round.
 
     Each of ``approaches`` passes (1, or 2 for out and back) has one reading per reflector; all share the round's
-    reference reading; the pass solutions are averaged (as mtcal.identify.core does).  With A = (J^T W J)^-1 J^T W the
+    reference reading; the pass solutions are averaged (as mtcal.identify.threepoint does).  With A = (J^T W J)^-1
+    J^T W the
     per-pass estimator (W = Sigma_pass^-1 for weighting "tracker", I for "none"), Cov = A Sigma_round A^T with
     Sigma_round = C(r) / approaches + R_rel C(r0) R_rel^T: J+ Sigma J+^T.  For one pass and "tracker"
     weighting this is (J^T Sigma^-1 J)^-1 = R^-1 R^-T from the QR of the whitened design."""
@@ -99,7 +102,7 @@ def monte_carlo(machine: Machine, plan: Plan, axis: str, positions, tracker, n: 
                 chunk: int = 2000) -> np.ndarray:
     """Estimates (n, P, 6) of the six errors of ``axis`` from n simulated rounds (zero true errors, AT960 noise
     on every reading and on the shared reference reading; ``approaches`` passes per round, solutions averaged),
-    each through mtcal.identify.core.estimate."""
+    each through mtcal.identify.threepoint.estimate."""
     tracker = np.asarray(tracker, dtype=float)
     ax, ax0, r, r0, _, _, _ = _design(machine, plan, axis, positions, tracker, spec)
     n_p, k = r.shape[:2]
@@ -171,11 +174,12 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None =
     res = PlanResult(t.tolist(), m.name, weighting, pl.rounds, approaches,
                      "one round as mtcal identify reports it: per pass one reading per reflector at the position and "
                      "the round's reference reading (position closest to zero, first approach), 3 equations per "
-                     "reflector (mtcal.identify.core.estimate), " +
+                     "reflector (mtcal.identify.threepoint.estimate), " +
                      ("generalised LS weighted by the AT960 covariance" if weighting == "tracker" else "ordinary LS")
                      + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds")
     if monte_carlo_n:
-        res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.core.estimate", "axes": {}}
+        res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.threepoint.estimate",
+                           "axes": {}}
     for a in names:
         if a not in pl.positions:
             raise InputError(f"axis {a!r} is not in the plan (axes: {', '.join(pl.positions)})")

@@ -24,11 +24,11 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
+from mtcal.campaign.plans import Plan, schedule
+from mtcal.campaign.stations import STATION_CHANGE_S, simulate_stations
 from mtcal.errors import InputError
 from mtcal.identify.joint import JointResult, joint_fit
 from mtcal.kinematics.machine import Machine
-from mtcal.campaign.simulate import Plan, schedule
-from mtcal.campaign.stations import STATION_CHANGE_S, simulate_stations
 
 
 def scaled_points(plan: Plan, scale: float) -> Plan:

@@ -21,8 +21,8 @@ from typing import Sequence
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.io import read_csv_rows, save_figure
 from mtcal.generated import plate_numpy as G
+from mtcal.io import read_csv_rows, save_figure
 
 METRICS = ("split", "x", "y", "none")  # paper options 3, 1, 2, 4
 PAPER_OPTION = {"x": 1, "y": 2, "split": 3, "none": 4}

@@ -1,0 +1,87 @@
+"""The data the diagnosis works on, as types only (no behaviour that needs the other modules): the weights of every
+reading (NoiseModel, mtcal.diagnose.noise) and a recording prepared for the fits (Prepared,
+mtcal.diagnose.prepare).  Units: mm, rad; machine frame."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mtcal.diagnose import effects as fx
+from mtcal.kinematics.machine import Machine
+from mtcal.measurement.recordings import Recording
+from mtcal.measurement.tracker import covariance
+
+
+@dataclass
+class NoiseModel:
+    """Whitening W (n, 3, 3) with W^T W = covariance^-1 (1/mm), and how it was obtained."""
+
+    W: np.ndarray
+    kind: str                          # "AT960 (given tracker)", "AT960 (estimated tracker)", "isotropic"
+    how: str
+    tracker: list[float] | None = None  # mm, machine frame
+    details: dict = field(default_factory=dict)
+
+    @property
+    def weighted(self) -> bool:
+        return self.kind != "isotropic"
+
+    @classmethod
+    def isotropic(cls, n: int, how: str = "") -> "NoiseModel":
+        return cls(np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), "isotropic", how)
+
+    @classmethod
+    def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, **details) -> "NoiseModel":
+        return cls(_whitening(xyz, tracker), kind, how, [float(v) for v in tracker], dict(details))
+
+    @classmethod
+    def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray]) -> "NoiseModel":
+        """The AT960 covariance of every reading about its own station's tracker (several stations)."""
+        W = np.empty((len(xyz), 3, 3))
+        for label, t in trackers.items():
+            on = station == label
+            W[on] = _whitening(xyz[on], t)
+        return cls(W, "AT960 (given trackers, per station)",
+                   "each reading weighted by the AT960 covariance about its own station's tracker (the recording's "
+                   "station and tracker_x,y,z columns)", None,
+                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}})
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
+
+
+def _whitening(xyz: np.ndarray, tracker: np.ndarray) -> np.ndarray:
+    """W (n, 3, 3), W^T W = the inverse AT960 covariance of the readings xyz (n, 3) mm about ``tracker`` (3,)."""
+    return np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
+
+
+@dataclass
+class Prepared:
+    rec: Recording
+    machine: Machine
+    geometry: fx.Geometry
+    y: np.ndarray            # (n, 3) readings minus nominal (incl. the given model), mm
+    axes: list[str]
+    q_ref: dict[str, float]
+    seq: np.ndarray          # (n,) index of the (axis, round, point) sequence of each reading
+    seq_keys: list[tuple]    # (axis, round, point) per sequence
+    order: np.ndarray        # (n,) reading order within the recording (time, else file line)
+    given_model: bool
+    Aoff: np.ndarray         # (n, 3, 3) d nominal / d point position (rigid motion of the reflector)
+    point_group: np.ndarray  # (n,) index of the reflector position of each reading (shared by tied axes)
+    local: np.ndarray        # (n, 3) the reflector's position from the reference readings, mm, the side's frame
+    noise: NoiseModel        # the weights: W (n, 3, 3), W^T W = covariance^-1 (1/mm), and how they were obtained
+
+    @property
+    def W(self) -> np.ndarray:
+        return self.noise.W
+
+    @property
+    def weighted(self) -> bool:
+        return self.noise.weighted
+
+    @property
+    def stations(self) -> list[str]:
+        """The station labels of a multi-station recording (each with its own alignment unknowns), else []."""
+        return list(self.geometry.trackers or {})

@@ -1,0 +1,116 @@
+"""Result types of identification: one position (PositionResult), one axis over its rounds (AxisResult), the whole
+recording (IdentifyResult).  Errors in mm (E_X?, E_Y?, E_Z?) and rad (E_A?, E_B?, E_C?), in the axis' own frame;
+positions in mm or deg."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mtcal.identify import fitting
+from mtcal.model.errormodel import ErrorModel
+
+
+@dataclass
+class PositionResult:
+    errors: np.ndarray  # (..., 6) E_X, E_Y, E_Z mm; E_A, E_B, E_C rad
+    residuals: np.ndarray  # (..., 3 n) mm
+    covariance: np.ndarray | None  # (..., 6, 6) with a tracker position
+    names: tuple[str, ...]
+
+    @property
+    def residual_rms(self) -> np.ndarray:
+        return np.sqrt(np.mean(self.residuals**2, axis=-1))
+
+    def as_dict(self) -> dict[str, np.ndarray]:
+        return {n: self.errors[..., i] for i, n in enumerate(self.names)}
+
+
+# ----------------------------------------------------------------------------- a recording
+@dataclass
+class AxisResult:
+    """Identified errors of one axis.  ``per_round`` (n_rounds, n_positions, 6), NaN where a round lacks a
+    position; statistics over rounds (Type A): mean, std (experimental, eq. 2.47), std_mean (eq. 2.49)."""
+
+    axis: str
+    positions: np.ndarray
+    rounds: np.ndarray
+    points: tuple[str, ...]
+    per_round: np.ndarray
+    residual_rms: np.ndarray  # (n_positions,) mm, over all passes
+    sigma_pred: np.ndarray  # (n_positions, 6): predicted std of one round's value (noise model or residuals)
+    names: tuple[str, ...]
+    reference_position: float
+    weighted: bool
+    lines: dict[str, dict] = field(default_factory=dict)  # reference straight lines of straightness errors
+    reversal: np.ndarray | None = None  # (n_positions, 6): mean over rounds of (+ pass) - (- pass), if bidirectional
+    fits: dict[str, dict] = field(default_factory=dict)
+    covariance: np.ndarray | None = None  # (n_positions * 6, n_positions * 6) of the joint fit's estimate, else None
+    # the data's precision relative to ``covariance`` (joint fit: min(1, Birge ratio^2)): the functions are sized by
+    # the scatter the readings show, not by the noise law assumed (noise-free readings give the truth back)
+    fit_variance_factor: float = 1.0
+
+    @property
+    def n(self) -> np.ndarray:
+        return np.isfinite(self.per_round[..., 0]).sum(axis=0)
+
+    @property
+    def mean(self) -> np.ndarray:
+        return np.nanmean(self.per_round, axis=0)
+
+    @property
+    def std(self) -> np.ndarray:
+        n = self.n[:, None]
+        dev = np.where(np.isfinite(self.per_round), self.per_round - self.mean, 0.0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(n >= 2, np.sqrt((dev**2).sum(axis=0) / (n - 1)), np.nan)
+
+    @property
+    def std_mean(self) -> np.ndarray:
+        """Type A over rounds (eq. 2.49); for the joint fit its covariance (Birge-scaled), since its rounds may come
+        from stations of different precision and share the reflectors' and alignments' estimate."""
+        if self.covariance is not None:
+            return np.sqrt(np.diagonal(self.covariance).reshape(len(self.positions), 6))
+        return self.std / np.sqrt(self.n[:, None])
+
+    def values(self, name: str, corrected: bool = True) -> np.ndarray:
+        """Mean per position of one error; straightness with its reference-line slope removed if ``corrected``."""
+        v = self.mean[:, self.names.index(name)]
+        if corrected and name in self.lines:
+            v = v - self.lines[name]["slope"] * self.positions
+        return v
+
+    def to_json(self) -> dict:
+        mean, std, sm = self.mean, self.std, self.std_mean
+        return {"positions": self.positions.tolist(), "rounds": self.rounds.tolist(), "points": list(self.points),
+                "reference_position": self.reference_position, "n": self.n.tolist(),
+                "errors": {nm: {"mean": mean[:, i].tolist(), "std": std[:, i].tolist(), "std_mean": sm[:, i].tolist()}
+                           for i, nm in enumerate(self.names)},
+                "residual_rms": self.residual_rms.tolist(),
+                "reference_lines": self.lines, "fits": self.fits,
+                **({} if self.reversal is None else
+                   {"reversal": {nm: self.reversal[:, i].tolist() for i, nm in enumerate(self.names)}})}
+
+
+@dataclass
+class IdentifyResult:
+    axes: dict[str, AxisResult]
+    squareness: dict[str, float]
+    model: ErrorModel
+    warnings: list[str]
+    reference: str
+    weighted: bool
+    source: str
+    squareness_stats: dict = field(default_factory=dict)  # Type A over rounds: {name: {rounds, std, std_mean}}
+    method: str = "three-point"
+    joint: dict | None = None  # joint fit: stations (tracker, alignment), reflectors, chi2, dof (JointResult.summary)
+
+    def to_json(self) -> dict:
+        return {"source": self.source, "method": self.method, **({"joint": self.joint} if self.joint else {}),
+                "units": {"length": "mm", "angle": "rad", "position": "mm or deg"},
+                "weighted": self.weighted, "reference": self.reference,
+                "axes": {a: r.to_json() for a, r in self.axes.items()},
+                "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
+                "squareness_convention": fitting.SQUARENESS_CONVENTION,
+                **{k: self.model.meta[k] for k in ("tracker_estimated",) if k in self.model.meta},
+                "warnings": self.warnings}

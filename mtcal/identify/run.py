@@ -1,0 +1,214 @@
+"""Three-point identification of the error motions of each axis from laser-tracker recordings (Zhang & Hu).
+
+For every pass (axis, round, position, direction) the readings of the points P, Q, K (>= 3 non-collinear
+reflectors; on the spindle for X, Y, Z, on the table for B, C) are compared with where the nominal machine
+motion takes each point's reference reading (the round's reading at the position closest to zero, the first
+time it is approached); the differences, expressed in the axis' own frame (derive/threepoint.py: B's stator
+frame is tilted 45 deg), give the six error motions E_XJ, E_YJ, E_ZJ (mm) and E_AJ, E_BJ, E_CJ (rad) by least
+squares over all 3 n equations (weighted by the AT960 covariance when the tracker position is known).  Passes of
+one round at one position are averaged; rounds give the Type A statistics (thesis eqs. 2.45-2.49); reference
+straight lines give squareness (mtcal.identify.fitting); continuous functions make the error model
+(mtcal.model.errormodel).
+
+Assumptions: readings are in the machine frame (mm); the axes not measured stand at zero (only matters for the
+rotary axes: B is measured at C = 0, C at B = 0); errors are zero at the reference position.
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from mtcal.errors import InputError
+from mtcal.identify import fitting
+from mtcal.identify import joint as identify_joint
+from mtcal.identify.build import _model
+from mtcal.identify.compare import split_half_worth
+from mtcal.identify.frame import _in_iso_frame, _reference_lines, _squareness_type_a, squareness_sigma
+from mtcal.identify.results import AxisResult, IdentifyResult
+from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_axis, _passes
+from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
+from mtcal.measurement.recordings import Recording
+from mtcal.measurement.tracker_position import LR_LEVEL, PositionEstimate, estimate_position
+from mtcal.model.errormodel import ErrorModel
+
+log = logging.getLogger(__name__)
+METHODS = ("auto", "three-point", "joint")
+METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all equations",
+               "joint": "joint weighted fit of all readings and stations (error motions, reflectors, station "
+                        "alignments; mtcal.identify.joint)"}
+
+
+def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
+             outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
+             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto", worth: bool = True) -> IdentifyResult:
+    """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
+    reference: reference straight line method (mtcal.identify.fitting.REFERENCE_METHODS); outlier_k: a round whose value
+    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
+    method: "three-point" (per position, this module), "joint" (one weighted fit of all readings of all
+    stations, mtcal.identify.joint) or "auto" (joint when the tracker position is known or can be estimated from
+    the scatter of the rounds, ``estimate_station``; else three-point, with a warning); worth: also run the
+    estimator on two halves of the rounds to state the model's predicted error against what it corrects
+    (``model.meta["worth"]``, mtcal.identify.compare.split_half_worth) and warn when compensating may make the machine
+    worse."""
+    m = machine if isinstance(machine, Machine) else load_machine(machine)
+    if method not in METHODS:
+        raise InputError(f"--method must be one of {METHODS}, got {method!r}")
+    warnings: list[str] = []
+    estimated = None
+    if method == "auto":
+        method, tracker, estimated = _auto_method(rec, tracker, warnings)
+    if reference not in fitting.REFERENCE_METHODS:
+        raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
+    t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
+    results: dict[str, AxisResult] = {}
+    for axis in rec.axes():
+        if axis not in m.axes:
+            raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
+    joint = None
+    if method == "joint" or len(set(rec.stations().tolist())) > 1:
+        if method != "joint":
+            raise InputError(f"{rec.source}: several tracker stations need the joint fit (--method joint)")
+        log.info("joint weighted fit of %d readings from %d station(s)", len(rec), len(set(rec.stations().tolist())))
+        for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
+            sub = rec.select(rec.axis == axis)
+            _check_shape(sub, axis, _passes(sub, axis))
+        joint = identify_joint.joint_fit(rec, m, t)
+        warnings += joint.warnings
+        results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
+    linear = [a for a in rec.axes() if m.kind(a) == "linear"]
+    for axis in ([] if joint is not None else linear):
+        log.info("identifying axis %s", axis)
+        results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
+    slopes = _reference_lines(results, m, reference)
+    if joint is None and len(linear) < len(rec.axes()):
+        iso, t_iso = _in_iso_frame(rec, t, m, slopes)
+        for axis in rec.axes():
+            if axis not in linear:
+                log.info("identifying axis %s (readings turned into the ISO frame of the linear axes)", axis)
+                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, outlier_k, max_deviation_mm)
+        results = {a: results[a] for a in rec.axes()}
+    sq = fitting.squareness(slopes)
+    sq_stats = _squareness_type_a(results, m, reference, sq)
+    lin = [a for a, k in zip(m.axes, m.axis_kinds) if k == "linear"]
+    if set(lin) <= set(results) and len(sq) < 3:
+        warnings.append("squareness: some straightness records are missing; only " + ", ".join(sorted(sq)) + " found")
+    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None or joint is not None,
+                   warnings)
+    model.meta["method"] = METHOD_TEXT[method]
+    if estimated is not None:
+        model.meta["tracker_estimated"] = {"position_mm": estimated.position.tolist(),
+                                           "sigma_mm": estimated.sigma_mm.tolist(),
+                                           "noise_scale_vs_at960": estimated.scale,
+                                           "how": "estimated from the scatter of the repeated rounds "
+                                                  "(mtcal.measurement.tracker_position)"}
+    if worth:
+        _state_worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
+                                                     max_harmonics=max_harmonics, method=method))
+    model.meta["warnings"] = list(warnings)
+    if sq_stats:
+        model.meta["squareness_type_a"] = sq_stats
+    res = IdentifyResult(results, sq, model, warnings, reference, t is not None or joint is not None, rec.source,
+                         sq_stats, method)
+    if joint is not None:
+        res.joint = joint.summary()
+        res.joint["squareness_sigma"] = squareness_sigma(results, reference)
+        model.meta["squareness_sigma"] = res.joint["squareness_sigma"]
+    return res
+
+
+def _state_worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], kw: dict) -> None:
+    """model.meta["worth"] from the same estimator on the even and the odd rounds (``split_half_worth``), and a
+    warning when compensating with the model may leave the machine worse than without it."""
+    rounds = np.unique(rec.round)
+    if len(rounds) < 2:
+        warnings.append("one round: the model's error cannot be predicted from the data (measure two or more rounds)")
+        return
+    halves = (rounds[::2], rounds[1::2])
+    short = [a for a in rec.axes() for h in halves if not np.isin(rec.round[rec.axis == a], h).any()]
+    if short:
+        warnings.append(f"the model's error was not predicted: axis {short[0]} is not measured in both halves of the "
+                        f"rounds (even and odd)")
+        return
+    quiet = logging.getLogger("mtcal")
+    level = quiet.level
+    quiet.setLevel(max(level, logging.WARNING))  # the halves' progress is not the user's
+    try:
+        a, b = [identify(rec.select(np.isin(rec.round, h)), machine=m, worth=False, **kw).model for h in halves]
+    except InputError as e:  # a half lacks what the whole has (a position measured in one round only)
+        warnings.append(f"the model's error was not predicted: a half of the rounds cannot be identified ({e})")
+        return
+    finally:
+        quiet.setLevel(level)
+    w = split_half_worth(m, model, a, b, len(halves[0]), len(halves[1]))
+    model.meta["worth"] = w.to_dict()
+    log.info("model: corrects %.1f um RMS over the measured volume; predicted error %.1f um RMS (%s)",
+             w.corrects_rms_um, w.predicted_error_rms_um, w.how)
+    if w.may_worsen:
+        warnings.append(f"compensating with this model may make the machine worse: it corrects {w.corrects_rms_um:.1f} "
+                        f"um RMS and is itself uncertain by {w.predicted_error_rms_um:.1f} um RMS over the measured "
+                        f"volume; measure more rounds or from more tracker stations (mtcal plan shows the gain)")
+
+
+def _auto_method(rec: Recording, tracker, warnings: list[str]):
+    """identify's default estimator: (method, tracker position or None, the estimate or None).  The joint fit
+    when the tracker position is given or estimated from the rounds' scatter; else three-point, with a warning
+    naming what is lost."""
+    estimated = None
+    if tracker is None and rec.tracker_xyz is None:
+        estimated, why = estimate_station(rec)
+        if estimated is None and len(np.unique(rec.round)) > 1 and not np.any(round_scatter(rec)):  # noise-free
+            log.info("tracker position not estimated (%s): three-point method", why)
+        elif estimated is None:
+            warnings.append(f"{rec.source}: tracker position not given and not estimated ({why}): three-point "
+                            f"method, readings weighted equally; lost: the weighting by the tracker's anisotropic "
+                            f"noise and the joint fit (about twice the model error, benchmarks/identify_truth.py); "
+                            f"give --tracker x,y,z")
+        else:
+            tracker = estimated.position
+            log.info("tracker position estimated from the scatter: %s mm", station_text(estimated))
+    method = "joint" if tracker is not None or rec.tracker_xyz is not None else "three-point"
+    return method, tracker, estimated
+
+
+def round_scatter(rec: Recording) -> np.ndarray:
+    """(n, 3) mm: each reading minus the mean of its cell (station, axis, position, point, direction) over the
+    rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased); 0 for cells of one reading.  What the
+    tracker's noise (and any drift) does between repeated rounds, no model needed."""
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), np.round(rec.position, 6).tolist(),
+                    rec.point.tolist(), rec.direction.tolist()))
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    cell = np.array([index[k] for k in keys])
+    m = np.bincount(cell)[cell].astype(float)
+    mean = np.stack([np.bincount(cell, rec.xyz[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
+    return np.where(m[:, None] > 1, (rec.xyz - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
+
+
+def estimate_station(rec: Recording) -> tuple[PositionEstimate | None,
+str]:
+    """Where the tracker stood, from the scatter of the repeated rounds (mtcal.measurement.tracker_position):
+    (estimate, "")
+    or (None, why not).  One station only (a multi-station recording carries its trackers' positions)."""
+    if len(set(rec.stations().tolist())) > 1:
+        return None, "several stations without tracker_x,y,z columns"
+    if len(set(rec.round.tolist())) < 2:
+        return None, "one round: no repeated readings to show the beam directions"
+    r = round_scatter(rec)
+    if not np.any(r):
+        return None, "the rounds repeat exactly: no scatter (noise-free readings?)"
+    groups = [sel for a in rec.axes() for p in np.unique(rec.point[rec.axis == a])
+              if (sel := (rec.axis == a) & (rec.point == p)).sum() >= 6]
+    est = estimate_position(rec.xyz, r, groups)
+    if not est.accepted:
+        return None, (f"the scatter shows no tracker shape (likelihood ratio {est.likelihood_ratio:.1f}, "
+                      f"p = {est.p_isotropic:.2g})" if est.p_isotropic >= LR_LEVEL else
+                      "the scatter does not pin the position down")
+    return est, ""
+
+
+def station_text(est: PositionEstimate) -> str:
+    """'x, y, z +- sx, sy, sz' (mm)."""
+    return (", ".join(f"{v:.0f}" for v in est.position) + " +- " + ", ".join(f"{v:.0f}" for v in est.sigma_mm))
+
+
+# ----------------------------------------------------------------------------- Inspire export layout
