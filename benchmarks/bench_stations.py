@@ -1,4 +1,4 @@
-"""Accuracy of several tracker stations (issue 14; the numbers of the README section "Several stations"):
+"""Accuracy of several tracker stations (issue 14; the numbers of the docs section "Several stations"):
 volumetric RMS of identified model - truth over 2000 poses of the demo's work volume, mean over seeds 1-5.
 
 Truth: the bundled demo truth (mtcal/data/demo_truth.json) and the same truth in the ISO frame of the linear

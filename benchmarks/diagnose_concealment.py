@@ -1,4 +1,4 @@
-"""The README's "Proof of concealment" table: one planted effect on the full default campaign (seed 11, tracker at
+"""The docs's "Proof of concealment" table: one planted effect on the full default campaign (seed 11, tracker at
 the spec's first station, AT960 noise); the base lacks the effect (fitted for the effects that are not
 quasi-static, an empty given model for the quasi-static ones).  Prints what is found first, its estimate and the
 sigma ratio before -> after.  Run: python benchmarks/diagnose_concealment.py [--per-axis-positions]."""

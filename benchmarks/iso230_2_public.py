@@ -19,7 +19,7 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 from iso230_2_oracle import evaluate as oracle  # noqa: E402
 from iso230_2_oracle import read_dat  # noqa: E402
 
-from mtcal.iso230_2.evaluate import evaluate_runs  # noqa: E402
+from mtcal.iso230_2.evaluation import evaluate_runs  # noqa: E402
 from mtcal.iso230_2.readings import read_readings  # noqa: E402
 
 MIRROR = "/work/.mirror/anderssandstrom+ecmc_target_muts_logger/repo"

@@ -1,4 +1,4 @@
-"""Every benchmark in one run: `python benchmarks/run.py [--json] [--quick]`.
+"""Every benchmark in one run: `python benchmarks/run.py [--json] [--save]`.
 
 Figures are measured in this run on this machine (ratios against baselines timed in the same run); the last
 line is one JSON object.  Each benchmarks/bench_*.py exposes run() -> dict of named figures.
@@ -30,6 +30,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--json", action="store_true", help="print only the JSON line on stdout")
     ap.add_argument("--only", nargs="*", help="bench module names (e.g. bench_kinematics)")
+    ap.add_argument("--save", action="store_true",
+                    help="also write benchmarks/results.json, which docs/reference/benchmarks.md quotes")
     args = ap.parse_args()
     sys.path.insert(0, str(HERE))
     results: dict = {"machine": f"{platform.machine()} {os.cpu_count()} cores, Python {platform.python_version()}"}
@@ -48,6 +50,9 @@ def main() -> int:
         print("[bench] derive ...", file=sys.stderr, flush=True)
         results["derive_seconds"] = derive_seconds()
     print(json.dumps(results, sort_keys=True))
+    if args.save:
+        results["date"] = time.strftime("%Y-%m-%d")
+        (HERE / "results.json").write_text(json.dumps(results, sort_keys=True, indent=1) + "\n")
     return 0
 
 

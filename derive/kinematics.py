@@ -1,6 +1,6 @@
 """Error-inclusive forward kinematics, its Jacobians and the closed-form inverse, derived from a chain spec.
 
-Conventions (design.md):
+Conventions (docs/design.md):
 * axes: linear in mm, rotary in degrees (as in NC programs); every joint moves along / about its local z
   unless a linear joint states another direction;
 * pose = [x, y, z, i, j, k]: tool tip and tool axis in the workpiece frame, T_w^t = (T_0^w)^-1 T_0^t;

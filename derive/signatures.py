@@ -15,7 +15,7 @@ through the exact error-inclusive kinematics; ``thermal_drift_displacement`` and
 the readings themselves.  So each effect is written once, and tests/test_effects_physics.py and tests/test_effects_new_physics.py show that
 simulate(effect) - simulate(none) = signature x parameter to first order, with a second-order remainder.
 
-Effects (names of design.md; q = axis position, d = approach direction +-1, dt = time since the warm-up
+Effects (names of docs/design.md; q = axis position, d = approach direction +-1, dt = time since the warm-up
 started, s):
 * backlash       positioning error + d * b / 2                                        -> column * d / 2
                  (b = error(+ approach) - error(- approach) of the positioning error in its own ISO 230-1 sense;

@@ -45,7 +45,7 @@ class Spec:
 
     def positioning_error(self, name: str) -> str:
         """ISO name of the error along / about the axis' own motion: E_XX for X along x, E_C<R> for a rotary axis
-        (rotation about the stator z, design.md)."""
+        (rotation about the stator z, docs/design.md)."""
         if self.axis(name).kind == "rotary":
             return f"E_C{name}"
         el = next(e for e in self.tool_chain + self.table_chain if e.get("joint") == name)

@@ -18,7 +18,7 @@ API:
   a knock overlapping it, C location of the axis measured last vs a knock at its start, a real warm-up with a
   temperature channel, direction-dependent pitch, an aliased pitch, a creeping nest, periodic X, tracker scale).
 
-``Campaign.expect``: what a right answer contains, [{"name": effect name (design.md / mtcal.campaign.effects),
+``Campaign.expect``: what a right answer contains, [{"name": effect name (docs/design.md / mtcal.campaign.effects),
 "axis": ...,
 "error": ..., "alternatives": [names that are an acceptable "confounded_with" partner or reading], ...}].
 Units as everywhere: mm, rad, deg (rotary positions), s.

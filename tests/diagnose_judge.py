@@ -16,7 +16,7 @@ def _names(e: dict) -> set[str]:
 
 def out_of_reach(d, expect: list[dict]) -> list[str]:
     """Expected effects the answer states it cannot see in this campaign (a "not_separable" entry of that name or
-    an alternative): honest, listed as out of reach in the README's concealment table."""
+    an alternative): honest, listed as out of reach in the docs's concealment table."""
     ns = {f.name for f in d.effects if f.get("not_separable")}
     return [e["name"] for e in expect if _names(e) & ns]
 

@@ -1,5 +1,5 @@
 """An evaluation of ISO 230-2:2014 written from the standard's terms and definitions (clause 3), independent of
-mtcal/iso230_2/evaluate.py (plain loops, no shared code), for the tests and benchmarks/iso230_2_public.py.
+mtcal/iso230_2/evaluation.py (plain loops, no shared code), for the tests and benchmarks/iso230_2_public.py.
 
 Input: readings[(i, j, direction)] = P_ij, the measured position of run j at target i approached in direction
 "up" or "down", and targets[i] = P_i, in one unit.  Every x_ij = P_ij - P_i is taken from the same datum (3.x:

@@ -85,7 +85,7 @@ def test_every_generated_file_has_provenance_header():
 
 
 def _chain_reference(ax: np.ndarray, d: float, tilt_deg: float) -> np.ndarray:
-    """Straight HTM product of design.md's chain with other d and tilt (independent of derive/)."""
+    """Straight HTM product of docs/design.md's chain with other d and tilt (independent of derive/)."""
     def rx(a):
         c, s = np.cos(a), np.sin(a)
         return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])

@@ -1,4 +1,4 @@
-"""Diagnosis of a multi-station recording in one fit (design.md: several tracker stations): every reading weighted
+"""Diagnosis of a multi-station recording in one fit (docs/design.md: several tracker stations): every reading weighted
 about its own station's tracker, each station's alignment among the base's unknowns, the tracker effects per
 station.  Campaigns planted through the physical simulator (mtcal.campaign.stations: exact error-inclusive
 kinematics, AT960 noise from each station, each station misaligned by N(0, 20 um) / N(0, 30 urad)), never through
@@ -64,7 +64,7 @@ def test_report_names_the_per_station_noise_and_alignments():
 
 
 def test_a_station_tracker_scale_is_named_from_two_stations():
-    """-12 ppm in the first station's distances only (its air 12 K off): one station cannot separate it (README:
+    """-12 ppm in the first station's distances only (its air 12 K off): one station cannot separate it (docs:
     tracker_scale not separable with one station); two stations name it as the second station's scale relative to
     the first, +12 ppm."""
     rec, _ = campaign(7300, station_effects={FIRST: ["tracker_scale:ppm=-12"]})

@@ -2,7 +2,7 @@
 kinematics (tests/campaigns.py, never the diagnosis' signatures), independent seeds, with and without the
 tracker position; clean campaigns of varied design stay clean at the defaults; what the campaign cannot show is
 stated, never given a wrong name.  The >= 50-campaign false-positive measurement is
-benchmarks/fp_rate_diagnose.py (0 of 50 at the defaults, README); here a smaller version."""
+benchmarks/fp_rate_diagnose.py (0 of 50 at the defaults, docs); here a smaller version."""
 from __future__ import annotations
 
 import math
@@ -23,7 +23,7 @@ from mtcal.diagnose.prepare import prepare
 from mtcal.diagnose.scans import outlier_scan, where_of
 from mtcal.diagnose.selection import Columns, inadequate_because
 
-# detection-against-size table is benchmarks/diagnose_sizes.py; README)
+# detection-against-size table is benchmarks/diagnose_sizes.py; docs)
 FOUND = [("reversal_pitch", {}), ("aliased_pitch", {}), ("periodic_x", {}), ("c_location_with_model", {}),
          ("c_location_and_knock", {}), ("warm_up", {}), ("tracker_settling", {}), ("lateral_play", {}),
          ("loose_nest", {}), ("nest_creep", {"rate_um_h": 20.0}), ("thermal_temperature", {"size": 2.0})]

@@ -1,4 +1,4 @@
-"""Diagnosis of recordings with station columns (design.md): the recording's tracker position sets the noise
+"""Diagnosis of recordings with station columns (docs/design.md): the recording's tracker position sets the noise
 model; ``--station`` selects one station of several (several in one fit: tests/test_diagnose_multistation.py)."""
 from __future__ import annotations
 

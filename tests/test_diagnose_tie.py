@@ -107,7 +107,7 @@ def test_base_design_shares_columns_and_per_axis_design_stays_per_axis():
 @pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])
 @pytest.mark.parametrize("seed", [500, 501])
 def test_nest_creep_of_10_um_per_hour_is_found(seed, told):
-    # README "Campaigns we did not make": 15 um over the 1.5 h record; per-axis positions absorbed it (F about 3,
+    # docs "Campaigns we did not make": 15 um over the 1.5 h record; per-axis positions absorbed it (F about 3,
     # missed in 15 of 16 of these campaigns), the shared positions show it (found in 15 of 16, seeds 500-507)
     c = C.nest_creep(seed + (0 if told else 50), rate_um_h=10.0)
     c = c if told else C.without_tracker(c)

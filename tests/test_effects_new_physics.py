@@ -19,7 +19,7 @@ from mtcal.campaign.plans import Plan, schedule
 from mtcal.campaign.simulate import simulate
 from mtcal.cli import main
 from mtcal.generated import signatures_numpy as S
-from mtcal.iso230_2 import evaluate as iso230_2
+from mtcal.iso230_2 import evaluation as iso230_2
 from mtcal.kinematics.defaults import default_positions
 from mtcal.measurement.recordings import read_recording
 
@@ -116,7 +116,7 @@ def test_new_effects_are_signature_times_parameter_to_first_order(name):
 
 def test_reversal_angular_differs_by_the_amount_between_approaches():
     """E_BX = +40 urad approached in +, -40 urad in -: a point 100 mm above the X guide (z) moves by
-    +-z E_BX along x (Delta x = z E_BX, design.md); checked on the readings of X, which no other axis sees."""
+    +-z E_BX along x (Delta x = z E_BX, docs/design.md); checked on the readings of X, which no other axis sees."""
     m = mtcal.load_machine("dmu50")
     pts = {"A": (0.0, 0.0, 100.0), "B": (50.0, 0.0, 100.0), "C": (0.0, 50.0, 100.0)}
     pl = Plan(m, rounds=1, positions={"X": np.array([0.0, 250.0, 500.0])}, tool_points=pts)

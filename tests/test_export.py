@@ -147,7 +147,7 @@ def test_linuxcnc_round_trip_with_backlash(tmp_path, file_type):
 
 
 def test_linuxcnc_rotary_sign_follows_the_chain(tmp_path):
-    """C turns with sign -1 in the DMU 50 chain (design.md), so its trim is +E_CC in degrees; B (sign +1) -E_CB."""
+    """C turns with sign -1 in the DMU 50 chain (docs/design.md), so its trim is +E_CC in degrees; B (sign +1) -E_CB."""
     model = model_from_dict(LINUX_MODEL)
     export_model(model, M, "linuxcnc", tmp_path, file_type=1)
     tables = {ax: linuxcnc_trims(read_linuxcnc(tmp_path / f"joint{M.axes.index(ax)}_{ax}.comp"), 1)
@@ -416,7 +416,7 @@ def test_cli_json(tmp_path, capsys):
 @pytest.mark.parametrize("machine", available_machines())
 def test_linuxcnc_every_joint_of_every_machine(tmp_path, machine):
     """Machines are data: each joint's positioning error (linear E_JJ; rotary E_CJ, the rotation about the axis'
-    own stator z, design.md) is cancelled by its exported trim at random configurations, whatever the chain's
+    own stator z, docs/design.md) is cancelled by its exported trim at random configurations, whatever the chain's
     joint signs (xyzac: A and C turn with sign -1); negated trims double the error."""
     m = load_machine(machine)
     funcs, shape, spans, rng = {}, {}, {}, np.random.default_rng(3)

@@ -82,7 +82,7 @@ def test_siemens_unlimited_rotary_axis_is_a_full_turn_modulo_table(tmp_path):
     pos, val, modulo = read_k3(_siemens(tmp_path))["AX5"]
     assert modulo == 1 and pos[0] == 0 and pos[-1] == pytest.approx(360.0) and val[0] == val[-1]
     inside = pos <= 340
-    # the joint-equivalent error of C is -E_CC on the DMU 50: a rising C turns the table about -z (design.md,
+    # the joint-equivalent error of C is -E_CC on the DMU 50: a rising C turns the table about -z (docs/design.md,
     # T_0^w = ... Rz(-C)), E_CC is a turn about +z
     assert np.abs(val[inside] + np.degrees(model().functions["E_CC"](pos[inside]))).max() < 1e-9
 

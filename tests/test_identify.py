@@ -124,7 +124,7 @@ def test_exact_round_trip_all_axes_with_squareness():
 
 def test_squareness_sign_of_a_constructed_iso_example():
     """Readings written by hand (no kinematics): Y travels along (-v, 1, 0) and Z along (u, -t, 1), X along x.
-    By ISO 230-1 right-hand rotations that is E_C0Y = +v, E_B0Z = +u, E_A0Z = +t (design.md)."""
+    By ISO 230-1 right-hand rotations that is E_C0Y = +v, E_B0Z = +u, E_A0Z = +t (docs/design.md)."""
     v, u, t = 20e-6, -15e-6, 10e-6
     rows = []
     for ax, direction in (("X", (1, 0, 0)), ("Y", (-v, 1, 0)), ("Z", (u, -t, 1))):
@@ -236,7 +236,7 @@ def test_degree_and_harmonics_are_selected_by_the_rounds_scatter():
     truth = 0.01 * (u - 2.5 * u**2 + 1.8 * u**3)
     per_round = truth + rng.normal(0, 2e-4, (4, 11))
     f = fitting.fit_polynomial(x, per_round)
-    assert f["degree"] == 3 and f["criterion"] == fitting.CRITERION
+    assert f.degree == 3 and f.info["criterion"] == fitting.CRITERION
     ef = ErrorFunction("X", x, per_round.mean(0), f)
     assert np.abs(ef(x) - truth).max() < 4e-4
     c = np.arange(0, 341, 20.0)
@@ -244,11 +244,11 @@ def test_degree_and_harmonics_are_selected_by_the_rounds_scatter():
     truth = 0.005 * np.sin(w) + 0.003 * np.cos(2 * w)
     per_round = truth + rng.normal(0, 2e-4, (4, len(c)))
     h = fitting.fit_harmonic(c, per_round)
-    assert h["harmonics"] == 2
+    assert h.harmonics == 2
     assert np.abs(ErrorFunction("C", c, per_round.mean(0), h)(c) - truth).max() < 4e-4
     one = fitting.fit_polynomial(x, (0.01 * u)[None])  # a single round: information criterion
-    assert "AICc" in one["criterion"] and one["degree"] >= 1
-    assert fitting.fit_polynomial(x, np.vstack([0.01 * u] * 3))["degree"] >= 1  # rounds that agree exactly: AICc
+    assert "AICc" in one.info["criterion"] and one.degree >= 1
+    assert fitting.fit_polynomial(x, np.vstack([0.01 * u] * 3)).degree >= 1  # rounds that agree exactly: AICc
 
 
 # ----------------------------------------------------------------------------- bad input
@@ -320,7 +320,7 @@ def test_repeated_reading_in_one_pass_is_an_error():
     extra.time_s = extra.time_s + 1000
     both = make_recording(*(np.concatenate([getattr(rec, f), getattr(extra, f)]) for f in
                             ("axis", "round", "position", "point", "xyz", "time_s")), source="rep.csv")
-    with pytest.raises(InputError, match="measured again.*not averaged silently"):
+    with pytest.raises(InputError, match="read twice.*not averaged silently"):
         identify(both)
 
 
@@ -343,7 +343,7 @@ def test_cli_json_model_and_plots(tmp_path, capsys):
     assert len(js["warnings"]) == 1 and "may make the machine worse" in js["warnings"][0]
     m = load_model(out)
     assert set(m.constants) == {"E_C0Y", "E_B0Z", "E_A0Z"}
-    assert len(m.functions) == 30 and m.functions["E_CC"].fit["kind"] == "harmonic"
+    assert len(m.functions) == 30 and m.functions["E_CC"].fit.kind == "harmonic"
     assert m.functions["E_XX"].extra["std_mean"][0] == 0.0
     e = m.errors_at(M, np.array([[250, 0, 0, 0, 0.0]]))
     assert np.isfinite(e).all()

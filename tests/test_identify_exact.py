@@ -1,7 +1,7 @@
 """Issue 22: every identification path gives the truth back on noise-free campaigns, in one frame.
 
 The true machine of each spec carries straightness *slopes* (its X motion is not along the tracker's x), so the
-tracker frame is not the ISO frame of the linear axes (design.md gauge).  Every path must put every axis -- linear
+tracker frame is not the ISO frame of the linear axes (docs/design.md gauge).  Every path must put every axis -- linear
 and rotary -- in that ISO frame.  Model and truth are compared by the tool tip's deviation in workpiece
 coordinates over the work volume after the re-setup gauge: a rigid motion of the workpiece (t + w x p, what
 re-aligning the part on the machine absorbs; it is exactly what a rotation of the base frame leaves), fitted by

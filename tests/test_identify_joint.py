@@ -80,7 +80,7 @@ def test_station_columns_round_trip_and_a_round_belongs_to_one_station():
 
 def test_alignment_errors_of_tens_of_um_and_urad_cost_nothing():
     """Noise-free: the estimate with stations misaligned by ~50 um / 100 urad equals the one without (to 1 nm /
-    0.01 urad), and each station's alignment is recovered (translations centred: design.md gauge)."""
+    0.01 urad), and each station's alignment is recovered (translations centred: docs/design.md gauge)."""
     kw = dict(machine=M, rounds=1, plan=SMALL, noise=False)
     rec0, _ = simulate_stations(_truth(), [FRONT, LEFT, HIGH], alignment_um=0, alignment_urad=0, **kw)
     rec1, truth = simulate_stations(_truth(), [FRONT, LEFT, HIGH], alignment_um=50, alignment_urad=100, seed=4, **kw)
@@ -143,7 +143,7 @@ WIDE = {"tool": {"P": [210, 0, 30], "Q": [-105, 180, 120], "K": [-105, -180, 210
 def demo():
     """(ISO-framed demo truth, its campaign plan, 2000 poses over the demo's work volume, true deviations).
     The truth is the bundled demo truth with the linear part of E_YX, E_ZX and E_ZY removed: the estimate is in
-    the ISO frame of the linear axes (design.md gauge) and a tracker cannot see the frame's rotation relative to
+    the ISO frame of the linear axes (docs/design.md gauge) and a tracker cannot see the frame's rotation relative to
     the table, so a truth outside that frame would differ from any estimate by it (2.6 um on this metric)."""
     from mtcal.data.make_demo_data import DEMO_PLAN
     from mtcal.demo.run import data_path

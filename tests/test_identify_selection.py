@@ -36,8 +36,8 @@ def test_selection_uses_the_rounds_scatter_not_a_rule_that_prefers_zero():
         pr = truth + rng.normal(0, 0.004, (4, 11)) + rng.normal(0, 0.003, (4, 1)) * np.abs(u)
         pr -= pr[:, 5:6]  # zero at the reference (x = 0) in every round, as the three-point method gives
         f = fitting.fit_polynomial(x, pr, 7, 0.0)
-        zeros += f["degree"] == 0
-        fitted = np.polynomial.Polynomial(f["coefficients"], domain=f["domain"])(x)
+        zeros += f.degree == 0
+        fitted = f(x)
         fit_err.append(np.sqrt(np.mean((fitted - truth) ** 2)))
         table_err.append(np.sqrt(np.mean((pr.mean(0) - truth) ** 2)))
     assert zeros == 0

@@ -1,6 +1,6 @@
 """ISO 230-2:2014 evaluation: recordings built here with a known run structure and planted deviations; the
 expected values are computed in this file by a plain loop over the standard's definitions, not by
-mtcal.iso230_2.evaluate; plus end-to-end through `mtcal simulate` with planted scale and backlash."""
+mtcal.iso230_2.evaluation; plus end-to-end through `mtcal simulate` with planted scale and backlash."""
 from __future__ import annotations
 
 import json
@@ -11,7 +11,7 @@ import pytest
 
 from mtcal.cli import main
 from mtcal.errors import InputError
-from mtcal.iso230_2.evaluate import evaluate, infer_directions
+from mtcal.iso230_2.evaluation import evaluate, infer_directions
 from mtcal.measurement.recordings import format_recording, make_recording, parse_recording
 
 D = 154.996  # mm, B/C intersection height of the DMU 50 (dmu50.toml)
@@ -155,7 +155,7 @@ def test_directions_inferred_from_the_order_when_the_column_is_absent():
 
 
 def test_rotary_c_axis_angular_deviation_from_the_plane_geometry():
-    """C on the DMU 50 at B = 0: a table point w sits at Rz(-C) w (design.md, T_0^w); the table turned to
+    """C on the DMU 50 at B = 0: a table point w sits at Rz(-C) w (docs/design.md, T_0^w); the table turned to
     C + delta, plus a radial drift of the axis (must not leak into the angle)."""
     rng = np.random.default_rng(4)
     targets = [0.0, 45.0, 90.0, 135.0, 180.0, 225.0, 270.0, 315.0]
@@ -177,7 +177,7 @@ def test_rotary_c_axis_angular_deviation_from_the_plane_geometry():
 
 
 def test_rotary_b_axis_tilted_45_degrees():
-    """B on the DMU 50 at C = 0: Tz(d) Rx(45) Rz(B) Rx(-45) Tz(-d) w (design.md)."""
+    """B on the DMU 50 at C = 0: Tz(d) Rx(45) Rz(B) Rx(-45) Tz(-d) w (docs/design.md)."""
     rng = np.random.default_rng(5)
     targets = [0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0]
     passes = _passes(targets, 5)
@@ -333,7 +333,7 @@ def test_planted_scale_and_backlash_show_up_as_E_and_B(tmp_path, capsys, noise):
     """mtcal simulate with a 20 ppm scale error and 4 um backlash of X, 20 urad backlash of C (effects.py:
     positioning error + ppm q and + d amount / 2): E_up = 20e-6 * 500 mm = 10 um, B_i = 4 um; |B| of C =
     20 urad = 4.125 arcsec with B_i = -4.125 arcsec: the effect adds + d amount / 2 to E_CC, a turn about +z of
-    C's stator, while a rising C turns the table about -z (T_0^w = ... Rz(-C), design.md), so the table lags
+    C's stator, while a rising C turns the table about -z (T_0^w = ... Rz(-C), docs/design.md), so the table lags
     (ISO 230-2: actual - commanded C) when approached from below.  Tracker beside the machine (beam along X)."""
     plan = tmp_path / "plan.json"
     plan.write_text(json.dumps({"rounds": 5, "tracker": [-1500, 225, 150],

@@ -13,7 +13,7 @@ import mtcal
 from mtcal.errors import InputError
 
 MACHINES = sorted(p.stem for p in (Path(__file__).resolve().parent.parent / "derive" / "machines").glob("*.toml"))
-D = 154.996  # mm, DMU 50 (design.md)
+D = 154.996  # mm, DMU 50 (docs/design.md)
 
 
 def random_axes(m: mtcal.Machine, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -285,7 +285,7 @@ def test_first_order_gap_is_second_order(name):
     assert gap[0] < 1e-2 * first  # the second-order remainder is small against the first-order deviation
 
 
-# ---------------------------------------------------------------------------- conventions of design.md
+# ---------------------------------------------------------------------------- conventions of docs/design.md
 def test_error_conventions_of_design_notes():
     m = mtcal.load_machine("dmu50")
     dev = lambda ax, **e: m.deviation(np.array(ax, float), e, order=1)[:3]  # noqa: E731

@@ -344,7 +344,7 @@ def test_exact_residual_numpy_vs_casadi_at_solution():
 
 @pytest.mark.parametrize("turn_deg", [60.0, 100.0])
 def test_any_turn_is_fit_exactly_from_a_file(tmp_path, capsys, turn_deg):
-    """README: the exact fit works for any turn.  Truth built here (eqs. 1, 6, 11 written out in `synthetic`) on a
+    """docs: the exact fit works for any turn.  Truth built here (eqs. 1, 6, 11 written out in `synthetic`) on a
     300 mm plate far from the coordinate origin, turned 60 or 100 deg: no "mixed units?" refusal, alpha, beta,
     gamma and the offsets recovered to 1e-9 from noise-free data written to a CSV file."""
     truth = dict(alpha=4e-6, beta=math.radians(turn_deg - 90.0), gamma=1.2e-5, ex=-1.5e-5, ey=9e-6)

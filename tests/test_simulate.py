@@ -35,7 +35,7 @@ def _rz(a):
 
 
 def _nominal_table(b_deg, c_deg, p):
-    """Independent nominal table kinematics (design.md): Tz(d) Rx(45) Rz(B) Rx(-45) Tz(-d) Rz(-C) p."""
+    """Independent nominal table kinematics (docs/design.md): Tz(d) Rx(45) Rz(B) Rx(-45) Tz(-d) Rz(-C) p."""
     r = _rx(math.pi / 4) @ _rz(math.radians(b_deg)) @ _rx(-math.pi / 4)
     q = _rz(-math.radians(c_deg)) @ np.asarray(p)
     return r @ (q - [0, 0, D]) + [0, 0, D]

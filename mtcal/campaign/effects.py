@@ -5,7 +5,7 @@ Each effect is one physical mechanism with named parameters (defaults below), ap
 it to the reflectors) or to the tracker readings themselves.  Units: mm and rad for errors, mm or deg for
 axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
-Names (design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
+Names (docs/design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
 outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
 thermal_temperature.  Parameters are checked (finite, in a physical range) and a bad one is an InputError.
 API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
@@ -24,7 +24,7 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  s = +1 when a positive command turns about +z of the axis' stator frame (the sense of E_C<R>),
                  -1 otherwise (DMU 50's C, T_0^w = ... Rz(-C): amount = +20 urad reads B = -20 urad).  Classic
                  lost motion (the axis stops short in the direction of travel: B < 0) is a negative amount on a
-                 linear axis (tests/test_effects_new_physics.py checks both through mtcal.iso230_2.evaluate).
+                 linear axis (tests/test_effects_new_physics.py checks both through mtcal.iso230_2.evaluation).
 * reversal_angular  direction-dependent pitch / yaw / roll of a linear axis: its angular error ``error`` (E_AJ,
                  E_BJ, E_CJ of a linear axis J) gets + d * amount / 2 on the readings of J's motion, so the angle
                  differs by amount (rad) between + and - approach (e.g. a carriage rocking on its guides as the

@@ -77,7 +77,7 @@ class Plan:
         return self.machine.axis_vector({**at, axis: q})
 
     def reference_position(self, axis: str) -> float:
-        """The position closest to zero (the reference of every round, design.md)."""
+        """The position closest to zero (the reference of every round, docs/design.md)."""
         p = self.positions[axis]
         return float(p[np.argmin(np.abs(p))])
 

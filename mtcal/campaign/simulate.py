@@ -155,7 +155,7 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
     rec = make_recording(rows.axis, rows.round, rows.position, rows.point, xyz, rows.time_s, rows.direction,
                          rows.temperature_c)
     moved = [a for a in m.axes if np.any(rows.axes[rows.axis != a, m.index(a)] != 0)]
-    if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (design.md)
+    if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (docs/design.md)
         rec.other_positions = {a: rows.axes[:, m.index(a)].copy() for a in moved}
     truth = {
         "machine": m.name,

@@ -1,4 +1,4 @@
-"""Multi-station campaigns (design.md: several tracker stations): the same campaign measured from each station
+"""Multi-station campaigns (docs/design.md: several tracker stations): the same campaign measured from each station
 in turn, every station with its own small alignment error.
 
 Each station's readings are ``rigid_point(exact reflector position, a_s) + AT960 noise from that station``
@@ -54,7 +54,7 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
     rng = np.random.default_rng(seed)
     align = np.column_stack([rng.normal(0, alignment_um * 1e-3, (len(named), 3)),
                              rng.normal(0, alignment_urad * 1e-6, (len(named), 3))])
-    align[:, :3] -= align[:, :3].mean(axis=0)  # the gauge of design.md: translations sum to zero (see module doc)
+    align[:, :3] -= align[:, :3].mean(axis=0)  # the gauge of docs/design.md: translations sum to zero (see module doc)
     parts, st_truth, t0 = [], [], 0.0
     for k, (label, pos) in enumerate(named):
         t = np.asarray(pos, dtype=float).reshape(3)

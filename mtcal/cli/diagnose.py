@@ -12,7 +12,7 @@ HELP = "fit a quasi-static base model to tracker recordings, locate the misfit, 
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("recording", metavar="REC.csv", help="laser-tracker recording (tidy CSV of design.md)")
+    p.add_argument("recording", metavar="REC.csv", help="laser-tracker recording (tidy CSV of docs/design.md)")
     p.add_argument("--model", metavar="MODEL.json", help="base model = this error model (residuals = recordings "
                    "minus its simulation); default: fit smooth error functions to the recording")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz,
@@ -25,7 +25,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--per-axis-positions", action="store_true",
                    help="one position per (axis, reflector) instead of sharing a reflector's position between the "
                    "axes measured from the same reference pose (then a reflector creeping between the axes is "
-                   "absorbed; README, diagnosis base model)")
+                   "absorbed; docs, diagnosis base model)")
     p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
     machine_argument(p)
 

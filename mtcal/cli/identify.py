@@ -15,6 +15,7 @@ from mtcal.kinematics.machine import DEFAULT_MACHINE
 from mtcal.measurement.inspire import parse_positions, read_inspire
 from mtcal.measurement.recordings import read_recording
 from mtcal.model.errormodel import save_model
+from mtcal.model.fits import Polynomial
 
 NAME = "identify"
 log = logging.getLogger("mtcal." + NAME)
@@ -34,7 +35,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--reference", choices=fitting.REFERENCE_METHODS, default="least-squares",
                    help="ISO 230-1 reference straight line for straightness and squareness (default least-squares)")
     p.add_argument("--layout", choices=("tidy", "inspire"), default="tidy",
-                   help="input layout: tidy CSV (design.md) or the thesis' Inspire exports (blocks of K, P, Q rows)")
+                   help="input layout: tidy CSV (docs/design.md) or the thesis' Inspire exports (blocks of K, P, Q "
+                        "rows)")
     p.add_argument("--axis", help="with --layout inspire: the axis measured (X, Y, Z, B or C)")
     p.add_argument("--positions", help="with --layout inspire: positions as start:stop:count or a comma list "
                    "(default: the thesis plan of the axis)")
@@ -62,7 +64,7 @@ def _report(res) -> str:
             cells = "".join(f"{mean[k, i] * 1e3 if i < 3 else mean[k, i] * 1e6:9.2f}"
                             f"+-{(sm[k, i] * 1e3 if i < 3 else sm[k, i] * 1e6):<6.2f}" for i in range(6))
             lines.append(f"{x:9.2f}{cells}{ar.residual_rms[k] * 1e3:9.2f}")
-        fits = ", ".join(f"{n}: " + (f"deg {f['degree']}" if f["kind"] == "polynomial" else f"{f['harmonics']} harm")
+        fits = ", ".join(f"{n}: " + (f"deg {f.degree}" if isinstance(f, Polynomial) else f"{f.harmonics} harm")
                          for n, f in ar.fits.items())
         lines.append(f"fits: {fits}")
     if res.squareness:

@@ -1,5 +1,5 @@
 """`mtcal iso230-2 REC.csv`: ISO 230-2:2014 positioning accuracy and repeatability of linear and rotary axes
-(evaluation in mtcal.iso230_2.evaluate; this module parses arguments and formats tables)."""
+(evaluation in mtcal.iso230_2.evaluation; this module parses arguments and formats tables)."""
 from __future__ import annotations
 
 import argparse
@@ -23,7 +23,7 @@ ORDER = ("A", "A_up", "A_down", "E", "E_up", "E_down", "M", "R", "R_up", "R_down
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("recording", metavar="FILE.csv",
-                   help="a tidy tracker recording (design.md), or an interferometer's readings: target_UNIT, run, "
+                   help="a tidy tracker recording (docs/design.md), or an interferometer's readings: target_UNIT, run, "
                         "direction, measured_UNIT or deviation_UNIT[, air_temperature_c, material_temperature_c]")
     p.add_argument("--unit", choices=("mm", "um", "in", "deg", "arcsec"),
                    help="readings layout: the unit of target / measured / deviation columns without a unit suffix")
@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
 def _evaluate(args: argparse.Namespace):
     """The evaluation of a tracker recording or of an interferometer's readings (by the file's header)."""
     from mtcal.io import read_csv_rows
-    from mtcal.iso230_2.evaluate import Iso230Result, evaluate, evaluate_runs, in_unit, temperature_normalisation
+    from mtcal.iso230_2.evaluation import Iso230Result, evaluate, evaluate_runs, in_unit, temperature_normalisation
     from mtcal.iso230_2.readings import is_readings_header, read_readings
     from mtcal.measurement.recordings import read_recording
 
@@ -93,7 +93,7 @@ def _evaluate(args: argparse.Namespace):
         return Iso230Result(args.recording, {axis: ev}, temperature_normalisation(args.alpha))
     if args.unit:
         raise InputError(f"{args.recording}: --unit is for the readings layout (target_UNIT, run, direction, ...); a "
-                         f"tracker recording is in mm and deg (design.md)")
+                         f"tracker recording is in mm and deg (docs/design.md)")
     rec = read_recording(args.recording, args.machine)
     return evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine, targets=targets,
                     alpha=args.alpha, angle_unit=args.angle_unit, point=args.point, result_unit=args.result_unit)
@@ -148,7 +148,7 @@ def targets_csv(ev) -> str:
 
 
 def parameters_csv(ev) -> str:
-    from mtcal.iso230_2.evaluate import PARAMETERS
+    from mtcal.iso230_2.evaluation import PARAMETERS
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(["parameter", f"value_{ev.unit}", "meaning"])
@@ -159,7 +159,7 @@ def parameters_csv(ev) -> str:
 
 def markdown(ev, source: str, temperature: dict | None) -> str:
     """The table labs report: per target, then the axis parameters (ISO 230-2:2014 names)."""
-    from mtcal.iso230_2.evaluate import PARAMETERS
+    from mtcal.iso230_2.evaluation import PARAMETERS
     lines = [f"### ISO 230-2:2014 axis {ev.axis} ({ev.kind}) — {source}", "",
              f"Positional deviations in {ev.unit}, target positions in {ev.position_unit}; "
              f"↑ = approached in the + direction, ↓ = in the − direction."]

@@ -64,9 +64,7 @@ def present_errors(model: ErrorModel) -> set[str]:
     """ISO names the model gives a non-zero value anywhere."""
     out = {n for n, v in model.constants.items() if v != 0}
     for n, f in model.functions.items():
-        fit = f.fit or {}
-        coef = [np.asarray(fit.get(k, []), dtype=float) for k in ("coefficients", "a0", "cos", "sin")]
-        if np.any(f.values != 0) or any(np.any(c != 0) for c in coef):
+        if np.any(f.values != 0) or (f.fit is not None and not f.fit.is_zero()):
             out.add(n)
     return out
 

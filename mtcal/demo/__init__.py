@@ -1,1 +1,4 @@
-"""The main job on bundled data (mtcal demo)."""
+"""The main job on bundled data (``mtcal demo``), on the library."""
+from mtcal.demo.run import run_demo
+
+__all__ = ["run_demo"]

@@ -13,7 +13,6 @@ import json
 import logging
 import shutil
 import time
-from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +20,7 @@ import numpy as np
 from mtcal.campaign.plans import Plan
 from mtcal.campaign.simulate import simulate, write_campaign
 from mtcal.compensate.run import compensate_program
+from mtcal.data import path
 from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_PLAN, DEMO_SEED, build_for
 from mtcal.demo.stations import plot_stations, report_lines, run_stations
 from mtcal.diagnose import diagnose, diagnose_plate, plot_residuals
@@ -40,8 +40,7 @@ STEPS = 7
 log = logging.getLogger(__name__)
 
 
-def data_path(name: str) -> Path:
-    return Path(str(resources.files("mtcal.data").joinpath(name)))
+data_path = path  # mtcal.data.path
 
 
 def _json(obj) -> dict:

@@ -4,7 +4,7 @@ mismatch, name the effect.
 Base model (frames: machine frame = tracker frame, mm; positions mm or deg; errors mm and rad):
 * every reflector reading of axis J is its nominal position plus the first-order effect of J's six error
   motions through the generated point Jacobian (Machine.point_jacobian_errors):
-  d = J_point(q) e(q); the nominal position uses the point's position from the reference readings (design.md:
+  d = J_point(q) e(q); the nominal position uses the point's position from the reference readings (docs/design.md:
   each round's reading at the position closest to zero);
 * the error motions are smooth functions that vanish at the reference position: polynomials in (q - q_ref) for
   X, Y, Z and harmonics (cos k q - cos k q_ref, sin k q - sin k q_ref) for B and C, the degree chosen per axis by
@@ -26,7 +26,7 @@ estimated
   from the scatter of the repeated rounds (mtcal.diagnose.noise; whitened least squares; sigma ratio 1 = the
   tracker's specification), else (one round, no tracker shape in the scatter) unweighted;
 * with ``model`` given, the base model is that model (readings minus its simulation) plus the offsets;
-* several tracker stations (design.md: station and tracker_x,y,z columns) are one fit: each reading weighted
+* several tracker stations (docs/design.md: station and tracker_x,y,z columns) are one fit: each reading weighted
   about its own station's tracker, each station's rigid alignment (6 parameters; the first station's is the
   frame) among the base's unknowns, the error functions and reflector positions common to every station; the
   tracker effects (drift, settling, scale relative to the first station, knock) are candidates per station, the
@@ -49,7 +49,8 @@ and pairs of factors; outlier and knock scans), selection (forward / backward, c
 (typed findings, JSON), plate (plate fits), run (``diagnose()``)."""
 from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.plate import diagnose_plate, format_plate_diagnosis
-from mtcal.diagnose.prepare import Prepared, prepare
+from mtcal.diagnose.prepare import prepare
+from mtcal.diagnose.prepared import Prepared
 from mtcal.diagnose.report import Diagnosis, Finding, plot_residuals
 from mtcal.diagnose.run import MAX_DEGREE, diagnose
 

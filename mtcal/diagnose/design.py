@@ -12,11 +12,11 @@ tracker or a drift of the whole side between the axes is therefore still absorbe
 relative to the others (a creeping nest) is no longer absorbed per axis.
 
 Several tracker stations (``Prepared.stations``): each station's readings are in the machine frame after its own
-alignment, which leaves a small rigid error (design.md).  The base carries it as six shared columns per station
+alignment, which leaves a small rigid error (docs/design.md).  The base carries it as six shared columns per station
 (``_alignment_columns``: translation t, mm, and a small rotation w, rad, about the centroid of the station's
 readings c, moving a reading x by t + w x (x - c)) for every station but the first: gauge, the first station's
 alignment is the frame (the data tell only the alignments relative to each other, a common rigid motion being
-the reflector positions and the machine frame; design.md's "translations sum to zero" is the same fit, the
+the reflector positions and the machine frame; docs/design.md's "translations sum to zero" is the same fit, the
 estimates shifted by their mean).
 """
 from __future__ import annotations

@@ -11,7 +11,7 @@ reversal_straightness mm (straightness(+ approach) - straightness(- approach));
 nest_creep mm/s (3-vector in the side's local frame); tracker_settling rad/s and rad (rotation vector about the
 tracker: ramp rate and settled angle); thermal_temperature ppm/K (expansion) or mm/K (3-vector drift).
 
-Effect names and vocabulary follow design.md; ``QUASI_STATIC`` are the effects that are themselves smooth
+Effect names and vocabulary follow docs/design.md; ``QUASI_STATIC`` are the effects that are themselves smooth
 functions of the measured axis' position (part of the fitted base model's family when no model is given).
 """
 from __future__ import annotations
@@ -21,12 +21,13 @@ from typing import Callable
 
 import numpy as np
 
+from mtcal.campaign.effects import NAMES
 from mtcal.generated import signatures_numpy as S
 from mtcal.kinematics.machine import Machine
 
-VOCABULARY = ("thermal_drift", "backlash", "scale", "squareness", "rotary_location", "periodic", "outlier",
-              "cross_axis", "second_order", "tracker_scale", "offset", "reversal_angular", "nest_creep",
-              "tracker_settling", "thermal_temperature", "reversal_straightness")
+# The effect names (docs/design.md): the simulator's physics (the one list, mtcal.campaign.effects.NAMES) and
+# what only the diagnosis names (a straightness that differs by approach direction has no simulator model yet).
+VOCABULARY = (*NAMES, "reversal_straightness")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
 UNEXPLAINED = "unexplained"  # name of the free-form candidates: selected, they are reported as unexplained
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s

@@ -2,7 +2,7 @@
 
 Frames and units: machine frame (= tracker frame after alignment), mm; positions mm (linear) or deg (rotary).
 The nominal position of every reflector reading uses the point's position estimated from the reference readings
-(design.md: each round's reading at the position closest to zero); y = reading - nominal (incl. a given model).
+(docs/design.md: each round's reading at the position closest to zero); y = reading - nominal (incl. a given model).
 
 Reflector positions tied across axes (``tie_positions``): every axis is measured with the other axes parked, and
 the base's error functions vanish at each axis' reference position, so a reflector read at the same full machine
@@ -15,7 +15,7 @@ uses the reference readings of all its axes.  A parked axis still sits in an err
 (the side of its backlash it was last approached from): the base gives each tied axis a free rigid motion of its
 side (mtcal.diagnose.design), so only what moves one reflector relative to the others is no longer absorbed.
 
-Several tracker stations (design.md; ``tracker`` a dict label -> tracker position): every reading is weighted
+Several tracker stations (docs/design.md; ``tracker`` a dict label -> tracker position): every reading is weighted
 by the AT960 covariance about its own station's tracker, and the tracker-dependent candidates are per station
 (``Geometry.station``, ``Geometry.trackers``); the base adds every station's alignment (mtcal.diagnose.design).
 
@@ -30,6 +30,7 @@ from mtcal.diagnose.noise import NoiseModel, noise_model
 from mtcal.diagnose.prepared import Prepared
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
+from mtcal.measurement.passes import first_readings, position_key, reference_position
 from mtcal.measurement.recordings import Recording
 
 TIE_POSITIONS = True   # default: reflector positions shared by axes measured from the same reference pose
@@ -47,7 +48,7 @@ def _affine(m: Machine, side: str, axes: np.ndarray, errors: np.ndarray) -> tupl
 def reference_pose(rec: Recording, m: Machine, axis: str, q_ref: float) -> np.ndarray | None:
     """The full machine pose (n_axes,) mm or deg of ``axis``' reference readings: its reference position, the
     other axes at their pos_<AXIS> columns or zero; None when its reference readings are not at one pose."""
-    at = (rec.axis == axis) & np.isclose(rec.position, q_ref, atol=1e-9)   # as _reference_readings
+    at = (rec.axis == axis) & (position_key(rec.position) == position_key(q_ref))  # as _reference_readings
     pose = np.zeros((int(at.sum()), len(m.axes)))
     for b, v in (rec.other_positions or {}).items():
         if b in m.axes and b != axis:
@@ -87,14 +88,14 @@ def shared_axes(prep: "Prepared") -> list[list[str]]:
 def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.ndarray) -> np.ndarray:
     """Indices of the reference readings of the readings ``sel`` of one (axis, point): per round, the first reading
     at the reference position ``q_ref``."""
+    first = first_readings(rec, sel, q_ref, rank, by=("round",))
     refs = []
     for r in sorted(set(rec.round[sel].tolist())):
-        rs = sel[rec.round[sel] == r]
-        at = rs[np.isclose(rec.position[rs], q_ref, atol=1e-9)]
-        if len(at) == 0:
+        if (r,) not in first:
+            rs = sel[rec.round[sel] == r]
             raise InputError(f"{rec.source}: axis {rec.axis[rs[0]]} round {r} point {rec.point[rs[0]]} has no "
                              f"reading at the reference position {q_ref:g}")
-        refs.append(at[np.argmin(rank[at])])
+        refs.append(first[(r,)])
     return np.array(refs, dtype=int)
 
 
@@ -129,8 +130,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     seq = np.array([seq_index[k] for k in keys])
     q_ref: dict[str, float] = {}
     for a in axes:
-        pos = rec.position[rec.axis == a]
-        q_ref[a] = float(pos[np.argmin(np.abs(pos))])
+        q_ref[a] = reference_position(rec.position[rec.axis == a])
     group = position_groups(rec, m, axes, q_ref, tie_positions)
     for k in range(int(group.max()) + 1):
         sel = np.flatnonzero(group == k)

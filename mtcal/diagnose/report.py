@@ -1,7 +1,7 @@
-"""The answer of the diagnosis: typed findings and their JSON form (design.md's contract), headlines of the
+"""The answer of the diagnosis: typed findings and their JSON form (docs/design.md's contract), headlines of the
 estimates, the alias (Nyquist) check of periodic findings, ramps over the record, and the residual plots.
 
-JSON keys beyond design.md's (documented in the README): "noise_model" (how the readings were weighted),
+JSON keys beyond docs/design.md's (documented in the docs): "noise_model" (how the readings were weighted),
 "unexplained" (located mismatches no candidate explains), per effect "confounded_with" (candidates this
 campaign cannot tell apart from it, each with "separate_by"), "possible_alias" (periodic: pitches that give
 the same readings), "variant": "ramp over the record" (thermal drift whose time constant exceeds the record).

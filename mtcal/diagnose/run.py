@@ -104,7 +104,7 @@ def _alignments(prep) -> str:
 
 def _station_tracker(rec: Recording, tracker):
     """The tracker position(s) of the noise model: ``tracker`` if given, else the recording's own tracker_x,y,z
-    columns (design.md); several stations: a dict station label -> tracker position (3,) mm (each station's
+    columns (docs/design.md); several stations: a dict station label -> tracker position (3,) mm (each station's
     readings are then weighted about its own tracker and the base carries every station's alignment)."""
     labels = list(dict.fromkeys(rec.stations().tolist()))
     if len(labels) > 1:

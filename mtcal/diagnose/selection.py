@@ -62,7 +62,7 @@ DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from 
 
 
 def separate_by(a: str, b: str) -> str:
-    """The measurement that would separate effects ``a`` and ``b`` (names of design.md)."""
+    """The measurement that would separate effects ``a`` and ``b`` (names of docs/design.md)."""
     return SEPARATE_BY.get(frozenset((a, b)), DEFAULT_SEPARATE)
 
 

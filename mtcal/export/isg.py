@@ -8,7 +8,7 @@ Format" (INI-like blocks `[C0B]` `VALUE = v` and `[EXY]` `Gridpoints = { positio
 Units and spacing: errors in mm (translational) and rad (angular), positions in mm (linear) and deg (rotary),
 ISO 230-1 names without underscore (E_XX -> EXX, E_C0Y -> C0Y); one regular grid of ``step`` per axis.
 Sign: the files hold the errors themselves (ISO 230-1 deviations of the model, squareness right-handed as in
-design.md), not corrections: the TF5280 computes the compensation (= -deviation) and no `negate` entry is needed;
+docs/design.md), not corrections: the TF5280 computes the compensation (= -deviation) and no `negate` entry is needed;
 that TF5280 reads squareness/location signs with the same right-hand convention is ASSUMED (not stated in the
 pages found), so check one constant on the machine.
 """
@@ -28,7 +28,7 @@ BACKLASH_NOTE = ("set the controller's own backlash compensation of that axis to
                  "compensated twice")
 SIGN = ("the file holds the ISO 230-1 errors (deviations), not corrections; TF5280 computes the compensation; no "
         "`negate` needed; source: Beckhoff TF5280 Volumetric Compensation (file formats, modification of values); "
-        "squareness/location sign convention assumed right-handed (design.md)")
+        "squareness/location sign convention assumed right-handed (docs/design.md)")
 
 
 def iso_name(name: str) -> str:

@@ -1,2 +1,7 @@
-"""Identification from a tracker recording: the three-point method, the joint fit, fitted functions, model
-comparison, plots."""
+"""Identification from a tracker recording: ``identify()`` (run), its result types (results), the three-point
+method (threepoint), the joint fit (joint), the ISO frame and squareness (frame), fitted functions (fitting),
+the model (build), model comparison (compare), plots."""
+from mtcal.identify.results import AxisResult, IdentifyResult
+from mtcal.identify.run import identify
+
+__all__ = ["identify", "IdentifyResult", "AxisResult"]

@@ -31,8 +31,8 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
             cov = _value_covariance(ar, i, nm, reference)
             fit = (fitting.fit_harmonic(ar.positions, pr, 360.0, max_harmonics, ar.reference_position, cov) if periodic
                    else fitting.fit_polynomial(ar.positions, pr, max_degree, ar.reference_position, cov))
-            if "covariance" in fit:  # reported at the noise law's level (the factor only sized the function)
-                fit["covariance"] = (np.asarray(fit["covariance"]) / ar.fit_variance_factor).tolist()
+            if "covariance" in fit.info:  # reported at the noise law's level (the factor only sized the function)
+                fit.info["covariance"] = (np.asarray(fit.info["covariance"]) / ar.fit_variance_factor).tolist()
             warnings += _fit_leaves(nm, i >= 3, ar, pr, cov, ErrorFunction(axis, ar.positions, vals, fit))
             extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "n": ar.n.tolist()}
             if nm in ar.lines:

@@ -2,7 +2,7 @@
 and continuous fits whose complexity is chosen by the values' covariance (the rounds' scatter or the joint fit's).
 
 Units follow the data: positions in mm (linear) or deg (rotary), values in mm or rad.  Slopes of straightness
-lines are mm/mm = rad.  Squareness uses the right-hand convention of design.md (ISO 230-1): the actual Y
+lines are mm/mm = rad.  Squareness uses the right-hand convention of docs/design.md (ISO 230-1): the actual Y
 direction is Rz(E_C0Y) y = (-E_C0Y, 1, 0), the actual Z direction is Ry(E_B0Z) Rx(E_A0Z) z = (E_B0Z, -E_A0Z, 1),
 X is the datum.  (The thesis' eq. 3.16 prints +y E_C0Y and +z E_A0Z, i.e. the opposite signs of E_C0Y, E_A0Z.)
 """
@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.errors import InputError
+from mtcal.model.fits import Harmonic, Polynomial
 
 REFERENCE_METHODS = ("least-squares", "end-point", "minimum-zone")
 SQUARENESS_CONVENTION = ("right-hand (ISO 230-1, design.md): actual Y = (-E_C0Y, 1, 0), actual Z = (E_B0Z, -E_A0Z, 1), "
@@ -204,18 +205,17 @@ def _gls(x: np.ndarray, mean: np.ndarray, cov: np.ndarray, sizes: list[int], des
     return pick, scores, CRITERION, *sols[pick]
 
 
-def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None, cov=None) -> dict:
+def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None, cov=None) -> Polynomial:
     """Polynomial fit of the mean over rounds, degree chosen by ``_gls`` with the rounds' covariance
     (``rounds_covariance``, or ``cov``), by ``_select`` when the rounds show no scatter (0 .. min(max_degree, n - 2)).
 
     With ``x_ref`` (the reference position) the function is constrained to 0 there, as the errors are
     measured relative to the reference reading; degree 0 is then the zero function.
 
-    ``per_round`` (n_rounds, n_positions), NaN where a round lacks a position.  Returns the model fit dict
-    {"kind": "polynomial", "coefficients", "domain", "degree", "criterion", "scores", "rms"} (coefficients of
-    numpy.polynomial.Polynomial on ``domain``, as mtcal.model.errormodel evaluates them).  With ``cov`` (n_positions,
-    n_positions; the joint fit's covariance of the mean values) the fit is generalised least squares (``_gls``)
-    and the dict adds "covariance" of the coefficients.
+    ``per_round`` (n_rounds, n_positions), NaN where a round lacks a position.  Returns a
+    mtcal.model.fits.Polynomial (coefficients on ``domain``) whose ``info`` holds degree, criterion, scores and
+    rms.  With ``cov`` (n_positions, n_positions; the joint fit's covariance of the mean values) the fit is
+    generalised least squares (``_gls``) and ``info`` adds "covariance" of the coefficients.
     """
     x = np.asarray(x, dtype=float)
     per_round = np.atleast_2d(np.asarray(per_round, dtype=float))
@@ -239,17 +239,16 @@ def fit_polynomial(x, per_round, max_degree: int = 7, x_ref: float | None = None
         g = np.vstack([-u_ref ** np.arange(1, len(coef) + 1), np.eye(len(coef))])
         coef = g @ coef
         ccov = None if ccov is None else g @ ccov @ g.T
-    out = {"kind": "polynomial", "coefficients": coef.tolist(), "domain": list(dom), "degree": sizes[pick],
-           "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+    info = {"degree": sizes[pick], "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
     if ccov is not None:
-        out["covariance"] = ccov.tolist()
-    return out
+        info["covariance"] = ccov.tolist()
+    return Polynomial(coef.tolist(), list(dom), info)
 
 
 def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6, x_ref: float | None = None,
-                 cov=None) -> dict:
+                 cov=None) -> Harmonic:
     """Fourier series a0 + sum a_h cos(h w) + b_h sin(h w), w = 2 pi x / period, number of harmonics chosen as
-    in ``fit_polynomial`` (0 .. min(max_harmonics, (n - 2) // 2)); the model fit dict {"kind": "harmonic", ...}.
+    in ``fit_polynomial`` (0 .. min(max_harmonics, (n - 2) // 2)); a mtcal.model.fits.Harmonic.
     With ``x_ref`` the series is constrained to 0 at the reference position (a0 follows from the others).
     With ``cov`` as in ``fit_polynomial`` (GLS, "covariance" of [a0, a1, b1, a2, b2, ...] added)."""
     x = np.asarray(x, dtype=float)
@@ -273,11 +272,10 @@ def fit_harmonic(x, per_round, period: float = 360.0, max_harmonics: int = 6, x_
         g = np.vstack([-np.ravel(np.column_stack([np.cos(w0), np.sin(w0)])), np.eye(2 * h)])
         c = g @ c
         ccov = None if ccov is None else g @ ccov @ g.T
-    out = {"kind": "harmonic", "period": float(period), "a0": float(c[0]), "cos": c[1::2].tolist(),
-           "sin": c[2::2].tolist(), "harmonics": h, "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
+    info = {"harmonics": h, "criterion": how, "scores": [float(s) for s in scores], "rms": rms}
     if ccov is not None:
-        out["covariance"] = ccov.tolist()
-    return out
+        info["covariance"] = ccov.tolist()
+    return Harmonic(float(period), float(c[0]), c[1::2].tolist(), c[2::2].tolist(), info)
 
 
 def is_periodic(positions, period: float = 360.0) -> bool:

@@ -16,7 +16,7 @@ from mtcal.measurement.recordings import Recording
 
 def _reference_lines(results: dict[str, AxisResult], m: Machine, reference: str) -> dict[str, float]:
     """Fit the reference straight line of every straightness of the linear axes (stored in ``AxisResult.lines``)
-    and return their slopes {E_IJ: mm/mm}: they define the ISO frame (design.md gauge) and the squareness."""
+    and return their slopes {E_IJ: mm/mm}: they define the ISO frame (docs/design.md gauge) and the squareness."""
     slopes = {}
     for axis, ar in results.items():
         if m.kind(axis) != "linear":
@@ -32,7 +32,7 @@ def _reference_lines(results: dict[str, AxisResult], m: Machine, reference: str)
 
 def iso_frame_rotation(m: Machine, slopes: dict[str, float]) -> np.ndarray:
     """Small rotation (rx, ry, rz) rad that turns the measuring frame into the ISO frame of the linear axes
-    (design.md gauge: x along the motion of the linear axis that moves along x, y in the plane of the x and y
+    (docs/design.md gauge: x along the motion of the linear axis that moves along x, y in the plane of the x and y
     motions), from the straightness reference-line slopes ``slopes`` (mm/mm).  A linear axis moving along
     (1, s_y, s_z) is turned onto x by rz = -s_y, ry = +s_z; the y-moving axis' z slope s_z' by rx = -s_z'.
     Slopes that are missing count as zero (that part of the frame stays the measuring frame's)."""

@@ -12,7 +12,7 @@ One least-squares fit of all readings of a recording, instead of one three-point
   ``Machine.point_jacobian_errors`` (errors), ``Machine.rigid_motion`` (reflector position: d x / d w = R) and
   ``point_rows`` (alignment), solved by Gauss-Newton (the model is nearly linear: two steps);
 * weights: each reading's AT960 covariance (mtcal.measurement.tracker) from its station's tracker position;
-* gauge (what the data cannot tell, design.md): errors are zero at each axis' reference (the position closest to
+* gauge (what the data cannot tell, docs/design.md): errors are zero at each axis' reference (the position closest to
   zero, in the direction first approached there); the station translations sum to zero (one station: zero);
   the rotation of the frame is fixed by the ISO frame of the linear axes: the least-squares slopes (over the
   measured positions) of the first linear axis' two straightness motions and of the second linear axis'
@@ -39,6 +39,7 @@ from mtcal.generated import threepoint_numpy as tp
 from mtcal.identify.results import AxisResult
 from mtcal.kinematics.machine import Machine
 from mtcal.measurement import tracker as trk
+from mtcal.measurement.passes import first_readings, position_key, reading_order, reference_position
 from mtcal.measurement.recordings import Recording
 
 FIT_VARIANCE_FLOOR = 1e-12  # noise-free readings: the fits are sized as if the data were this precise (not exactly 0)
@@ -110,13 +111,12 @@ def _axes_matrix(m: Machine, rec: Recording) -> np.ndarray:
 
 def _layout(m: Machine, rec: Recording, keys: np.ndarray) -> Layout:
     axes, reference, err_index = {}, {}, {}
-    order = np.lexsort((rec.line, np.nan_to_num(rec.time_s, nan=np.inf)))
     n = 0
     for a in rec.axes():
         rows = np.flatnonzero(rec.axis == a)
-        pos = np.round(rec.position[rows], 6)
-        q0 = float(pos[np.argmin(np.abs(pos))])
-        first = next(i for i in order if rec.axis[i] == a and np.round(rec.position[i], 6) == q0)
+        pos = position_key(rec.position[rows])
+        q0 = reference_position(pos)
+        first = first_readings(rec, rows, q0, reading_order(rec, rows), by=())[()]
         reference[a] = (q0, int(keys[first]))
         ks = sorted({(float(p), int(d)) for p, d in zip(pos, keys[rows])} - {reference[a]})
         axes[a] = ks
@@ -322,7 +322,7 @@ def _per_round(m: Machine, rec: Recording, lay: Layout, q, keys, sides, x, white
             allk = sorted(ks + [lay.reference[axis]])
             vals[:] = np.nan
             for ik, k in enumerate(allk):
-                sel = np.flatnonzero((rec.axis == axis) & (rec.round == r) & (np.round(rec.position, 6) == k[0])
+                sel = np.flatnonzero((rec.axis == axis) & (rec.round == r) & (position_key(rec.position) == k[0])
                                      & (keys == k[1]))
                 if not len(sel):
                     continue
@@ -371,7 +371,7 @@ def axis_result(res: JointResult, rec: Recording, m: Machine, axis: str):
             if (p, 1) in keys and (p, -1) in keys:
                 reversal[ip] = vals[keys.index((p, 1))] - vals[keys.index((p, -1))]
     rows = rec.axis == axis
-    pi = np.searchsorted(positions, np.round(rec.position[rows], 6))
+    pi = np.searchsorted(positions, position_key(rec.position[rows]))
     rss = np.bincount(pi, np.sum(res.residuals[rows] ** 2, axis=1), len(positions))
     cnt = np.bincount(pi, minlength=len(positions)) * 3
     sig = np.sqrt(np.diagonal(c).reshape(len(positions), 6) * max(1, len(rounds)))

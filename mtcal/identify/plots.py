@@ -12,6 +12,7 @@ import numpy as np
 
 from mtcal.io import save_figure
 from mtcal.model.errormodel import ErrorFunction
+from mtcal.model.fits import Polynomial
 
 
 def _plt():
@@ -39,8 +40,7 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
             eb = panel.errorbar(x, v, yerr=2 * np.nan_to_num(s), fmt="o", ms=3.5, capsize=3, label=f"{nm} (mean, +-2s)")
             f: ErrorFunction | None = model.functions.get(nm)
             if f is not None and f.fit:
-                lab = (f"degree {f.fit['degree']}" if f.fit["kind"] == "polynomial"
-                       else f"{f.fit['harmonics']} harmonics")
+                lab = (f"degree {f.fit.degree}" if isinstance(f.fit, Polynomial) else f"{f.fit.harmonics} harmonics")
                 panel.plot(xs, f(xs) * scale, "-", color=eb[0].get_color(), lw=1.2, label=f"{nm} fit ({lab})")
         panel.axhline(0, color="0.6", lw=0.6)
         panel.set_xlabel(f"{ar.axis} ({unit})")

@@ -9,6 +9,7 @@ import numpy as np
 
 from mtcal.identify import fitting
 from mtcal.model.errormodel import ErrorModel
+from mtcal.model.fits import Fit
 
 
 @dataclass
@@ -44,7 +45,7 @@ class AxisResult:
     weighted: bool
     lines: dict[str, dict] = field(default_factory=dict)  # reference straight lines of straightness errors
     reversal: np.ndarray | None = None  # (n_positions, 6): mean over rounds of (+ pass) - (- pass), if bidirectional
-    fits: dict[str, dict] = field(default_factory=dict)
+    fits: dict[str, Fit] = field(default_factory=dict)  # mtcal.model.fits
     covariance: np.ndarray | None = None  # (n_positions * 6, n_positions * 6) of the joint fit's estimate, else None
     # the data's precision relative to ``covariance`` (joint fit: min(1, Birge ratio^2)): the functions are sized by
     # the scatter the readings show, not by the noise law assumed (noise-free readings give the truth back)
@@ -87,7 +88,7 @@ class AxisResult:
                 "errors": {nm: {"mean": mean[:, i].tolist(), "std": std[:, i].tolist(), "std_mean": sm[:, i].tolist()}
                            for i, nm in enumerate(self.names)},
                 "residual_rms": self.residual_rms.tolist(),
-                "reference_lines": self.lines, "fits": self.fits,
+                "reference_lines": self.lines, "fits": {n: f.to_dict() for n, f in self.fits.items()},
                 **({} if self.reversal is None else
                    {"reversal": {nm: self.reversal[:, i].tolist() for i, nm in enumerate(self.names)}})}
 

@@ -28,6 +28,7 @@ from mtcal.identify.frame import _in_iso_frame, _reference_lines, _squareness_ty
 from mtcal.identify.results import AxisResult, IdentifyResult
 from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_axis, _passes
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
+from mtcal.measurement.passes import position_key
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.tracker_position import LR_LEVEL, PositionEstimate, estimate_position
 from mtcal.model.errormodel import ErrorModel
@@ -175,7 +176,7 @@ def round_scatter(rec: Recording) -> np.ndarray:
     """(n, 3) mm: each reading minus the mean of its cell (station, axis, position, point, direction) over the
     rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased); 0 for cells of one reading.  What the
     tracker's noise (and any drift) does between repeated rounds, no model needed."""
-    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), np.round(rec.position, 6).tolist(),
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), position_key(rec.position).tolist(),
                     rec.point.tolist(), rec.direction.tolist()))
     index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
     cell = np.array([index[k] for k in keys])

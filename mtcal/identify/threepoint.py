@@ -16,6 +16,7 @@ from mtcal.generated import threepoint_numpy as tp
 from mtcal.identify.results import AxisResult, PositionResult
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement import tracker as trk
+from mtcal.measurement.passes import first_readings, group_passes, position_key, reading_order, reference_position
 from mtcal.measurement.recordings import Recording
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
@@ -152,39 +153,24 @@ def _passes(rec: Recording, axis: str):
     if len(points) < 3:
         raise InputError(f"{rec.source}: axis {axis} has only {len(points)} point label(s) {[str(p) for p in points]} "
                          f"(lines {_lines(rec, idx)}); the three-point method needs >= 3 (P, Q, K)")
-    at = np.unique(np.round(rec.position[idx], 6))
+    at = np.unique(position_key(rec.position[idx]))
     if len(at) < 2:
         raise InputError(f"{rec.source}: axis {axis} is measured at one position only ({at[0]:g}"
                          f", lines {_lines(rec, idx)}): its errors are relative to the reference position, so an "
                          f"axis needs two or more positions")
-    has_time = np.isfinite(rec.time_s[idx]).all()
-    order_key = rec.time_s if has_time else rec.line.astype(float)
-    pos_key = np.round(rec.position[idx], 6)
-    groups: dict[tuple, dict[str, int]] = {}
-    for i, pk in zip(idx, pos_key):
-        key = (int(rec.round[i]), float(pk), int(rec.direction[i]))
-        g = groups.setdefault(key, {})
-        pt = str(rec.point[i])
-        if pt in g:
-            j = g[pt]
-            raise InputError(f"{rec.where(i)}: point {pt} measured again at axis {axis}, round {key[0]}, position "
-                             f"{key[1]:g}, direction {key[2]:+d} (first at line {int(rec.line[j])}); repeated readings "
-                             f"of one pass are not averaged silently: remove one or give it its own round")
-        g[pt] = i
+    order_key = reading_order(rec, idx)
+    groups = group_passes(rec, idx, rec.direction[idx], axis)
     rounds = np.array(sorted({k[0] for k in groups}))
     refs = {}
     for r in rounds:
         ri = idx[rec.round[idx] == r]
-        q0 = float(np.round(rec.position[ri][np.argmin(np.abs(rec.position[ri]))], 6))
-        cand = [k for k in groups if k[0] == r and k[1] == q0]
-        first = {}
-        for pt in points:
-            rows = [groups[k][pt] for k in cand if pt in groups[k]]
-            if not rows:
-                raise InputError(f"{rec.source}: axis {axis}, round {r}: point {pt} has no reading at the reference "
-                                 f"position {q0:g} (lines {_lines(rec, ri)})")
-            first[pt] = min(rows, key=lambda i: order_key[i])
-        refs[int(r)] = (q0, first)
+        q0 = reference_position(rec.position[ri])
+        first = first_readings(rec, ri, q0, order_key)
+        missing = [pt for pt in points if (pt,) not in first]
+        if missing:
+            raise InputError(f"{rec.source}: axis {axis}, round {r}: point {missing[0]} has no reading at the "
+                             f"reference position {q0:g} (lines {_lines(rec, ri)})")
+        refs[int(r)] = (q0, {pt: first[(pt,)] for pt in points})
     keys = sorted(groups)
     for k in keys:
         g = groups[k]

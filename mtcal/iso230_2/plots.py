@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.io import atomic_open
-from mtcal.iso230_2.evaluate import AxisEvaluation
+from mtcal.iso230_2.evaluation import AxisEvaluation
 
 
 def plot_evaluation(ev: AxisEvaluation, path: str | Path) -> Path:

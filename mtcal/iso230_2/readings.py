@@ -25,7 +25,7 @@ import numpy as np
 
 from mtcal.errors import InputError
 from mtcal.io import read_csv_rows
-from mtcal.iso230_2.evaluate import Runs, normalise_20c
+from mtcal.iso230_2.evaluation import Runs, normalise_20c
 
 LENGTH_MM = {"mm": 1.0, "um": 1e-3, "in": 25.4, "inch": 25.4}  # unit -> mm
 ANGLE_DEG = {"deg": 1.0, "arcsec": 1.0 / 3600.0}  # unit -> deg

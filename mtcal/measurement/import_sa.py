@@ -1,4 +1,4 @@
-"""SpatialAnalyzer (New River Kinematics) ASCII point exports -> the tidy recording of design.md.
+"""SpatialAnalyzer (New River Kinematics) ASCII point exports -> the tidy recording of docs/design.md.
 
 Source: SpatialAnalyzer User Manual, "Exporting ASCII Formatted Points" (kinematics.com/ftp/SA/Install/Driver
 Downloads/Misc/Testing/SAUsersManual.zip): points are written in the working frame; the point name is

@@ -1,8 +1,8 @@
-"""Laser-tracker recordings: the tidy CSV of design.md, read with checks that name file, row and problem.
+"""Laser-tracker recordings: the tidy CSV of docs/design.md, read with checks that name file, row and problem.
 
 Columns: axis,round,position,point,x,y,z (required) and time_s,direction,temperature_c (optional).
 axis in {X, Y, Z, B, C}; position in mm (linear) or degrees (rotary); x, y, z in mm in the machine frame.
-Several tracker stations (design.md, optional): ``station`` (a label; absent = one station) and
+Several tracker stations (docs/design.md, optional): ``station`` (a label; absent = one station) and
 ``tracker_x,tracker_y,tracker_z`` (mm, machine frame, the approximate tracker position, constant within a
 station); a round belongs to one station.  ``pos_<AXIS>`` columns: the other axes' positions during the
 reading (mm or deg; absent = at zero).
@@ -169,7 +169,7 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
 
 
 def check_stations(rec: Recording) -> None:
-    """A round belongs to one station; a station's tracker position is constant (design.md)."""
+    """A round belongs to one station; a station's tracker position is constant (docs/design.md)."""
     st = rec.stations()
     for r in np.unique(rec.round):
         rows = np.flatnonzero(rec.round == r)

@@ -1,13 +1,11 @@
-"""Error model JSON (design.md): constants and error functions by ISO 230-1 name, mm and rad.
+"""Error model JSON (docs/design.md): constants and error functions by ISO 230-1 name, mm and rad.
 
 {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"},
  "constants": {"E_C0Y": 1e-5, ...},
  "functions": {"E_XX": {"axis": "X", "positions": [...], "values": [...], "fit": {...}}}}
 
 A function is evaluated from its fit when one is stored, else piecewise linearly between its table
-positions (mm or deg of its axis).  Fits: {"kind": "polynomial", "coefficients": [c0, c1, ...],
-"domain": [lo, hi]} (numpy.polynomial.Polynomial with that domain, i.e. x mapped to [-1, 1]) or
-{"kind": "harmonic", "period": 360, "a0": v, "cos": [a1, ...], "sin": [b1, ...]}.
+positions (mm or deg of its axis).  Fits are typed (mtcal.model.fits: Polynomial, Harmonic, Table).
 Positions outside the table are an error unless ``extrapolate="hold"`` (end values held).
 Missing names are zero.
 """
@@ -23,6 +21,7 @@ from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
 from mtcal.kinematics.machine import DEFAULT_MACHINE
 from mtcal.model import schema as sc
+from mtcal.model.fits import FIT_KEYS, Fit, Harmonic, Polynomial, Table, fit_from_dict
 
 LENGTH_UNITS = {"mm": 1.0, "um": 1e-3, "m": 1e3, "inch": 25.4}
 ANGLE_UNITS = {"rad": 1.0, "urad": 1e-6, "mrad": 1e-3, "deg": np.pi / 180, "arcsec": np.pi / 180 / 3600}
@@ -30,23 +29,23 @@ ANGLE_UNITS = {"rad": 1.0, "urad": 1e-6, "mrad": 1e-3, "deg": np.pi / 180, "arcs
 
 @dataclass
 class ErrorFunction:
+    """One error (ISO 230-1 name) as a function of its axis' position (mm or deg): its table (``positions``,
+    ``values`` in mm or rad) and, when identified, the fitted function that is evaluated (mtcal.model.fits)."""
+
     axis: str
     positions: np.ndarray
     values: np.ndarray
-    fit: dict | None = None
+    fit: Fit | None = None
     extra: dict = field(default_factory=dict)  # e.g. std, std_mean per position
+
+    def __post_init__(self):
+        self.fit = fit_from_dict(self.fit)
 
     def __call__(self, pos, extrapolate: str = "error") -> np.ndarray:
         """Value at axis positions (mm or deg), in mm or rad."""
         x = np.asarray(pos, dtype=float)
-        fit = self.fit or {}
-        kind = fit.get("kind")
-        if kind == "harmonic":
-            w = 2 * np.pi * x / float(fit.get("period", 360.0))
-            out = np.full(x.shape, float(fit.get("a0", 0.0)))
-            for h, (a, b) in enumerate(zip(fit.get("cos", []), fit.get("sin", [])), start=1):
-                out = out + a * np.cos(h * w) + b * np.sin(h * w)
-            return out
+        if isinstance(self.fit, Harmonic):
+            return self.fit(x)
         lo, hi = float(self.positions.min()), float(self.positions.max())
         outside = (x < lo - 1e-9) | (x > hi + 1e-9)
         if outside.any() and extrapolate != "hold":
@@ -54,11 +53,8 @@ class ErrorFunction:
             raise InputError(f"{self.axis} = {bad:g} is outside the measured range [{lo:g}, {hi:g}] of an error "
                              f"function (use extrapolate='hold' to hold the end values)")
         xc = np.clip(x, lo, hi)
-        if kind == "polynomial":
-            p = np.polynomial.Polynomial(fit["coefficients"], domain=fit.get("domain", [lo, hi]))
-            return p(xc)
-        if kind not in (None, "table"):
-            raise InputError(f"unknown fit kind {kind!r}")
+        if isinstance(self.fit, Polynomial):
+            return self.fit(xc, domain=[lo, hi])
         return np.interp(xc, self.positions, self.values)
 
 
@@ -82,18 +78,15 @@ class ErrorModel:
         return ev(flat).reshape(a.shape[:-1] + (len(machine.error_names),))
 
     def is_zero(self) -> bool:
-        def fit_zero(fit: dict | None) -> bool:
-            return not fit or not any(np.any(np.asarray(v, dtype=float) != 0) for k, v in fit.items()
-                                      if k in ("coefficients", "a0", "cos", "sin"))
         return all(v == 0 for v in self.constants.values()) and all(
-            not np.any(f.values) and fit_zero(f.fit) for f in self.functions.values())
+            not np.any(f.values) and (f.fit is None or f.fit.is_zero()) for f in self.functions.values())
 
     def to_dict(self) -> dict:
         funcs = {}
         for n, f in sorted(self.functions.items()):
             d = {"axis": f.axis, "positions": f.positions.tolist(), "values": f.values.tolist()}
             if f.fit:
-                d["fit"] = f.fit
+                d["fit"] = f.fit.to_dict()
             d.update(f.extra)
             funcs[n] = d
         return {"machine": self.machine, "units": {"length": "mm", "angle": "rad"},
@@ -122,7 +115,7 @@ class ErrorEvaluator:
         for n, f in model.functions.items():
             if f.axis not in m.axes:
                 raise InputError(f"error function {n} refers to axis {f.axis!r}, not an axis of {m.name}")
-            periodic = (f.fit or {}).get("kind") == "harmonic"
+            periodic = isinstance(f.fit, Harmonic)
             lo, hi = (-np.inf, np.inf) if periodic else (float(f.positions.min()), float(f.positions.max()))
             self.funcs.append((n, m.error_names.index(n), m.axes.index(f.axis), f, lo, hi))
         self.plan = self._plan()
@@ -133,12 +126,11 @@ class ErrorEvaluator:
         harm: dict[tuple, list] = {}
         plan: list[tuple] = []
         for name, ei, ai, f, lo, hi in self.funcs:
-            fit = f.fit or {}
-            kind = fit.get("kind")
-            if kind in (None, "table") and len(f.positions) >= 2 and np.all(np.diff(f.positions) > 0):
+            tabular = f.fit is None or isinstance(f.fit, Table)
+            if tabular and len(f.positions) >= 2 and np.all(np.diff(f.positions) > 0):
                 tables.setdefault((ai, f.positions.tobytes()), []).append((name, ei, f))
-            elif kind == "harmonic":
-                harm.setdefault((ai, float(fit.get("period", 360.0))), []).append((name, ei, f))
+            elif isinstance(f.fit, Harmonic):
+                harm.setdefault((ai, float(f.fit.period)), []).append((name, ei, f))
             else:
                 plan.append(("single", ai, [name], np.array([ei]), f, lo, hi))
         for (ai, _), members in tables.items():
@@ -153,12 +145,12 @@ class ErrorEvaluator:
             step = float(dx[0]) if np.all(np.abs(dx - dx[0]) <= 1e-12 * abs(dx[0])) else 0.0  # uniform grid
             plan.append(("table", ai, [n for n, _, _ in members], cols, xp, step, coef))
         for (ai, period), members in harm.items():
-            nh = max(min(len(f.fit.get("cos", [])), len(f.fit.get("sin", []))) for _, _, f in members)
-            a0 = np.array([float(f.fit.get("a0", 0.0)) for _, _, f in members])
+            nh = max(min(len(f.fit.cos), len(f.fit.sin)) for _, _, f in members)
+            a0 = np.array([float(f.fit.a0) for _, _, f in members])
             ca, sa = np.zeros((len(members), nh)), np.zeros((len(members), nh))
             for r, (_, _, f) in enumerate(members):
-                h = min(len(f.fit.get("cos", [])), len(f.fit.get("sin", [])))
-                ca[r, :h], sa[r, :h] = f.fit["cos"][:h], f.fit["sin"][:h]
+                h = min(len(f.fit.cos), len(f.fit.sin))
+                ca[r, :h], sa[r, :h] = f.fit.cos[:h], f.fit.sin[:h]
             cols = np.array([ei for _, ei, _ in members])
             plan.append(("harmonic", ai, [n for n, _, _ in members], cols, period, a0 + self.const[cols], ca, sa))
         return plan
@@ -305,9 +297,6 @@ def _function(n: str, f: Any, m, units: dict, source: str) -> ErrorFunction:
             raise InputError(f"{where}: fits must be stored in mm and rad (units length mm, angle rad)", source)
     extra = {k: v for k, v in f.items() if k not in ("axis", "positions", "values", "fit")}
     return ErrorFunction(axis, pos, val, fit, extra)
-
-
-FIT_KEYS = {"polynomial": ("coefficients", "domain"), "harmonic": ("period", "a0", "cos", "sin"), "table": ()}
 
 
 def _check_fit(fit: Any, source: str, where: str) -> None:

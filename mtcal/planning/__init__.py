@@ -1,1 +1,4 @@
-"""Predicted uncertainty of a measurement plan (one station or several) before anything is measured."""
+"""Predicted uncertainty of a measurement plan before anything is measured (one station or several)."""
+from mtcal.planning.plan import PlanResult, plan_uncertainty
+
+__all__ = ["plan_uncertainty", "PlanResult"]

@@ -294,7 +294,7 @@ class PlateFit:
         return float(math.sqrt(max(self.covariance[i, i], 0.0)))
 
     def to_dict(self) -> dict:
-        """The JSON answer of ``mtcal plate`` (design.md)."""
+        """The JSON answer of ``mtcal plate`` (docs/design.md)."""
         d = {"file": self.data.source, "scale_fitted": "gamma" in self.names,
              "units": {"length": "input unit", "angle": "rad", "gamma": "1"},
              "metric": self.metric, "paper_option": PAPER_OPTION[self.metric], "offsets": self.offsets,

@@ -2,7 +2,7 @@
 
     python tests/fuzz/make_corpus.py OUT_DIR        # writes OUT_DIR/<case>/... and OUT_DIR/cases.json
 
-Deterministic (seeded).  Written from the issue text and the README (the CLI contract), not from the
+Deterministic (seeded).  Written from the issue text and the docs (the CLI contract), not from the
 implementation: this is the independent oracle.  Each case is a folder holding its input files, plus an entry in
 cases.json:
 
@@ -115,7 +115,7 @@ def recording_x_only():
 
 
 # Hand model: E_XX linear in X (10 um per 500 mm) and squareness E_C0Y = 20 urad.  First-order oracle at B = C = 0,
-# tool length 0 (design.md: actual Y direction (-E_C0Y, 1, 0)):  X' = X - E_XX(X) + Y * E_C0Y,  Y' = Y,  Z' = Z.
+# tool length 0 (docs/design.md: actual Y direction (-E_C0Y, 1, 0)):  X' = X - E_XX(X) + Y * E_C0Y,  Y' = Y,  Z' = Z.
 EXX = {"axis": "X", "positions": [-500.0, 500.0], "values": [-0.01, 0.01]}
 C0Y = 2e-5
 HAND_MODEL = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"},
@@ -984,7 +984,7 @@ def cases_generated(C: Corpus, rnd: random.Random):
 
 
 def sa_export(rows, header, eol="\n", scale=1.0, bad=None):
-    """A SpatialAnalyzer ASCII export (README: Collection Group Target x y z) of recording rows; names encode
+    """A SpatialAnalyzer ASCII export (docs: Collection Group Target x y z) of recording rows; names encode
     axis, round, position, point and direction.  bad = (index, text) replaces one line's coordinates."""
     ix = {c: header.index(c) for c in ("axis", "round", "position", "point", "x", "y", "z", "direction")}
     out = ["// SA Version 2021.01.08", "// Working Frame: Machine::Machine Frame"]
@@ -1090,7 +1090,7 @@ def cases_iso230_and_import(C: Corpus):
 
 
 def cases_export(C: Corpus):
-    """mtcal export: the hand model's E_XX in LinuxCNC tables (README: type 1 trims = -error, type 0 = nominal +
+    """mtcal export: the hand model's E_XX in LinuxCNC tables (docs: type 1 trims = -error, type 0 = nominal +
     error), the other formats written and finite; bad models, options and paths refused."""
     hand = jdump(HAND_MODEL)
     for t in ("0", "1"):

@@ -1,4 +1,4 @@
-"""Independent checks of mtcal outputs for the fuzz suite (written from the README, not from mtcal's code).
+"""Independent checks of mtcal outputs for the fuzz suite (written from the docs, not from mtcal's code).
 
 The G-code reader here is deliberately plain: lines split on LF, CRLF or lone CR; `( )` and `;` comments per
 line; a word is a letter followed by a plain decimal number.  It tracks G90/G91, G20/G21, G93/G94 and skips
@@ -94,7 +94,7 @@ class State:
 
 def first_order_target(p: dict, oracle: dict, inch: bool) -> dict:
     """Commanded X Y Z expected for the hand model (E_XX table + E_C0Y), B = C = 0, tool length 0:
-    X' = X - E_XX(X) + Y * E_C0Y (design.md: actual Y direction (-E_C0Y, 1, 0)), Y' = Y, Z' = Z."""
+    X' = X - E_XX(X) + Y * E_C0Y (docs/design.md: actual Y direction (-E_C0Y, 1, 0)), Y' = Y, Z' = Z."""
     u = 25.4 if inch else 1.0
     xs, vs = oracle["exx"]
     x, y = p["X"] * u, p["Y"] * u
@@ -408,7 +408,7 @@ def check_recording_equal(case_dir: Path, chk: dict) -> list[str]:
 
 
 def check_linuxcnc_comp(case_dir: Path, chk: dict) -> list[str]:
-    """LinuxCNC COMP_FILE of an axis (README, mtcal export): lines `nominal forward reverse`; type 1 holds the
+    """LinuxCNC COMP_FILE of an axis (docs, mtcal export): lines `nominal forward reverse`; type 1 holds the
     trims -E(x), type 0 the positions reached, x + E(x); E is the hand model's E_XX."""
     files = sorted((case_dir / chk["dir"]).glob(f"*_{chk['axis']}.comp"))
     if len(files) != 1:

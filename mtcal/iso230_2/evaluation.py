@@ -1,7 +1,7 @@
 """ISO 230-2:2014 evaluation of the positioning accuracy and repeatability of one axis from a tidy recording.
 
 Positional deviation x_ij = actual - target position of the measured axis at target i, run j (ISO 230-2:2014
-terms and definitions), from the laser-tracker readings against each round's reference reading (design.md:
+terms and definitions), from the laser-tracker readings against each round's reference reading (docs/design.md:
 the round's reading at the position closest to zero, the first time it is approached):
 
 * linear axis (um): every reflector's reading minus where the nominal motion takes its reference reading,
@@ -38,6 +38,7 @@ import numpy as np
 from mtcal.errors import InputError
 from mtcal.identify.threepoint import MAX_DEVIATION_MM, frame_data, solve_frame
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
+from mtcal.measurement.passes import first_readings, group_passes, reading_order, reference_position
 from mtcal.measurement.recordings import Recording
 
 RUNS = 5  # ISO 230-2:2014 standard test cycle: five runs in each direction at every target
@@ -216,16 +217,10 @@ def _passes(rec: Recording, axis: str, point: str | None, notes: list[str]) -> d
     idx = np.flatnonzero((rec.axis == axis) & ((rec.point == point) if point else True))
     if not len(idx):
         raise InputError(f"{rec.source}: no readings of axis {axis}" + (f" at point {point}" if point else ""))
-    order = rec.time_s if np.isfinite(rec.time_s[idx]).all() else rec.line.astype(float)
+    order = reading_order(rec, idx)
     direction = _directions(rec, idx, order, notes)
     points = sorted(set(rec.point[idx].tolist()))
-    groups: dict[tuple, dict[str, int]] = {}
-    for i, d in zip(idx, direction):
-        g = groups.setdefault((int(rec.round[i]), float(np.round(rec.position[i], 6)), int(d)), {})
-        if rec.point[i] in g:
-            raise InputError(f"{rec.where(i)}: point {rec.point[i]} read twice in one pass (first at line "
-                             f"{int(rec.line[g[rec.point[i]]])}); give the repeat its own round")
-        g[str(rec.point[i])] = int(i)
+    groups = group_passes(rec, idx, direction, axis)
     datum = _datum(rec, idx, order, axis)
     keys, dropped = [], []
     for k in sorted(groups):
@@ -251,9 +246,8 @@ def _passes(rec: Recording, axis: str, point: str | None, notes: list[str]) -> d
 def _datum(rec: Recording, idx: np.ndarray, order: np.ndarray, axis: str) -> tuple[float, dict[str, int]]:
     """The one datum of every run (ISO 230-2: x_ij = P_ij - P_i from the same datum): the position closest to
     zero, q0, and each reflector's first reading there (in time, or file order) over the whole recording."""
-    q0 = float(np.round(rec.position[idx][np.argmin(np.abs(rec.position[idx]))], 6))
-    at = idx[np.round(rec.position[idx], 6) == q0]
-    first = {pt: int(min(at[rec.point[at] == pt], key=lambda i: order[i])) for pt in set(rec.point[at].tolist())}
+    q0 = reference_position(rec.position[idx])
+    first = {k[0]: i for k, i in first_readings(rec, idx, q0, order).items()}
     missing = sorted(set(rec.point[idx].tolist()) - set(first))
     if missing:
         raise InputError(f"{rec.source}: axis {axis}: reflector(s) {missing} never read at the datum position "

@@ -1,0 +1,118 @@
+"""Fitted error functions as types: a polynomial on a domain, a harmonic (Fourier) series of one period, or the
+table itself (piecewise linear).  Each is called on axis positions (mm or deg) and returns the error (mm or rad);
+``to_dict`` / ``fit_from_dict`` are the model JSON's "fit" object (docs/design.md, "Files"):
+
+* {"kind": "polynomial", "coefficients": [c0, c1, ...], "domain": [lo, hi], ...}: numpy.polynomial.Polynomial
+  with that domain (x mapped to [-1, 1]);
+* {"kind": "harmonic", "period": 360, "a0": v, "cos": [a1, ...], "sin": [b1, ...], ...}:
+  a0 + sum_h a_h cos(h w) + b_h sin(h w), w = 2 pi x / period;
+* {"kind": "table"}: the function's own table, piecewise linear.
+
+Keys beyond these (how the size was chosen: degree or harmonics, criterion, scores, rms, covariance of the
+coefficients) are kept in ``info`` in their order and written back as they came.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, ClassVar, Union
+
+import numpy as np
+
+from mtcal.errors import InputError
+
+
+def _nonzero(*arrays) -> bool:
+    return any(np.any(np.asarray(a, dtype=float) != 0) for a in arrays)
+
+
+@dataclass
+class Polynomial:
+    """c0 + c1 u + ... with u the position mapped from ``domain`` (mm or deg) to [-1, 1]; None: the table's range."""
+
+    coefficients: list[float]
+    domain: list[float] | None = None
+    info: dict[str, Any] = field(default_factory=dict)
+    kind: ClassVar[str] = "polynomial"
+
+    @property
+    def degree(self) -> int:
+        return int(self.info.get("degree", len(self.coefficients) - 1))
+
+    def __call__(self, x, domain=None) -> np.ndarray:
+        dom = self.domain if self.domain is not None else domain
+        return np.polynomial.Polynomial(self.coefficients, domain=dom)(np.asarray(x, dtype=float))
+
+    def is_zero(self) -> bool:
+        return not _nonzero(self.coefficients)
+
+    def to_dict(self) -> dict:
+        out = {"kind": self.kind, "coefficients": self.coefficients}
+        if self.domain is not None:
+            out["domain"] = self.domain
+        return {**out, **self.info}
+
+
+@dataclass
+class Harmonic:
+    """a0 + sum_h a_h cos(h w) + b_h sin(h w), w = 2 pi x / period (x and period in deg, or mm)."""
+
+    period: float
+    a0: float
+    cos: list[float]
+    sin: list[float]
+    info: dict[str, Any] = field(default_factory=dict)
+    kind: ClassVar[str] = "harmonic"
+
+    @property
+    def harmonics(self) -> int:
+        return int(self.info.get("harmonics", min(len(self.cos), len(self.sin))))
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        w = 2 * np.pi * x / float(self.period)
+        out = np.full(x.shape, float(self.a0))
+        for h, (a, b) in enumerate(zip(self.cos, self.sin), start=1):
+            out = out + a * np.cos(h * w) + b * np.sin(h * w)
+        return out
+
+    def is_zero(self) -> bool:
+        return not _nonzero([self.a0], self.cos, self.sin)
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "period": self.period, "a0": self.a0, "cos": self.cos, "sin": self.sin,
+                **self.info}
+
+
+@dataclass
+class Table:
+    """The function's own table, piecewise linear between its positions (evaluated by the function)."""
+
+    info: dict[str, Any] = field(default_factory=dict)
+    kind: ClassVar[str] = "table"
+
+    def is_zero(self) -> bool:
+        return True
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, **self.info}
+
+
+Fit = Union[Polynomial, Harmonic, Table]
+KINDS: dict[str, type] = {"polynomial": Polynomial, "harmonic": Harmonic, "table": Table}
+FIT_KEYS = {"polynomial": ("coefficients", "domain"), "harmonic": ("period", "a0", "cos", "sin"), "table": ()}
+
+
+def fit_from_dict(d: dict | Fit | None) -> Fit | None:
+    """A fit from the model JSON's "fit" object (checked by mtcal.model.errormodel when read from a file)."""
+    if d is None or isinstance(d, (Polynomial, Harmonic, Table)):
+        return d
+    kind = d.get("kind")
+    if kind not in KINDS:
+        raise InputError(f"unknown fit kind {kind!r}")
+    own = ("kind", *FIT_KEYS[kind])
+    info = {k: v for k, v in d.items() if k not in own}
+    if kind == "polynomial":
+        return Polynomial(d["coefficients"], d.get("domain"), info)
+    if kind == "harmonic":
+        return Harmonic(d.get("period", 360.0), d.get("a0", 0.0), d.get("cos", []), d.get("sin", []), info)
+    return Table(info)
