@@ -268,8 +268,13 @@ def test_bad_input_is_named():
     bad[5] = ",".join(bad[5].split(",")[:4] + ["nan", "0", "0"])
     with pytest.raises(InputError, match="rec.csv:6"):
         parse_recording("\n".join(bad), "rec.csv")
+    changed = lines[5].split(",")
+    changed[4] = str(float(changed[4]) + 0.001)  # the same reading key with another value: ambiguous, refused
     with pytest.raises(InputError, match="duplicate of line 6"):
-        parse_recording("\n".join(lines + [lines[5]]), "rec.csv")
+        parse_recording("\n".join(lines + [",".join(changed)]), "rec.csv")
+    # an exact copy of a line is read, and the gross-error screen names it and leaves it out (issue 24)
+    res = identify(parse_recording("\n".join(lines + [lines[5]]), "rec.csv"))
+    assert any("repeats line 6" in w for w in res.warnings)
     # only two points
     two = [ln for ln in lines if ",K," not in ln]
     with pytest.raises(InputError, match="three-point method needs >= 3"):

@@ -66,6 +66,7 @@ class Diagnosis:
     residuals_before: np.ndarray | None = None
     residuals_after: np.ndarray | None = None
     prep: Prepared | None = None
+    data_problems: list[dict] = field(default_factory=list)  # gross errors left out (mtcal.measurement.screen)
 
     def to_dict(self) -> dict:
         return {**({"machine": self.prep.machine.name, "recording": self.prep.rec.source} if self.prep else {}),
@@ -77,6 +78,7 @@ class Diagnosis:
                 "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)",
                           "sigma_ratio": "1 = the tracker's specification (AT960) when the readings are weighted "
                                          "by it (noise_model)"},
+                **({"data_problems": self.data_problems} if self.data_problems else {}),
                 "notes": self.notes}
 
 

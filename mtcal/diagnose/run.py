@@ -15,6 +15,7 @@ from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward,
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine
 from mtcal.measurement.recordings import Recording
+from mtcal.measurement.screen import screen as screen_gross
 
 log = logging.getLogger("mtcal.diagnose")
 MAX_DEGREE = 3
@@ -31,6 +32,10 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
+    gross = screen_gross(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
+    for p in gross.problems:
+        log.warning("warning: data problem: %s", p.text)
+    rec = rec.select(gross.keep) if gross.problems else rec
     tracker = _station_tracker(rec, tracker)
     prep = prepare(rec, machine, model, tracker, max_degree, tie_positions)
     say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
@@ -81,7 +86,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                                                  "centroid"}
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
-                     prep=prep)
+                     prep=prep, data_problems=[p.to_dict() for p in gross.problems])
 
 
 def _positions(prep) -> str:

@@ -105,6 +105,7 @@ class IdentifyResult:
     squareness_stats: dict = field(default_factory=dict)  # Type A over rounds: {name: {rounds, std, std_mean}}
     method: str = "three-point"
     joint: dict | None = None  # joint fit: stations (tracker, alignment), reflectors, chi2, dof (JointResult.summary)
+    data_problems: list[dict] = field(default_factory=list)  # gross errors left out (mtcal.measurement.screen)
 
     def to_json(self) -> dict:
         return {"source": self.source, "method": self.method, **({"joint": self.joint} if self.joint else {}),
@@ -114,4 +115,5 @@ class IdentifyResult:
                 "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
                 "squareness_convention": fitting.SQUARENESS_CONVENTION,
                 **{k: self.model.meta[k] for k in ("tracker_estimated",) if k in self.model.meta},
+                **({"data_problems": self.data_problems} if self.data_problems else {}),
                 "warnings": self.warnings}

@@ -30,6 +30,7 @@ from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.passes import position_key
 from mtcal.measurement.recordings import Recording
+from mtcal.measurement.screen import screen
 from mtcal.measurement.tracker_position import LR_LEVEL, PositionEstimate, estimate_position
 from mtcal.model.errormodel import ErrorModel
 
@@ -56,6 +57,10 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     if method not in METHODS:
         raise InputError(f"--method must be one of {METHODS}, got {method!r}")
     warnings: list[str] = []
+    gross = screen(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
+    if gross.problems:
+        rec = rec.select(gross.keep)
+        warnings += [*gross.notes[1:], *(p.text for p in gross.problems)]
     estimated = None
     if method == "auto":
         method, tracker, estimated = _auto_method(rec, tracker, warnings)
@@ -109,8 +114,10 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     model.meta["warnings"] = list(warnings)
     if sq_stats:
         model.meta["squareness_type_a"] = sq_stats
+    if gross.problems:
+        model.meta["data_problems"] = [p.to_dict() for p in gross.problems]
     res = IdentifyResult(results, sq, model, warnings, reference, t is not None or joint is not None, rec.source,
-                         sq_stats, method)
+                         sq_stats, method, data_problems=[p.to_dict() for p in gross.problems])
     if joint is not None:
         res.joint = joint.summary()
         res.joint["squareness_sigma"] = squareness_sigma(results, reference)

@@ -117,7 +117,7 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
         raise InputError(f"{source}:{hline}: tracker position needs all of tracker_x,tracker_y,tracker_z")
     col = {c: header.index(c) for c in header}
     out = {f: [] for f in _FIELDS}
-    seen: dict[tuple, int] = {}
+    seen: dict[tuple, tuple[int, list[str]]] = {}  # key -> (first line, its fields)
     extra: dict[str, list] = {"station": [], "tracker": [], **{c: [] for c in pos_cols}}
     for line, r in rows[1:]:
         where = f"{source}:{line}"
@@ -148,10 +148,10 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
         for c in pos_cols:
             extra[c].append(_float(r[col[c]], c, where) if r[col[c]].strip() else 0.0)
         key = (ax, int(rnd_f), pos, pt, int(d), t, extra["station"][-1])
-        if key in seen:
-            raise InputError(f"{where}: duplicate of line {seen[key]} (axis {ax}, round {int(rnd_f)}, "
+        if key in seen and seen[key][1] != [c.strip() for c in r]:  # an exact copy is the screen's to report
+            raise InputError(f"{where}: duplicate of line {seen[key][0]} (axis {ax}, round {int(rnd_f)}, "
                              f"position {pos:g}, point {pt}); repeated readings need distinct direction or time_s")
-        seen[key] = line
+        seen.setdefault(key, (line, [c.strip() for c in r]))
         for f, v in zip(_FIELDS, (ax, int(rnd_f), pos, pt, xyz, t, int(d), tc, line)):
             out[f].append(v)
     if not out["axis"]:

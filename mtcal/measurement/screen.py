@@ -1,0 +1,282 @@
+"""Gross errors of a recording, found before anything is fitted: data problems, not machine errors.
+
+The reflectors (points) of one axis sit on one rigid side of the machine, so within every pass (axis, station,
+round, position, direction) their mutual distances are the same up to the tracker's noise, whatever the machine's
+errors, drifts and knocks of the tracker do (those move the side rigidly).  A reading that breaks that rigidity by
+far more than the noise is a data problem:
+
+* two labels swapped (exchanging them makes the pass rigid again): "P and Q swapped in Y round 3?";
+* one reading far from its nest (misread, mistyped, a reflector from another nest, the tracker locked onto another
+  target): "reading of P far from its nest";
+* a whole pass far from the same pass of the other rounds (a wrong position or axis label), or readings far from
+  where the other rounds read the same reflector (with two rounds only, which round is wrong cannot be told:
+  both are left out);
+* a row repeated exactly (a duplicated export line).
+
+Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
+is the unit every estimator uses).  When the left-out pass held a round's reference reading, that round of that
+axis is left out.  When nothing of an axis is left the screen refuses the recording (InputError) rather than
+fitting what is left.
+
+Thresholds (mm) are far above any machine error a tracker campaign measures (tens of µm): a pair distance may
+differ from its median over the passes by max(RIGID_K x its robust scale, RIGID_FLOOR_MM); a pass may lie
+PASS_FLOOR_MM from the median of the same pass in the other rounds.  Smaller inconsistencies (a knocked nest, an
+outlier of tens of µm) are left to the diagnosis, which models them.
+"""
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mtcal.errors import InputError
+from mtcal.measurement.passes import position_key, reference_position
+from mtcal.measurement.recordings import Recording
+
+RIGID_K = 10.0         # robust standard deviations of a pair distance
+RIGID_FLOOR_MM = 0.15  # never flag a distance change below this (machine errors and knocked nests are smaller)
+PASS_FLOOR_MM = 2.0    # a pass this far from the same pass of the other rounds has a wrong label
+SAME_MM = 1e-6         # readings equal to this are one reading repeated
+
+
+@dataclass
+class DataProblem:
+    """One gross error: ``kind`` one of "label_swap", "far_reading", "pass_far", "rounds_disagree",
+    "duplicate_row"."""
+
+    kind: str
+    axis: str
+    round: int
+    position: float
+    points: tuple[str, ...]
+    lines: tuple[int, ...]
+    size_mm: float
+    text: str
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "axis": self.axis, "round": self.round, "position": self.position,
+                "points": list(self.points), "lines": list(self.lines), "size_mm": round(self.size_mm, 6),
+                "text": self.text}
+
+
+@dataclass
+class Screen:
+    """The screen's answer: the problems found, the rows kept (bool per row) and notes on what was left out."""
+
+    problems: list[DataProblem] = field(default_factory=list)
+    keep: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    notes: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        return {"problems": [p.to_dict() for p in self.problems], "rows_left_out": int((~self.keep).sum()),
+                "notes": self.notes}
+
+
+def screen(rec: Recording) -> Screen:
+    """Find gross errors in ``rec`` (see module docstring); the recording itself is not changed: apply
+    ``rec.select(result.keep)``."""
+    out = Screen(keep=np.ones(len(rec), bool))
+    _duplicates(rec, out)
+    for axis in rec.axes():
+        rows = np.flatnonzero((rec.axis == axis) & out.keep)
+        passes = _passes(rec, rows)
+        rigid = _rigidity(rec, axis, passes, out)
+        bad = rigid | _cross_round(rec, axis, passes, rigid, out)
+        for key in bad:
+            out.keep[list(passes[key].values())] = False
+        _reference_rounds(rec, axis, out)
+    out.problems = _merge(out.problems)
+    if out.problems:
+        n = int((~out.keep).sum())
+        out.notes.append(f"{len(out.problems)} data problem(s) found before fitting; {n} reading(s) left out "
+                         f"(mtcal.measurement.screen): " + "; ".join(p.text for p in out.problems[:5])
+                         + (" ..." if len(out.problems) > 5 else ""))
+    return out
+
+
+def _merge(problems: list[DataProblem]) -> list[DataProblem]:
+    """One problem per (kind, axis, round, points) over its passes: a swap in every pass of a round is one slip."""
+    groups: dict[tuple, list[DataProblem]] = {}
+    for p in problems:
+        groups.setdefault((p.kind, p.axis, p.round, p.points), []).append(p)
+    out = []
+    for (kind, axis, rnd, pts), ps in groups.items():
+        if len(ps) == 1:
+            out.append(ps[0])
+            continue
+        lines = tuple(sorted({ln for p in ps for ln in p.lines}))
+        size = max(p.size_mm for p in ps)
+        at = sorted({p.position for p in ps})
+        what = (f"{' and '.join(pts)} swapped in {axis} round {rnd}?" if kind == "label_swap" else
+                f"readings of {' or '.join(pts)} far from their nest in {axis} round {rnd}" if kind == "far_reading"
+                else f"{axis} round {rnd}: passes far from the other rounds'" if kind == "pass_far"
+                else f"{axis} round {rnd} disagrees with the other round" if kind == "rounds_disagree"
+                else f"duplicated rows of {axis} round {rnd}")
+        out.append(DataProblem(kind, axis, rnd, at[0], pts, lines, size,
+                               f"{what} ({len(ps)} passes, at {at[0]:g} .. {at[-1]:g}; lines {lines[0]}-{lines[-1]}; "
+                               f"up to {size:.3g} mm): left out"))
+    return out
+
+
+def _duplicates(rec: Recording, out: Screen) -> None:
+    """Rows repeating an earlier row exactly (same labels, time and reading): the later one is left out.  A reading
+    repeated at another time is a second measurement, which the estimators refuse to average silently."""
+    seen: dict[tuple, int] = {}
+    for i in range(len(rec)):
+        key = (rec.stations()[i], str(rec.axis[i]), int(rec.round[i]), float(position_key(rec.position[i])),
+               str(rec.point[i]), int(rec.direction[i]))
+        j = seen.setdefault(key, i)
+        same_time = rec.time_s[i] == rec.time_s[j] or (np.isnan(rec.time_s[i]) and np.isnan(rec.time_s[j]))
+        if j != i and same_time and np.abs(rec.xyz[i] - rec.xyz[j]).max() <= SAME_MM:
+            out.keep[i] = False
+            out.problems.append(DataProblem(
+                "duplicate_row", key[1], key[2], key[3], (key[4],), (int(rec.line[j]), int(rec.line[i])), 0.0,
+                f"line {int(rec.line[i])} repeats line {int(rec.line[j])} ({key[1]} round {key[2]} at {key[3]:g}, "
+                f"point {key[4]}): a duplicated row, left out"))
+
+
+def _passes(rec: Recording, rows: np.ndarray) -> dict[tuple, dict[str, int]]:
+    """{(station, round, position key, direction): {point: row}} (the first row of a point where it repeats)."""
+    st = rec.stations()
+    out: dict[tuple, dict[str, int]] = {}
+    for i in rows:
+        key = (st[i], int(rec.round[i]), float(position_key(rec.position[i])), int(rec.direction[i]))
+        out.setdefault(key, {}).setdefault(str(rec.point[i]), int(i))
+    return out
+
+
+def _pair_distances(rec: Recording, passes: dict) -> dict[tuple[str, str], dict[tuple, float]]:
+    out: dict[tuple[str, str], dict[tuple, float]] = {}
+    for key, g in passes.items():
+        for a, b in itertools.combinations(sorted(g), 2):
+            out.setdefault((a, b), {})[key] = float(np.linalg.norm(rec.xyz[g[a]] - rec.xyz[g[b]]))
+    return out
+
+
+def _rigidity(rec: Recording, axis: str, passes: dict, out: Screen) -> set[tuple]:
+    """Passes whose reflectors are not where the other passes put them relative to each other."""
+    dist = _pair_distances(rec, passes)
+    median = {ab: float(np.median(list(v.values()))) for ab, v in dist.items() if len(v) >= 3}
+    dev = np.array([d - median[ab] for ab, v in dist.items() if ab in median for d in v.values()])
+    if not len(dev):
+        return set()
+    scale = 1.4826 * float(np.median(np.abs(dev - np.median(dev))))
+    limit = max(RIGID_K * scale, RIGID_FLOOR_MM)
+    bad: set[tuple] = set()
+    for key, g in passes.items():
+        pairs = _bad_pairs(rec, g, median, limit)
+        if not pairs:
+            continue
+        bad.add(key)
+        out.problems.append(_explain(rec, axis, key, g, median, limit, pairs))
+    return bad
+
+
+def _bad_pairs(rec: Recording, g: dict[str, int], median: dict, limit: float) -> list[tuple[str, str, float]]:
+    found = []
+    for a, b in itertools.combinations(sorted(g), 2):
+        if (a, b) in median:
+            d = float(np.linalg.norm(rec.xyz[g[a]] - rec.xyz[g[b]])) - median[(a, b)]
+            if abs(d) > limit:
+                found.append((a, b, d))
+    return found
+
+
+def _explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], median: dict, limit: float,
+             pairs: list) -> DataProblem:
+    """A swap when exchanging two labels makes the pass rigid, else the reading(s) in the most bad pairs."""
+    _, rnd, q, _ = key
+    where = f"{axis} round {rnd} at {q:g}"
+    for a, b in itertools.combinations(sorted(g), 2):
+        swapped = dict(g, **{a: g[b], b: g[a]})
+        if not _bad_pairs(rec, swapped, median, limit):
+            return DataProblem("label_swap", axis, rnd, q, (a, b), (int(rec.line[g[a]]), int(rec.line[g[b]])),
+                               max(abs(p[2]) for p in pairs),
+                               f"{a} and {b} swapped in {where}? (lines {int(rec.line[g[a]])}, "
+                               f"{int(rec.line[g[b]])}; exchanging them makes the reflectors rigid again): pass "
+                               f"left out")
+    count: dict[str, int] = {}
+    for a, b, _ in pairs:
+        count[a] = count.get(a, 0) + 1
+        count[b] = count.get(b, 0) + 1
+    worst = max(count.values())
+    pts = tuple(sorted(p for p, c in count.items() if c == worst))
+    size = max(abs(p[2]) for p in pairs)
+    lines = tuple(int(rec.line[g[p]]) for p in pts)
+    return DataProblem("far_reading", axis, rnd, q, pts, lines, size,
+                       f"reading of {' or '.join(pts)} in {where} (line(s) {', '.join(map(str, lines))}) is "
+                       f"{size:.3g} mm from where its nest is relative to the others: misread, mistyped or another "
+                       f"reflector: pass left out")
+
+
+def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out: Screen) -> set[tuple]:
+    """Passes whose readings are far (> PASS_FLOOR_MM) from the same reflectors in the same pass of the other
+    rounds: two labels swapped (exchanging them brings both back), the whole pass moved (a wrong position or axis
+    label), or single readings far off.  With two rounds only, the median cannot say which round is wrong: both
+    passes are left out as rounds that disagree."""
+    groups: dict[tuple, list[tuple]] = {}
+    for key in passes:
+        if key not in skip:
+            groups.setdefault((key[0], key[2], key[3]), []).append(key)
+    bad: set[tuple] = set()
+    for keys in groups.values():
+        if len(keys) < 2:
+            continue
+        ref = {p: np.median([rec.xyz[passes[k][p]] for k in keys if p in passes[k]], axis=0)
+               for p in {p for k in keys for p in passes[k]}}
+        for k in keys:
+            dev = {p: float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items()}
+            if max(dev.values()) > PASS_FLOOR_MM:
+                bad.add(k)
+                out.problems.append(_cross_explain(rec, axis, k, passes[k], ref, dev, len(keys)))
+    return bad
+
+
+def _cross_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], ref: dict, dev: dict,
+                   n_rounds: int) -> DataProblem:
+    _, rnd, q, _ = key
+    lines = tuple(sorted(int(rec.line[i]) for i in g.values()))
+    size = max(dev.values())
+    where = f"{axis} round {rnd} at {q:g}"
+    if n_rounds == 2:
+        return DataProblem("rounds_disagree", axis, rnd, q, tuple(sorted(g)), lines, size,
+                           f"{where}: its readings are {size:.3g} mm from the other round's (lines {lines[0]}-"
+                           f"{lines[-1]}); with two rounds it cannot be told which is wrong (a label swap or a "
+                           f"wrong label?): both left out")
+    for a, b in itertools.combinations(sorted(g), 2):
+        if max(np.linalg.norm(rec.xyz[g[a]] - ref[b]), np.linalg.norm(rec.xyz[g[b]] - ref[a])) <= PASS_FLOOR_MM:
+            return DataProblem("label_swap", axis, rnd, q, (a, b), (int(rec.line[g[a]]), int(rec.line[g[b]])), size,
+                               f"{a} and {b} swapped in {where}? (lines {int(rec.line[g[a]])}, "
+                               f"{int(rec.line[g[b]])}; exchanging them puts both where the other rounds read them):"
+                               f" pass left out")
+    shift = np.array([rec.xyz[i] - ref[p] for p, i in g.items()])
+    if np.linalg.norm(shift - shift.mean(axis=0), axis=1).max() <= PASS_FLOOR_MM:
+        return DataProblem("pass_far", axis, rnd, q, tuple(sorted(g)), lines, size,
+                           f"{where} lies {size:.3g} mm from the same pass of the other rounds (lines {lines[0]}-"
+                           f"{lines[-1]}): a wrong position or axis label?: pass left out")
+    pts = tuple(sorted(p for p, d in dev.items() if d > PASS_FLOOR_MM))
+    return DataProblem("far_reading", axis, rnd, q, pts, tuple(int(rec.line[g[p]]) for p in pts), size,
+                       f"reading of {' and '.join(pts)} in {where} is {size:.3g} mm from where the other rounds "
+                       f"read it: misread, mistyped or another reflector: pass left out")
+
+
+def _reference_rounds(rec: Recording, axis: str, out: Screen) -> None:
+    """Leave out the rounds of ``axis`` that lost every reading at their reference position; refuse the axis
+    when fewer than two rounds are left."""
+    rows = np.flatnonzero(rec.axis == axis)
+    rounds = sorted(set(rec.round[rows].tolist()))
+    kept_rounds = []
+    for r in rounds:
+        ri = rows[rec.round[rows] == r]
+        q0 = reference_position(rec.position[ri])
+        at = ri[(position_key(rec.position[ri]) == q0) & out.keep[ri]]
+        if len(at) == 0 and out.keep[ri].any():
+            out.keep[ri] = False
+            out.notes.append(f"{axis} round {r}: every reading at its reference position {q0:g} was left out, so "
+                             f"the round has no reference: left out")
+        if out.keep[ri].any():
+            kept_rounds.append(r)
+    if not kept_rounds and rounds:
+        raise InputError(f"{rec.source}: axis {axis}: no round is left after the gross-error screen "
+                         f"({'; '.join(p.text for p in out.problems if p.axis == axis)[:400]})")
