@@ -25,7 +25,15 @@ from scipy import stats
 
 from mtcal.diagnose.design import base_design, engine_for, whiten
 from mtcal.diagnose.prepared import NoiseModel, Prepared
-from mtcal.measurement.tracker_position import LR_LEVEL, beam_starts, isotropic_nll, refine
+from mtcal.measurement.tracker import AT960
+from mtcal.measurement.tracker_position import (
+    LR_LEVEL,
+    ShapeEstimate,
+    beam_starts,
+    estimate_shape,
+    isotropic_nll,
+    refine,
+)
 
 ITERATIONS = 2          # refits of the base with the estimated weights
 
@@ -34,10 +42,18 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> 
     """The noise model of ``prep``'s readings (see module docstring)."""
     xyz = prep.rec.xyz
     n = len(xyz)
+    several = len(set(prep.rec.round.tolist())) >= 2
     if tracker is not None:
-        return NoiseModel.at960(xyz, tracker, "AT960 (given tracker)",
-                                   "tracker position given (--tracker or the recording's tracker_x,y,z columns)")
-    if len(set(prep.rec.round.tolist())) < 2:
+        t = np.asarray(tracker, float)
+        sh = estimate_shape(prep.rec, t) if several else None
+        if sh is not None and sh.replaces_base:
+            return NoiseModel.at960(xyz, t, "tracker law estimated (given tracker)",
+                                    f"tracker position given; the repeated rounds are not shaped like an AT960's: "
+                                    f"{_law_text(sh)}", sh.spec, shape=sh.to_dict())
+        return NoiseModel.at960(xyz, t, "AT960 (given tracker)",
+                                "tracker position given (--tracker or the recording's tracker_x,y,z columns)",
+                                **({"shape": sh.to_dict()} if sh is not None else {}))
+    if not several:
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
     r = _base_residuals(prep, max_degree)
     groups = list(_groups(prep))
@@ -46,18 +62,36 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> 
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "").W)
         t, _, nll = refine(xyz, r, t)
+    sh = estimate_shape(prep.rec, t)
+    spec = sh.spec if sh.replaces_base else AT960
+    if sh.replaces_base:  # another instrument's shape: the position again under the data's law
+        r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "", spec).W)
+        t, _, nll = refine(xyz, r, t, spec)
+        sh = estimate_shape(prep.rec, t)
+        spec = sh.spec
     c = xyz.mean(axis=0)
     lr = 2.0 * (isotropic_nll(r) - nll)
     p = float(stats.chi2.sf(max(lr, 0.0), 3))
     details = {"likelihood_ratio": lr, "p_isotropic": p,
-               "distance_mm": float(np.linalg.norm(t - c))}
+               "distance_mm": float(np.linalg.norm(t - c)), "shape": sh.to_dict()}
     if p >= LR_LEVEL:
         return NoiseModel.isotropic(n, f"the scatter of the repeated rounds shows no tracker shape (likelihood "
                                        f"ratio {lr:.1f}, p = {p:.2g}): equal weights, sigma from the residuals")
+    if sh.replaces_base:
+        return NoiseModel.at960(xyz, t, "tracker law estimated (estimated tracker)",
+                                f"tracker position and noise law estimated from the scatter of the repeated rounds: "
+                                f"{_law_text(sh)}", spec, **details)
     return NoiseModel.at960(xyz, t, "AT960 (estimated tracker)",
                             "tracker position estimated from the shape of the scatter of the repeated rounds "
                             "(beam lines of the least spread, then maximum likelihood under the AT960 shape)",
                             **details)
+
+
+def _law_text(sh: ShapeEstimate) -> str:
+    law = sh.law()
+    return (f"1 sigma along the beam {law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across "
+            f"{law['transverse_um']:.1f} um + {law['transverse_um_per_m']:.1f} um/m (radial : transverse "
+            f"{sh.rho:.2g} times the AT960's)")
 
 
 def _base_residuals(prep: Prepared, max_degree: int, W: np.ndarray | None = None) -> np.ndarray:

@@ -10,7 +10,7 @@ import numpy as np
 from mtcal.diagnose import effects as fx
 from mtcal.kinematics.machine import Machine
 from mtcal.measurement.recordings import Recording
-from mtcal.measurement.tracker import covariance
+from mtcal.measurement.tracker import AT960, TrackerSpec, covariance
 
 
 @dataclass
@@ -32,8 +32,10 @@ class NoiseModel:
         return cls(np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), "isotropic", how)
 
     @classmethod
-    def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, **details) -> "NoiseModel":
-        return cls(_whitening(xyz, tracker), kind, how, [float(v) for v in tracker], dict(details))
+    def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, spec: TrackerSpec = AT960,
+              **details) -> "NoiseModel":
+        """Readings weighted by the covariance of ``spec``'s law (default the AT960's) about ``tracker`` (mm)."""
+        return cls(_whitening(xyz, tracker, spec), kind, how, [float(v) for v in tracker], dict(details))
 
     @classmethod
     def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray]) -> "NoiseModel":
@@ -51,9 +53,10 @@ class NoiseModel:
         return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
 
 
-def _whitening(xyz: np.ndarray, tracker: np.ndarray) -> np.ndarray:
-    """W (n, 3, 3), W^T W = the inverse AT960 covariance of the readings xyz (n, 3) mm about ``tracker`` (3,)."""
-    return np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker)))
+def _whitening(xyz: np.ndarray, tracker: np.ndarray, spec: TrackerSpec = AT960) -> np.ndarray:
+    """W (n, 3, 3), W^T W = the inverse covariance (``spec``'s law, default AT960) of the readings xyz (n, 3) mm
+    about ``tracker`` (3,)."""
+    return np.linalg.inv(np.linalg.cholesky(covariance(xyz, tracker, spec)))
 
 
 @dataclass

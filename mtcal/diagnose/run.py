@@ -18,7 +18,7 @@ from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen as screen_gross
 
 log = logging.getLogger("mtcal.diagnose")
-MAX_DEGREE = 3
+MAX_DEGREE = 6  # the quasi-static family: error functions up to degree 6 (a few undulations over the travel)
 
 
 def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None,

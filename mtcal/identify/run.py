@@ -28,10 +28,9 @@ from mtcal.identify.frame import _in_iso_frame, _reference_lines, _squareness_ty
 from mtcal.identify.results import AxisResult, IdentifyResult
 from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_axis, _passes
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
-from mtcal.measurement.passes import position_key
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen
-from mtcal.measurement.tracker_position import LR_LEVEL, PositionEstimate, estimate_position
+from mtcal.measurement.tracker_position import LR_LEVEL, PositionEstimate, estimate_position, round_scatter
 from mtcal.model.errormodel import ErrorModel
 
 log = logging.getLogger(__name__)
@@ -177,19 +176,6 @@ def _auto_method(rec: Recording, tracker, warnings: list[str]):
             log.info("tracker position estimated from the scatter: %s mm", station_text(estimated))
     method = "joint" if tracker is not None or rec.tracker_xyz is not None else "three-point"
     return method, tracker, estimated
-
-
-def round_scatter(rec: Recording) -> np.ndarray:
-    """(n, 3) mm: each reading minus the mean of its cell (station, axis, position, point, direction) over the
-    rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased); 0 for cells of one reading.  What the
-    tracker's noise (and any drift) does between repeated rounds, no model needed."""
-    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), position_key(rec.position).tolist(),
-                    rec.point.tolist(), rec.direction.tolist()))
-    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
-    cell = np.array([index[k] for k in keys])
-    m = np.bincount(cell)[cell].astype(float)
-    mean = np.stack([np.bincount(cell, rec.xyz[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
-    return np.where(m[:, None] > 1, (rec.xyz - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
 
 
 def estimate_station(rec: Recording) -> tuple[PositionEstimate | None,

@@ -20,13 +20,18 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize, stats
 
-from mtcal.measurement.tracker import covariance
+from mtcal.measurement.passes import position_key
+from mtcal.measurement.recordings import Recording
+from mtcal.measurement.tracker import AT960, TrackerSpec, covariance
 
 LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (a tracker) vs isotropic noise
 START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
 MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
 SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (AT960)
 HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01)  # mm, mm, mm, log c: central differences of the log-likelihood
+SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data's radial : transverse ratio over
+# the base's is above SHAPE_HIGH (both with and without each round's mean removed: effects the scatter holds raise
+# it by up to 2-3, never lower it) or below SHAPE_LOW; other trackers differ by 0.4 (1 : 70) to 30 (isotropic)
 
 
 @dataclass(frozen=True)
@@ -76,7 +81,7 @@ def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) -> lis
     return starts or [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
 
 
-def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
+def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> float:
     """Negative log-likelihood (up to a constant) of the scatter under c * AT960 covariance about the tracker
     t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
     it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
@@ -84,7 +89,7 @@ def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
     d = np.linalg.norm(xyz - t, axis=1)
     if not np.all(np.isfinite(v)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
         return math.inf
-    C = covariance(xyz, t)
+    C = covariance(xyz, t, spec)
     q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
     live = np.any(r != 0, axis=1)
     return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * int(live.sum()) * logc
@@ -92,11 +97,12 @@ def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> float:
                   + (logc / SCALE_PRIOR) ** 2)
 
 
-def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """Maximum likelihood from ``start``: (position mm, log c, negative log-likelihood)."""
+def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec = AT960
+           ) -> tuple[np.ndarray, float, float]:
+    """Maximum likelihood from ``start`` under ``spec``'s law: (position mm, log c, negative log-likelihood)."""
     x0 = np.append(np.asarray(start, float), 0.0)
     simplex = x0 + np.vstack([np.zeros(4), np.diag([300.0, 300.0, 300.0, 0.3])])
-    res = optimize.minimize(lambda v: nll(xyz, r, v), x0, method="Nelder-Mead",
+    res = optimize.minimize(lambda v: nll(xyz, r, v, spec), x0, method="Nelder-Mead",
                             options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 1500})
     return res.x[:3], float(res.x[3]), float(res.fun)
 
@@ -130,3 +136,89 @@ def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) 
     lr = 2.0 * (isotropic_nll(r) - f)
     p = float(stats.chi2.sf(max(lr, 0.0), 3))
     return PositionEstimate(t, _covariance(xyz, r, np.append(t, logc)), math.exp(logc), lr, p)
+
+
+def round_scatter(rec: Recording) -> np.ndarray:
+    """(n, 3) mm: each reading minus the mean of its cell (station, axis, position, point, direction) over the
+    rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased); 0 for cells of one reading.  What the
+    tracker's noise (and any drift) does between repeated rounds, no model needed."""
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), position_key(rec.position).tolist(),
+                    rec.point.tolist(), rec.direction.tolist()))
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    cell = np.array([index[k] for k in keys])
+    m = np.bincount(cell)[cell].astype(float)
+    mean = np.stack([np.bincount(cell, rec.xyz[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
+    return np.where(m[:, None] > 1, (rec.xyz - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
+
+
+def _round_centred(rec: Recording, r: np.ndarray) -> np.ndarray:
+    """The scatter with each (axis, round)'s mean removed (a drift moves a round as a whole)."""
+    out = r.copy()
+    live = np.any(r != 0, axis=1)
+    for a in np.unique(rec.axis):
+        for rnd in np.unique(rec.round[rec.axis == a]):
+            sel = (rec.axis == a) & (rec.round == rnd) & live
+            if sel.sum() > 1:
+                out[sel] -= r[sel].mean(axis=0)
+    return out
+
+
+def _shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpec) -> tuple[float, float]:
+    """(rho, transverse variance scale): the scatter along the beam over the base law's radial sigma (normal:
+    1.4826 x median |z|) against the scatter across it over the transverse sigma (chi^2, 2 dof: median / 2 ln 2)."""
+    live = np.any(r != 0, axis=1)
+    d = xyz[live] - np.asarray(t, float)
+    dist = np.linalg.norm(d, axis=1)
+    u = d / dist[:, None]
+    s_r, s_t = base.sigmas(dist)
+    along = np.einsum("ni,ni->n", r[live], u)
+    across2 = np.maximum(np.sum(r[live] ** 2, axis=1) - along**2, 0.0)
+    sr = 1.4826 * float(np.median(np.abs(along / s_r)))
+    st2 = float(np.median(across2 / s_t**2)) / (2 * math.log(2))
+    return sr / math.sqrt(st2), st2
+
+
+@dataclass(frozen=True)
+class ShapeEstimate:
+    """The noise law the repeated rounds show about a tracker position, against a base law (the AT960's):
+    ``rho`` = the data's radial : transverse ratio over the base's (from the model-free round scatter; ``rho_centred``
+    the same with each round's mean removed), ``scale`` = the transverse variance over the base's, and ``spec``,
+    the base law with both sigmas scaled to the data's.  ``replaces_base``: the shapes differ beyond what effects
+    in the scatter can make (SHAPE_HIGH, SHAPE_LOW)."""
+
+    spec: TrackerSpec
+    rho: float
+    rho_centred: float
+    scale: float
+
+    @property
+    def replaces_base(self) -> bool:
+        return min(self.rho, self.rho_centred) > SHAPE_HIGH or max(self.rho, self.rho_centred) < SHAPE_LOW
+
+    def law(self) -> dict:
+        """One-sigma law a + b L of each direction (um, um/m)."""
+        k = self.spec.k
+        return {"radial_um": self.spec.radial_um / k, "radial_um_per_m": self.spec.radial_um_per_m / k,
+                "transverse_um": self.spec.transverse_um / k,
+                "transverse_um_per_m": self.spec.transverse_um_per_m / k}
+
+    def to_dict(self) -> dict:
+        return {"law_1sigma": {k: round(v, 4) for k, v in self.law().items()},
+                "radial_to_transverse_over_base": round(self.rho, 3),
+                "same_with_round_means_removed": round(self.rho_centred, 3),
+                "used": "estimated law" if self.replaces_base else "base law (AT960)",
+                "rule": f"the base law's shape gives way above {SHAPE_HIGH:g} or below {SHAPE_LOW:g} "
+                        f"(mtcal.measurement.tracker_position)"}
+
+
+def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> ShapeEstimate:
+    """The tracker's noise law about ``t`` (mm) from the scatter of the repeated rounds of ``rec`` (model-free, so
+    no misfit of a model passes for noise).  Medians make it robust to outliers; the distance law (a : b of each
+    direction) stays the base's: one machine's readings span too short a range of distances to separate a and b."""
+    r = round_scatter(rec)
+    rho, scale = _shape_ratio(rec.xyz, r, t, base)
+    rho_c, _ = _shape_ratio(rec.xyz, _round_centred(rec, r), t, base)
+    c, k = math.sqrt(scale), rho
+    spec = TrackerSpec(base.radial_um * c * k, base.radial_um_per_m * c * k, base.transverse_um * c,
+                       base.transverse_um_per_m * c, base.k)
+    return ShapeEstimate(spec, rho, rho_c, scale)
