@@ -28,9 +28,16 @@ from mtcal.identify.frame import _in_iso_frame, _reference_lines, _squareness_ty
 from mtcal.identify.results import AxisResult, IdentifyResult
 from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_axis, _passes
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
+from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen
-from mtcal.measurement.tracker_position import LR_LEVEL, PositionEstimate, estimate_position, round_scatter
+from mtcal.measurement.tracker_position import (
+    LR_LEVEL,
+    PositionEstimate,
+    estimate_position,
+    estimate_shape,
+    round_scatter,
+)
 from mtcal.model.errormodel import ErrorModel
 
 log = logging.getLogger(__name__)
@@ -42,7 +49,8 @@ METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all 
 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
-             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto", worth: bool = True) -> IdentifyResult:
+             max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto", worth: bool = True,
+             noise_law: trk.TrackerSpec | None = None) -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.identify.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
@@ -51,7 +59,8 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     the scatter of the rounds, ``estimate_station``; else three-point, with a warning); worth: also run the
     estimator on two halves of the rounds to state the model's predicted error against what it corrects
     (``model.meta["worth"]``, mtcal.identify.compare.split_half_worth) and warn when compensating may make the machine
-    worse."""
+    worse; noise_law: the tracker law the joint fit weights by (default: the AT960's, or the one the repeated rounds
+    show where they are shaped otherwise, ``_noise_law``)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     if method not in METHODS:
         raise InputError(f"--method must be one of {METHODS}, got {method!r}")
@@ -70,7 +79,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
-    joint = None
+    joint, spec = None, noise_law
     if method == "joint" or len(set(rec.stations().tolist())) > 1:
         if method != "joint":
             raise InputError(f"{rec.source}: several tracker stations need the joint fit (--method joint)")
@@ -78,7 +87,8 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
             sub = rec.select(rec.axis == axis)
             _check_shape(sub, axis, _passes(sub, axis))
-        joint = identify_joint.joint_fit(rec, m, t)
+        spec = noise_law or _noise_law(rec, t, warnings)
+        joint = identify_joint.joint_fit(rec, m, t, spec)
         warnings += joint.warnings
         results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
     linear = [a for a in rec.axes() if m.kind(a) == "linear"]
@@ -109,7 +119,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
                                                   "(mtcal.measurement.tracker_position)"}
     if worth:
         _state_worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
-                                                     max_harmonics=max_harmonics, method=method))
+                                                     max_harmonics=max_harmonics, method=method, noise_law=spec))
     model.meta["warnings"] = list(warnings)
     if sq_stats:
         model.meta["squareness_type_a"] = sq_stats
@@ -155,6 +165,22 @@ def _state_worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[s
         warnings.append(f"compensating with this model may make the machine worse: it corrects {w.corrects_rms_um:.1f} "
                         f"um RMS and is itself uncertain by {w.predicted_error_rms_um:.1f} um RMS over the measured "
                         f"volume; measure more rounds or from more tracker stations (mtcal plan shows the gain)")
+
+
+def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str]) -> trk.TrackerSpec:
+    """The law the joint fit weights by: the AT960's, or where one station's repeated rounds are shaped otherwise
+    (mtcal.measurement.tracker_position.estimate_shape) the data's, said in ``warnings``."""
+    if t is None or len(set(rec.stations().tolist())) > 1 or len(set(rec.round.tolist())) < 2:
+        return trk.AT960
+    sh = estimate_shape(rec, t)
+    if not sh.replaces_base:
+        return trk.AT960
+    law = sh.law()
+    warnings.append(f"noise law: the repeated rounds are not shaped like an AT960's (radial : transverse "
+                    f"{sh.rho:.2g} times its): the joint fit weights by the data's, 1 sigma along the beam "
+                    f"{law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across {law['transverse_um']:.1f}"
+                    f" um + {law['transverse_um_per_m']:.1f} um/m")
+    return sh.spec
 
 
 def _auto_method(rec: Recording, tracker, warnings: list[str]):
