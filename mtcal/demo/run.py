@@ -13,6 +13,7 @@ import json
 import logging
 import shutil
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -29,9 +30,9 @@ from mtcal.identify.plots import plot_all
 from mtcal.identify.run import identify
 from mtcal.io import atomic_write_text, dumps, save_figure
 from mtcal.kinematics.defaults import default_positions
-from mtcal.kinematics.machine import load_machine
+from mtcal.kinematics.machine import Machine, load_machine
 from mtcal.measurement.recordings import read_recording
-from mtcal.model.errormodel import load_model, save_model
+from mtcal.model.errormodel import ErrorModel, load_model, save_model
 from mtcal.nc.gcode import read_moves
 from mtcal.planning.plan import plan_uncertainty, plot_placement_map
 from mtcal.plate.reversal import fit_plate, plot_plate, read_plate_csv
@@ -109,33 +110,38 @@ def _over_seeds(m, truth, planted: dict, volumetric) -> dict:
     return {"n": SEEDS, "median": float(np.median(v)), "min": float(np.min(v)), "max": float(np.max(v))}
 
 
-def run_demo(out: Path, machine: str | None = None) -> dict:
-    """The demo into ``out``; progress through logging (mtcal.demo.run and the commands; `mtcal -q` silences it)."""
-    m = load_machine(machine or BUNDLED)  # before anything is written: a bad name writes nothing
-    out.mkdir(parents=True, exist_ok=True)
+@dataclass
+class _Story:
+    """What the demo's steps share: the machine (mm, deg), the output folders, the campaign and its truth, the
+    tracker as a user types it (mm), a grid of poses over the travel and the true tool-tip deviations there (mm)."""
+
+    m: Machine
+    out: Path
+    plots: Path
+    rec_path: Path
+    planted: dict
+    truth: ErrorModel
+    xyz: list[float]
+    rng: np.random.Generator
+    grid: np.ndarray
+    dev_true: np.ndarray
+
+    @property
+    def model_path(self) -> Path:
+        return self.out / "model.json"
+
+    def volumetric(self, mdl) -> float:
+        """Model - truth over the grid: RMS of the tool-tip deviation difference, um."""
+        d = self.m.deviation(self.grid, mdl.errors_at(self.m, self.grid, "hold"), order=None)[:, :3] - self.dev_true
+        return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
+
+
+def _story(m: Machine, out: Path) -> _Story:
+    """The campaign (bundled or simulated now) and the grid the demo judges models on."""
     plots = out / "plots"
     plots.mkdir(exist_ok=True)
-    prog = Progress()
-    summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
-
-    # 1. campaign ---------------------------------------------------------------------------------------
     rec_path, planted, truth = _campaign(m, out)
-    tracker = ",".join(f"{c:g}" for c in planted["tracker"])
-    xyz = [float(c) for c in tracker.split(",")]  # as a user types it (6 significant digits)
-    prog.step(f"campaign: {rec_path.name} ({'bundled' if m.name == BUNDLED else 'simulated now'}: {m.name}, "
-              f"{len(m.axes)} axes x {planted['rounds']} rounds, tracker at {tracker} mm; one effect concealed)")
-
-    # 2. identify ----------------------------------------------------------------------------------------
-    model_path = out / "model.json"
-    # identify's default with a tracker position (the stations step: three-point)
-    res = identify(read_recording(rec_path, m.name), tracker=xyz, machine=m.name, method="joint")
-    for w in res.warnings:
-        log.warning("warning: %s", w)
-    save_model(res.model, model_path)
-    plot_all(res, plots)
-    ident = _json({**res.to_json(), "tracker": xyz})
-    prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
-    model = load_model(model_path)
+    xyz = [float(f"{c:g}") for c in planted["tracker"]]  # as a user types it (6 significant digits)
     rng = np.random.default_rng(0)
     if m.name == BUNDLED:  # travel centred on the C axis, as the bundled campaign
         grid = np.column_stack([rng.uniform(-200, 200, 2000), rng.uniform(-180, 180, 2000),
@@ -143,88 +149,125 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     else:
         grid = _sample_grid(m, 2000, rng)
     dev_true = m.deviation(grid, truth.errors_at(m, grid, "hold"), order=None)[:, :3]
+    return _Story(m, out, plots, rec_path, planted, truth, xyz, rng, grid, dev_true)
 
-    def volumetric(mdl) -> float:
-        """Model - truth over the grid: RMS of the tool-tip deviation difference, um."""
-        d = m.deviation(grid, mdl.errors_at(m, grid, "hold"), order=None)[:, :3] - dev_true
-        return float(np.sqrt(np.mean(np.sum(d**2, axis=1))) * 1e3)
 
-    summary["identify"] = {
+def run_demo(out: Path, machine: str | None = None) -> dict:
+    """The demo into ``out``; progress through logging (mtcal.demo.run and the library; `mtcal -q` silences it)."""
+    m = load_machine(machine or BUNDLED)  # before anything is written: a bad name writes nothing
+    out.mkdir(parents=True, exist_ok=True)
+    prog = Progress()
+    s = _story(m, out)
+    tracker = ",".join(f"{c:g}" for c in s.planted["tracker"])
+    prog.step(f"campaign: {s.rec_path.name} ({'bundled' if m.name == BUNDLED else 'simulated now'}: {m.name}, "
+              f"{len(m.axes)} axes x {s.planted['rounds']} rounds, tracker at {tracker} mm; one effect concealed)")
+    summary: dict = {"out": str(out), "machine": m.name, "title": m.title}
+    summary["identify"], ident = _identify_step(s)
+    prog.step("identify: six error motions per axis and position, squareness, fitted error functions")
+    summary["plan"] = _plan_step(s, ident)
+    prog.step("plan: predicted uncertainty of one round at this tracker placement, and a placement map")
+    summary["compensate"] = _compensate_step(s)
+    prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
+    summary["stations"] = st = _stations_step(s)
+    prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
+              f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
+              f"stations, joint fit) at equal measuring time")
+    summary["diagnose"] = _diagnose_step(s)
+    prog.step("diagnose: what the quasi-static model leaves out, where, and how much")
+    summary["plate"] = _plate_step(s.plots)
+    prog.step("plate: Hocken-Borchardt reversal of NBS Table 1 (ALBE3), and the model without the scale term")
+    summary["seconds"] = time.perf_counter() - prog.t0
+    atomic_write_text(out / "summary.json", dumps(summary) + "\n")
+    atomic_write_text(out / "report.md", report(summary, out))
+    return summary
+
+
+def _identify_step(s: _Story) -> tuple[dict, dict]:
+    """identify's default with a tracker position, the joint fit (the stations step sets the three-point method);
+    the model written and plotted; squareness and model - truth against the known truth."""
+    res = identify(read_recording(s.rec_path, s.m.name), tracker=s.xyz, machine=s.m.name, method="joint")
+    for w in res.warnings:
+        log.warning("warning: %s", w)
+    save_model(res.model, s.model_path)
+    plot_all(res, s.plots)
+    ident = _json({**res.to_json(), "tracker": s.xyz})
+    model = load_model(s.model_path)
+    return {
         "squareness_urad": {k: v * 1e6 for k, v in ident["squareness"].items()},
         "squareness_std_mean_urad": {k: v.get("std_mean", float("nan")) * 1e6
                                      for k, v in ident.get("squareness_type_a", {}).items()},
-        "squareness_true_urad": {k: v * 1e6 for k, v in true_squareness(truth, ident).items()},
-        "volumetric_true_max_um": float(np.linalg.norm(dev_true, axis=1).max() * 1e3),
-        "volumetric_model_minus_true_rms_um": volumetric(model),
-        "over_seeds": _over_seeds(m, truth, planted, volumetric),
+        "squareness_true_urad": {k: v * 1e6 for k, v in true_squareness(s.truth, ident).items()},
+        "volumetric_true_max_um": float(np.linalg.norm(s.dev_true, axis=1).max() * 1e3),
+        "volumetric_model_minus_true_rms_um": s.volumetric(model),
+        "over_seeds": _over_seeds(s.m, s.truth, s.planted, s.volumetric),
         "worth": model.meta.get("worth"),
         "warnings": ident.get("warnings", []),
-    }
+    }, ident
 
-    # 3. plan --------------------------------------------------------------------------------------------
-    plan = _json(plan_uncertainty(xyz, Plan(m)).to_dict())
-    plot_placement_map(plots / "plan_map.png", Plan(m), tracker=plan["tracker"], z=plan["tracker"][2])
-    prog.step("plan: predicted uncertainty of one round at this tracker placement, and a placement map")
+
+def _plan_step(s: _Story, ident: dict) -> dict:
+    """The predicted one-round sigma at mid-travel beside the observed std over the rounds; the placement map."""
+    plan = _json(plan_uncertainty(s.xyz, Plan(s.m)).to_dict())
+    plot_placement_map(s.plots / "plan_map.png", Plan(s.m), tracker=plan["tracker"], z=plan["tracker"][2])
     observed = {}  # std over rounds at the plan's mid-travel position (the same machine coordinates)
     for ax, res in ident["axes"].items():
         k = int(np.argmin(np.abs(np.asarray(res["positions"], dtype=float) - plan["mid_travel"][ax])))
         observed[ax] = {n: float(v["std"][k]) for n, v in res["errors"].items()}
-    summary["plan"] = {ax: {n: {"position": plan["mid_travel"][ax], "predicted": s,
-                                "observed_std_over_rounds": observed.get(ax, {}).get(n)}
-                            for n, s in plan["axes"][ax].items()} for ax in plan["axes"]}
+    return {ax: {n: {"position": plan["mid_travel"][ax], "predicted": sg,
+                     "observed_std_over_rounds": observed.get(ax, {}).get(n)}
+                 for n, sg in plan["axes"][ax].items()} for ax in plan["axes"]}
 
-    # 4. compensate --------------------------------------------------------------------------------------
-    before, after, comp = _compensate_program(m, truth, model_path, out, rng)
-    summary["compensate"] = {"iso_16907": comp["iso_16907"], "lines_changed": comp["lines_changed"],
-                             "true_error_before_max_um": float(before.max() * 1e3),
-                             "true_error_before_rms_um": float(np.sqrt(np.mean(before**2)) * 1e3),
-                             "true_error_after_max_um": float(after.max() * 1e3),
-                             "true_error_after_rms_um": float(np.sqrt(np.mean(after**2)) * 1e3),
-                             "predicted_residual_um": comp["residual"]}
-    _plot_compensation(plots / "compensation_before_after.png", before, after)
-    prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
 
-    # 4b. several stations -------------------------------------------------------------------------------
+def _compensate_step(s: _Story) -> dict:
+    """The sample program compensated with the identified model; tool-tip errors on the true machine (um)."""
+    before, after, comp = _compensate_program(s.m, s.truth, s.model_path, s.out, s.rng)
+    _plot_compensation(s.plots / "compensation_before_after.png", before, after)
+    return {"iso_16907": comp["iso_16907"], "lines_changed": comp["lines_changed"],
+            "true_error_before_max_um": float(before.max() * 1e3),
+            "true_error_before_rms_um": float(np.sqrt(np.mean(before**2)) * 1e3),
+            "true_error_after_max_um": float(after.max() * 1e3),
+            "true_error_after_rms_um": float(np.sqrt(np.mean(after**2)) * 1e3),
+            "predicted_residual_um": comp["residual"]}
+
+
+def _stations_step(s: _Story) -> dict:
+    """One station against four at equal measuring time (mtcal.demo.stations), the same sample program."""
 
     def compensate(mdl, name: str):  # the same sample program, in out/stations/ (the step's own files)
-        (out / "stations").mkdir(exist_ok=True)
-        p = out / "stations" / f"model_{name}.json"
+        (s.out / "stations").mkdir(exist_ok=True)
+        p = s.out / "stations" / f"model_{name}.json"
         save_model(mdl, p)
-        return compensate_file(m, truth, p, out / "sample_5axis.nc",
-                               out / "stations" / f"sample_5axis_compensated_{name}.nc")[:2]
-    summary["stations"] = run_stations(m, truth, planted, volumetric, compensate)
-    st = summary["stations"]
-    plot_stations(st, plots / "stations.png")
-    prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
-              f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
-              f"stations, joint fit) at equal measuring time")
+        return compensate_file(s.m, s.truth, p, s.out / "sample_5axis.nc",
+                               s.out / "stations" / f"sample_5axis_compensated_{name}.nc")[:2]
 
-    # 5. diagnose ----------------------------------------------------------------------------------------
-    d = diagnose(read_recording(rec_path, m.name), None, machine=m.name, tracker=xyz)
-    plot_residuals(d, plots)
+    st = run_stations(s.m, s.truth, s.planted, s.volumetric, compensate)
+    plot_stations(st, s.plots / "stations.png")
+    return st
+
+
+def _diagnose_step(s: _Story) -> dict:
+    """The diagnosis of the campaign (tracker given) beside what was planted."""
+    d = diagnose(read_recording(s.rec_path, s.m.name), None, machine=s.m.name, tracker=s.xyz)
+    plot_residuals(d, s.plots)
     diag = _json(d.to_dict())
-    summary["diagnose"] = {"base_sigma": diag["base_sigma"],
-                           "effects": [e for e in diag["effects"] if e.get("significant")],
-                           "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
-                           "located": diag.get("located", [])[:5],
-                           "planted": [{"name": e["name"], **e.get("params", {})} for e in planted.get("effects", [])]}
-    prog.step("diagnose: what the quasi-static model leaves out, where, and how much")
+    return {"base_sigma": diag["base_sigma"],
+            "effects": [e for e in diag["effects"] if e.get("significant")],
+            "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
+            "located": diag.get("located", [])[:5],
+            "planted": [{"name": e["name"], **e.get("params", {})} for e in s.planted.get("effects", [])]}
 
-    # 6. plate -------------------------------------------------------------------------------------------
+
+def _plate_step(plots: Path) -> dict:
+    """NBS Table 1 by Hocken-Borchardt reversal (ALBE3), and the model without the scale term, diagnosed."""
     nbs = read_plate_csv(data_path("nbs_table1_corrected.csv"))
     fit = fit_plate(nbs, exact=None)
     plot_plate(fit, plots / "plate_table1.png")
     plate = _json(fit.to_dict())
     no_scale = fit_plate(nbs, exact=None, scale=False)
     reeve = _json({**no_scale.to_dict(), "diagnosis": diagnose_plate(no_scale)})
-    summary["plate"] = {k: plate[k] for k in ("alpha", "beta", "gamma", "ex", "ey", "sigma")}
-    summary["plate"]["without_scale"] = {"sigma": reeve["sigma"], "diagnosis": reeve.get("diagnosis")}
-    prog.step("plate: Hocken-Borchardt reversal of NBS Table 1 (ALBE3), and the model without the scale term")
-
-    summary["seconds"] = time.perf_counter() - prog.t0
-    atomic_write_text(out / "summary.json", dumps(summary) + "\n")
-    atomic_write_text(out / "report.md", report(summary, out))
-    return summary
+    out = {k: plate[k] for k in ("alpha", "beta", "gamma", "ex", "ey", "sigma")}
+    out["without_scale"] = {"sigma": reeve["sigma"], "diagnosis": reeve.get("diagnosis")}
+    return out
 
 
 def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Generator
