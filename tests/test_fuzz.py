@@ -299,6 +299,8 @@ def test_corpus_size_and_coverage(corpus):
     assert {"recording CSV", "plate CSV", "model JSON", "plan JSON", "NC program", "CL data", "option", "path",
             "overwrite"} <= kinds
     assert len(cases) >= 150
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()  # the figure the README quotes
+    assert f"{len(cases)} fuzz cases" in readme, f"README.md should say {len(cases)} fuzz cases"
 
 
 def test_corpus_is_deterministic(tmp_path):
