@@ -126,6 +126,9 @@ def test_a_round_without_its_reference_is_left_out_and_an_axis_with_nothing_left
     rec = parse_recording("\n".join(lines), "rec.csv")
     assert not s.keep[(rec.axis == "B") & (rec.round == 2)].any() and s.keep[(rec.axis == "B") & (rec.round == 1)].all()
     assert any("B round 2" in n and "no reference" in n for n in s.notes)
+    res = identify(parse_recording("\n".join(_far_reference(lines, "B", 2)), "rec.csv"), tracker=TRACKER,
+                   worth=False)  # the user is told the round was left out, not only the far readings
+    assert any("B round 2" in w and "no reference" in w for w in res.warnings)
     _, one = _campaign(9, rounds=1)
     with pytest.raises(InputError, match="axis B: no round is left after the gross-error screen"):
         screen(parse_recording("\n".join(_far_reference(one, "B", 1)), "rec.csv"))

@@ -35,6 +35,8 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     gross = screen_gross(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
     for p in gross.problems:
         log.warning("warning: data problem: %s", p.text)
+    for note in gross.notes:
+        log.warning("warning: %s", note)
     rec = rec.select(gross.keep) if gross.problems else rec
     tracker = _station_tracker(rec, tracker)
     prep = prepare(rec, machine, model, tracker, max_degree, tie_positions)

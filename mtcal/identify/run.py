@@ -68,7 +68,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     gross = screen(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
     if gross.problems:
         rec = rec.select(gross.keep)
-        warnings += [*gross.notes[1:], *(p.text for p in gross.problems)]
+        warnings += [*(p.text for p in gross.problems), *gross.notes]
     estimated = None
     if method == "auto":
         method, tracker, estimated = _auto_method(rec, tracker, warnings)

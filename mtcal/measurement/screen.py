@@ -62,15 +62,13 @@ class DataProblem:
 
 @dataclass
 class Screen:
-    """The screen's answer: the problems found, the rows kept (bool per row) and notes on what was left out."""
+    """The screen's answer: the problems found, the rows kept (bool per row) and notes on rounds left out because
+    their reference readings were."""
 
     problems: list[DataProblem] = field(default_factory=list)
     keep: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
     notes: list[str] = field(default_factory=list)
 
-    def to_dict(self) -> dict:
-        return {"problems": [p.to_dict() for p in self.problems], "rows_left_out": int((~self.keep).sum()),
-                "notes": self.notes}
 
 
 def screen(rec: Recording) -> Screen:
@@ -87,11 +85,6 @@ def screen(rec: Recording) -> Screen:
             out.keep[list(passes[key].values())] = False
         _reference_rounds(rec, axis, out)
     out.problems = _merge(out.problems)
-    if out.problems:
-        n = int((~out.keep).sum())
-        out.notes.append(f"{len(out.problems)} data problem(s) found before fitting; {n} reading(s) left out "
-                         f"(mtcal.measurement.screen): " + "; ".join(p.text for p in out.problems[:5])
-                         + (" ..." if len(out.problems) > 5 else ""))
     return out
 
 
