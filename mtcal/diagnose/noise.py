@@ -5,7 +5,7 @@ it (angle encoders; AT960, mtcal.measurement.tracker). With the tracker position
 covariance
 about it weights the readings. Without it, the position is estimated from the scatter of the repeated rounds: the
 residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread along the beam;
-each reading's residual is taken about the mean of its cell (axis, position, point, direction) over the rounds, so a
+each reading's residual is taken about the mean of its cell over the rounds (tracker_position.round_scatter), so a
 misfit that repeats every round stays out of the noise model; (1) each reflector's residual scatter (3x3, pooled
 over its readings) gives a beam line through the reflector along its least-spread direction, (2) the point closest
 to all beam lines starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a
@@ -28,11 +28,11 @@ from mtcal.diagnose.prepared import NoiseModel, Prepared
 from mtcal.measurement.tracker import AT960
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
-    ShapeEstimate,
     beam_starts,
     estimate_shape,
     isotropic_nll,
     refine,
+    round_scatter,
 )
 
 ITERATIONS = 2          # refits of the base with the estimated weights
@@ -49,7 +49,7 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> 
         if sh is not None and sh.replaces_base:
             return NoiseModel.at960(xyz, t, "tracker law estimated (given tracker)",
                                     f"tracker position given; the repeated rounds are not shaped like an AT960's: "
-                                    f"{_law_text(sh)}", sh.spec, shape=sh.to_dict())
+                                    f"{sh.law_text()}", sh.spec, shape=sh.to_dict())
         return NoiseModel.at960(xyz, t, "AT960 (given tracker)",
                                 "tracker position given (--tracker or the recording's tracker_x,y,z columns)",
                                 **({"shape": sh.to_dict()} if sh is not None else {}))
@@ -80,18 +80,11 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> 
     if sh.replaces_base:
         return NoiseModel.at960(xyz, t, "tracker law estimated (estimated tracker)",
                                 f"tracker position and noise law estimated from the scatter of the repeated rounds: "
-                                f"{_law_text(sh)}", spec, **details)
+                                f"{sh.law_text()}", spec, **details)
     return NoiseModel.at960(xyz, t, "AT960 (estimated tracker)",
                             "tracker position estimated from the shape of the scatter of the repeated rounds "
                             "(beam lines of the least spread, then maximum likelihood under the AT960 shape)",
                             **details)
-
-
-def _law_text(sh: ShapeEstimate) -> str:
-    law = sh.law()
-    return (f"1 sigma along the beam {law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across "
-            f"{law['transverse_um']:.1f} um + {law['transverse_um_per_m']:.1f} um/m (radial : transverse "
-            f"{sh.rho:.2g} times the AT960's)")
 
 
 def _base_residuals(prep: Prepared, max_degree: int, W: np.ndarray | None = None) -> np.ndarray:
@@ -103,21 +96,7 @@ def _base_residuals(prep: Prepared, max_degree: int, W: np.ndarray | None = None
     degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
     eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
     raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]
-    return _round_scatter(prep, raw)
-
-
-def _round_scatter(prep: Prepared, raw: np.ndarray) -> np.ndarray:
-    """The scatter of the repeated rounds: each reading's residual minus the mean of its cell (axis, position,
-    point, direction) over the rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased), so that a
-    misfit that repeats in every round (an effect the base lacks) does not enter the noise model; cells of one
-    reading get 0 (they carry no scatter)."""
-    rec = prep.rec
-    keys = list(zip(rec.axis.tolist(), rec.position.tolist(), rec.point.tolist(), rec.direction.tolist()))
-    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
-    cell = np.array([index[k] for k in keys])
-    m = np.bincount(cell)[cell].astype(float)
-    mean = np.stack([np.bincount(cell, raw[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
-    return np.where(m[:, None] > 1, (raw - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
+    return round_scatter(prep.rec, raw)  # a misfit that repeats every round stays out of the noise model
 
 
 def _groups(prep: Prepared):

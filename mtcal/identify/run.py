@@ -175,11 +175,8 @@ def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str]) -> trk
     sh = estimate_shape(rec, t)
     if not sh.replaces_base:
         return trk.AT960
-    law = sh.law()
-    warnings.append(f"noise law: the repeated rounds are not shaped like an AT960's (radial : transverse "
-                    f"{sh.rho:.2g} times its): the joint fit weights by the data's, 1 sigma along the beam "
-                    f"{law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across {law['transverse_um']:.1f}"
-                    f" um + {law['transverse_um_per_m']:.1f} um/m")
+    warnings.append(f"noise law: the repeated rounds are not shaped like an AT960's; the joint fit weights by the "
+                    f"data's: {sh.law_text()}")
     return sh.spec
 
 

@@ -138,17 +138,20 @@ def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) 
     return PositionEstimate(t, _covariance(xyz, r, np.append(t, logc)), math.exp(logc), lr, p)
 
 
-def round_scatter(rec: Recording) -> np.ndarray:
-    """(n, 3) mm: each reading minus the mean of its cell (station, axis, position, point, direction) over the
-    rounds, scaled by sqrt(m / (m - 1)) for a cell of m readings (unbiased); 0 for cells of one reading.  What the
-    tracker's noise (and any drift) does between repeated rounds, no model needed."""
+def round_scatter(rec: Recording, values: np.ndarray | None = None) -> np.ndarray:
+    """(n, 3) mm: each reading (or its row of ``values``, e.g. a model's residuals) minus the mean of its cell
+    (station, axis, position, point, direction) over the rounds, scaled by sqrt(m / (m - 1)) for a cell of m
+    readings (unbiased); 0 for cells of one reading.  What the tracker's noise (and any drift) does between repeated
+    rounds: with the readings themselves, no model needed; with residuals, a misfit that repeats every round stays
+    out."""
+    v = rec.xyz if values is None else values
     keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), position_key(rec.position).tolist(),
                     rec.point.tolist(), rec.direction.tolist()))
     index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
     cell = np.array([index[k] for k in keys])
     m = np.bincount(cell)[cell].astype(float)
-    mean = np.stack([np.bincount(cell, rec.xyz[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
-    return np.where(m[:, None] > 1, (rec.xyz - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
+    mean = np.stack([np.bincount(cell, v[:, k]) for k in range(3)], axis=1)[cell] / m[:, None]
+    return np.where(m[:, None] > 1, (v - mean) * np.sqrt(m / np.maximum(m - 1, 1))[:, None], 0.0)
 
 
 def _round_centred(rec: Recording, r: np.ndarray) -> np.ndarray:
@@ -201,6 +204,13 @@ class ShapeEstimate:
         return {"radial_um": self.spec.radial_um / k, "radial_um_per_m": self.spec.radial_um_per_m / k,
                 "transverse_um": self.spec.transverse_um / k,
                 "transverse_um_per_m": self.spec.transverse_um_per_m / k}
+
+    def law_text(self) -> str:
+        """The law in words (one sigma, um and um/m) and its shape against the base law's."""
+        law = self.law()
+        return (f"1 sigma along the beam {law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across "
+                f"{law['transverse_um']:.1f} um + {law['transverse_um_per_m']:.1f} um/m (radial : transverse "
+                f"{self.rho:.2g} times the AT960's)")
 
     def to_dict(self) -> dict:
         return {"law_1sigma": {k: round(v, 4) for k, v in self.law().items()},
