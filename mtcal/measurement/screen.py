@@ -116,9 +116,9 @@ def _duplicates(rec: Recording, out: Screen) -> None:
     """Rows repeating an earlier row exactly (same labels, time and reading): the later one is left out.  A reading
     repeated at another time is a second measurement, which the estimators refuse to average silently."""
     seen: dict[tuple, int] = {}
-    for i in range(len(rec)):
-        key = (rec.stations()[i], str(rec.axis[i]), int(rec.round[i]), float(position_key(rec.position[i])),
-               str(rec.point[i]), int(rec.direction[i]))
+    keys = zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist(), position_key(rec.position).tolist(),
+               rec.point.tolist(), rec.direction.tolist())
+    for i, key in enumerate(keys):  # the columns read once: this runs before every identification and diagnosis
         j = seen.setdefault(key, i)
         same_time = rec.time_s[i] == rec.time_s[j] or (np.isnan(rec.time_s[i]) and np.isnan(rec.time_s[j]))
         if j != i and same_time and np.abs(rec.xyz[i] - rec.xyz[j]).max() <= SAME_MM:
