@@ -42,7 +42,9 @@ def line_copy(src: Path, dst: Path) -> float:
 
 def run(n_lines: int = N_LINES) -> dict:
     from mtcal import load_machine
-    from mtcal.compensate.core import Compensator, ProgramCompensator, example_model
+    from mtcal.compensate.examples import example_model
+    from mtcal.compensate.program import ProgramCompensator
+    from mtcal.compensate.solver import Compensator
 
     m = load_machine("dmu50")
     model = example_model(m)

@@ -10,9 +10,13 @@ import pytest
 
 import mtcal
 from mtcal.cli import main
-from mtcal.compensate.core import Compensator, ProgramCompensator, example_model, iso_types, thesis_model, write_tables
+from mtcal.compensate.examples import example_model, thesis_model
+from mtcal.compensate.program import ProgramCompensator
+from mtcal.compensate.solver import Compensator
+from mtcal.compensate.tables import write_tables
 from mtcal.errors import InputError
 from mtcal.model.errormodel import ErrorFunction, ErrorModel, save_model
+from mtcal.model.iso_types import iso_16907_types, iso_types, orientation_errors
 from mtcal.nc import gcode
 
 SAMPLE = Path(mtcal.__file__).parent / "data" / "sample_5axis.nc"
@@ -213,10 +217,36 @@ def test_cl_data_route(tmp_path):
 
 def test_iso_types_from_model_names():
     only = ErrorModel("dmu50", {"E_C0Y": 1e-5}, {"E_XX": ErrorFunction("X", np.array([0.0, 1.0]), np.array([0, 1e-3]))})
-    assert iso_types(only)["covered"] == ["L-POS", "L-SQU"] and iso_types(only)["partial"] == ["L-VOL"]
-    full = iso_types(MODEL, "full")["covered"]
+    assert iso_types(only, M)["covered"] == ["L-POS", "L-SQU"] and iso_types(only, M)["partial"] == ["L-VOL"]
+    full = iso_types(MODEL, M, "full")["covered"]
     assert full == ["L-POS", "L-STR", "L-SQU", "L-ANG", "L-VOL", "R-POS", "R-RAX", "R-POR", "R-ANG", "R-VOL", "FOR"]
-    assert "FOR" not in iso_types(MODEL, "position")["covered"]
+    assert "FOR" not in iso_types(MODEL, M, "position")["covered"]
+
+
+# ISO/TR 16907 types of the DMU 50 (linear X Y Z, rotary B C), written out by hand from the report's definitions
+DMU50_TYPES = {
+    "L-POS": ("E_XX", "E_YY", "E_ZZ"),
+    "L-STR": ("E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"),
+    "L-SQU": ("E_C0Y", "E_B0Z", "E_A0Z"),
+    "L-ANG": ("E_AX", "E_BX", "E_CX", "E_AY", "E_BY", "E_CY", "E_AZ", "E_BZ", "E_CZ"),
+    "R-POS": ("E_CB", "E_CC"),
+    "R-RAX": ("E_XB", "E_YB", "E_ZB", "E_XC", "E_YC", "E_ZC"),
+    "R-POR": ("E_X0B", "E_Y0B", "E_A0B", "E_B0B", "E_X0C", "E_Y0C", "E_A0C", "E_B0C"),
+    "R-ANG": ("E_AB", "E_BB", "E_AC", "E_BC"),
+}
+
+
+def test_iso_16907_types_follow_the_machine():
+    got = iso_16907_types(M)
+    assert {k: set(v) for k, v in got.items()} == {k: set(v) for k, v in DMU50_TYPES.items()}
+    assert set(orientation_errors(M)) == set(DMU50_TYPES["L-ANG"] + DMU50_TYPES["R-ANG"] + DMU50_TYPES["R-POS"]
+                                             + ("E_A0B", "E_B0B", "E_A0C", "E_B0C"))
+    for name in mtcal.available_machines():  # every spec: each error of the machine in exactly one type
+        m = mtcal.load_machine(name)
+        types = iso_16907_types(m)
+        members = [n for v in types.values() for n in v]
+        assert sorted(members) == sorted(m.error_names), name
+        assert all(n[3:] in m.rotary_axes for n in types["R-POS"] + types["R-RAX"] + types["R-ANG"]), name
 
 
 def test_outside_measured_range_held_and_counted_or_refused():
@@ -279,7 +309,8 @@ _MEMORY = """
 import resource, sys
 sys.path.insert(0, {tests!r})
 from test_compensate import _program, MODEL, M
-from mtcal.compensate.core import Compensator, ProgramCompensator
+from mtcal.compensate.solver import Compensator
+from mtcal.compensate.program import ProgramCompensator
 _program(sys.argv[1], int(sys.argv[2]))
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 ProgramCompensator(Compensator(MODEL, M, "position"), chunk_lines=5000).run(sys.argv[1], sys.argv[1] + ".out")

@@ -11,7 +11,9 @@ import pytest
 
 import mtcal
 from mtcal.cli import main
-from mtcal.compensate.core import Compensator, ProgramCompensator, example_model
+from mtcal.compensate.examples import example_model
+from mtcal.compensate.program import ProgramCompensator
+from mtcal.compensate.solver import Compensator
 from mtcal.errors import InputError
 from mtcal.model.errormodel import save_model
 

@@ -16,7 +16,7 @@ import pytest
 import mtcal
 from mtcal.campaign.plans import Plan
 from mtcal.campaign.simulate import simulate
-from mtcal.compensate.core import Compensator
+from mtcal.compensate.solver import Compensator
 from mtcal.diagnose import diagnose
 from mtcal.identify.run import identify
 from mtcal.kinematics.defaults import default_positions
@@ -127,7 +127,7 @@ def test_nc_program_compensated_on_every_machine(identified, tmp_path):
     head's B on headbc), scope full (position and orientation, FOR through a head axis): the written program,
     read back and run on the true machine (exact kinematics), reaches the targets; another machine's axis word
     is refused with its line."""
-    from mtcal.compensate.core import ProgramCompensator
+    from mtcal.compensate.program import ProgramCompensator
     from mtcal.errors import InputError
     from mtcal.nc.gcode import read_moves
     m, truth, res = identified

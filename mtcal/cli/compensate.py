@@ -7,15 +7,11 @@ import sys
 import time
 
 from mtcal.cli._options import integer, real
-from mtcal.compensate.core import (
-    MAX_CORRECTION_MM,
-    MAX_ROTARY_CORRECTION_DEG,
-    RESIDUAL_EVERY,
-)
 from mtcal.compensate.run import compensate_program
+from mtcal.compensate.solver import MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY
 from mtcal.io import dumps, refuse_overwrite
 
-TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.core.write_tables writes
+TABLE_FILES = ("comp_*.csv", "constants.csv")  # what mtcal.compensate.tables.write_tables writes
 NAME = "compensate"
 log = logging.getLogger("mtcal." + NAME)
 HELP = "compensate an NC program (G-code or CL data) for the errors in a model, exactly to first order"

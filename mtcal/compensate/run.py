@@ -7,17 +7,11 @@ import os
 import time
 from typing import Callable
 
-from mtcal.compensate.core import (
-    MAX_CORRECTION_MM,
-    MAX_ROTARY_CORRECTION_DEG,
-    RESIDUAL_EVERY,
-    Compensator,
-    ProgramCompensator,
-    iso_types,
-    write_tables,
-)
-from mtcal.kinematics.machine import load_machine
+from mtcal.compensate.program import ProgramCompensator
+from mtcal.compensate.solver import MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY, Compensator
+from mtcal.compensate.tables import write_tables
 from mtcal.model.errormodel import ErrorModel, load_model
+from mtcal.model.iso_types import iso_types
 from mtcal.model.plausibility import check_model
 
 log = logging.getLogger(__name__)
@@ -41,7 +35,7 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
     returned dict is the JSON answer of `mtcal compensate` (lengths in mm unless a key says um, angles urad)."""
     mdl = model if isinstance(model, ErrorModel) else load_model(model)
     name = str(model) if not isinstance(model, ErrorModel) else "<model>"
-    for w in check_model(mdl, load_machine(mdl.machine), force, name):
+    for w in check_model(mdl, mdl.kinematics, force, name):
         log.warning("warning: %s", w)
     if iterations is None:
         iterations = 2 if scope == "full" else 1
@@ -57,7 +51,7 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
     return {
         "program": str(program), "output": str(output), "model": name, "machine": comp.machine.name,
         "scope": scope, "iterations": iterations, "tool_length_mm": tool_length,
-        "iso_16907": iso_types(mdl, scope),
+        "iso_16907": iso_types(mdl, mdl.kinematics, scope),
         "lines": rep.lines, "moves": rep.moves, "lines_changed": rep.lines_changed,
         "lines_inserted": rep.lines_inserted, "subdivided_moves": rep.subdivided_moves,
         "residual": {"evaluated_on": rep.residual_evaluated_on(),

@@ -19,7 +19,7 @@ import numpy as np
 
 from mtcal.errors import InputError
 from mtcal.io import atomic_write_text, dumps, read_json
-from mtcal.kinematics.machine import DEFAULT_MACHINE
+from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.model import schema as sc
 from mtcal.model.fits import FIT_KEYS, Fit, Harmonic, Polynomial, Table, fit_from_dict
 
@@ -60,10 +60,18 @@ class ErrorFunction:
 
 @dataclass
 class ErrorModel:
+    """Errors of one machine by ISO 230-1 name: ``constants`` (mm, rad) and ``functions`` of their axis' position;
+    ``machine`` names the spec (its kinematics: ``kinematics``), ``meta`` what made the model."""
+
     machine: str = DEFAULT_MACHINE
     constants: dict[str, float] = field(default_factory=dict)
     functions: dict[str, ErrorFunction] = field(default_factory=dict)
     meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def kinematics(self) -> Machine:
+        """The model's machine (mtcal.Machine, loaded once per process)."""
+        return load_machine(self.machine)
 
     def names(self) -> list[str]:
         return sorted(set(self.constants) | set(self.functions))

@@ -195,14 +195,14 @@ class ModalState:
     inch: bool = False       # G20 / G21
     # linear axes unknown until programmed, rotary axes at 0 (the default machine's words; ``for_words``: any)
     position: np.ndarray = field(default_factory=lambda: _start(words()))
-    decimals: np.ndarray = field(default_factory=lambda: np.full(5, -1, dtype=np.int64))
+    decimals: np.ndarray = field(default_factory=lambda: np.full(len(words().letters), -1, dtype=np.int64))
     inverse_time: bool = False  # G93 (F = 1 / minutes per block) until G94 / G95
     fresh: bool = False      # a machine-coordinate move (G28 / G30 / G53) since the last motion row
 
 
     @classmethod
     def for_words(cls, w: Words) -> "ModalState":
-        return cls(position=_start(w))
+        return cls(position=_start(w), decimals=np.full(len(w.letters), -1, dtype=np.int64))
 
 
 def _start(w: Words) -> np.ndarray:
@@ -219,13 +219,13 @@ class Chunk:
     lines: list[str]
     first_line: int                      # 1-based number of lines[0] in the file
     pieces: list[str]
-    numidx: np.ndarray                   # (m, 5) index into pieces of each axis number, -1 if the word is absent
+    numidx: np.ndarray                   # (m, n_axes) index into pieces of each axis number, -1 if the word is absent
     tail: np.ndarray                     # (m,) index of the text piece after the row's last number
     rows: np.ndarray                     # (m,) index into lines of each motion row
-    axes: np.ndarray                     # (m, 5) absolute nominal axes, mm and deg (NaN: unknown)
-    present: np.ndarray                  # (m, 5) bool: word present on the line
-    given: np.ndarray                    # (m, 5) value as written (program units; increments under G91)
-    decimals: np.ndarray                 # (m, 5) output decimals (running max of the input's, >= minimum)
+    axes: np.ndarray                     # (m, n_axes) absolute nominal axes, mm and deg (NaN: unknown)
+    present: np.ndarray                  # (m, n_axes) bool: word present on the line
+    given: np.ndarray                    # (m, n_axes) value as written (program units; increments under G91)
+    decimals: np.ndarray                 # (m, n_axes) output decimals (running max of the input's, >= minimum)
     motion: np.ndarray                   # (m,) 0 rapid / 1 feed
     absolute: np.ndarray                 # (m,) bool
     inch: np.ndarray                     # (m,) bool
@@ -337,22 +337,50 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     text = "".join(lines)
     commented = "(" in text or ";" in text
     code = _mask_comments(text) if commented else text
-    chars = set(code)
-    suspect = (bool(chars & w.suspect) or w.checks[-1][0].search(code) is not None or "128" in code
-               or _BADNUM.search(code) is not None or _SUBPROGRAM.search(code) is not None)
-    if suspect:  # find which check, for the message
-        _check(code, first_line, source, w)
+    _screen(code, first_line, source, w)
     n = len(lines)
     starts = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.fromiter(map(len, lines), np.int64, n), out=starts[1:])
     md = _g_modes(code, starts, first_line, source)
+    t = _axis_words(text if commented else None, code, starts, md, first_line, source, w)
+    if md.plain() and state.absolute and not state.inch and not state.inverse_time and not state.fresh:
+        return _fill_plain(lines, first_line, t, state, min_decimals, w)
+    return _fill_modal(lines, first_line, t, md, code, starts, state, min_decimals, source, w)
+
+
+def _screen(code: str, first_line: int, source: str, w: Words) -> None:
+    """Run the checks (``_check``, raising on the first refusal) on a chunk that contains anything suspect."""
+    suspect = (bool(set(code) & w.suspect) or w.checks[-1][0].search(code) is not None or "128" in code
+               or _BADNUM.search(code) is not None or _SUBPROGRAM.search(code) is not None)
+    if suspect:  # find which check, for the message
+        _check(code, first_line, source, w)
+
+
+@dataclass
+class _AxisWords:
+    """The axis words of a chunk: its pieces (``Chunk.pieces``) and per motion row (the lines with axis words)
+    the value written, whether present, its decimals and its number's piece (arrays (m, n_axes))."""
+
+    pieces: list[str]
+    rows: np.ndarray           # (m,) line index of each motion row
+    tail: np.ndarray           # (m,) piece after the row's last number
+    given: np.ndarray
+    present: np.ndarray
+    decimals: np.ndarray       # -1 where absent
+    numidx: np.ndarray         # -1 where absent
+    special: dict[int, list[tuple[int, float]]]  # axis words of machine-coordinate lines (G28 / G30 / G53)
+
+
+def _axis_words(text: str | None, code: str, starts: np.ndarray, md: _Modes, first_line: int, source: str,
+                w: Words) -> _AxisWords:
+    """Split a chunk (``code``: comments masked; ``text``: the original when it has comments) at its axis numbers
+    and place each word in its motion row; the words of dwell and machine-coordinate lines are no move."""
     # one split of the whole chunk: [text, ws, number, text, ws, number, ..., text]
     pieces = w.split.split(code)
     nn = (len(pieces) - 1) // 3
-    lens = np.fromiter(map(len, pieces), np.int64, len(pieces))
     off = np.zeros(len(pieces) + 1, dtype=np.int64)
-    np.cumsum(lens, out=off[1:])
-    if commented:  # the same pieces of the original text (masking keeps lengths)
+    np.cumsum(np.fromiter(map(len, pieces), np.int64, len(pieces)), out=off[1:])
+    if text is not None:  # the same pieces of the original text (masking keeps lengths)
         o = off.tolist()
         pieces = [text[o[j]: o[j + 1]] for j in range(len(pieces))]
     if sum(code.count(c) for c in w.letters + w.letters.lower()) != nn:  # an axis letter without a number
@@ -360,7 +388,7 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
     numpiece = np.arange(nn, dtype=np.int64) * 3 + 2
     line_of = np.searchsorted(starts, off[numpiece], "right") - 1
     nums = pieces[2::3]
-    special: dict[int, list[tuple[int, float]]] = {}  # axis words of machine-coordinate lines
+    special: dict[int, list[tuple[int, float]]] = {}
     if md.dwell or md.machine:  # G4 X...: a dwell time; G28 / G53 words: machine positions, not coordinates
         drop = np.isin(line_of, list(md.dwell | set(md.machine)))
         for k in np.flatnonzero(drop).tolist():
@@ -372,75 +400,85 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
         numpiece, line_of = numpiece[keep], line_of[keep]
         nums = [nums[k] for k in np.flatnonzero(keep).tolist()]
     buf = np.frombuffer(code.encode(ENCODING), dtype=np.uint8)
-    ax = buf[off[numpiece - 1] - 1] & 0xDF  # the letter before the blanks, upper case
-    newrow = np.ones(len(line_of), dtype=bool)
-    newrow[1:] = line_of[1:] != line_of[:-1]
-    rows_a = line_of[newrow]
-    rows = rows_a.tolist()
-    m = len(rows)
-    flat_rows = np.cumsum(newrow) - 1
-    tail = np.empty(m, dtype=np.int64)
-    if m:
-        last = np.ones(len(line_of), dtype=bool)
-        last[:-1] = newrow[1:]
-        tail[:] = numpiece[last] + 1
     lut = np.full(256, -1, dtype=np.int64)
     for j, c in enumerate(w.letters):
         lut[ord(c)] = j
-    axi = lut[ax]
+    axi = lut[buf[off[numpiece - 1] - 1] & 0xDF]  # the letter before the blanks, upper case
+    newrow = np.ones(len(line_of), dtype=bool)
+    newrow[1:] = line_of[1:] != line_of[:-1]
+    rows = line_of[newrow]
+    last = np.ones(len(line_of), dtype=bool)
+    last[:-1] = newrow[1:]
     vals = np.array(nums, dtype=np.float64) if nums else np.zeros(0)
     if not np.isfinite(vals).all():  # hundreds of digits read as inf
         k = int(np.flatnonzero(~np.isfinite(vals))[0])
         raise _error(source, first_line + int(line_of[k]), f"number {nums[k][:20]}... is too large")
-    decs = _decimals(nums)
+    return _AxisWords(pieces, rows, numpiece[last] + 1,
+                      *_row_tables(np.cumsum(newrow) - 1, axi, vals, _decimals(nums), numpiece, rows, first_line,
+                                   source, w), special)
 
-    given = np.full((m, 5), np.nan)
+
+def _row_tables(flat_rows: np.ndarray, axi: np.ndarray, vals: np.ndarray, decs: np.ndarray, numpiece: np.ndarray,
+                rows: np.ndarray, first_line: int, source: str, w: Words) -> tuple[np.ndarray, ...]:
+    """(given, present, decimals, numidx), each (m, n_axes), from the words' rows and axes; an axis twice in a
+    block is refused."""
+    m, na = len(rows), len(w.letters)
+    given = np.full((m, na), np.nan)
     given[flat_rows, axi] = vals
-    present = np.zeros((m, 5), dtype=bool)
+    present = np.zeros((m, na), dtype=bool)
     present[flat_rows, axi] = True
     if present.sum() != len(axi):  # an axis twice on one line
-        per = np.bincount(flat_rows * 5 + axi, minlength=5 * m).reshape(m, 5)
+        per = np.bincount(flat_rows * na + axi, minlength=na * m).reshape(m, na)
         r, a = (int(v[0]) for v in np.nonzero(per > 1))
-        raise _error(source, first_line + rows[r], f"axis {w.letters[a]} appears twice in one block")
-    wdec = np.full((m, 5), -1, dtype=np.int64)
+        raise _error(source, first_line + int(rows[r]), f"axis {w.letters[a]} appears twice in one block")
+    wdec = np.full((m, na), -1, dtype=np.int64)
     wdec[flat_rows, axi] = decs
-    numidx = np.full((m, 5), -1, dtype=np.int64)
+    numidx = np.full((m, na), -1, dtype=np.int64)
     numidx[flat_rows, axi] = numpiece
+    return given, present, wdec, numidx
 
-    # modal state per motion row (lines are processed in order; G words on a line apply to that line)
-    motion = np.empty(m, dtype=np.int64)
-    absolute = np.empty(m, dtype=bool)
-    inch = np.empty(m, dtype=bool)
-    axes = np.empty((m, 5))
-    decimals = np.empty((m, 5), dtype=np.int64)
-    mins = np.array(min_decimals)
-    simple = md.plain() and state.absolute and not state.inch and not state.inverse_time and not state.fresh
-    if simple:  # the common case: one vectorised forward fill
-        motion[:] = state.motion
-        absolute[:] = True
-        inch[:] = False
-        mm = given
-        filled = np.vstack([state.position[None, :], mm])
+
+def _fill_plain(lines: list[str], first_line: int, t: _AxisWords, state: ModalState,
+                min_decimals: tuple[int, int, int], w: Words) -> Chunk:
+    """The common case (absolute mm, no mode changes): positions and decimals by one forward fill."""
+    m = len(t.rows)
+    axes, decimals = _forward_fill(state, t.given, t.decimals, np.where(w.linear, min_decimals[0], min_decimals[2]))
+    return Chunk(lines, first_line, t.pieces, t.numidx, t.tail, t.rows, axes, t.present, t.given, decimals,
+                 np.full(m, state.motion, dtype=np.int64), np.ones(m, dtype=bool), np.zeros(m, dtype=bool),
+                 letters=w.letters)
+
+
+def _forward_fill(state: ModalState, given: np.ndarray, wdec: np.ndarray,
+                  floor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(axes, decimals) (m, n_axes) of rows in absolute mm with no mode change: every axis at its last written
+    value (from ``state`` before the first), decimals the running maximum (at least ``floor``); ``state`` advanced."""
+    m = len(given)
+    if m and not np.isnan(given).any():  # every row has every word
+        axes = given.copy()
+    else:
+        filled = np.vstack([state.position[None, :], given])
         idx = np.where(np.isnan(filled), 0, np.arange(m + 1)[:, None])
         np.maximum.accumulate(idx, axis=0, out=idx)
-        axes[:] = filled[idx, np.arange(5)][1:]
-        dfill = np.vstack([state.decimals[None, :], wdec])
-        np.maximum.accumulate(dfill, axis=0, out=dfill)
-        floor = np.where(w.linear, mins[0], mins[2])
-        decimals[:] = np.maximum(dfill[1:], floor)
-        if m:
-            state.position = axes[-1].copy()
-            state.decimals = dfill[-1].copy()
-        return Chunk(lines, first_line, pieces, numidx, tail, rows_a, axes, present, given, decimals, motion,
-                     absolute, inch, letters=w.letters)
+        axes = np.take_along_axis(filled, idx, axis=0)[1:]
+    dfill = np.vstack([state.decimals[None, :], wdec])
+    np.maximum.accumulate(dfill, axis=0, out=dfill)
+    if m:
+        state.position = axes[-1].copy()
+        state.decimals = dfill[-1].copy()
+    return axes, np.maximum(dfill[1:], floor)
 
-    # general case: a short Python loop over lines that change modes, rows in between in one go
-    r = 0
-    pos_ = state.position.copy()
-    dmax = state.decimals.copy()
-    fresh = np.zeros(m, dtype=bool)
-    inverse = np.zeros(m, dtype=bool)
-    for i in range(n):
+
+def _fill_modal(lines: list[str], first_line: int, t: _AxisWords, md: _Modes, code: str, starts: np.ndarray,
+                state: ModalState, min_decimals: tuple[int, int, int], source: str, w: Words) -> Chunk:
+    """The general case: a short Python loop over the lines, modes changed where their G words are, each motion
+    row's absolute position from the state (G91 increments, G20 inch, machine-coordinate moves)."""
+    m, na = len(t.rows), len(w.letters)
+    motion, absolute, inch = np.empty(m, dtype=np.int64), np.empty(m, dtype=bool), np.empty(m, dtype=bool)
+    axes, decimals = np.empty((m, na)), np.empty((m, na), dtype=np.int64)
+    fresh, inverse = np.zeros(m, dtype=bool), np.zeros(m, dtype=bool)
+    rows = t.rows.tolist()
+    r, pos_, dmax = 0, state.position.copy(), state.decimals.copy()
+    for i in range(len(lines)):
         if i in md.motion:
             state.motion = md.motion[i]
         if i in md.absolute:
@@ -452,35 +490,34 @@ def parse_chunk(lines: list[str], state: ModalState, first_line: int, source: st
         if i in md.inverse_time:
             state.inverse_time = md.inverse_time[i]
         if i in md.machine:
-            pos_ = _machine_move(md.machine[i], special.get(i, []), pos_, state.absolute, source, first_line + i, w)
+            pos_ = _machine_move(md.machine[i], t.special.get(i, []), pos_, state.absolute, source, first_line + i, w)
             state.fresh = True
         if r < m and rows[r] == i:
-            g = given[r]
-            scale = np.where(w.linear, INCH if state.inch else 1.0, 1.0)
-            pres = present[r]
-            if state.absolute:
-                pos_ = np.where(pres, g * scale, pos_)
-            else:
-                if np.isnan(pos_[pres]).any():
-                    j = int(np.flatnonzero(pres & np.isnan(pos_))[0])
-                    raise _error(source, first_line + i, f"incremental move (G91) of {w.letters[j]} before its absolute "
-                                                         "position is known")
-                pos_ = np.where(pres, pos_ + g * scale, pos_)
-            dmax = np.maximum(dmax, wdec[r])
-            floor = np.where(w.linear, mins[1] if state.inch else mins[0], mins[2])
-            axes[r] = pos_
-            decimals[r] = np.maximum(dmax, floor)
-            motion[r] = state.motion
-            absolute[r] = state.absolute
-            inch[r] = state.inch
+            pos_ = _move(pos_, t.given[r], t.present[r], state, first_line + i, source, w)
+            dmax = np.maximum(dmax, t.decimals[r])
+            floor = np.where(w.linear, min_decimals[1] if state.inch else min_decimals[0], min_decimals[2])
+            axes[r], decimals[r] = pos_, np.maximum(dmax, floor)
+            motion[r], absolute[r], inch[r] = state.motion, state.absolute, state.inch
             fresh[r], state.fresh = state.fresh, False
             inverse[r] = state.inverse_time
             r += 1
     state.position = pos_
     state.decimals = dmax
-    feed = _inverse_feeds(code, starts, rows_a, inverse & (motion == 1), first_line, source) if inverse.any() else None
-    return Chunk(lines, first_line, pieces, numidx, tail, rows_a, axes, present, given, decimals, motion,
+    feed = _inverse_feeds(code, starts, t.rows, inverse & (motion == 1), first_line, source) if inverse.any() else None
+    return Chunk(lines, first_line, t.pieces, t.numidx, t.tail, t.rows, axes, t.present, t.given, decimals, motion,
                  absolute, inch, fresh, feed, w.letters)
+
+
+def _move(pos: np.ndarray, given: np.ndarray, present: np.ndarray, state: ModalState, line: int, source: str,
+          w: Words) -> np.ndarray:
+    """Absolute position (mm, deg) after one motion row's words (program units; increments under G91)."""
+    g = given * np.where(w.linear, INCH if state.inch else 1.0, 1.0)
+    if state.absolute:
+        return np.where(present, g, pos)
+    if np.isnan(pos[present]).any():
+        j = int(np.flatnonzero(present & np.isnan(pos))[0])
+        raise _error(source, line, f"incremental move (G91) of {w.letters[j]} before its absolute position is known")
+    return np.where(present, pos + g, pos)
 
 
 _FWORD = re.compile(r"[Ff][ \t]*(" + _NUM + ")")
@@ -606,7 +643,7 @@ def line_number(line: str) -> str | None:
 
 
 def read_moves(path, chunk_lines: int = 20000, machine=None) -> np.ndarray:
-    """Absolute nominal axes (n, 5) in mm and deg of every motion block of a G-code file of ``machine`` (default:
+    """Absolute nominal axes (n, n_axes) in mm and deg of every motion block of a G-code file of ``machine`` (default:
     the default machine) whose linear axes are known (blocks before the first full position are skipped)."""
     w = words(machine)
     out, state, first = [], ModalState.for_words(w), 1
@@ -618,7 +655,7 @@ def read_moves(path, chunk_lines: int = 20000, machine=None) -> np.ndarray:
             ch = parse_chunk(lines, state, first, str(path), w=w)
             out.append(ch.axes[np.isfinite(ch.axes).all(axis=1)])
             first += len(lines)
-    return np.concatenate(out) if out else np.zeros((0, 5))
+    return np.concatenate(out) if out else np.zeros((0, len(w.letters)))
 
 
 # ---------------------------------------------------------------------------------------------- fast path
@@ -675,7 +712,7 @@ class Block:
     line_start: np.ndarray               # (n_lines + 1,) byte offset of each line, then len(buf)
     num_start: np.ndarray                # (k,) byte span of each axis number (sign included, blanks before not)
     num_end: np.ndarray
-    numidx: np.ndarray                   # (m, 5) index into num_start/num_end, -1 if the word is absent
+    numidx: np.ndarray                   # (m, n_axes) index into num_start/num_end, -1 if the word is absent
     rows: np.ndarray                     # (m,) line index of each motion row
     axes: np.ndarray
     present: np.ndarray
@@ -840,123 +877,120 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
         return None
     if "\r" in text and text.count("\r") != text.count("\r\n"):
         return None  # lone CR line ends
-    raw = text.encode(ENCODING)
-    L = len(raw)
-    buf = np.frombuffer(raw, dtype=np.uint8)
-    if "(" in text or ";" in text:
-        spans = np.array(_comment_spans(text), dtype=np.int64).reshape(-1, 2)
-        mark = np.zeros(L + 1, dtype=np.int8)
-        mark[spans[:, 0]] += 1
-        mark[spans[:, 1]] -= 1
-        code_b = buf.copy()
-        code_b[np.cumsum(mark[:-1], dtype=np.int8) > 0] = 32
-        craw = code_b.tobytes()
-    else:
-        code_b, craw = buf, raw
     w = w or words()
+    raw = text.encode(ENCODING)
+    buf = np.frombuffer(raw, dtype=np.uint8)
+    code_b, craw = _blank_comments(text, buf) if "(" in text or ";" in text else (buf, raw)
     vraw = craw.translate(w.table)
     if b"\x14" in vraw or _may_call(craw):
         return None  # words that cannot be compensated: parse_chunk names them
     vpad = vraw + _PAD_BYTES
     v = np.frombuffer(vpad, dtype=np.uint8)
     word8 = np.ndarray((len(vpad) - 7,), dtype="<u8", buffer=vpad, strides=(1,))
-    vl = v[:L]
+    lt = _letters(v, len(raw), raw[-1] != 10)
+    if lt is None:
+        return None
+    line_start, pos, line_no, nxt = lt
+    lc = v[pos]
+    gsel, asel, osel = lc == 18, lc <= 17, lc == 19
+    g = _g_words(v, word8, nxt[gsel], line_no[gsel]) if gsel.any() else (None, None, nxt[:0])
+    nums = _numbers(v, word8, nxt[asel], True)
+    other = _numbers(v, word8, nxt[osel], True) if osel.any() else (None, None, nxt[:0])
+    if g is None or nums is None or other is None:
+        return None
+    vals, decs, nend = nums
+    # every word's number ends where the word ends (no 'X1.2.3', 'X1e2', 'X1 0.5', 'X1-2'): else parse_chunk refuses
+    if not _ends_clean(v, code_b, np.concatenate([nend, other[2], g[2]])):
+        return None
+    if osel.any() and (((code_b[pos[osel]] | 0x20) == ord("m")) & (other[0] == 128)).any():
+        return None  # M128 (TCPM): parse_chunk refuses it
+    tables = _block_tables(line_no[asel], lc[asel] - np.uint8(13), vals, decs, len(w.letters))
+    if tables is None:
+        return None  # an axis twice on one line: parse_chunk refuses it
+    rows, given, present, wdec, numidx = tables
+    axes, decimals = _forward_fill(state, given, wdec, np.where(w.linear, min_decimals[0], min_decimals[2]))
+    motion = np.full(len(rows), state.motion, dtype=np.int64)
+    if g[0] is not None:
+        j = np.searchsorted(g[0], rows, "right") - 1
+        motion = np.where(j >= 0, g[1][np.maximum(j, 0)], state.motion)
+        state.motion = int(g[1][-1])
+    return Block(buf, code_b, first_line, line_start, nxt[asel], nend, numidx, rows, axes, present, given,
+                 decimals, motion, np.ones(len(rows), dtype=bool), np.zeros(len(rows), dtype=bool))
+
+
+def _blank_comments(text: str, buf: np.ndarray) -> tuple[np.ndarray, bytes]:
+    """The block's bytes with its comments blanked (``_comment_spans``), as an array and as bytes."""
+    spans = np.array(_comment_spans(text), dtype=np.int64).reshape(-1, 2)
+    mark = np.zeros(len(buf) + 1, dtype=np.int8)
+    mark[spans[:, 0]] += 1
+    mark[spans[:, 1]] -= 1
+    code_b = buf.copy()
+    code_b[np.cumsum(mark[:-1], dtype=np.int8) > 0] = 32
+    return code_b, code_b.tobytes()
+
+
+def _letters(v: np.ndarray, n: int, open_end: bool) -> tuple[np.ndarray, ...] | None:
+    """(line_start, pos, line_no, nxt) of a block's ``n`` byte codes ``v``: each line's first byte (then n), and
+    of every letter its byte, its line and where its number starts (after blanks); ``open_end``: the last line has
+    no line feed.  None when two letters follow each other (an unsupported word)."""
+    vl = v[:n]
     sel = np.flatnonzero(((vl - np.uint8(13)) <= 6) | (vl == 23))  # letters and line feeds
     isnl = v[sel] == 23
     line_no = np.cumsum(isnl)  # of a letter: its line
     nl = sel[isnl]
-    line_start = np.empty(len(nl) + 1 + (raw[-1] != 10), dtype=np.int64)
+    line_start = np.empty(len(nl) + 1 + open_end, dtype=np.int64)
     line_start[0] = 0
     line_start[1: len(nl) + 1] = nl + 1
-    line_start[-1] = L
-    isl = ~isnl
-    pos = sel[isl]
-    line_no = line_no[isl]
+    line_start[-1] = n
+    pos = sel[~isnl]
     nxt = pos + 1
-    vn = v[nxt]
-    blank = vn == 12
+    blank = v[nxt] == 12
     while blank.any():  # blanks between a letter and its number
         nxt += blank
-        vn = v[nxt]
-        blank = vn == 12
-    if ((vn - np.uint8(13)) <= 7).any():
-        return None  # two letters in a row: an unsupported word
-    lc = v[pos]
-    # G words
-    gsel = lc == 18
-    motion_line = None
-    if gsel.any():
-        g = _numbers(v, word8, nxt[gsel], False)
-        if g is None:
-            return None
-        gv = g[0]
-        is_motion = (gv == 0) | (gv == 1)
-        # G90 / G21: the state already; G4 (dwell: its X is a time) goes the general way
-        ok = (is_motion | np.isin(gv, _PASS_G_ARR) | (gv == 90) | (gv == 21)) & (gv != 4)
-        if not ok.all():
-            return None
-        if is_motion.any():
-            motion_line = line_no[gsel][is_motion]
-            motion_val = gv[is_motion].astype(np.int64)
-    asel = lc <= 17
-    apos = pos[asel]
-    nstart = nxt[asel]
-    nums = _numbers(v, word8, nstart, True)
-    if nums is None:
+        blank = v[nxt] == 12
+    if ((v[nxt] - np.uint8(13)) <= 7).any():
         return None
-    vals, decs, nend = nums
-    # every word's number ends where the word ends (no 'X1.2.3', 'X1e2', 'X1 0.5', 'X1-2'): else parse_chunk refuses
-    osel = lc == 19
-    other = _numbers(v, word8, nxt[osel], True) if osel.any() else (None, None, nend[:0])
-    if other is None or not _ends_clean(v, code_b, np.concatenate([nend, other[2], g[2] if gsel.any() else nend[:0]])):
+    return line_start, pos, line_no[~isnl], nxt
+
+
+def _g_words(v: np.ndarray, word8: np.ndarray, start: np.ndarray, line_no: np.ndarray) -> tuple | None:
+    """(lines of G0 / G1 words or None, their values, end of every G number) of a block's G words, or None when
+    one is not plain: G90 / G21 (the state already) and the codes that do not change how coordinates are read pass;
+    G4 (its X is a time) and everything else go the general way."""
+    g = _numbers(v, word8, start, False)
+    if g is None:
         return None
-    if osel.any() and (((code_b[pos[osel]] | 0x20) == ord("m")) & (other[0] == 128)).any():
-        return None  # M128 (TCPM): parse_chunk refuses it
-    axi = lc[asel] - np.uint8(13)
-    line_of = line_no[asel]
-    k = len(apos)
+    gv = g[0]
+    is_motion = (gv == 0) | (gv == 1)
+    if not ((is_motion | np.isin(gv, _PASS_G_ARR) | (gv == 90) | (gv == 21)) & (gv != 4)).all():
+        return None
+    if not is_motion.any():
+        return None, None, g[2]
+    return line_no[is_motion], gv[is_motion].astype(np.int64), g[2]
+
+
+def _block_tables(line_of: np.ndarray, axi: np.ndarray, vals: np.ndarray, decs: np.ndarray,
+                  na: int) -> tuple[np.ndarray, ...] | None:
+    """(rows, given, present, decimals, numidx) of a block's axis words (tables (m, na) as ``_row_tables``), or
+    None when an axis appears twice in a block."""
+    k = len(line_of)
     newrow = np.empty(k, dtype=bool)
     newrow[:1] = True
     np.not_equal(line_of[1:], line_of[:-1], out=newrow[1:])
     rows = line_of[newrow]
     m = len(rows)
-    cell = (np.cumsum(newrow) - 1) * 5 + axi
-    present = np.zeros(m * 5, dtype=bool)
+    cell = (np.cumsum(newrow) - 1) * na + axi
+    present = np.zeros(m * na, dtype=bool)
     present[cell] = True
     if np.count_nonzero(present) != k:
-        return None  # an axis twice on one line: parse_chunk refuses it
-    present = present.reshape(m, 5)
-    given = np.full(m * 5, np.nan)
+        return None
+    given = np.full(m * na, np.nan)
     given[cell] = vals
-    given = given.reshape(m, 5)
-    wdec = np.full(m * 5, -1, dtype=np.int64)
+    wdec = np.full(m * na, -1, dtype=np.int64)
     wdec[cell] = decs
-    wdec = wdec.reshape(m, 5)
-    numidx = np.full(m * 5, -1, dtype=np.int64)
+    numidx = np.full(m * na, -1, dtype=np.int64)
     numidx[cell] = np.arange(k)
-    numidx = numidx.reshape(m, 5)
-    # modal values: forward fill from the state (as parse_chunk's simple case)
-    if k == 5 * m:  # every row has every word
-        axes = given.copy()
-    else:
-        filled = np.vstack([state.position[None, :], given])
-        idx = np.where(np.isnan(filled), 0, np.arange(m + 1)[:, None])
-        np.maximum.accumulate(idx, axis=0, out=idx)
-        axes = np.take_along_axis(filled, idx, axis=0)[1:]
-    dfill = np.vstack([state.decimals[None, :], wdec])
-    np.maximum.accumulate(dfill, axis=0, out=dfill)
-    decimals = np.maximum(dfill[1:], np.where(w.linear, min_decimals[0], min_decimals[2]))
-    if motion_line is not None:
-        j = np.searchsorted(motion_line, rows, "right") - 1
-        motion = np.where(j >= 0, motion_val[np.maximum(j, 0)], state.motion)
-        state.motion = int(motion_val[-1])
-    else:
-        motion = np.full(m, state.motion, dtype=np.int64)
-    if m:
-        state.position = axes[-1].copy()
-        state.decimals = dfill[-1].copy()
-    return Block(buf, code_b, first_line, line_start, nstart, nend, numidx, rows, axes, present, given,
-                 decimals, motion, np.ones(m, dtype=bool), np.zeros(m, dtype=bool))
+    return rows, given.reshape(m, na), present.reshape(m, na), wdec.reshape(m, na), numidx.reshape(m, na)
 
 
 def edit_line(line: str, code_line: str, new: dict[int, str], added: list[tuple[int, str]], sep: str,
@@ -968,11 +1002,12 @@ def edit_line(line: str, code_line: str, new: dict[int, str], added: list[tuple[
         o = np.concatenate([[0], np.cumsum([len(p) for p in pieces])]).tolist()
         pieces = [line[o[j]: o[j + 1]] for j in range(len(pieces))]
     nn = (len(pieces) - 1) // 3
-    numidx = np.full((1, 5), -1, dtype=np.int64)
+    na = len(w.letters)
+    numidx = np.full((1, na), -1, dtype=np.int64)
     for t in range(nn):
         numidx[0, w.letters.index(code_line[sum(len(p) for p in pieces[: 3 * t + 1]) - 1].upper())] = 3 * t + 2
     ch = Chunk([line], 0, pieces, numidx, np.array([3 * nn], dtype=np.int64), np.zeros(1, dtype=np.int64),
-               np.zeros((1, 5)), numidx >= 0, np.zeros((1, 5)), np.zeros((1, 5), dtype=np.int64),
+               np.zeros((1, na)), numidx >= 0, np.zeros((1, na)), np.zeros((1, na), dtype=np.int64),
                np.zeros(1, dtype=np.int64), np.ones(1, dtype=bool), np.zeros(1, dtype=bool), letters=w.letters)
     edit(ch, 0, new, added, sep, cont)
     return "".join(ch.pieces)

@@ -1,22 +1,7 @@
-"""Compensation of NC data from an error model: corrected axis commands that put the tool where it was meant to be.
-
-Frames and units: axes X Y Z (mm) and B C (deg) as in the NC program (the positions the error model was measured
-at); pose [x, y, z, i, j, k] of the tool tip and tool axis in the workpiece frame; errors in mm and rad.
-
-Method (exact to first order, optionally iterated to the exact solution):
-  target p* = forward(q_nom)  (nominal kinematics: what the program means);
-  q_1 = q_0 - J^+ (p(q_0, e(q_0)) - p*),  e(q) = the model's errors at the commanded axes,
-  first step from the generated first-order deviation and the nominal axis Jacobian, further steps
-  (``iterations`` > 1) from the generated exact error-inclusive pose and Jacobian at the current command.
-scope "position": X Y Z solve the 3x3 position block (the tool tip reaches p* under every modelled error,
-ISO/TR 16907 L-VOL and R-VOL including R-ANG); scope "full": B and C first solve the orientation rows by least
-squares (QR), then X Y Z the position (FOR added).  Near B = 0 the tool axis is parallel to C and the C column
-of the orientation Jacobian vanishes (sin of the tilt): inside a cone of half-angle ``cone`` (deg, between tool
-axis and C axis) only the position is corrected, between ``cone`` and 2 ``cone`` the B/C correction is blended in
-with a smoothstep weight, so C never jumps; the orientation residual left there is reported as uncontrollable.
-The same holds near B = 180 deg (tool axis at the edge of the reachable cone, k = 0), where the B, C Jacobian
-also loses rank: the weight is computed from its smaller singular value (see ``Compensator.weight``).
-"""
+"""Streaming compensation of NC programs (G-code, CL data) in blocks: the rows parsed by mtcal.nc.gcode,
+corrected by a Compensator (mtcal.compensate.solver), feed moves subdivided where the predicted mid-segment error
+exceeds the tolerance, the program written back byte for byte apart from the new numbers; the plausibility guard
+of every written command (Guard) and the run's Report."""
 from __future__ import annotations
 
 import io
@@ -28,342 +13,13 @@ from typing import Callable
 
 import numpy as np
 
+from mtcal.compensate.solver import MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY, Compensator, Stats
 from mtcal.errors import InputError
-from mtcal.io import atomic_open, atomic_write_text
-from mtcal.kinematics.machine import Machine, load_machine
-from mtcal.model.errormodel import ErrorEvaluator, ErrorFunction, ErrorModel
+from mtcal.io import atomic_open
 from mtcal.nc import gcode
 
-SCOPES = ("position", "full")
-BLOCK = 4096  # rows per numeric block: keeps the generated functions' temporaries in cache
 _P10 = 10.0 ** np.arange(23)
-RESIDUAL_EVERY = 20  # default: the exact residual of every 20th move (and of every inserted point)
-# plausibility bounds of a correction (see Guard): 1 mm is 20-50 times the largest volumetric error the thesis
-# measured on the DMU 50 (43 um; positioning ~20 um), yet 1000 times below a model typed in um under "mm";
-# 0.1 deg (1.7 mrad) is 10-50 times the largest angular errors of a rotary axis (thesis: tens of urad; ISO 230-1
-# typical rotary positioning errors 10-30 arcsec = 50-150 urad)
-MAX_CORRECTION_MM = 1.0
-MAX_ROTARY_CORRECTION_DEG = 0.1
 FEED_DECIMALS = 4  # inverse-time F (1/min) written on split G93 moves
-
-# ISO/TR 16907 compensation types and the ISO 230-1 errors they act on (DMU 50: linear X Y Z, rotary B C)
-ISO_TYPES: dict[str, tuple[str, ...]] = {
-    "L-POS": ("E_XX", "E_YY", "E_ZZ"),
-    "L-STR": ("E_YX", "E_ZX", "E_XY", "E_ZY", "E_XZ", "E_YZ"),
-    "L-SQU": ("E_C0Y", "E_B0Z", "E_A0Z"),
-    "L-ANG": ("E_AX", "E_BX", "E_CX", "E_AY", "E_BY", "E_CY", "E_AZ", "E_BZ", "E_CZ"),
-    "R-POS": ("E_CB", "E_CC"),
-    "R-RAX": ("E_XB", "E_YB", "E_ZB", "E_XC", "E_YC", "E_ZC"),
-    "R-POR": ("E_X0B", "E_Y0B", "E_A0B", "E_B0B", "E_X0C", "E_Y0C", "E_A0C", "E_B0C"),
-    "R-ANG": ("E_AB", "E_BB", "E_AC", "E_BC"),
-}
-ORIENTATION_ERRORS = ISO_TYPES["L-ANG"] + ISO_TYPES["R-ANG"] + ("E_CB", "E_CC", "E_A0B", "E_B0B", "E_A0C", "E_B0C")
-
-
-def present_errors(model: ErrorModel) -> set[str]:
-    """ISO names the model gives a non-zero value anywhere."""
-    out = {n for n, v in model.constants.items() if v != 0}
-    for n, f in model.functions.items():
-        if np.any(f.values != 0) or (f.fit is not None and not f.fit.is_zero()):
-            out.add(n)
-    return out
-
-
-def iso_types(model: ErrorModel, scope: str = "position") -> dict[str, list[str]]:
-    """ISO/TR 16907 types covered by compensating ``model`` (composites L-VOL / R-VOL when all parts are there)."""
-    names = present_errors(model)
-    covered = [t for t, members in ISO_TYPES.items() if names & set(members)]
-    if all(t in covered for t in ("L-POS", "L-STR", "L-SQU", "L-ANG")):
-        covered.append("L-VOL")
-    if all(t in covered for t in ("R-POS", "R-RAX", "R-POR", "R-ANG")):
-        covered.append("R-VOL")
-    if scope == "full" and names & set(ORIENTATION_ERRORS):
-        covered.append("FOR")
-    order = ["L-POS", "L-STR", "L-SQU", "L-ANG", "L-VOL", "R-POS", "R-RAX", "R-POR", "R-ANG", "R-VOL", "FOR"]
-    partial = [t for t in ("L-VOL", "R-VOL") if t not in covered and any(p in covered for p in (
-        ("L-POS", "L-STR", "L-SQU", "L-ANG") if t == "L-VOL" else ("R-POS", "R-RAX", "R-POR", "R-ANG")))]
-    return {"covered": [t for t in order if t in covered], "partial": partial}
-
-
-def _smoothstep(x: np.ndarray) -> np.ndarray:
-    x = np.clip(x, 0.0, 1.0)
-    return x * x * (3 - 2 * x)
-
-
-class Stats:
-    """Running max / RMS of a non-negative quantity (streaming)."""
-
-    def __init__(self) -> None:
-        self.n, self.sq, self.max = 0, 0.0, 0.0
-
-    def add(self, v: np.ndarray) -> None:
-        if v.size:
-            self.n += v.size
-            self.sq += float(np.dot(v, v))
-            self.max = max(self.max, float(v.max()))
-
-    def as_dict(self, scale: float, digits: int = 4) -> dict:
-        rms = (self.sq / self.n) ** 0.5 if self.n else 0.0
-        return {"max": round(self.max * scale, digits), "rms": round(rms * scale, digits), "n": self.n}
-
-
-class Compensator:
-    """Corrected axis commands for nominal ones under an error model (see the module docstring)."""
-
-    def __init__(self, model: ErrorModel, machine: Machine | None = None, scope: str = "position",
-                 tool_length: float = 0.0, iterations: int = 1, cone: float = 2.0, outside: str = "hold"):
-        if scope not in SCOPES:
-            raise InputError(f"scope must be one of {SCOPES}, got {scope!r}")
-        if iterations < 1:
-            raise InputError(f"iterations must be >= 1, got {iterations}")
-        if outside not in ("hold", "error"):
-            raise InputError(f"outside must be 'hold' or 'error', got {outside!r}")
-        for name, v in (("tool_length", tool_length), ("cone", cone)):
-            if not np.isfinite(float(v)):
-                raise InputError(f"{name} must be a finite number, got {v}")
-        self.model = model
-        self.machine = machine or load_machine(model.machine)
-        self.scope, self.tool_length, self.iterations = scope, float(tool_length), int(iterations)
-        self.cone, self.outside = float(cone), outside
-        m = self.machine
-        self._ev = ErrorEvaluator(model, m, outside)  # the one evaluator of error functions (mtcal.model.errormodel)
-        self._lin = [i for i, k in enumerate(m.axis_kinds) if k == "linear"]
-        # the orientation axes: the tilt and rotary axes of the inverse kinematics (spec [ik])
-        self._rot = [m.index(m.ik_info["tilt_axis"]), m.index(m.ik_info["rotary_axis"])]
-        self.zero = not present_errors(model)
-        self.clipped_b = 0  # orientation steps clipped at the tilt axis' limits
-        # scope position, first order: one generated pass gives the linear-axis step and both deviations
-        self._fused = scope == "position" and self.iterations == 1
-        if self._fused:  # |tool-tip deviation| = |J_lin step|: = |step| where the linear axes are orthonormal
-            qs = np.random.default_rng(0).uniform(-300, 300, (16, len(m.axes)))
-            for i, lim in enumerate(m.limits):
-                if lim is not None:
-                    qs[:, i] = np.random.default_rng(i).uniform(lim[0], lim[1], 16)
-            jl = m.jacobian_axes(qs, None, self.tool_length, check=False)[:, :3, self._lin]
-            self._lin_orthonormal = bool(np.abs(np.einsum("nki,nkj->nij", jl, jl) - np.eye(3)).max() < 1e-12)
-
-    # ------------------------------------------------------------------ errors
-    def errors(self, q: np.ndarray) -> np.ndarray:
-        """Error vector (n, n_errors) at commanded axes (n, n_axes) by mtcal.model.errormodel.ErrorEvaluator
-        (Fortran-ordered);
-        outside a function's range: held (counted in ``outside_counts``) or an error."""
-        return self._ev(q)
-
-    @property
-    def outside_counts(self) -> dict[str, int]:
-        return self._ev.outside_counts
-
-    # ------------------------------------------------------------------ correction
-    def weight(self, q_nom: np.ndarray) -> np.ndarray:
-        """Orientation-correction weight in [0, 1]: smoothstep of sigma_min / sin(cone) - 1, where sigma_min is the
-        smaller singular value of d(tool axis)/d(B, C) per degree over pi/180.  Near B = 0 sigma_min is the sine of
-        the angle between tool axis and C axis (the cone); near B = 180 (tool axis at the edge of the reachable
-        cone, k = 0) it vanishes as well.  0: position only, 1: full correction."""
-        if self.cone <= 0:
-            return np.ones(len(q_nom))
-        J = self.machine.jacobian_axes(q_nom, None, self.tool_length, check=False)[:, 3:, self._rot]
-        smin = np.linalg.svd(J, compute_uv=False)[:, -1] / (np.pi / 180)
-        sc = np.sin(np.radians(self.cone))
-        return _smoothstep((smin - sc) / sc)
-
-    def correct(self, q_nom, return_initial: bool = False):
-        """Corrected commands (n, 5) for nominal axes (n, 5); with ``return_initial`` also the size of the
-        uncorrected deviation (n, 2): |tool-tip deviation| (mm) and |tool-axis deviation| (rad), first order
-        (exact when iterations > 1)."""
-        q_nom = np.asarray(q_nom, dtype=float)
-        single = q_nom.ndim == 1
-        q_nom = np.atleast_2d(q_nom)
-        out = np.empty_like(q_nom)
-        dev0 = np.empty((len(q_nom), 2))
-        e0 = None if self.zero else self.errors(q_nom)  # once for all blocks (fewer interpolation calls)
-        if self._fused and not self.zero:
-            qf = np.asfortranarray(q_nom)  # the generated code reads columns
-            out[:] = q_nom
-            for s in range(0, len(q_nom), BLOCK):
-                qb = qf[s: s + BLOCK]
-                r = self.machine.correction_first_order(qb, e0[s: s + BLOCK], self.tool_length, check=False)
-                step = r[:, :3]
-                out[s: s + BLOCK, self._lin] += step
-                if not self._lin_orthonormal:
-                    jq = self.machine.jacobian_axes(qb, None, self.tool_length, check=False)
-                    step = np.einsum("nij,nj->ni", jq[:, :3, self._lin],
-                                     step)
-                dev0[s: s + BLOCK, 0] = np.sqrt(np.einsum("ij,ij->i", step, step))
-                dev0[s: s + BLOCK, 1] = np.sqrt(np.einsum("ij,ij->i", r[:, 3:], r[:, 3:]))
-        else:
-            for s in range(0, len(q_nom), BLOCK):
-                out[s: s + BLOCK], d = self._correct_block(
-                    q_nom[s: s + BLOCK], None if e0 is None else e0[s: s + BLOCK])
-                dev0[s: s + BLOCK, 0] = np.linalg.norm(d[:, :3], axis=1)
-                dev0[s: s + BLOCK, 1] = np.linalg.norm(d[:, 3:], axis=1)
-        if single:
-            out, dev0 = out[0], dev0[0]
-        return (out, dev0) if return_initial else out
-
-    def _correct_block(self, q0: np.ndarray, e0: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-        tl = self.tool_length
-        if self.zero:
-            return q0.copy(), np.zeros((len(q0), 6))
-        q = q0.copy()
-        w = self.weight(q0) if self.scope == "full" else None
-        target = None
-        dev0 = None
-        for it in range(self.iterations):
-            if it == 0:  # first order: generated deviation and nominal Jacobian at the nominal command
-                r = self.machine.deviation(q0, e0, 1, tl, check=False)
-                J = self.machine.jacobian_axes(q0, None, tl, check=False)
-                dev0 = r
-            else:  # exact pose and Jacobian with the errors at the current command
-                if target is None:
-                    target = self.machine.forward(q0, None, tl, check=False)
-                pose, J = self.machine.forward_with_jacobian(q, self.errors(q), tl, check=False)
-                r = pose - target
-            if self.scope == "full":
-                # B, C first (first order; the blend weight on the first step, later steps only where w = 1);
-                # then X, Y, Z from the exact pose at the new B, C: a C step of up to ~1e-3 rad swings a point
-                # 300 mm off the C axis by ~0.1 um to second order
-                q = q + self._step(q, J, r, w if it == 0 else (w >= 1).astype(float), position=False)
-                r = self._exact(q, q0)
-                J = self.machine.jacobian_axes(q, None, tl, check=False)
-            q = q + self._step(q, J, r, None)
-        return q, dev0
-
-    def _exact(self, q: np.ndarray, q0: np.ndarray) -> np.ndarray:
-        """Exact pose residual (n, 6) of commands q against the nominal pose of q0."""
-        m, tl = self.machine, self.tool_length
-        return m.forward(q, self.errors(q), tl, check=False) - m.forward(q0, None, tl, check=False)
-
-    def _step(self, q: np.ndarray, J: np.ndarray, r: np.ndarray, w: np.ndarray | None,
-              position: bool = True) -> np.ndarray:
-        """Axis step that cancels the pose residual r (n, 6) to first order (J (n, 6, 5)): B, C from the
-        orientation rows when w (orientation weights) is given, X, Y, Z from the position rows if ``position``
-        (B, C: the machine's tilt and rotary axes; X, Y, Z its linear axes)."""
-        d = np.zeros_like(q)
-        rp = r[:, :3]
-        ti, rot = self._rot[0], self._rot
-        if w is not None:
-            Jo = J[:, 3:][:, :, rot]  # d(i, j, k) / d(B, C): two columns, both orthogonal to the tool axis
-            Q, R = np.linalg.qr(Jo)  # least squares: R dBC = Q^T (-r_o)
-            rhs = -np.einsum("nij,ni->nj", Q, r[:, 3:])
-            ok = w > 0
-            dbc = np.zeros((len(q), 2))
-            if ok.any():
-                dbc[ok] = np.linalg.solve(R[ok], rhs[ok][..., None])[..., 0] * w[ok, None]
-            lo, hi = self.machine.limits[ti] or (-np.inf, np.inf)
-            nb = np.clip(q[:, ti] + dbc[:, 0], lo, hi)
-            clipped = nb != q[:, ti] + dbc[:, 0]
-            if clipped.any():
-                self.clipped_b += int(clipped.sum())
-                dbc[:, 0] = nb - q[:, ti]
-            d[:, rot] = dbc
-            rp = rp + np.einsum("nij,nj->ni", J[:, :3][:, :, rot], dbc)
-        if not position:
-            return d
-        d[:, self._lin] = np.linalg.solve(J[:, :3][:, :, self._lin], -rp[..., None])[..., 0]  # a rotation: cond = 1
-        return d
-
-    def _slopes(self) -> np.ndarray:
-        """Per axis (n_axes,): bound on d|correction|/d(axis) from the model's error slopes (mm per mm or per deg)."""
-        if hasattr(self, "_slope_cache"):
-            return self._slope_cache
-        lever = 800.0 + abs(self.tool_length)  # mm: largest distance of the tool tip from an angular error's origin
-        out = np.zeros(len(self.machine.axes))
-        for name, ei, ai, f, lo, hi in self._ev.funcs:
-            a, b = (0.0, 360.0) if not np.isfinite(lo) else (lo, hi)
-            x = np.union1d(np.linspace(a, b, 4001), f.positions[(f.positions >= a) & (f.positions <= b)])
-            s = np.abs(np.diff(f(x, "hold")) / np.diff(x)).max()
-            out[ai] += s * (1.0 if name[2] in "XYZ" else lever)
-        self._slope_cache = out
-        return out
-
-    def mid_bound(self, qa: np.ndarray, qb: np.ndarray) -> np.ndarray:
-        """Upper bound (mm) of the mid-segment tool-tip error of a linearly interpolated move whose end points are
-        corrected: 1/2 sum_a slope_a |dq_a| (Lipschitz bound of the error functions, kinks of tables included;
-        angular errors times an 800 mm lever) plus |deviation| (1 - cos(dphi/2)) <= 0.2 mm dphi^2 / 8 for the
-        deviation vector turned by the rotary step dphi (rad).  Moves under the tolerance by this bound skip
-        the exact mid-segment evaluation."""
-        dq = np.abs(qb - qa)
-        rot = np.radians(dq[:, self._rot].sum(axis=1))
-        return 0.5 * dq @ self._slopes() + 0.2 * rot * rot / 8
-
-    def largest_errors(self, q: np.ndarray, k: int = 3) -> str:
-        """The k largest model errors at axes q (n_axes,) (mm and rad; angles ranked at a 1 m lever), for messages."""
-        e = self.errors(np.asarray(q, dtype=float)[None])[0]
-        length = np.array([n[2] in "XYZ" for n in self.machine.error_names])
-        size = np.abs(e) * np.where(length, 1.0, 1000.0)
-        top = [i for i in np.argsort(-size, kind="stable")[:k].tolist() if size[i] > 0]
-        return ", ".join(f"{self.machine.error_names[i]} = {e[i]:.6g} {'mm' if length[i] else 'rad'}" for i in top)
-
-    def residual(self, q_cmd: np.ndarray, q_nom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Exact error-inclusive residual of commands: tool-tip error (n, 3) mm and tool-axis angle (n,) rad."""
-        q_cmd, q_nom = np.atleast_2d(q_cmd), np.atleast_2d(q_nom)
-        dp = np.empty((len(q_cmd), 3))
-        ang = np.empty(len(q_cmd))
-        e = self.errors(q_cmd)
-        for s in range(0, len(q_cmd), BLOCK):
-            a, b = q_cmd[s: s + BLOCK], q_nom[s: s + BLOCK]
-            p = self.machine.forward(a, e[s: s + BLOCK], self.tool_length, check=False)
-            t = self.machine.forward(b, None, self.tool_length, check=False)
-            dp[s: s + BLOCK] = p[:, :3] - t[:, :3]
-            ang[s: s + BLOCK] = 2 * np.arcsin(np.clip(np.linalg.norm(p[:, 3:] - t[:, 3:], axis=1) / 2, 0, 1))
-        return dp, ang
-
-
-def thesis_model(model: ErrorModel) -> ErrorModel:
-    """The thesis' compensation model (sec. 3.5): the angular errors of the linear axes neglected."""
-    drop = set(ISO_TYPES["L-ANG"])
-    return ErrorModel(model.machine, {k: v for k, v in model.constants.items() if k not in drop},
-                      {k: f for k, f in model.functions.items() if k not in drop}, dict(model.meta))
-
-
-def example_model(machine: Machine | None = None, seed: int = 6) -> ErrorModel:
-    """A synthetic error model of the thesis' magnitudes (tens of um, tens of urad) for demos, tests, benchmarks.
-
-    Linear axes: tables over [-400, 400] mm every 25 mm (smooth random curves, zero at 0); a rotary axis with
-    limits: a table over its limits every 15 deg; one without: harmonic fits (periodic); the machine's
-    squareness and location constants.  (DMU 50: B table over [0, 180], C harmonic.)
-    """
-    m = machine or load_machine()
-    rng = np.random.default_rng(seed)
-    funcs, consts = {}, {}
-    parts = "XYZABC"  # ISO components of the six error motions
-
-    def curve(x, amp, period):
-        ph = rng.uniform(0, 2 * np.pi, 3)
-        y = sum(a * np.sin(2 * np.pi * x / (period / (h + 1)) + p) for h, (a, p) in
-                enumerate(zip(amp * rng.uniform(0.3, 1.0, 3) / np.arange(1, 4), ph)))
-        y = y + amp * rng.uniform(-1, 1) * x / np.abs(x).max()
-        return y - np.interp(0.0, x, y)
-
-    xl = np.arange(-400.0, 400.0 + 1e-9, 25.0)
-    for ax in m.linear_axes:
-        own = m.positioning_errors[ax][2]
-        for c in parts[:3]:
-            funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 0.015 if c == own else 0.008, 900.0))
-        for c in parts[3:]:
-            funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xl, curve(xl, 30e-6, 900.0))
-    for ax in m.rotary_axes:
-        lim = m.limits[m.index(ax)]
-        if lim:
-            xb = np.arange(lim[0], lim[1] + 1e-9, 15.0)
-            for c, amp in zip(parts, (0.012, 0.012, 0.008, 30e-6, 30e-6, 40e-6)):
-                funcs[f"E_{c}{ax}"] = ErrorFunction(ax, xb, curve(xb, amp, 360.0))
-            continue
-        xc = np.arange(0.0, 360.0 + 1e-9, 15.0)
-        for c, amp in zip(parts, (0.010, 0.010, 0.006, 25e-6, 25e-6, 35e-6)):
-            a0 = float(rng.normal(0, amp / 3))
-            cos, sin = (amp * rng.uniform(-0.5, 0.5, 3)).tolist(), (amp * rng.uniform(-0.5, 0.5, 3)).tolist()
-            fit = {"kind": "harmonic", "period": 360.0, "a0": a0, "cos": cos, "sin": sin}
-            f = ErrorFunction(ax, xc, np.zeros_like(xc), fit)
-            f.values = f(xc)
-            funcs[f"E_{c}{ax}"] = f
-    sizes = {"E_C0Y": 25e-6, "E_B0Z": -18e-6, "E_A0Z": 12e-6}  # the DMU 50's; others by their place in the group
-    for i, n in enumerate(m.error_groups["squareness"]):
-        consts[n] = sizes.get(n, (25e-6, -18e-6, 12e-6)[i % 3])
-    for i, n in enumerate(m.error_groups["location"]):  # E_X0R, E_Y0R (mm), E_A0R, E_B0R (rad) per rotary axis
-        k, r = i % 4, i // 4
-        consts[n] = ((0.008, -0.006, 20e-6, -15e-6), (0.010, 0.007, -12e-6, 18e-6))[r % 2][k]
-    return ErrorModel(m.name, consts, funcs, {"source": f"mtcal.compensate.core.example_model(seed={seed})"})
 
 
 # ---------------------------------------------------------------------------------------------- NC programs
@@ -393,8 +49,8 @@ class Guard:
     tolerance: float
 
     def written(self, comp: Compensator, q_w: np.ndarray, q_nom: np.ndarray, src: str, lines: np.ndarray) -> None:
-        """Refuse non-finite written axes or corrections beyond the bounds (q_w, q_nom (n, 5), mm and deg; ``lines``:
-        the 1-based line of each row in ``src``)."""
+        """Refuse non-finite written axes or corrections beyond the bounds (q_w, q_nom (n, n_axes), mm and deg;
+        ``lines``: the 1-based line of each row in ``src``)."""
         m = comp.machine
         linear = np.array([k == "linear" for k in m.axis_kinds])
         bound = np.where(linear, self.max_mm, self.max_deg)
@@ -566,24 +222,39 @@ class ProgramCompensator:
     def _compensate_rows(self, ch, first: int, exact: np.ndarray | None = None):
         """Corrected, rounded commands of the motion rows of a parsed chunk or block, the subdivisions and the
         report figures: (units, written mm, known, subdivisions, scale, 10**decimals), None without rows."""
-        comp, rep = self.comp, self.report
         m = len(ch.rows)
         if m == 0:
             return None
         if exact is not None:  # CL data: the nominal axes from the inverse kinematics, unrounded
             ch.axes[:] = exact
-        rep.moves += m
+        self.report.moves += m
         q_nom = ch.axes
         lines = self._cl_lines if self._cl_lines is not None else first + ch.rows
-        for i, lim in enumerate(comp.machine.limits):  # the spec's soft limits (the tilt axis on the shipped specs)
+        known = self._known_rows(ch, q_nom, lines)
+        if ch.inch.any():
+            scale = np.where(ch.inch[:, None] & self.words.linear, gcode.INCH, 1.0)
+        else:
+            scale = np.ones((m, len(self.words.letters)))
+        f = _P10[ch.decimals] if ch.decimals.max() < len(_P10) else 10.0 ** ch.decimals
+        units, q_w = self._written(ch, q_nom, known, scale, f)
+        self.guard.written(self.comp, q_w[known], q_nom[known], self._src, lines[known])
+        # subdivision of feed moves whose mid-segment error exceeds the tolerance
+        subs = self._subdivide(ch, q_nom, q_w, known, scale, f, lines)
+        self._residuals(q_nom, q_w, np.flatnonzero(known), subs, lines)
+        return units, q_w, known, subs, scale, f
+
+    def _known_rows(self, ch, q_nom: np.ndarray, lines: np.ndarray) -> np.ndarray:
+        """Rows whose every axis is known (bool (m,)): the others are rapids passed through as programmed (a feed
+        move with an unknown axis is refused); a position outside the spec's soft limits is refused."""
+        mach = self.comp.machine
+        for i, lim in enumerate(mach.limits):  # the spec's soft limits (the tilt axis on the shipped specs)
             if lim is None:
                 continue
             bad = (q_nom[:, i] < lim[0]) | (q_nom[:, i] > lim[1])
             if bad.any():
                 r = int(np.flatnonzero(bad)[0])
-                raise InputError(f"{self._src}, line {lines[r]}: {comp.machine.axes[i]} = {q_nom[r, i]:.10g} "
-                                 f"{comp.machine.unit(comp.machine.axes[i])} is outside its range "
-                                 f"[{lim[0]:g}, {lim[1]:g}]")
+                raise InputError(f"{self._src}, line {lines[r]}: {mach.axes[i]} = {q_nom[r, i]:.10g} "
+                                 f"{mach.unit(mach.axes[i])} is outside its range [{lim[0]:g}, {lim[1]:g}]")
         unknown = np.isnan(q_nom).any(axis=1)
         if unknown.any():
             feed = unknown & (ch.motion == 1)
@@ -595,15 +266,16 @@ class ProgramCompensator:
                                  + ("(the machine-coordinate move before it, G28 / G30 / G53, left them in machine "
                                     "coordinates: program them again before the G1)" if after else
                                     "(program every linear axis before the first G1)"))
-            rep.uncompensated_rapids.extend(lines[unknown].tolist())
-        known = ~unknown
+            self.report.uncompensated_rapids.extend(lines[unknown].tolist())
+        return ~unknown
+
+    def _written(self, ch, q_nom: np.ndarray, known: np.ndarray, scale: np.ndarray,
+                 f: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(units, q_w): the corrected commands rounded as written (program units) and back in mm / deg; rows not
+        known pass as programmed; a word missing from a block is only added when the correction moves that axis
+        by half a digit or more from what the machine holds (``self._hold``)."""
+        comp, rep = self.comp, self.report
         all_known = bool(known.all())
-        if ch.inch.any():
-            scale = np.where(ch.inch[:, None] & self.words.linear, gcode.INCH, 1.0)
-        else:
-            scale = np.ones((m, 5))
-        f = _P10[ch.decimals] if ch.decimals.max() < len(_P10) else 10.0 ** ch.decimals
-        # corrected commands, rounded as written (program units), back in mm/deg
         if all_known:
             q_cmd, dev0 = comp.correct(q_nom, return_initial=True)
         else:
@@ -616,26 +288,26 @@ class ProgramCompensator:
         mm = not ch.inch.any()  # scale 1: the same numbers without the divisions
         units = (np.round(q_cmd * f) if mm else np.round(q_cmd / scale * f)) / f + 0.0
         if not all_known:
-            units[unknown] = q_nom[unknown] / scale[unknown]  # passed through as programmed
+            units[~known] = q_nom[~known] / scale[~known]  # passed through as programmed
         q_w = units.copy() if mm else units * scale
-        # a word missing from a block is only added when the correction moves that axis by half a digit or more
-        # from what the machine holds; otherwise the held value stays (also across G20/G21 rounding)
+        # the held value stays (also across G20/G21 rounding)
         prev = np.vstack([self._prev_mm[None], q_w[:-1]])
         hold = ~ch.present & known[:, None] & (np.abs(q_cmd - prev) <= (0.5 / f if mm else 0.5 / f * scale))
         if hold.any():
             q_w[hold] = np.nan
             filled = np.vstack([self._prev_mm[None], q_w])
-            ix = np.where(np.isnan(filled), 0, np.arange(m + 1)[:, None])
+            ix = np.where(np.isnan(filled), 0, np.arange(len(q_w) + 1)[:, None])
             np.maximum.accumulate(ix, axis=0, out=ix)
-            q_w = np.where(hold, filled[ix, np.arange(5)][1:], q_w)
+            q_w = np.where(hold, filled[ix, np.arange(q_w.shape[1])][1:], q_w)
             units = np.where(hold, q_w / scale, units)
         self._hold = hold
-        self.guard.written(comp, q_w[known], q_nom[known], self._src, lines[known])
-        # subdivision of feed moves whose mid-segment error exceeds the tolerance
-        subs = self._subdivide(ch, q_nom, q_w, known, scale, f, lines)
-        # residual of what is written: every k-th move (global count) and every inserted point
+        return units, q_w
+
+    def _residuals(self, q_nom: np.ndarray, q_w: np.ndarray, kn: np.ndarray, subs: dict, lines: np.ndarray) -> None:
+        """The exact residual of what is written, every k-th move (global count) and every inserted point, into
+        the report (and the guard); with scope "full" the orientation figures and the cone counts."""
+        comp, rep = self.comp, self.report
         k = rep.residual_every
-        kn = np.flatnonzero(known)
         ev = kn if k == 1 else kn[(self._moves_seen + np.arange(len(kn))) % k == 0]
         self._moves_seen += len(kn)
         qw = np.concatenate([q_w[ev]] + [s[1] for s in subs.values()])
@@ -658,16 +330,16 @@ class ProgramCompensator:
             if len(qw):
                 w = w_all if k == 1 else comp.weight(qn)
                 rep.orientation.add(ang[w >= 1])
-        return units, q_w, known, subs, scale, f
 
     def _subdivide(self, ch, q_nom, q_w, known, scale, f, lines
                    ) -> dict[int, tuple[np.ndarray, np.ndarray, np.ndarray]]:
-        """{row: (nominal (n, 5), written mm (n, 5), written units (n, 5))} for feed moves split into n pieces
+        """{row: (nominal, written mm, written units, each (n, n_axes))} for feed moves split into n pieces
         (the last piece ends at the row's own point).  Moves that start after a machine-coordinate line (G28, G53:
         start unknown) are not split."""
         comp, rep = self.comp, self.report
-        prev_n = np.vstack([self._prev[0][None] if self._prev else np.full((1, 5), np.nan), q_nom[:-1]])
-        prev_w = np.vstack([self._prev[1][None] if self._prev else np.full((1, 5), np.nan), q_w[:-1]])
+        none = np.full((1, q_nom.shape[1]), np.nan)
+        prev_n = np.vstack([self._prev[0][None] if self._prev else none, q_nom[:-1]])
+        prev_w = np.vstack([self._prev[1][None] if self._prev else none, q_w[:-1]])
         self._prev = (q_nom[-1].copy(), q_w[-1].copy(), None)
         cand = (ch.motion == 1) & known & ~np.isnan(prev_n).any(axis=1)
         if ch.fresh is not None:
@@ -789,7 +461,7 @@ class ProgramCompensator:
         first_pt = pts[0]
         new, add = {}, []
         pres, g = ch.present[r].tolist(), ch.given[r].tolist()
-        for a in range(5):
+        for a in range(len(self.words.letters)):
             v = first_pt[a] if absolute else first_pt[a] - ref[a]
             if v != v:  # NaN: axis not known (uncompensated rapid)
                 continue
@@ -807,7 +479,7 @@ class ProgramCompensator:
         for p in pts[1:]:
             words = []
             pieces += 1
-            for a in range(5):
+            for a in range(len(self.words.letters)):
                 if abs(p[a] - last[a]) > 0.5 * 10.0 ** -dec[a]:
                     v = p[a] if absolute else p[a] - last[a]
                     words.append(f"{self.words.letters[a]}{F(round(v, dec[a]) + 0.0, dec[a])}")
@@ -912,33 +584,3 @@ class ProgramCompensator:
             return self._gcode_chunk(text, first, exact=q_nom)
         finally:
             self._cl_lines = None
-
-
-# ---------------------------------------------------------------------------------------------- tables
-def write_tables(model: ErrorModel, machine: Machine, folder: str | os.PathLike) -> list[str]:
-    """Per-axis compensation tables for controllers that take them: the error tables with reversed sign.
-
-    One CSV per axis, ``comp_<AXIS>.csv``: ``position`` (mm or deg) and one column per error function of that
-    axis, ``comp_<NAME>_mm`` or ``comp_<NAME>_rad`` = -error, at the union of the functions' table positions
-    (functions evaluated as stored, end values held); constants (squareness, axis location) in ``constants.csv``.
-    """
-    out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
-    written = []
-    for ax in machine.axes:
-        names = sorted(n for n, f in model.functions.items() if f.axis == ax)
-        if not names:
-            continue
-        pos = np.unique(np.concatenate([model.functions[n].positions for n in names]))
-        cols = [-model.functions[n](pos, "hold") for n in names]
-        head = "position," + ",".join(f"comp_{n}_{'mm' if n[2] in 'XYZ' else 'rad'}" for n in names)
-        rows = [",".join([f"{p:.6g}"] + [f"{c[i]:.9g}" for c in cols]) for i, p in enumerate(pos)]
-        path = out / f"comp_{ax}.csv"
-        atomic_write_text(path, "\n".join([head] + rows) + "\n")
-        written.append(str(path))
-    if model.constants:
-        path = out / "constants.csv"
-        atomic_write_text(path, "name,compensation,unit\n" + "".join(
-            f"{n},{-v:.9g},{'mm' if n[2] in 'XYZ' else 'rad'}\n" for n, v in sorted(model.constants.items())))
-        written.append(str(path))
-    return written
