@@ -263,3 +263,19 @@ def test_a_name_that_is_no_machine_exits_2_listing_the_machines(tmp_path, capsys
     err = capsys.readouterr().err
     assert f"unknown machine {name!r}; available: dmu50, headbc, xyzac" in err and "Traceback" not in err
     assert not out.exists()
+
+
+# ----------------------------------------------------------------------------- option names at the boundary
+def test_library_names_options_by_keyword_and_the_cli_by_flag(tmp_path, capsys, monkeypatch):
+    """The library says `max_points` (its keyword); the command line says --max-points (issue 23: the CLI only
+    parses and formats, flags translated at the boundary)."""
+    from mtcal.export import export_model
+    from mtcal.model.errormodel import load_model
+    with pytest.raises(InputError, match=r"got `max_points` 100000$"):
+        export_model(load_model(MODEL), load_model(MODEL).kinematics, "linuxcnc", tmp_path / "a", max_points=100000)
+    monkeypatch.chdir(tmp_path)
+    assert main(["export", str(MODEL), "--format", "linuxcnc", "-o", "b", "--max-points", "100000"]) == 2
+    err = _err(capsys)
+    assert err.endswith("got --max-points 100000") and "`" not in err, err
+    assert cli.to_flags("give `tracker` x,y,z or `nothing`", {"tracker": "--tracker"}) == \
+        "give --tracker x,y,z or `nothing`"

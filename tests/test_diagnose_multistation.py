@@ -101,7 +101,7 @@ def test_a_knock_of_one_station_is_named_with_its_station_and_time():
 def test_several_stations_need_their_tracker_columns(tmp_path):
     rec, _ = campaign(7600)
     rec.tracker_xyz = None
-    with pytest.raises(InputError, match=r"2 tracker stations .* no tracker_x,tracker_y,tracker_z columns.*--station"):
+    with pytest.raises(InputError, match=r"2 tracker stations .* no tracker_x,tracker_y,tracker_z columns.*`station`"):
         diagnose(rec, machine=M)
     rec, _ = campaign(7601)
     with pytest.raises(InputError, match=r"one --tracker position cannot weigh them"):

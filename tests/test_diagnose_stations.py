@@ -29,7 +29,7 @@ def two_stations(tmp_path_factory):
 def test_several_stations_without_tracker_columns_are_refused_naming_them(two_stations):
     rec = read_recording(two_stations, M)
     rec.tracker_xyz = None
-    with pytest.raises(InputError, match=r"2 tracker stations \(S1, S2\) but no tracker_x.*--station"):
+    with pytest.raises(InputError, match=r"2 tracker stations \(S1, S2\) but no tracker_x.*`station`"):
         diagnose(rec, machine=M)
 
 

@@ -135,7 +135,7 @@ def test_numeric_target_names_need_the_name_field_count(tmp_path):
     from mtcal.measurement.import_sa import read_mapping
     text = "Coll Grp 12 70.0 0.0 10.0\nColl Grp 13 120.0 0.0 10.0\n"
     with pytest.raises(InputError, match=r"e.txt:1: 1 number\(s\) after x y z.*numbered targets need "
-                                         r"--name-fields 3"):
+                                         r"`name_fields` 3"):
         import_sa(text, "e.txt", mapping=read_mapping(m))
     res = import_sa(text, "e.txt", mapping=read_mapping(m), name_fields=3)
     np.testing.assert_array_equal(res.recording.xyz, [[70, 0, 10], [120, 0, 10]])
@@ -163,7 +163,7 @@ def test_careless_exports_are_refused_naming_line_and_problem(text, message):
 
 
 def test_a_pattern_group_that_takes_no_part_is_named_not_a_key_error():
-    with pytest.raises(InputError, match=r"e\.txt:1: target A::B::X_r1_0_P_up matches --pattern but its group\(s\) "
+    with pytest.raises(InputError, match=r"e\.txt:1: target A::B::X_r1_0_P_up matches `pattern` but its group\(s\) "
                                          r"\['axis'\] took no part"):
         import_sa("A B X_r1_0_P_up 70.0 0.0 10.0\n", "e.txt",
                   pattern=r"(?P<axis>Q)?X_r(?P<round>\d+)_(?P<position>[\d.]+)_(?P<point>[A-Z]+)_up")

@@ -108,3 +108,17 @@ def test_the_checks_find_what_they_guard(tmp_path):
     assert _cycles({"a": {"b"}, "b": {"a"}, "c": {"a"}}) == [["a", "b"]]
     assert _cycles({"p": {"n"}, "n": {"d"}, "d": {"p"}}) == [["d", "n", "p"]]
     assert _cycles({"a": {"b"}, "b": {"c"}, "c": set()}) == []
+
+
+def test_the_api_names_agree():
+    """mtcal/__init__ names its verbs three times (the lazy map, __all__ for linters, the TYPE_CHECKING imports for
+    IDEs): the three lists hold the same names, and each resolves to the object its module defines."""
+    import importlib
+
+    import mtcal
+    tree = ast.parse((ROOT / "__init__.py").read_text())
+    checking = {a.asname or a.name for node in ast.walk(tree) if isinstance(node, ast.If)
+                for sub in node.body if isinstance(sub, ast.ImportFrom) for a in sub.names}
+    assert set(mtcal._API) == set(mtcal.__all__) - {"__version__"} == checking
+    for name, (module, attr) in mtcal._API.items():
+        assert getattr(mtcal, name) is getattr(importlib.import_module(module), attr)

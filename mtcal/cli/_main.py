@@ -9,10 +9,12 @@ mtcal (a short request for a report; the traceback with ``--debug``); 130 interr
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import importlib
 import logging
 import pkgutil
+import re
 import signal
 import sys
 import traceback
@@ -37,19 +39,55 @@ def _modules():
             yield importlib.import_module(f"mtcal.cli.{info.name}")
 
 
+def flag_names(parser: argparse.ArgumentParser) -> dict[str, str]:
+    """{keyword: --flag} of a command's options (argparse's dest and its long option string)."""
+    return {a.dest: max(a.option_strings, key=len) for a in parser._actions if a.option_strings}
+
+
+def to_flags(text: str, flags: dict[str, str]) -> str:
+    """A library message as the command line says it: an option the library names by its keyword in backquotes
+    (`max_points`) becomes the command's flag (--max-points); other backquoted words stay."""
+    return _KEYWORD.sub(lambda m: flags.get(m.group(1), m.group(0)), text)
+
+
+_KEYWORD = re.compile(r"`([a-z][a-z0-9_]*)`")
+
+
+class _FlagFormatter(logging.Formatter):
+    def __init__(self, fmt: str, flags: dict[str, str]):
+        super().__init__(fmt)
+        self.flags = flags
+
+    def format(self, record: logging.LogRecord) -> str:
+        return to_flags(super().format(record), self.flags)
+
+
+class _FlagWriter:
+    """stdout as the command prints it: library messages' option keywords as the command's flags (``to_flags``)."""
+
+    def __init__(self, stream, flags: dict[str, str]):
+        self.stream, self.flags = stream, flags
+
+    def write(self, text: str) -> int:
+        return self.stream.write(to_flags(text, self.flags) if "`" in text else text)
+
+    def __getattr__(self, name: str):
+        return getattr(self.stream, name)
+
+
 class _logging:
     """Progress of every module goes through `logging` (logger "mtcal.<module>") to stderr as
     "mtcal COMMAND: message"; -q keeps warnings only.  The previous configuration is restored on exit (the demo
     runs commands in-process)."""
 
-    def __init__(self, command: str, quiet: bool):
+    def __init__(self, command: str, quiet: bool, flags: dict[str, str] | None = None):
         self.log = logging.getLogger("mtcal")
-        self.command, self.quiet = command, quiet
+        self.command, self.quiet, self.flags = command, quiet, flags or {}
 
     def __enter__(self):
         self.saved = (self.log.handlers[:], self.log.level, self.log.propagate)
         h = logging.StreamHandler(sys.stderr)
-        h.setFormatter(logging.Formatter(f"mtcal {self.command}: %(message)s"))
+        h.setFormatter(_FlagFormatter(f"mtcal {self.command}: %(message)s", self.flags))
         self.log.handlers[:] = [h]
         self.log.setLevel(logging.WARNING if self.quiet else logging.INFO)
         self.log.propagate = False
@@ -74,7 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         add_common_arguments(p, debug_help)
         mod.add_arguments(p)
-        p.set_defaults(_run=mod.run)
+        p.set_defaults(_run=mod.run, _flags=flag_names(p))
     return ap
 
 
@@ -95,8 +133,9 @@ def _terminate(signum, frame):  # pragma: no cover - exercised through a subproc
     raise Terminated()
 
 
-def _show_warning(message, category, filename, lineno, file=None, line=None, prog: str = "mtcal") -> None:
-    print(f"{prog}: warning: {message}", file=sys.stderr)
+def _show_warning(message, category, filename, lineno, file=None, line=None, prog: str = "mtcal",
+                  flags: dict[str, str] | None = None) -> None:
+    print(f"{prog}: warning: {to_flags(str(message), flags or {})}", file=sys.stderr)
 
 
 def parse_args(argv: list[str]) -> argparse.Namespace:
@@ -114,12 +153,14 @@ def main(argv: list[str] | None = None) -> int:
     prog = f"mtcal {args.command}"
     old_term = _install(signal.SIGTERM, _terminate)
     old_show = warnings.showwarning
-    warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog)
+    flags = args._flags
+    warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog, flags=flags)
     try:
-        with _logging(args.command, getattr(args, "quiet", False)):
+        with _logging(args.command, getattr(args, "quiet", False), flags), \
+                contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)):
             return int(args._run(args) or 0)
     except InputError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+        print(f"{prog}: error: {to_flags(str(exc), flags)}", file=sys.stderr)
         return EXIT_INPUT
     except OSError as exc:
         print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)

@@ -62,7 +62,7 @@ class Guard:
         if not np.isfinite(q_w[r, a]):
             msg = f"the corrected {ax} would be {q_w[r, a]} (not a finite number; tool length {comp.tool_length})"
         else:
-            opt = "--max-correction" if linear[a] else "--max-rotary-correction"
+            opt = "`max_correction`" if linear[a] else "`max_rotary_correction`"
             msg = (f"the correction of {ax} by {q_w[r, a] - q_nom[r, a]:+.4f} {unit} ({ax}{q_nom[r, a]:.4f} -> "
                    f"{ax}{q_w[r, a]:.4f}) exceeds the plausibility bound {bound[a]:g} {unit} ({opt})")
         errs = comp.largest_errors(q_nom[r]) if np.isfinite(q_nom[r]).all() else ""
@@ -77,7 +77,7 @@ class Guard:
         r = int(np.flatnonzero(bad)[0])
         raise InputError(f"{src}, line {lines[r]}: the predicted {what} error of the compensated program would be "
                          f"{err[r] * 1e3:.4g} um, above the tolerance {self.tolerance * 1e3:g} um (too few decimals "
-                         "written (--precision), a tolerance below what they can hold, or an implausible model); "
+                         "written (`precision`), a tolerance below what they can hold, or an implausible model); "
                          "nothing written")
 
 

@@ -15,15 +15,15 @@ from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
 BIDIRECTIONAL = "every target was approached from one direction; measure bidirectionally (ISO 230-2)"
 NOT_SEPARABLE = {
     "scale": "a linear positioning error is part of the fitted error function E_JJ; compare with a reference model "
-             "(--model) or measure a length standard (a second tracker station does not separate it: a scale "
+             "(`model`) or measure a length standard (a second tracker station does not separate it: a scale "
              "common to every station is the machine frame's)",
     "second_order": "a quadratic error term is part of the fitted smooth error function; compare with a reference "
-                    "model (--model)",
+                    "model (`model`)",
     "squareness": "with each axis measured alone, a squareness is a linear straightness slope of the fitted "
                   "error functions; measure a diagonal or a plate reversal (mtcal plate) to separate it",
     "rotary_location": "with the reference at the zero position, a location error is a first harmonic of the fitted "
                        "rotary error motions; measure at several positions of the other rotary axis, or compare "
-                       "with a reference model (--model)",
+                       "with a reference model (`model`)",
     "cross_axis": "the recording holds every axis with the other axes at zero; measure the axis again with the "
                   "other axis at a second position (plan 'at')",
     "offset": "one (round, reflector) sequence only: a shift of it is the reflector's position itself",

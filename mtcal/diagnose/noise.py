@@ -51,7 +51,7 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> 
                                     f"tracker position given; the repeated rounds are not shaped like an AT960's: "
                                     f"{sh.law_text()}", sh.spec, shape=sh.to_dict())
         return NoiseModel.at960(xyz, t, "AT960 (given tracker)",
-                                "tracker position given (--tracker or the recording's tracker_x,y,z columns)",
+                                "tracker position given (`tracker` or the recording's tracker_x,y,z columns)",
                                 **({"shape": sh.to_dict()} if sh is not None else {}))
     if not several:
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")

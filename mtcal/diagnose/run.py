@@ -116,12 +116,12 @@ def _station_tracker(rec: Recording, tracker):
     labels = list(dict.fromkeys(rec.stations().tolist()))
     if len(labels) > 1:
         if tracker is not None:
-            raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}): one --tracker "
-                             "position cannot weigh them; give the tracker_x,y,z columns or --station LABEL")
+            raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}): one `tracker` "
+                             "position cannot weigh them; give the tracker_x,y,z columns or `station` LABEL")
         if rec.tracker_xyz is None:
             raise InputError(f"{rec.source}: {len(labels)} tracker stations ({', '.join(labels)}) but no "
                              "tracker_x,tracker_y,tracker_z columns: add each station's tracker position, or "
-                             "give --station LABEL")
+                             "give `station` LABEL")
         return {k: rec.tracker_xyz[np.flatnonzero(rec.stations() == k)[0]] for k in labels}
     if tracker is None and rec.tracker_xyz is not None:
         return rec.tracker_xyz[0]

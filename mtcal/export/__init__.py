@@ -66,14 +66,14 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
     if fmt not in FORMATS:
         raise InputError(f"unknown format {fmt!r}; known: {', '.join(FORMATS)}")
     if model.machine != machine.name:
-        raise InputError(f"{model_path}: the model is of machine {model.machine}, not {machine.name} (--machine)")
+        raise InputError(f"{model_path}: the model is of machine {model.machine}, not {machine.name} (`machine`)")
     forced = check_model(model, machine, force, model_path)
     forced += _check_diagnosis(diagnosis, model, machine, diagnosis_source, model_path, force)
     mod, kind = FORMATS[fmt]
     control_limit = siemens.CONTROLS.get(options.get("control"), (None,))[0] if fmt == "siemens" else None
     mp = max_points or control_limit or mod.MAX_POINTS
     if mod.HARD_LIMIT and mp > mod.MAX_POINTS:
-        raise InputError(f"format {fmt} holds at most {mod.MAX_POINTS} points per table, got --max-points {mp}")
+        raise InputError(f"format {fmt} holds at most {mod.MAX_POINTS} points per table, got `max_points` {mp}")
     reversal = backlash_from(diagnosis, diagnosis_source)
     foreign = sorted(set(reversal) - set(machine.axes))
     unknown = sorted(set(require or []) - set(machine.error_names))
@@ -136,7 +136,7 @@ def _check_diagnosis(diagnosis: dict | None, model: ErrorModel, machine, source:
     problem = (f"{source} diagnoses {rec}, the model {model_path} was identified from {ident}: its backlash is of "
                f"another measurement")
     if not force:
-        raise InputError(problem + "; nothing was written (--force writes it anyway)")
+        raise InputError(problem + "; nothing was written (`force` writes it anyway)")
     return [f"FORCED: {problem}"]
 
 

@@ -48,7 +48,7 @@ def render(tables: list[AxisTable], machine, file_type: int, model_path: str,
     """{file name: text}: one comp file per joint and linuxcnc_comp.ini (the [JOINT_n] lines to merge);
     ``linear_units``: the machine's [TRAJ]LINEAR_UNITS (mm or inch): linear joints' tables in that unit."""
     if linear_units not in LINEAR_UNITS:
-        raise InputError(f"--linear-units must be mm or inch (the INI's [TRAJ]LINEAR_UNITS), got {linear_units!r}")
+        raise InputError(f"`linear_units` must be mm or inch (the INI's [TRAJ]LINEAR_UNITS), got {linear_units!r}")
     scale = LINEAR_UNITS[linear_units]
     files, ini = {}, [f"# mtcal export {model_path} --format linuxcnc: merge into the machine's INI file.",
                       f"# {SIGN[file_type]}.",

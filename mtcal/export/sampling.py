@@ -45,7 +45,7 @@ class AxisTable:
 def choose_step(lo: float, hi: float, max_points: int) -> float:
     """The finest 1/2/2.5/5 x 10^k step (mm or deg) that covers [lo, hi] with at most ``max_points`` points."""
     if max_points < 2:
-        raise InputError(f"a table needs at least 2 points, got --max-points {max_points}")
+        raise InputError(f"a table needs at least 2 points, got `max_points` {max_points}")
     raw = (hi - lo) / (max_points - 1)
     k = math.floor(math.log10(raw))
     for e in (k, k + 1):
@@ -63,11 +63,11 @@ def _count(lo: float, hi: float, step: float) -> int:
 def grid(lo: float, hi: float, step: float, max_points: int) -> np.ndarray:
     """lo, lo + step, ... up to the first point >= hi; refuses more than ``max_points`` points."""
     if not (step > 0 and math.isfinite(step)):
-        raise InputError(f"--step must be a positive finite number, got {step}")
+        raise InputError(f"`step` must be a positive finite number, got {step}")
     n = _count(lo, hi, step)
     if n > max_points:
         raise InputError(f"step {step:g} gives {n} points over [{lo:g}, {hi:g}]; this format holds at most "
-                         f"{max_points} (use a larger --step)")
+                         f"{max_points} (use a larger `step`)")
     return lo + step * np.arange(max(n, 2))
 
 

@@ -110,10 +110,10 @@ def _limits(tables: list[AxisTable], cec_count: int, control: str) -> None:
     for t in tables:
         if pts is not None and len(t.positions) > pts:
             raise InputError(f"SINUMERIK {control.upper()} holds {pts} interpolation points per table; axis {t.axis} "
-                             f"needs {len(t.positions)} at step {t.step:g} {t.unit} (--step or --max-points {pts})")
+                             f"needs {len(t.positions)} at step {t.step:g} {t.unit} (`step` or `max_points` {pts})")
     if cec_max is not None and cec_count > cec_max:
         raise InputError(f"SINUMERIK {control.upper()} holds at most {cec_max} CEC (sag / cross) tables; this model "
-                         f"needs {cec_count} (--require fewer errors, or compensate the rest with `mtcal compensate`)")
+                         f"needs {cec_count} (`require` fewer errors, or compensate the rest with `mtcal compensate`)")
 
 
 def render(tables: list[AxisTable], machine, model_path: str, name: str, measuring_system: int = 0,
@@ -122,9 +122,9 @@ def render(tables: list[AxisTable], machine, model_path: str, name: str, measuri
     (`%_N_NC_CEC_INI`) for cross terms and reversal, each section CHANDATA(1) ... M17 as K3's examples;
     ``measuring_system``: the index e of $AA_ENC_COMP[e, N, AXi] (0 = the first measuring system)."""
     if control not in CONTROLS:
-        raise InputError(f"--control must be one of {', '.join(CONTROLS)}, got {control!r}")
+        raise InputError(f"`control` must be one of {', '.join(CONTROLS)}, got {control!r}")
     if measuring_system not in (0, 1):
-        raise InputError(f"--measuring-system must be 0 or 1 (the axis' first or second encoder), got "
+        raise InputError(f"`measuring_system` must be 0 or 1 (the axis' first or second encoder), got "
                          f"{measuring_system}")
     e = measuring_system
     tables = [modulo_table(t, machine) for t in tables]

@@ -8,16 +8,19 @@ from mtcal.identify import fitting
 from mtcal.identify.results import AxisResult
 from mtcal.kinematics.machine import Machine
 from mtcal.model.errormodel import ErrorFunction, ErrorModel
+from mtcal.model.fits import Fit
 
 FIT_LEAVES_K = 4.0  # a fit that misses a table value by more than this many of its standard deviations is said
 
 
-def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max_degree: int, max_harmonics: int,
-           source: str, reference: str, weighted: bool, warnings: list[str]) -> ErrorModel:
-    """The error model: every error's table (mean over rounds) and its fitted function; a fit that leaves a
-    significant part of its table adds a warning to ``warnings``."""
-    funcs = {}
+def build_model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max_degree: int,
+                max_harmonics: int, source: str, reference: str, weighted: bool,
+                warnings: list[str]) -> tuple[ErrorModel, dict[str, dict[str, Fit]]]:
+    """(the error model, the fits by axis (``AxisResult.fits``)): every error's table (mean over rounds) and its
+    fitted function; a fit that leaves a significant part of its table adds a warning to ``warnings``."""
+    funcs, fits = {}, {}
     for axis, ar in results.items():
+        fits[axis] = {}
         rotary = m.axis_kinds[m.axes.index(axis)] == "rotary"
         periodic = rotary and fitting.is_periodic(ar.positions)
         std, sm = ar.std, ar.std_mean
@@ -38,11 +41,11 @@ def _model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max
             if nm in ar.lines:
                 extra["reference_line"] = ar.lines[nm]
             funcs[nm] = ErrorFunction(axis, ar.positions.copy(), vals, fit, extra)
-            ar.fits[nm] = fit
+            fits[axis][nm] = fit
     meta = {"identified_from": source, "method": "three-point (Zhang & Hu), least squares over all equations",
             "weighted": weighted, "reference_line": reference,
             "squareness_convention": fitting.SQUARENESS_CONVENTION}
-    return ErrorModel(m.name, dict(sq), funcs, meta)
+    return ErrorModel(m.name, dict(sq), funcs, meta), fits
 
 
 def _fit_leaves(name: str, angular: bool, ar: AxisResult, per_round: np.ndarray, cov, f: ErrorFunction) -> list[str]:
@@ -62,7 +65,7 @@ def _fit_leaves(name: str, angular: bool, ar: AxisResult, per_round: np.ndarray,
     scale, unit = (1e6, "urad") if angular else (1e3, "um")
     return [f"{name}: the fitted function misses the table by {miss[k] * scale:.2f} {unit} ({z[k]:.1f} sigma) at "
             f"{ar.axis} = {ar.positions[k]:g}: compensation evaluates the fit, so that part is not corrected "
-            f"(more rounds, or --max-degree / --max-harmonics)"]
+            f"(more rounds, or `max_degree` / `max_harmonics`)"]
 
 
 def _value_covariance(ar: AxisResult, i: int, name: str, reference: str) -> np.ndarray | None:

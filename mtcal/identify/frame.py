@@ -14,10 +14,11 @@ from mtcal.kinematics.machine import Machine
 from mtcal.measurement.recordings import Recording
 
 
-def _reference_lines(results: dict[str, AxisResult], m: Machine, reference: str) -> dict[str, float]:
-    """Fit the reference straight line of every straightness of the linear axes (stored in ``AxisResult.lines``)
-    and return their slopes {E_IJ: mm/mm}: they define the ISO frame (docs/design.md gauge) and the squareness."""
-    slopes = {}
+def reference_lines(results: dict[str, AxisResult], m: Machine, reference: str) -> dict[str, dict[str, dict]]:
+    """The reference straight line of every straightness of the linear axes, {axis: {E_IJ: {"method",
+    "intercept" (mm), "slope" (mm/mm)}}} (``AxisResult.lines``): their slopes define the ISO frame (docs/design.md
+    gauge) and the squareness."""
+    out: dict[str, dict[str, dict]] = {}
     for axis, ar in results.items():
         if m.kind(axis) != "linear":
             continue
@@ -25,9 +26,8 @@ def _reference_lines(results: dict[str, AxisResult], m: Machine, reference: str)
             if nm == m.positioning_errors[axis]:
                 continue  # positioning error: no reference line
             a, b = fitting.reference_line(ar.positions, ar.mean[:, ar.names.index(nm)], reference)
-            ar.lines[nm] = {"method": reference, "intercept": a, "slope": b}
-            slopes[nm] = b
-    return slopes
+            out.setdefault(axis, {})[nm] = {"method": reference, "intercept": a, "slope": b}
+    return out
 
 
 def iso_frame_rotation(m: Machine, slopes: dict[str, float]) -> np.ndarray:

@@ -155,8 +155,8 @@ def _trackers(rec: Recording, tracker) -> dict[str, np.ndarray]:
             out[s] = np.asarray(tracker, dtype=float).reshape(3)
         else:
             raise InputError(f"{rec.source}: the joint fit weights each reading by the tracker's covariance: give "
-                             f"the tracker position (--tracker x,y,z or tracker_x,tracker_y,tracker_z columns), "
-                             f"or use --method three-point")
+                             f"the tracker position (`tracker` x,y,z or tracker_x,tracker_y,tracker_z columns), "
+                             f"or use `method` three-point")
     return out
 
 

@@ -16,16 +16,17 @@ rotary axes: B is measured at C = 0, C at B = 0); errors are zero at the referen
 from __future__ import annotations
 
 import logging
+from dataclasses import replace
 
 import numpy as np
 
 from mtcal.errors import InputError
 from mtcal.identify import fitting
 from mtcal.identify import joint as identify_joint
-from mtcal.identify.build import _model
+from mtcal.identify.build import build_model
 from mtcal.identify.compare import split_half_worth
-from mtcal.identify.frame import _in_iso_frame, _reference_lines, _squareness_type_a, squareness_sigma
-from mtcal.identify.results import AxisResult, IdentifyResult
+from mtcal.identify.frame import _in_iso_frame, _squareness_type_a, reference_lines, squareness_sigma
+from mtcal.identify.results import IdentifyResult
 from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_axis, _passes
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement import tracker as trk
@@ -63,7 +64,9 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     show where they are shaped otherwise, ``_noise_law``)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     if method not in METHODS:
-        raise InputError(f"--method must be one of {METHODS}, got {method!r}")
+        raise InputError(f"`method` must be one of {METHODS}, got {method!r}")
+    if reference not in fitting.REFERENCE_METHODS:
+        raise InputError(f"`reference` must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     warnings: list[str] = []
     gross = screen(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
     if gross.problems:
@@ -72,17 +75,50 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     estimated = None
     if method == "auto":
         method, tracker, estimated = _auto_method(rec, tracker, warnings)
-    if reference not in fitting.REFERENCE_METHODS:
-        raise InputError(f"--reference must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
-    results: dict[str, AxisResult] = {}
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
+    results, slopes, joint, spec = _fit_axes(rec, m, t, method, reference, noise_law, warnings,
+                                             (outlier_k, max_deviation_mm))
+    sq = fitting.squareness(slopes)
+    sq_stats = _squareness_type_a(results, m, reference, sq)
+    if set(m.linear_axes) <= set(results) and len(sq) < 3:
+        warnings.append("squareness: some straightness records are missing; only " + ", ".join(sorted(sq)) + " found")
+    weighted = t is not None or joint is not None
+    model, fits = build_model(results, sq, m, max_degree, max_harmonics, rec.source, reference, weighted, warnings)
+    results = {a: replace(r, fits=fits[a]) for a, r in results.items()}
+    meta = dict(model.meta, method=METHOD_TEXT[method])
+    if estimated is not None:
+        meta["tracker_estimated"] = {"position_mm": estimated.position.tolist(),
+                                     "sigma_mm": estimated.sigma_mm.tolist(), "noise_scale_vs_at960": estimated.scale,
+                                     "how": "estimated from the scatter of the repeated rounds "
+                                            "(mtcal.measurement.tracker_position)"}
+    if worth:
+        w = _worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
+                                                  max_harmonics=max_harmonics, method=method, noise_law=spec))
+        meta.update({"worth": w} if w else {})
+    meta["warnings"] = list(warnings)
+    problems = [p.to_dict() for p in gross.problems]
+    meta.update({"squareness_type_a": sq_stats} if sq_stats else {})
+    meta.update({"data_problems": problems} if problems else {})
+    summary = None
+    if joint is not None:
+        summary = {**joint.summary(), "squareness_sigma": squareness_sigma(results, reference)}
+        meta["squareness_sigma"] = summary["squareness_sigma"]
+    return IdentifyResult(results, sq, replace(model, meta=meta), warnings, reference, weighted, rec.source, sq_stats,
+                          method, summary, problems)
+
+
+def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, reference: str,
+              noise_law: trk.TrackerSpec | None, warnings: list[str], limits: tuple[float, float]):
+    """(results {axis: AxisResult with its reference lines}, straightness slopes {E_IJ: mm/mm}, the joint fit or
+    None, the noise law it weighted by): the joint fit of all axes, or three-point axis by axis (the rotary axes
+    on readings turned into the ISO frame the linear axes' reference lines define)."""
     joint, spec = None, noise_law
     if method == "joint" or len(set(rec.stations().tolist())) > 1:
         if method != "joint":
-            raise InputError(f"{rec.source}: several tracker stations need the joint fit (--method joint)")
+            raise InputError(f"{rec.source}: several tracker stations need the joint fit (`method` joint)")
         log.info("joint weighted fit of %d readings from %d station(s)", len(rec), len(set(rec.stations().tolist())))
         for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
             sub = rec.select(rec.axis == axis)
@@ -91,62 +127,38 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         joint = identify_joint.joint_fit(rec, m, t, spec)
         warnings += joint.warnings
         results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
-    linear = [a for a in rec.axes() if m.kind(a) == "linear"]
-    for axis in ([] if joint is not None else linear):
-        log.info("identifying axis %s", axis)
-        results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, max_deviation_mm)
-    slopes = _reference_lines(results, m, reference)
-    if joint is None and len(linear) < len(rec.axes()):
+    else:
+        results = {}
+        for axis in (a for a in rec.axes() if m.kind(a) == "linear"):
+            log.info("identifying axis %s", axis)
+            results[axis] = _identify_axis(rec, axis, m, t, warnings, *limits)
+    lines = reference_lines(results, m, reference)
+    results = {a: replace(r, lines=lines.get(a, {})) for a, r in results.items()}
+    slopes = {nm: line["slope"] for ls in lines.values() for nm, line in ls.items()}
+    if joint is None and len(results) < len(rec.axes()):
         iso, t_iso = _in_iso_frame(rec, t, m, slopes)
         for axis in rec.axes():
-            if axis not in linear:
+            if axis not in results:
                 log.info("identifying axis %s (readings turned into the ISO frame of the linear axes)", axis)
-                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, outlier_k, max_deviation_mm)
+                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, *limits)
         results = {a: results[a] for a in rec.axes()}
-    sq = fitting.squareness(slopes)
-    sq_stats = _squareness_type_a(results, m, reference, sq)
-    lin = [a for a, k in zip(m.axes, m.axis_kinds) if k == "linear"]
-    if set(lin) <= set(results) and len(sq) < 3:
-        warnings.append("squareness: some straightness records are missing; only " + ", ".join(sorted(sq)) + " found")
-    model = _model(results, sq, m, max_degree, max_harmonics, rec.source, reference, t is not None or joint is not None,
-                   warnings)
-    model.meta["method"] = METHOD_TEXT[method]
-    if estimated is not None:
-        model.meta["tracker_estimated"] = {"position_mm": estimated.position.tolist(),
-                                           "sigma_mm": estimated.sigma_mm.tolist(),
-                                           "noise_scale_vs_at960": estimated.scale,
-                                           "how": "estimated from the scatter of the repeated rounds "
-                                                  "(mtcal.measurement.tracker_position)"}
-    if worth:
-        _state_worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
-                                                     max_harmonics=max_harmonics, method=method, noise_law=spec))
-    model.meta["warnings"] = list(warnings)
-    if sq_stats:
-        model.meta["squareness_type_a"] = sq_stats
-    if gross.problems:
-        model.meta["data_problems"] = [p.to_dict() for p in gross.problems]
-    res = IdentifyResult(results, sq, model, warnings, reference, t is not None or joint is not None, rec.source,
-                         sq_stats, method, data_problems=[p.to_dict() for p in gross.problems])
-    if joint is not None:
-        res.joint = joint.summary()
-        res.joint["squareness_sigma"] = squareness_sigma(results, reference)
-        model.meta["squareness_sigma"] = res.joint["squareness_sigma"]
-    return res
+    return results, slopes, joint, spec
 
 
-def _state_worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], kw: dict) -> None:
-    """model.meta["worth"] from the same estimator on the even and the odd rounds (``split_half_worth``), and a
-    warning when compensating with the model may leave the machine worse than without it."""
+def _worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], kw: dict) -> dict | None:
+    """The model's worth (``model.meta["worth"]``) from the same estimator on the even and the odd rounds
+    (``split_half_worth``), and a warning when compensating with the model may leave the machine worse than
+    without it; None (and the reason in ``warnings``) when the halves cannot say."""
     rounds = np.unique(rec.round)
     if len(rounds) < 2:
         warnings.append("one round: the model's error cannot be predicted from the data (measure two or more rounds)")
-        return
+        return None
     halves = (rounds[::2], rounds[1::2])
     short = [a for a in rec.axes() for h in halves if not np.isin(rec.round[rec.axis == a], h).any()]
     if short:
         warnings.append(f"the model's error was not predicted: axis {short[0]} is not measured in both halves of the "
                         f"rounds (even and odd)")
-        return
+        return None
     quiet = logging.getLogger("mtcal")
     level = quiet.level
     quiet.setLevel(max(level, logging.WARNING))  # the halves' progress is not the user's
@@ -154,17 +166,17 @@ def _state_worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[s
         a, b = [identify(rec.select(np.isin(rec.round, h)), machine=m, worth=False, **kw).model for h in halves]
     except InputError as e:  # a half lacks what the whole has (a position measured in one round only)
         warnings.append(f"the model's error was not predicted: a half of the rounds cannot be identified ({e})")
-        return
+        return None
     finally:
         quiet.setLevel(level)
     w = split_half_worth(m, model, a, b, len(halves[0]), len(halves[1]))
-    model.meta["worth"] = w.to_dict()
     log.info("model: corrects %.1f um RMS over the measured volume; predicted error %.1f um RMS (%s)",
              w.corrects_rms_um, w.predicted_error_rms_um, w.how)
     if w.may_worsen:
         warnings.append(f"compensating with this model may make the machine worse: it corrects {w.corrects_rms_um:.1f} "
                         f"um RMS and is itself uncertain by {w.predicted_error_rms_um:.1f} um RMS over the measured "
                         f"volume; measure more rounds or from more tracker stations (mtcal plan shows the gain)")
+    return w.to_dict()
 
 
 def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str]) -> trk.TrackerSpec:
@@ -193,7 +205,7 @@ def _auto_method(rec: Recording, tracker, warnings: list[str]):
             warnings.append(f"{rec.source}: tracker position not given and not estimated ({why}): three-point "
                             f"method, readings weighted equally; lost: the weighting by the tracker's anisotropic "
                             f"noise and the joint fit (about twice the model error, benchmarks/identify_truth.py); "
-                            f"give --tracker x,y,z")
+                            f"give `tracker` x,y,z")
         else:
             tracker = estimated.position
             log.info("tracker position estimated from the scatter: %s mm", station_text(estimated))

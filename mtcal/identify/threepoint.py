@@ -188,28 +188,63 @@ def _passes(rec: Recording, axis: str):
 
 def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str], outlier_k: float,
                    max_dev: float) -> AxisResult:
+    """One axis by the three-point method: every pass solved (weighted by the tracker law when ``t`` is given,
+    else isotropic from the residuals), passes of one round at one position averaged, Type A over rounds."""
     ps = _passes(rec, axis)
     rows, ref_rows = ps["rows"], ps["ref_rows"]
     readings, refs = rec.xyz[rows], rec.xyz[ref_rows]
     pts, dls, rf, d_m, rrel = frame_data(m, axis, _axes_vector(m, axis, ps["position"]),
                                          _axes_vector(m, axis, ps["q0"]), readings, refs)
-    worst = np.unravel_index(int(np.argmax(np.linalg.norm(d_m, axis=-1))), rows.shape)
-    dev = float(np.linalg.norm(d_m[worst]))
-    if not dev <= max_dev:
-        i, j = rows[worst], ref_rows[worst]
-        unit = "mm" if m.axis_kinds[m.axes.index(axis)] == "linear" else "deg"
-        raise InputError(f"{rec.where(i)}: point {rec.point[i]} at {axis} = {rec.position[i]:g} {unit} is {dev:.3g} mm "
-                         f"from where the commanded motion takes its reference reading (line {int(rec.line[j])}); "
-                         f"geometric errors are far smaller: positions must be in {unit} and readings in mm in the "
-                         f"machine frame (positions in metres or radians? another axis moving?)")
+    _check_deviation(rec, axis, m, ps, d_m, max_dev)
     _check_shape(rec, axis, ps)
-    cov = var_ref = None
+    cov = c_ref = None
     if t is not None:
         c_read, c_ref = delta_covariance(readings, refs, rrel, rf, t, parts=True)
         cov = c_read + c_ref
     e, resid, ce = solve_frame(pts, dls, cov)
-    at_ref = (rows == ref_rows).all(axis=1)  # the reference passes themselves: zero by construction
-    if ce is None:  # isotropic noise estimated from the residuals of all passes (3 n - 6 dof each)
+    var, var_ref = _pass_variances(pts, resid, ce, cov, c_ref, (rows == ref_rows).all(axis=1))
+    positions, rounds = np.unique(ps["position"]), ps["rounds"]
+    ri, pi = np.searchsorted(rounds, ps["round"]), np.searchsorted(positions, ps["position"])
+    per_round, var_round = _per_round(e, var, var_ref, ri, pi, len(rounds), len(positions))
+    rss, cnt = np.zeros(len(positions)), np.zeros(len(positions))
+    np.add.at(rss, pi, np.sum(resid**2, axis=-1))
+    np.add.at(cnt, pi, resid.shape[-1])
+    direction = np.array([k[2] for k in ps["keys"]])
+    reversal = _reversal(e, direction, ri, pi, len(rounds), len(positions))
+    q0s = np.unique(ps["q0"])
+    _notes(axis, q0s, rounds, positions, per_round, warnings)
+    if t is None and len(rounds) >= 3:
+        var_round = _floor_at_scatter(per_round, var_round)
+    names = m.error_motions(axis)
+    if len(rounds) >= 2 and outlier_k > 0:
+        _check_rounds(rec, axis, names, positions, rounds, per_round, var_round, outlier_k, warnings, ps)
+    return AxisResult(axis, positions, rounds, ps["points"], per_round, np.sqrt(rss / np.maximum(cnt, 1)),
+                      np.sqrt(np.nanmean(var_round, axis=0)), names, float(q0s[0]), t is not None,
+                      reversal=reversal)
+
+
+def _check_deviation(rec: Recording, axis: str, m: Machine, ps: dict, d_m: np.ndarray, max_dev: float) -> None:
+    """Refuse a reading farther than ``max_dev`` mm from where the commanded motion takes its reference reading
+    (units or frame wrong: geometric errors are far smaller)."""
+    rows, ref_rows = ps["rows"], ps["ref_rows"]
+    worst = np.unravel_index(int(np.argmax(np.linalg.norm(d_m, axis=-1))), rows.shape)
+    dev = float(np.linalg.norm(d_m[worst]))
+    if dev <= max_dev:
+        return
+    i, j = rows[worst], ref_rows[worst]
+    unit = m.unit(axis)
+    raise InputError(f"{rec.where(i)}: point {rec.point[i]} at {axis} = {rec.position[i]:g} {unit} is {dev:.3g} mm "
+                     f"from where the commanded motion takes its reference reading (line {int(rec.line[j])}); "
+                     f"geometric errors are far smaller: positions must be in {unit} and readings in mm in the "
+                     f"machine frame (positions in metres or radians? another axis moving?)")
+
+
+def _pass_variances(pts, resid, ce, cov, c_ref, at_ref) -> tuple[np.ndarray, np.ndarray | None]:
+    """(variance (passes, 6) of every pass' solution, the reference reading's share of it or None): from the
+    tracker law, or isotropic from the residuals of all passes (3 n - 6 dof each); the reference passes
+    themselves are zero by construction."""
+    var_ref = None
+    if ce is None:
         dof = resid.shape[-1] - 6
         s2 = float(np.sum(resid[~at_ref] ** 2) / max(1, dof * int((~at_ref).sum())))
         a = tp.point_rows(pts).reshape(len(pts), -1, 6)
@@ -219,16 +254,15 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
         var_ref[at_ref] = 0.0
     var = np.diagonal(ce, axis1=-2, axis2=-1).copy()
     var[at_ref] = 0.0
-    positions = np.unique(ps["position"])
-    rounds = ps["rounds"]
-    per_round = np.full((len(rounds), len(positions), 6), np.nan)
-    var_round = np.full((len(rounds), len(positions), 6), np.nan)
-    rss = np.zeros(len(positions))
-    cnt = np.zeros(len(positions))
-    ri = np.searchsorted(rounds, ps["round"])
-    pi = np.searchsorted(positions, ps["position"])
-    for r in range(len(rounds)):
-        for p in range(len(positions)):
+    return var, var_ref
+
+
+def _per_round(e, var, var_ref, ri, pi, n_rounds: int, n_pos: int) -> tuple[np.ndarray, np.ndarray]:
+    """(values, variances) (rounds, positions, 6): passes of one round at one position averaged (NaN where none)."""
+    per_round = np.full((n_rounds, n_pos, 6), np.nan)
+    var_round = np.full((n_rounds, n_pos, 6), np.nan)
+    for r in range(n_rounds):
+        for p in range(n_pos):
             sel = (ri == r) & (pi == p)
             if sel.any():
                 per_round[r, p] = e[sel].mean(axis=0)
@@ -238,22 +272,27 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
                 else:
                     vr = var_ref[sel].mean(axis=0)
                     var_round[r, p] = (var[sel] - var_ref[sel]).sum(axis=0) / k**2 + vr
-    np.add.at(rss, pi, np.sum(resid**2, axis=-1))
-    np.add.at(cnt, pi, resid.shape[-1])
-    direction = np.array([k[2] for k in ps["keys"]])
-    reversal = None
-    if (direction > 0).any() and (direction < 0).any():  # bidirectional: + minus - per (round, position)
-        diffs = np.full((len(rounds), len(positions), 6), np.nan)
-        for r in range(len(rounds)):
-            for p in range(len(positions)):
-                up = (ri == r) & (pi == p) & (direction > 0)
-                dn = (ri == r) & (pi == p) & (direction < 0)
-                if up.any() and dn.any():
-                    diffs[r, p] = e[up].mean(axis=0) - e[dn].mean(axis=0)
-        with _warnings.catch_warnings():  # positions without both directions stay NaN
-            _warnings.simplefilter("ignore", RuntimeWarning)
-            reversal = np.nanmean(diffs, axis=0)
-    q0s = np.unique(ps["q0"])
+    return per_round, var_round
+
+
+def _reversal(e, direction, ri, pi, n_rounds: int, n_pos: int) -> np.ndarray | None:
+    """Mean over rounds of (+ pass) - (- pass) per position (positions, 6), None when not bidirectional."""
+    if not ((direction > 0).any() and (direction < 0).any()):
+        return None
+    diffs = np.full((n_rounds, n_pos, 6), np.nan)
+    for r in range(n_rounds):
+        for p in range(n_pos):
+            up = (ri == r) & (pi == p) & (direction > 0)
+            dn = (ri == r) & (pi == p) & (direction < 0)
+            if up.any() and dn.any():
+                diffs[r, p] = e[up].mean(axis=0) - e[dn].mean(axis=0)
+    with _warnings.catch_warnings():  # positions without both directions stay NaN
+        _warnings.simplefilter("ignore", RuntimeWarning)
+        return np.nanmean(diffs, axis=0)
+
+
+def _notes(axis: str, q0s, rounds, positions, per_round, warnings: list[str]) -> None:
+    """Warnings on the layout: several reference positions, (round, position) pairs not measured, one round."""
     if len(q0s) > 1:
         warnings.append(f"axis {axis}: rounds use different reference positions {q0s.tolist()}")
     missing = [(int(rounds[r]), float(positions[p])) for r in range(len(rounds)) for p in range(len(positions))
@@ -263,21 +302,18 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
                         f"their statistics use fewer rounds")
     if len(rounds) < 2:
         warnings.append(f"axis {axis}: only one round ({int(rounds[0])}): no Type A uncertainty (std is NaN)")
-    if t is None and len(rounds) >= 3:
-        # without a noise model the isotropic residual estimate can miss anisotropic tracker noise: floor each
-        # error's variance at the median (over positions) of its round-to-round variance
-        with _warnings.catch_warnings():  # exact data: no spread at all, then no floor
-            _warnings.simplefilter("ignore", RuntimeWarning)
-            s2 = np.nanvar(per_round, axis=0, ddof=1)
-            floor = np.nanmedian(np.where(s2 > 0, s2, np.nan), axis=0)
-        if np.isfinite(floor).all():
-            var_round = np.where(np.isfinite(var_round), np.maximum(var_round, floor), var_round)
-    names = m.error_motions(axis)
-    if len(rounds) >= 2 and outlier_k > 0:
-        _check_rounds(rec, axis, names, positions, rounds, per_round, var_round, outlier_k, warnings, ps)
-    return AxisResult(axis, positions, rounds, ps["points"], per_round, np.sqrt(rss / np.maximum(cnt, 1)),
-                      np.sqrt(np.nanmean(var_round, axis=0)), names, float(q0s[0]), t is not None,
-                      reversal=reversal)
+
+
+def _floor_at_scatter(per_round: np.ndarray, var_round: np.ndarray) -> np.ndarray:
+    """Without a noise model the isotropic residual estimate can miss anisotropic tracker noise: each error's
+    variance floored at the median (over positions) of its round-to-round variance (exact data: no floor)."""
+    with _warnings.catch_warnings():
+        _warnings.simplefilter("ignore", RuntimeWarning)
+        s2 = np.nanvar(per_round, axis=0, ddof=1)
+        floor = np.nanmedian(np.where(s2 > 0, s2, np.nan), axis=0)
+    if np.isfinite(floor).all():
+        return np.where(np.isfinite(var_round), np.maximum(var_round, floor), var_round)
+    return var_round
 
 
 def _propagate(pts: np.ndarray, cov: np.ndarray, part: np.ndarray) -> np.ndarray:

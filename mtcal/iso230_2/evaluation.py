@@ -236,7 +236,7 @@ def _passes(rec: Recording, axis: str, point: str | None, notes: list[str]) -> d
                      + (" ..." if len(dropped) > 6 else ""))
     if not keys:
         raise InputError(f"{rec.source}: axis {axis}: no pass has a reading of every reflector {points} "
-                         f"(choose one with --point)")
+                         f"(choose one with `point`)")
     q0 = datum[0]
     return {"keys": keys, "points": points, "q0": np.full(len(keys), q0),
             "rows": np.array([[groups[k][pt] for pt in points] for k in keys]),
@@ -251,7 +251,7 @@ def _datum(rec: Recording, idx: np.ndarray, order: np.ndarray, axis: str) -> tup
     missing = sorted(set(rec.point[idx].tolist()) - set(first))
     if missing:
         raise InputError(f"{rec.source}: axis {axis}: reflector(s) {missing} never read at the datum position "
-                         f"{q0:g}: their deviations have no datum (choose another with --point)")
+                         f"{q0:g}: their deviations have no datum (choose another with `point`)")
     return q0, first
 
 
@@ -262,7 +262,7 @@ def _check_size(rec: Recording, d_m: np.ndarray, rows: np.ndarray, unit: str) ->
         i = int(rows[worst])
         raise InputError(f"{rec.where(i)}: point {rec.point[i]} is {dev:.3g} mm from where the commanded motion "
                          f"takes its reference reading; positions must be in {unit} and readings in mm in the "
-                         f"machine frame (another axis moving? wrong --axis?)")
+                         f"machine frame (another axis moving? wrong `axis`?)")
 
 
 def _linear(rec: Recording, axis: str, d_m, d1, rows, pos, q0, alpha: float | None) -> np.ndarray:

@@ -66,7 +66,7 @@ def _columns(header: list[str], path, line: int, unit: str | None) -> tuple[dict
     for base, u in units.items():
         if u is None:
             raise InputError(f"the unit of column {base!r} is not declared: name it {base}_mm, {base}_um, "
-                             f"{base}_in, {base}_deg or {base}_arcsec, or give --unit", path, line)
+                             f"{base}_in, {base}_deg or {base}_arcsec, or give `unit`", path, line)
     return cols, units
 
 
@@ -92,7 +92,7 @@ def read_readings(path: str | Path, unit: str | None = None, alpha: float | None
     unsuffixed target / measured / deviation columns; ``alpha`` (1/K) normalises a linear axis to 20 C with the
     material temperature (needed on every row)."""
     if unit is not None and unit not in LENGTH_MM and unit not in ANGLE_DEG:
-        raise InputError(f"--unit must be one of {', '.join([*LENGTH_MM, *ANGLE_DEG])}, got {unit!r}")
+        raise InputError(f"`unit` must be one of {', '.join([*LENGTH_MM, *ANGLE_DEG])}, got {unit!r}")
     rows = read_csv_rows(path, "ISO 230-2 readings")
     (hline, header), data = rows[0], rows[1:]
     cols, units = _columns(header, path, hline, unit)

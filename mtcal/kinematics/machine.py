@@ -316,7 +316,7 @@ def _is_machine(name: str) -> bool:
 
 
 _CACHE: dict[str, Machine] = {}
-DEFAULT_MACHINE = "dmu50"  # the thesis' machine: what every command uses unless --machine says otherwise
+DEFAULT_MACHINE = "dmu50"  # the thesis' machine: what every command uses unless `machine` says otherwise
 
 
 def load_machine(name: str = DEFAULT_MACHINE) -> Machine:

@@ -135,7 +135,7 @@ def _positional(fields: list[str], k: int, where: str) -> SAPoint:
         raise InputError(f"{where}: {numbers} number(s) after x y z ({rest!r}): a tolerance, uncertainties or a "
                          f"time stamp cannot be told apart by position; add a header line naming the columns "
                          f"(e.g. Collection, Group, Target, X, Y, Z, Tolerance, Time)"
-                         + ("; or, if the target names are numbers, numbered targets need --name-fields 3"
+                         + ("; or, if the target names are numbers, numbered targets need `name_fields` 3"
                             if k < 3 and "::" not in fields[0] else ""))
     unc = None
     if len(rest) >= 3 and all(_number(f) is not None for f in rest[:3]):
@@ -203,10 +203,10 @@ def read_sa_points(text: str, source: str = "<memory>", name_fields: int | None 
                 k = next((i for i, f in enumerate(fields) if _number(f) is not None), len(fields))
                 if not 1 <= k <= 3:
                     raise InputError(f"{where}: expected 1-3 name fields (Collection Group Target) before x y z, "
-                                     f"found {k}; numeric target names need name_fields (--name-fields)")
+                                     f"found {k}; numeric target names need name_fields (`name_fields`)")
                 if k < 3 and "::" not in fields[0]:
                     notes.append(f"{source}:{n}: {k} name field(s) before x y z taken from the first "
-                                 f"non-number; numbered targets need --name-fields 3")
+                                 f"non-number; numbered targets need `name_fields` 3")
             p = _positional(fields, k, where)
         p.line = n
         points.append(p)
@@ -253,10 +253,10 @@ def compile_pattern(pattern: str) -> re.Pattern:
     try:
         rx = re.compile(pattern)
     except re.error as exc:
-        raise InputError(f"--pattern is not a valid regular expression: {exc}") from None
+        raise InputError(f"`pattern` is not a valid regular expression: {exc}") from None
     missing = [g for g in GROUPS if g not in rx.groupindex]
     if missing:
-        raise InputError(f"--pattern needs the named groups {list(GROUPS)} (+ optional direction); missing "
+        raise InputError(f"`pattern` needs the named groups {list(GROUPS)} (+ optional direction); missing "
                          f"{missing}: write them as (?P<axis>...)")
     return rx
 
@@ -270,7 +270,7 @@ def _lookup(p: SAPoint, mapping: TargetMap | None, rx: re.Pattern | None, source
     found = {k: v for k, v in m.groupdict().items() if v is not None}
     absent = [g for g in GROUPS if g not in found]
     if absent:
-        raise InputError(f"{source}:{p.line}: target {p.full_name} matches --pattern but its group(s) {absent} took "
+        raise InputError(f"{source}:{p.line}: target {p.full_name} matches `pattern` but its group(s) {absent} took "
                          f"no part in the match (optional groups?): every target needs {list(GROUPS)}")
     return found
 
@@ -314,9 +314,9 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
     from mtcal.kinematics.machine import Machine, load_machine
     axes = (machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))).axes
     if (mapping is None) == (pattern is None):
-        raise InputError("give exactly one of a mapping file (--mapping) or a naming pattern (--pattern)")
+        raise InputError("give exactly one of a mapping file (`mapping`) or a naming pattern (`pattern`)")
     if units not in UNITS_MM:
-        raise InputError(f"--units must be one of {', '.join(UNITS_MM)}, got {units!r}")
+        raise InputError(f"`units` must be one of {', '.join(UNITS_MM)}, got {units!r}")
     rx = compile_pattern(pattern) if pattern is not None else None
     notes: list[str] = []
     points = read_sa_points(text, source, name_fields, notes)
@@ -333,11 +333,11 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
         shown = "; ".join(f"{n} (line {ln})" for n, ln in skipped[:10])
         hint = "".join(f"; {n}" for n in notes if "name field(s)" in n)
         raise InputError(f"{source}: {len(skipped)} target(s) match no {'mapping row' if mapping else 'pattern'}: "
-                         f"{shown}{' ...' if len(skipped) > 10 else ''} (--skip-unmatched leaves them out){hint}")
+                         f"{shown}{' ...' if len(skipped) > 10 else ''} (`skip_unmatched` leaves them out){hint}")
     if not keep:
         raise InputError(f"{source}: no target matched")
     if skipped:
-        notes.append(f"{len(skipped)} unmatched target(s) left out (--skip-unmatched)")
+        notes.append(f"{len(skipped)} unmatched target(s) left out (`skip_unmatched`)")
     _check_duplicates(keep, keys, source)
     if any(p.uncertainty is not None for p in keep):
         notes.append("coordinate uncertainties were read but the tidy recording has no column for them: not carried")
@@ -358,7 +358,7 @@ def _in_mm(xyz: np.ndarray, units: str, points: list[SAPoint], source: str) -> n
         i = int(bad[0])
         raise InputError(f"{source}:{points[i].line}: target {points[i].full_name} at {size[i]:.4g} mm after "
                          f"converting from {units}: beyond {PLAUSIBLE_MM:g} mm, no machine tool's size (is the "
-                         f"export really in {units}? --units)")
+                         f"export really in {units}? `units`)")
     return mm
 
 

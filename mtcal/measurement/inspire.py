@@ -22,7 +22,7 @@ def parse_positions(text: str) -> np.ndarray:
     except ValueError:
         p = np.array([])
     if len(p) < 2 or not np.isfinite(p).all():
-        raise InputError(f"--positions must be start:stop:count (count >= 2) or a comma list of >= 2 finite numbers, "
+        raise InputError(f"`positions` must be start:stop:count (count >= 2) or a comma list of >= 2 finite numbers, "
                          f"got {text!r}")
     return p
 
@@ -37,7 +37,7 @@ def read_inspire(paths, axis: str, positions=None, machine: str | Machine = DEFA
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     axis = axis.upper()
     if axis not in m.axes:
-        raise InputError(f"--axis {axis}: not an axis of machine {m.name} ({', '.join(m.axes)})")
+        raise InputError(f"`axis` {axis}: not an axis of machine {m.name} ({', '.join(m.axes)})")
     rows: dict[str, list] = {k: [] for k in ("round", "position", "point", "xyz", "line", "file")}
     for r, path in enumerate(paths, start=1):
         text = read_text(path, "Inspire export")
@@ -64,7 +64,7 @@ def read_inspire(paths, axis: str, positions=None, machine: str | Machine = DEFA
                else default_positions(m).get(axis))
         if pos is None or len(pos) != n:
             raise InputError(f"{path}: blocks of {n} readings; give the {n} positions of axis {axis} "
-                             f"(--positions start:stop:count)")
+                             f"(`positions` start:stop:count)")
         for k, (ln, xyz) in enumerate(data):
             for key, v in zip(rows, (r, pos[k % n], INSPIRE_ORDER[k // n], xyz, ln, str(path))):
                 rows[key].append(v)

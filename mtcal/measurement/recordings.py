@@ -126,7 +126,7 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
         ax = r[col["axis"]].strip().upper()
         if ax not in machine.axes:
             raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of the axes of machine {machine.name} "
-                             f"({', '.join(machine.axes)}; --machine names another)")
+                             f"({', '.join(machine.axes)}; `machine` names another)")
         rnd_f = _float(r[col["round"]], "round", where)
         if rnd_f != int(rnd_f):
             raise InputError(f"{where}: round must be an integer, got {r[col['round']]!r}")

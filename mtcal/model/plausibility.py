@@ -53,7 +53,7 @@ def check_model(model: ErrorModel, machine: Machine, force: bool = False, what: 
     problems = _problems(model, machine)
     if problems and not force:
         more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
-        raise InputError(f"{what}: {problems[0]}{more}; nothing was written (--force writes it anyway)")
+        raise InputError(f"{what}: {problems[0]}{more}; nothing was written (`force` writes it anyway)")
     return [f"FORCED past the plausibility guard: {p}" for p in problems]
 
 

@@ -117,10 +117,10 @@ def _subprograms(code: str, first_line: int, source: str, w: Words) -> None:
         line = _line_of(code, m.start(), first_line)
         if not w.allow_subprograms:
             raise _error(source, line, f"{m.group()!r} is a subprogram call: {_SUBPROGRAM_TEXT}; compensate the "
-                                       f"called program too, or pass the call with --allow-subprograms (its moves "
+                                       f"called program too, or pass the call with `allow_subprograms` (its moves "
                                        f"stay uncompensated)")
         warnings.warn(InputWarning(f"{source}:{line}: {m.group()!r} is a subprogram call: passed unchanged "
-                                   f"(--allow-subprograms), its moves are NOT compensated"), stacklevel=2)
+                                   f"(`allow_subprograms`), its moves are NOT compensated"), stacklevel=2)
 
 
 def _badnum_reason(word: str) -> str:
@@ -148,7 +148,7 @@ def _g_refusal(gs: str) -> str | None:
         return f"G{gs} {_FRAME}"
     if v in (65.0, 66.0, 66.1):
         return (f"G{gs} is a macro call: {_SUBPROGRAM_TEXT}, and its arguments are address letters that may be "
-                f"axis words here; expand the macro into G0/G1 moves (refused even with --allow-subprograms)")
+                f"axis words here; expand the macro into G0/G1 moves (refused even with `allow_subprograms`)")
     if v in _HANDLED_G or v in _PASS_G:
         return None
     return f"G{gs} is not supported (it moves in another frame, runs a cycle or changes how coordinates are read)"
