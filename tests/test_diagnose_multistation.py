@@ -104,7 +104,7 @@ def test_several_stations_need_their_tracker_columns(tmp_path):
     with pytest.raises(InputError, match=r"2 tracker stations .* no tracker_x,tracker_y,tracker_z columns.*`station`"):
         diagnose(rec, machine=M)
     rec, _ = campaign(7601)
-    with pytest.raises(InputError, match=r"one --tracker position cannot weigh them"):
+    with pytest.raises(InputError, match=r"one `tracker` position cannot weigh them"):
         diagnose(rec, machine=M, tracker=(0.0, -1500.0, 0.0))
 
 

@@ -47,6 +47,7 @@ Modules: prepare (nominal positions, Jacobians), noise (weights), design (base c
 projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors
 and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), report
 (typed findings, JSON), plate (plate fits), run (``diagnose()``)."""
+from mtcal._verb import callable_package
 from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.plate import diagnose_plate, format_plate_diagnosis
 from mtcal.diagnose.prepare import prepare
@@ -56,3 +57,5 @@ from mtcal.diagnose.run import MAX_DEGREE, diagnose
 
 __all__ = ["diagnose", "diagnose_plate", "format_plate_diagnosis", "plot_residuals", "prepare", "Prepared",
            "Diagnosis", "Finding", "Engine", "Score", "MAX_DEGREE"]
+
+callable_package(__name__, diagnose)  # mtcal.diagnose(...) is the verb even once the package is imported
