@@ -20,6 +20,8 @@ import numpy as np
 
 from mtcal.campaign.plans import Plan
 from mtcal.campaign.simulate import simulate, write_campaign
+from mtcal.check import CircleSetup, evaluate_check, predict_circular, predict_circular_compensated, simulate_circular
+from mtcal.check.plots import plot_circular
 from mtcal.compensate.run import compensate_program
 from mtcal.data import path
 from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_PLAN, DEMO_SEED, build_for
@@ -168,6 +170,9 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     prog.step("plan: predicted uncertainty of one round at this tracker placement, and a placement map")
     summary["compensate"] = _compensate_step(s)
     prog.step("compensate: sample five-axis program corrected with the identified model, checked on the true machine")
+    summary["checks"] = _checks_step(s)
+    prog.step("checks: the ISO 230-4 circular test predicted from the model before and after compensation, and the "
+              "true machine's (simulated ballbar) read against it")
     summary["stations"] = st = _stations_step(s)
     prog.step(f"stations: model - truth {st['one_station_three_point']['model_minus_true_rms_um']:.1f} um (one "
               f"station, three-point) -> {st['four_stations_joint']['model_minus_true_rms_um']:.1f} um (four "
@@ -228,6 +233,58 @@ def _compensate_step(s: _Story) -> dict:
             "true_error_after_max_um": float(after.max() * 1e3),
             "true_error_after_rms_um": float(np.sqrt(np.mean(after**2)) * 1e3),
             "predicted_residual_um": comp["residual"]}
+
+
+def _checks_step(s: _Story) -> dict:
+    """The circular test in the plane of the first two linear axes (R 150 mm about the axes' zero, both directions):
+    predicted from the identified model before and after compensating with it, the true machine's (a simulated
+    ballbar: exact kinematics, the planted effects that act on a circle) before and after, and the true machine's
+    test before compensation evaluated against the model; the polar plot."""
+    model = load_model(s.model_path)
+    lin = s.m.linear_axes
+    setup = CircleSetup(lin[0] + lin[1], 150.0, (0.0,) * len(lin))
+    backlash = {e["params"]["axis"]: e["params"]["amount"] for e in s.planted.get("effects", [])
+                if e["name"] == "backlash"}
+    pred, pred_after = predict_circular(model, setup), predict_circular_compensated(model, setup)
+    true_after = predict_circular_compensated(model, setup, errors_of=s.truth)
+    measured = simulate_circular(s.truth, setup, backlash=backlash, seed=1)
+    ev = evaluate_check(measured, model)
+    th, dr, d = (measured.data[k] for k in ("angle_deg", "deviation_mm", "direction"))
+    plot_circular([("predicted", pred.theta_deg, pred.dr, pred.direction),
+                   ("true machine (simulated ballbar)", th, dr, d),
+                   ("true machine after compensation", true_after.theta_deg, true_after.dr, true_after.direction)],
+                  f"{s.m.name}: circular test {setup.plane}, R 150 mm", s.plots / "circular_test.png")
+    um = lambda f: {k: v * 1e3 for k, v in f.items() if k in ("G_mm", "H_mm", "F_mm")}  # noqa: E731
+    return {"plane": setup.plane, "radius_mm": setup.radius_mm, "predicted_um": um(pred.figures),
+            "predicted_after_compensation_um": um(pred_after.figures), "true_machine_um": um(ev.measured),
+            "true_machine_after_compensation_um": um(true_after.figures),
+            "largest_shares_um": {k: v * 1e3 for k, v in list(pred.contributions.items())[:4]},
+            "evaluation": {"agrees": ev.agrees, "worst_z": ev.worst_z, "prediction_u95_um": ev.prediction_u95_mm * 1e3,
+                           "findings": [f.text for f in ev.findings]}}
+
+
+def _checks_lines(k: dict | None) -> list[str]:
+    """The report's section on the circular test (``_checks_step``)."""
+    if not k:
+        return []
+    row = lambda name, f: f"| {name} | {f['G_mm']:.2f} | {f['H_mm']:.2f} | {f['F_mm']:.2f} |"  # noqa: E731
+    ev = k["evaluation"]
+    return [f"## Check: ISO 230-4 circular test {k['plane']}, R {k['radius_mm']:g} mm", "",
+            "`mtcal check predict` from the identified model, before and after compensating with it; the true "
+            "machine's test (a simulated ballbar: exact kinematics, the campaign's planted effects) before and after; "
+            "G circular deviation, H hysteresis, F radial deviation (ISO 230-4), um.", "",
+            "| circular test | G | H | F |", "|---|---|---|---|",
+            row("predicted from the model", k["predicted_um"]),
+            row("predicted after compensation", k["predicted_after_compensation_um"]),
+            row("true machine", k["true_machine_um"]),
+            row("true machine after compensation", k["true_machine_after_compensation_um"]), "",
+            "Largest shares of the predicted G: " + ", ".join(f"{n} {v:.2f} um" for n, v in
+                                                              k["largest_shares_um"].items()) + ".", "",
+            f"The true machine's test read against the model (`mtcal check evaluate`): "
+            f"{'agrees' if ev['agrees'] else 'differs'} (worst reading {ev['worst_z']:.1f} combined sigma, the "
+            f"prediction's U95 {ev['prediction_u95_um']:.2f} um)"
+            + (": " + "; ".join(ev["findings"]) if ev["findings"] else "") + ".", "",
+            "![circular test](plots/circular_test.png)", ""]
 
 
 def _stations_step(s: _Story) -> dict:
@@ -381,6 +438,7 @@ def report(s: dict, out: Path) -> str:
               f"{c['true_error_after_rms_um']:.2f} |", "",
               "What is left is the identification uncertainty (see the plan table): compensation is only as good "
               "as the model.", "", "![compensation](plots/compensation_before_after.png)", "",
+              *_checks_lines(s.get("checks")),
               "## Diagnosis", "", f"Base model sigma: {d['base_sigma'] * 1e3:.2f} um.", "",
               "| rank | effect | axis | significant | estimate | sigma after | evidence |",
               "|---|---|---|---|---|---|---|"]
@@ -439,6 +497,12 @@ def print_summary(s: dict) -> None:
     print(f"  compensate: tool tip on the true machine max {c['true_error_before_max_um']:.1f} -> "
           f"{c['true_error_after_max_um']:.1f} um, RMS {c['true_error_before_rms_um']:.1f} -> "
           f"{c['true_error_after_rms_um']:.1f} um ({', '.join(c['iso_16907'].get('covered', []))})")
+    if "checks" in s:
+        k = s["checks"]
+        print(f"  check    : circular test {k['plane']} R {k['radius_mm']:g} mm, G predicted "
+              f"{k['predicted_um']['G_mm']:.1f} um, true machine {k['true_machine_um']['G_mm']:.1f} -> "
+              f"{k['true_machine_after_compensation_um']['G_mm']:.1f} um after compensation; the true test read "
+              f"against the model: " + ("; ".join(k["evaluation"]["findings"]) or "agrees"))
     if "stations" in s:
         st = s["stations"]
         print("  stations : model - truth RMS " + ", ".join(

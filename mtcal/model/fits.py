@@ -25,6 +25,21 @@ def _nonzero(*arrays) -> bool:
     return any(np.any(np.asarray(a, dtype=float) != 0) for a in arrays)
 
 
+def uncertainty_columns(fit, x, domain=None) -> np.ndarray | None:
+    """The fitted value's uncertainty at ``x`` as independent columns (..., k): basis(x) times a square root of the
+    coefficients' covariance (``info["covariance"]``, the identification's), so that their outer product is the
+    values' covariance with its correlations across positions (a slope's error keeps its sign); None without."""
+    c = fit.info.get("covariance") if isinstance(fit, (Polynomial, Harmonic)) else None
+    if c is None:
+        return None
+    b = fit.basis(x, domain) if isinstance(fit, Polynomial) else fit.basis(x)
+    c = np.asarray(c, dtype=float)
+    if c.shape != (b.shape[-1],) * 2:
+        return None
+    w, v = np.linalg.eigh((c + c.T) / 2)
+    return b @ (v * np.sqrt(np.maximum(w, 0.0)))
+
+
 @dataclass
 class Polynomial:
     """c0 + c1 u + ... with u the position mapped from ``domain`` (mm or deg) to [-1, 1]; None: the table's range."""
@@ -41,6 +56,12 @@ class Polynomial:
     def __call__(self, x, domain=None) -> np.ndarray:
         dom = self.domain if self.domain is not None else domain
         return np.polynomial.Polynomial(self.coefficients, domain=dom)(np.asarray(x, dtype=float))
+
+    def basis(self, x, domain=None) -> np.ndarray:
+        """d value / d coefficients at ``x`` (..., k): the powers of the mapped position."""
+        dom = self.domain if self.domain is not None else domain
+        u = np.polynomial.polyutils.mapdomain(np.asarray(x, dtype=float), dom, [-1, 1]) if dom else np.asarray(x)
+        return u[..., None] ** np.arange(len(self.coefficients))
 
     def is_zero(self) -> bool:
         return not _nonzero(self.coefficients)
@@ -74,6 +95,13 @@ class Harmonic:
         for h, (a, b) in enumerate(zip(self.cos, self.sin), start=1):
             out = out + a * np.cos(h * w) + b * np.sin(h * w)
         return out
+
+    def basis(self, x) -> np.ndarray:
+        """d value / d [a0, a1, b1, a2, b2, ...] at ``x`` (..., k)."""
+        w = 2 * np.pi * np.asarray(x, dtype=float)[..., None] / float(self.period)
+        h = np.arange(1, min(len(self.cos), len(self.sin)) + 1)
+        return np.concatenate([np.ones(w.shape), np.stack([np.cos(h * w), np.sin(h * w)], -1).reshape(
+            w.shape[:-1] + (-1,))], axis=-1)
 
     def is_zero(self) -> bool:
         return not _nonzero([self.a0], self.cos, self.sin)

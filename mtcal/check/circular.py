@@ -1,0 +1,258 @@
+"""ISO 230-4 circular tests predicted from an error model (a double ballbar between a ball on the spindle and a
+ball on the table, the two linear axes of a plane interpolating a circle).
+
+Frame and signs: the circle is programmed in axis positions: the plane's first and second linear axis at
+``centre + R (cos theta, sin theta)``, theta counter-clockwise from the first axis (deg), the other axes held
+(linear axes at the centre, rotary axes at ``fixed``, default 0).  The table ball is set at the centre (where the
+machine puts the tool there), so the ballbar reads the distance between the tool tip and that point, both in the
+workpiece frame: deltaR(theta) = u . (dp(q(theta)) - dp(q_centre)) to first order, u the nominal radial unit
+vector and dp the tool-tip deviation of the model's errors (Jacobian at zero error, generated from derive/), mm,
+positive outward.  direction +1 counter-clockwise, -1 clockwise.
+
+Figures (ISO 230-4:2005, clause 3; ``figures``): circular deviation G, the radial range of one path about its
+least-squares circle centre (the linearised LSQ circle: deltaR ~ r0 + a cos theta + b sin theta, exact to first
+order in the deviations); bidirectional circular deviation G(b), the same of both paths about their common LSQ
+centre; circular hysteresis H, the largest radial difference of the two paths at one angle (common centre); radial
+deviation F, the largest and smallest deltaR about the nominal centre (the ballbar's own set-up), F_max and F_min.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mtcal.errors import InputError
+from mtcal.model.errormodel import ErrorModel
+
+DIRECTIONS = {"ccw": (1,), "cw": (-1,), "both": (1, -1)}
+
+
+@dataclass(frozen=True)
+class CircleSetup:
+    """A circular test: ``plane`` two linear axes (e.g. "XY": theta from X towards Y), ``radius_mm``,
+    ``centre_mm`` the linear axes' positions at the centre (mm, machine axis order; None: the middle of their
+    ranges, or 0), ``fixed`` the rotary axes' positions (deg; missing: 0), ``arc_deg`` (<= 360) from
+    ``start_deg``, ``points`` per path, ``tool_length`` (mm, the ball below the spindle gauge point)."""
+
+    plane: str
+    radius_mm: float
+    centre_mm: tuple[float, ...] | None = None
+    direction: str = "both"
+    arc_deg: float = 360.0
+    start_deg: float = 0.0
+    points: int = 360
+    fixed: dict[str, float] = field(default_factory=dict)
+    tool_length: float = 0.0
+
+
+def parse_circular(text: str, machine) -> CircleSetup:
+    """'PLANE,RADIUS[,X0,Y0,Z0]' (the CLI's ``--circular``; mm) -> CircleSetup; the centre names the machine's
+    linear axes in order."""
+    parts = [p.strip() for p in text.split(",")]
+    lin = machine.linear_axes
+    if len(parts) not in (2, 2 + len(lin)):
+        raise InputError(f"circular test {text!r}: give PLANE,RADIUS or PLANE,RADIUS,{','.join(a + '0' for a in lin)} "
+                         f"(mm)")
+    try:
+        nums = [float(p) for p in parts[1:]]
+    except ValueError:
+        raise InputError(f"circular test {text!r}: radius and centre must be numbers (mm)") from None
+    return CircleSetup(parts[0].upper(), nums[0], tuple(nums[1:]) if len(nums) > 1 else None)
+
+
+@dataclass
+class CircleGeometry:
+    """The nominal test: axis positions ``axes`` (n, n_axes) at angles ``theta_deg`` (n,), the radial unit
+    vectors ``u`` (n, 3) in the workpiece frame and the centre's axis positions ``centre_axes`` (n_axes,)."""
+
+    theta_deg: np.ndarray
+    axes: np.ndarray
+    u: np.ndarray
+    centre_axes: np.ndarray
+
+
+def geometry(machine, s: CircleSetup, theta_deg: np.ndarray | None = None) -> CircleGeometry:
+    """The test's nominal axis positions and radial directions (see the module docstring); refuses a plane that
+    is not two linear axes of the machine, a radius that is not positive, and positions outside the axes' limits."""
+    lin = machine.linear_axes
+    if len(s.plane) != 2 or s.plane[0] == s.plane[1] or any(a not in lin for a in s.plane):
+        raise InputError(f"plane {s.plane!r}: two different linear axes of machine {machine.name} "
+                         f"({''.join(lin)}), e.g. {lin[0]}{lin[1]}")
+    if not (np.isfinite(s.radius_mm) and s.radius_mm > 0):
+        raise InputError(f"radius must be a positive number of mm, got {s.radius_mm}")
+    if not 0 < s.arc_deg <= 360:
+        raise InputError(f"arc must be in (0, 360] deg, got {s.arc_deg}")
+    centre = machine.axis_vector(s.fixed)
+    cm = _centre(machine, s)
+    for a, c in zip(lin, cm):
+        centre[machine.index(a)] = c
+    if theta_deg is None:
+        n = int(s.points)
+        end = s.arc_deg if s.arc_deg < 360 else 360.0 * (n - 1) / n
+        theta_deg = s.start_deg + np.linspace(0.0, end, n)
+    th = np.radians(np.asarray(theta_deg, dtype=float))
+    axes = np.repeat(centre[None], len(th), axis=0)
+    i, j = machine.index(s.plane[0]), machine.index(s.plane[1])
+    axes[:, i] += s.radius_mm * np.cos(th)
+    axes[:, j] += s.radius_mm * np.sin(th)
+    machine.check_axes(axes)
+    p = machine.forward(axes, tool_length=s.tool_length)[:, :3]
+    p0 = machine.forward(centre, tool_length=s.tool_length)[:3]
+    return CircleGeometry(np.asarray(theta_deg, dtype=float), axes, (p - p0) / s.radius_mm, centre)
+
+
+def _centre(machine, s: CircleSetup) -> tuple[float, ...]:
+    lin = machine.linear_axes
+    if s.centre_mm is not None:
+        if len(s.centre_mm) != len(lin):
+            raise InputError(f"centre needs {len(lin)} numbers ({', '.join(lin)} in mm), got {len(s.centre_mm)}")
+        return tuple(float(c) for c in s.centre_mm)
+    out = []
+    for a in lin:
+        lim = machine.limits[machine.index(a)]
+        out.append(0.0 if lim is None else 0.5 * (lim[0] + lim[1]))
+    return tuple(out)
+
+
+def radial_sensitivity(machine, g: CircleGeometry, tool_length: float = 0.0) -> np.ndarray:
+    """d deltaR / d errors (n, n_errors) at every point: the radial component of the tool tip's first-order
+    deviation minus that at the centre (mm per mm, mm per rad; errors evaluated at each point's own axes)."""
+    J = machine.jacobian_errors(g.axes, tool_length)[:, :3, :]
+    return np.einsum("nk,nke->ne", g.u, J)
+
+
+def radial_deviation(machine, model: ErrorModel, g: CircleGeometry,
+                     tool_length: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """(deltaR (n,) mm, contributions (n, n_errors) mm): the model's first-order radial deviation and each
+    error's share (they sum to deltaR)."""
+    e = model.errors_at(machine, g.axes, extrapolate="hold")
+    e0 = model.errors_at(machine, g.centre_axes[None], extrapolate="hold")
+    J = machine.jacobian_errors(g.axes, tool_length)[:, :3, :]
+    J0 = machine.jacobian_errors(g.centre_axes[None], tool_length)[:, :3, :]
+    contrib = np.einsum("nk,nke,ne->ne", g.u, J, e) - np.einsum("nk,ke,e->ne", g.u, J0[0], e0[0])
+    return contrib.sum(axis=1), contrib
+
+
+# ----------------------------------------------------------------------------------------------- ISO 230-4
+def lsq_centre(theta_deg: np.ndarray, dr: np.ndarray) -> np.ndarray:
+    """Coefficients (r0, a, b) mm of the least-squares circle of a trace, linearised for small deviations:
+    deltaR ~ r0 + a cos theta + b sin theta ((a, b) is the LSQ centre's offset along the plane's axes)."""
+    th = np.radians(theta_deg)
+    A = np.column_stack([np.ones_like(th), np.cos(th), np.sin(th)])
+    return np.linalg.lstsq(A, dr, rcond=None)[0]
+
+
+def about_lsq_centre(theta_deg: np.ndarray, dr: np.ndarray, coef: np.ndarray | None = None) -> np.ndarray:
+    """deltaR about the LSQ circle's centre (its own, or ``coef``), mm (the radius change r0 left in)."""
+    c = lsq_centre(theta_deg, dr) if coef is None else coef
+    th = np.radians(theta_deg)
+    return dr - c[1] * np.cos(th) - c[2] * np.sin(th)
+
+
+def figures(theta_deg: np.ndarray, dr: np.ndarray, direction: np.ndarray) -> dict[str, float]:
+    """ISO 230-4 figures (module docstring) of one or two paths (``direction`` +1 / -1 per point), mm:
+    G (G(b) with both directions, else the one path's), G_ccw, G_cw, H (0 with one direction), F_max, F_min and F
+    (the largest |deltaR| about the nominal centre)."""
+    theta_deg, dr, direction = (np.asarray(v, dtype=float) for v in (theta_deg, dr, direction))
+    out: dict[str, float] = {}
+    paths = {}
+    for d, key in ((1, "ccw"), (-1, "cw")):
+        on = direction == d
+        if on.sum() >= 3:
+            c = about_lsq_centre(theta_deg[on], dr[on])
+            out[f"G_{key}_mm"] = float(np.ptp(c))
+            paths[key] = on
+    if not paths:
+        raise InputError("a circular test needs at least 3 points in one direction")
+    common = about_lsq_centre(theta_deg, dr, lsq_centre(theta_deg, dr))
+    out["G_mm"] = float(np.ptp(common)) if len(paths) == 2 else next(v for k, v in out.items() if k.startswith("G_"))
+    out["H_mm"] = _hysteresis(theta_deg, common, paths) if len(paths) == 2 else 0.0
+    out["F_max_mm"], out["F_min_mm"] = float(dr.max()), float(dr.min())
+    out["F_mm"] = float(np.abs(dr).max())
+    return out
+
+
+def _hysteresis(theta_deg: np.ndarray, dr: np.ndarray, paths: dict[str, np.ndarray]) -> float:
+    """Largest |deltaR_ccw - deltaR_cw| at one angle: the cw path interpolated at the ccw path's angles (periodic
+    over 360 deg; arcs within their common range)."""
+    a, b = paths["ccw"], paths["cw"]
+    ta, tb = np.mod(theta_deg[a], 360.0), np.mod(theta_deg[b], 360.0)
+    order = np.argsort(tb)
+    tb, rb = tb[order], dr[b][order]
+    full = np.ptp(tb) > 350
+    if full:
+        tb, rb = np.concatenate([tb - 360, tb, tb + 360]), np.tile(rb, 3)
+    inside = (ta >= tb.min()) & (ta <= tb.max())
+    return float(np.abs(dr[a][inside] - np.interp(ta[inside], tb, rb)).max()) if inside.any() else 0.0
+
+
+# ----------------------------------------------------------------------------------------------- prediction
+@dataclass
+class CircularPrediction:
+    """A predicted circular test: the setup, the trace (theta_deg, deltaR_mm, direction per point), the ISO 230-4
+    figures (mm) and each error's share of G ({ISO name: G of its part alone, mm}, largest first)."""
+
+    setup: CircleSetup
+    centre_mm: tuple[float, ...]
+    theta_deg: np.ndarray
+    dr: np.ndarray
+    direction: np.ndarray
+    figures: dict[str, float]
+    contributions: dict[str, float]
+
+    def to_dict(self) -> dict:
+        s = self.setup
+        return {"kind": "circular", "plane": s.plane, "radius_mm": s.radius_mm, "centre_mm": list(self.centre_mm),
+                "direction": s.direction, "arc_deg": s.arc_deg, "fixed_deg": dict(s.fixed), **self.figures,
+                "trace": [[round(float(t), 6), float(r), int(d)] for t, r, d in
+                          zip(self.theta_deg, self.dr, self.direction)],
+                "contributions": self.contributions}
+
+
+def _paths(theta_deg: np.ndarray, dr: np.ndarray, direction: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(theta, deltaR, direction) of the paths ``direction`` names, each in its order of travel (a quasi-static
+    deviation depends on the position only: the clockwise path is the same trace, reversed)."""
+    dirs = DIRECTIONS[direction]
+    return (np.concatenate([theta_deg if d > 0 else theta_deg[::-1] for d in dirs]),
+            np.concatenate([dr if d > 0 else dr[::-1] for d in dirs]),
+            np.concatenate([np.full(len(dr), d) for d in dirs]))
+
+
+def predict_circular(model: ErrorModel, setup: CircleSetup, machine=None) -> CircularPrediction:
+    """The circular test ``setup`` as the model predicts it (first order, exact through the generated kinematics);
+    ``machine`` defaults to the model's."""
+    m = machine or model.kinematics
+    if setup.direction not in DIRECTIONS:
+        raise InputError(f"direction must be one of {', '.join(DIRECTIONS)}, got {setup.direction!r}")
+    g = geometry(m, setup)
+    dr, contrib = radial_deviation(m, model, g, setup.tool_length)
+    theta, trace, direction = _paths(g.theta_deg, dr, setup.direction)
+    parts = {}
+    for k, name in enumerate(m.error_names):
+        if np.any(contrib[:, k]):
+            parts[name] = float(np.ptp(about_lsq_centre(g.theta_deg, contrib[:, k])))
+    parts = dict(sorted(((n, v) for n, v in parts.items() if v > 0), key=lambda kv: -kv[1]))
+    return CircularPrediction(setup, tuple(float(g.centre_axes[m.index(a)]) for a in m.linear_axes), theta, trace,
+                              direction, figures(theta, trace, direction), parts)
+
+
+def predict_circular_compensated(model: ErrorModel, setup: CircleSetup, machine=None, iterations: int = 2,
+                                 errors_of: ErrorModel | None = None) -> CircularPrediction:
+    """The same test after the program is compensated with the model (mtcal.compensate, scope "position"): the
+    circle's commands and the centre corrected, the ballbar read on the exact error-inclusive kinematics at the
+    corrected axes of a machine with the model's errors (what is left: the compensation's own higher-order
+    remainder) or, with ``errors_of``, another model's (e.g. the true machine's in a simulation); contributions:
+    none."""
+    from mtcal.compensate.solver import Compensator
+
+    m = machine or model.kinematics
+    g = geometry(m, setup)
+    comp = Compensator(model, m, "position", setup.tool_length, iterations=iterations)
+    q = comp.correct(g.axes)
+    qc = comp.correct(g.centre_axes[None])
+    real = comp if errors_of is None else Compensator(errors_of, m, "position", setup.tool_length)
+    p = m.forward(q, real.errors(q), setup.tool_length, check=False)[:, :3]
+    p0 = m.forward(qc, real.errors(qc), setup.tool_length, check=False)[0, :3]
+    theta, trace, direction = _paths(g.theta_deg, np.linalg.norm(p - p0, axis=1) - setup.radius_mm, setup.direction)
+    return CircularPrediction(setup, tuple(float(g.centre_axes[m.index(a)]) for a in m.linear_axes), theta, trace,
+                              direction, figures(theta, trace, direction), {})

@@ -1,0 +1,151 @@
+"""A measured check test evaluated against an error model: the standard's figures measured and predicted, measured
+minus predicted with the prediction's uncertainty, and what the residual shows (mtcal.check.signatures).
+
+The prediction's uncertainty is propagated from the identification's (each fitted function's coefficient
+covariance, correlated across positions; else its table's ``std_mean``; the squareness sigmas in the model's meta)
+through the same first-order sensitivities, errors of different names taken as independent (their correlations
+are not in the model file).  Agreement: every reading's residual, after the set-up terms (centre,
+radius; an R-test's zero) and the dynamic signatures are taken out, within ``K_AGREE`` combined standard
+uncertainties (prediction and the residual's own noise), and no quasi-static signature beyond the model's
+uncertainty (mtcal.check.signatures: a backlash, a squareness the model does not hold)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from mtcal.check import circular as circ
+from mtcal.check import rtest as rt
+from mtcal.check.files import RTEST_COLUMNS, MeasuredCheck
+from mtcal.check.signatures import Signature, fit_signatures
+from mtcal.errors import InputError
+from mtcal.model.errormodel import ErrorModel
+from mtcal.model.fits import uncertainty_columns as fit_columns
+
+K_AGREE = 4.0  # max |residual| / combined sigma over hundreds of readings: beyond it the model and the test differ
+
+
+def uncertainty_columns(model: ErrorModel, machine, axes: np.ndarray) -> np.ndarray:
+    """The model's errors' uncertainty at axis positions ``axes`` (n, n_axes) as independent columns
+    (n, n_errors, k): a fitted function's from its coefficients' covariance (mtcal.model.fits.uncertainty_columns:
+    correlated across positions as the identification left them), else its table's ``std_mean`` (one column);
+    the constants' sigmas from the meta (joint fit: ``squareness_sigma``; three-point: ``squareness_type_a``);
+    none where the model states none.  Errors of different names are taken as independent."""
+    blocks = []
+    for name, f in model.functions.items():
+        if name not in machine.error_names:
+            continue
+        x = np.clip(axes[:, machine.index(f.axis)], f.positions.min(), f.positions.max())
+        cols = fit_columns(f.fit, x, [float(f.positions.min()), float(f.positions.max())]) \
+            if f.fit is not None else None
+        if cols is None and f.extra.get("std_mean") is not None:
+            cols = np.interp(x, f.positions, np.nan_to_num(np.asarray(f.extra["std_mean"], dtype=float)))[:, None]
+        if cols is not None:
+            blocks.append((machine.error_names.index(name), cols))
+    const = dict(model.meta.get("squareness_sigma") or {})
+    for name, st in (model.meta.get("squareness_type_a") or {}).items():
+        const.setdefault(name, st.get("std_mean", 0.0))
+    for name, v in const.items():
+        if name in machine.error_names:
+            blocks.append((machine.error_names.index(name), np.full((len(axes), 1), float(v))))
+    out = np.zeros((len(axes), len(machine.error_names), sum(c.shape[1] for _, c in blocks)))
+    k = 0
+    for i, c in blocks:
+        out[:, i, k:k + c.shape[1]] = c
+        k += c.shape[1]
+    return out
+
+
+@dataclass
+class CheckEvaluation:
+    """A measured check against the model: figures (mm) measured, predicted and of the residual, the largest
+    expanded (k = 2) uncertainty of the prediction, agreement, findings, and the trace."""
+
+    kind: str
+    source: str
+    measured: dict
+    predicted: dict
+    residual: dict
+    prediction_u95_mm: float
+    noise_sd_mm: float
+    agrees: bool
+    worst_z: float
+    findings: list[Signature] = field(default_factory=list)
+    trace: list = field(default_factory=list)
+    setup: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "source": self.source, **self.setup, "measured": self.measured,
+                "predicted": self.predicted, "residual": self.residual, "prediction_u95_mm": self.prediction_u95_mm,
+                "noise_sd_mm": self.noise_sd_mm, "agrees": self.agrees, "worst_z": self.worst_z, "k_agree": K_AGREE,
+                "findings": [f.to_dict() for f in self.findings], "trace": self.trace}
+
+
+def evaluate_check(test: MeasuredCheck, model: ErrorModel, machine=None, uncertainty_from: ErrorModel | None = None,
+                   **setup) -> CheckEvaluation:
+    """Evaluate a measured circular test or R-test against ``model`` (its prediction's uncertainty from
+    ``uncertainty_from``, default the model itself: after a compensation the zero left carries the compensating
+    model's uncertainty); ``setup`` overrides the file's header (plane, radius_mm, centre_mm, fixed, axis,
+    sphere_mm, tool_length)."""
+    m = machine or model.kinematics
+    return (_circular if test.kind == "circular" else _rtest)(test, model, uncertainty_from or model, m, setup)
+
+
+def _circular(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, over: dict) -> CheckEvaluation:
+    info = {**test.info, **{k: v for k, v in over.items() if v is not None}}
+    for key in ("plane", "radius_mm"):
+        if key not in info:
+            raise InputError(f"{test.source}: the circular test's {key} is not given (header '# {key}: ...' or option)")
+    s = circ.CircleSetup(info["plane"], float(info["radius_mm"]), info.get("centre_mm"),
+                         fixed=info.get("fixed_deg", info.get("fixed", {})), tool_length=info.get("tool_length", 0.0))
+    th, meas, d = test.data["angle_deg"], test.data["deviation_mm"], test.data["direction"]
+    g = circ.geometry(m, s, th)
+    pred, _ = circ.radial_deviation(m, model, g, s.tool_length)
+    L = np.einsum("ne,nek->nk", circ.radial_sensitivity(m, g, s.tool_length),
+                  uncertainty_columns(umodel, m, g.axes))  # (n, k) mm
+    u = np.sqrt((L**2).sum(axis=1))
+    resid = meas - pred
+    found, noise = fit_signatures(th, resid, d, s.plane, s.radius_mm, L)
+    coef = circ.lsq_centre(th, resid)
+    setup_terms = coef[0] + coef[1] * np.cos(np.radians(th)) + coef[2] * np.sin(np.radians(th))
+    dynamic = sum((f.size * d * np.sin(2 * np.radians(th)) for f in found if not f.quasi_static), np.zeros_like(th))
+    z = (resid - setup_terms - dynamic) / np.sqrt(u**2 + noise**2)
+    worst = float(np.abs(z).max())
+    agrees = worst <= K_AGREE and not any(f.quasi_static for f in found)
+    centre = tuple(float(g.centre_axes[m.index(a)]) for a in m.linear_axes)
+    return CheckEvaluation("circular", test.source, circ.figures(th, meas, d), circ.figures(th, pred, d),
+                           circ.figures(th, resid, d), float(2 * u.max()), noise, agrees, worst, found,
+                           [[float(a), float(b), float(c), float(e), int(f)] for a, b, c, e, f in
+                            zip(th, meas, pred, u, d)],
+                           {"plane": s.plane, "radius_mm": s.radius_mm, "centre_mm": list(centre)})
+
+
+def _rtest(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, over: dict) -> CheckEvaluation:
+    info = {**test.info, **{k: v for k, v in over.items() if v is not None}}
+    if "axis" not in info:
+        raise InputError(f"{test.source}: the R-test's axis is not given (header '# axis: C' or option)")
+    s = rt.RTestSetup(info["axis"], tuple(test.data["position_deg"].tolist()), tuple(info.get("sphere_mm", (0, 0, 0))),
+                      info.get("fixed_deg", info.get("fixed", {})), info.get("tool_length", 0.0))
+    q = rt.sweep_axes(m, s)
+    J = rt.deviation_sensitivity(m, q, s)
+    pred = np.einsum("nke,ne->nk", J, model.errors_at(m, q, extrapolate="hold"))
+    u = np.sqrt((np.einsum("nie,nek->nik", J, uncertainty_columns(umodel, m, q)) ** 2).sum(axis=2))
+    meas = np.column_stack([test.data[c] for c in RTEST_COLUMNS[1:]])
+    resid = meas - pred
+    resid0 = resid - resid.mean(axis=0)  # the R-test's zero (set-up) taken out
+    noise = float(np.sqrt((resid0**2).sum() / max(resid0.size - 3, 1)))
+    z = resid0 / np.sqrt(u**2 + (noise if len(resid0) > 6 else 0.0) ** 2 + 1e-30)
+    worst = float(np.abs(z).max())
+    trace = [[float(p), *map(float, a), *map(float, b), *map(float, c)] for p, a, b, c in
+             zip(s.positions_deg, meas, pred, u)]
+    return CheckEvaluation("rtest", test.source, {"range_mm": rt.ranges(meas)}, {"range_mm": rt.ranges(pred)},
+                           {"range_mm": rt.ranges(resid)}, float(2 * u.max()), noise, worst <= K_AGREE, worst, [],
+                           trace, {"axis": s.axis, "sphere_mm": list(s.sphere_mm)})
+
+
+def after_compensation(model: ErrorModel, covered: set[str] | None = None) -> ErrorModel:
+    """The model of what a compensation leaves: the errors it did not cover (all of them covered: a zero model,
+    to first order).  ``covered``: ISO names the compensation acted on (default: every error of the model)."""
+    keep = set() if covered is None else set(model.names()) - set(covered)
+    return replace(model, constants={k: v for k, v in model.constants.items() if k in keep},
+                   functions={k: f for k, f in model.functions.items() if k in keep})

@@ -1,0 +1,146 @@
+"""Measured check tests read from plain CSV files (docs/guide/checks.md):
+
+circular test (ballbar)::
+
+    # plane: XY
+    # radius_mm: 150
+    # centre_mm: 0,0,-200          (optional: the linear axes' positions at the centre, mm)
+    # fixed_deg: B=0,C=0           (optional: the rotary axes, deg)
+    angle_deg,deviation_mm,direction
+    0,0.0012,1
+
+angle counter-clockwise from the plane's first axis (deg), deviation = measured minus nominal radius (mm,
+positive outward), direction +1 counter-clockwise / -1 clockwise;
+
+R-test sweep::
+
+    # axis: C
+    # sphere_mm: 100,0,50          (workpiece coordinates, mm)
+    # fixed_deg: B=0               (optional)
+    position_deg,dx_mm,dy_mm,dz_mm
+
+the sphere's centre relative to the tool ball in the machine frame (mm).  Header keys may be given as options
+instead (options win); ``# kind: circular|rtest`` is optional (the columns tell)."""
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mtcal.errors import InputError
+
+CIRCULAR_COLUMNS = ("angle_deg", "deviation_mm", "direction")
+RTEST_COLUMNS = ("position_deg", "dx_mm", "dy_mm", "dz_mm")
+
+
+@dataclass
+class MeasuredCheck:
+    """A measured check test: ``kind`` "circular" or "rtest", its header (``info``: plane, radius_mm, centre_mm,
+    fixed_deg, axis, sphere_mm as given) and columns (``data``: name -> (n,) array)."""
+
+    kind: str
+    source: str
+    info: dict = field(default_factory=dict)
+    data: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+def _header(lines: list[str], source: str) -> tuple[dict, int]:
+    info, k = {}, 0
+    for k, line in enumerate(lines):
+        s = line.strip()
+        if not s:
+            continue
+        if not s.startswith("#"):
+            return info, k
+        body = s[1:].split("(")[0].strip()
+        if ":" in body:
+            key, val = (x.strip() for x in body.split(":", 1))
+            info[key.lower()] = (val, k + 1)
+    raise InputError(f"{source}: no data (a header line of column names, then one row per reading)")
+
+
+def _numbers(val: str, n: int | None, what: str, source: str, line: int) -> tuple[float, ...]:
+    try:
+        out = tuple(float(v) for v in val.split(","))
+    except ValueError:
+        raise InputError(f"{source}, line {line}: {what} must be numbers separated by commas, got {val!r}") from None
+    if (n is not None and len(out) != n) or not np.isfinite(out).all():
+        raise InputError(f"{source}, line {line}: {what} needs {n} finite numbers, got {val!r}")
+    return out
+
+
+def _fixed(val: str, source: str, line: int) -> dict[str, float]:
+    out = {}
+    for item in filter(None, (v.strip() for v in val.split(","))):
+        name, _, num = item.partition("=")
+        try:
+            out[name.strip().upper()] = float(num)
+        except ValueError:
+            raise InputError(f"{source}, line {line}: fixed_deg items are AXIS=deg, got {item!r}") from None
+    return out
+
+
+def is_check_file(path: str | Path) -> bool:
+    """Whether a CSV file is a check test (its column header names a circular test's or an R-test's columns)."""
+    with open(path, encoding="utf-8-sig") as fh:
+        for line in fh:
+            s = line.strip()
+            if s and not s.startswith("#"):
+                head = {h.strip() for h in s.split(",")}
+                return set(CIRCULAR_COLUMNS[:2]) <= head or set(RTEST_COLUMNS) <= head
+    return False
+
+
+def read_check(path: str | Path) -> MeasuredCheck:
+    """Read a measured circular test or R-test sweep (module docstring); a bad field is an InputError naming the
+    file and line."""
+    source = str(path)
+    lines = Path(path).read_text(encoding="utf-8-sig").splitlines()
+    raw, start = _header(lines, source)
+    rows = list(csv.reader(lines[start:]))
+    head = [h.strip() for h in rows[0]]
+    kind = ("circular" if set(CIRCULAR_COLUMNS[:2]) <= set(head) else
+            "rtest" if set(RTEST_COLUMNS) <= set(head) else None)
+    if kind is None:
+        raise InputError(f"{source}, line {start + 1}: columns must be {','.join(CIRCULAR_COLUMNS)} (circular test) or "
+                         f"{','.join(RTEST_COLUMNS)} (R-test), got {','.join(head)}")
+    data = _columns(rows[1:], head, CIRCULAR_COLUMNS if kind == "circular" else RTEST_COLUMNS, source, start + 2)
+    info: dict = {}
+    for key, (val, line) in raw.items():
+        if key in ("centre_mm", "sphere_mm"):
+            info[key] = _numbers(val, 3 if key == "sphere_mm" else None, key, source, line)
+        elif key == "radius_mm":
+            info[key] = _numbers(val, 1, key, source, line)[0]
+        elif key == "fixed_deg":
+            info[key] = _fixed(val, source, line)
+        elif key in ("plane", "axis"):
+            info[key] = val.upper()
+    return MeasuredCheck(kind, source, info, data)
+
+
+def _columns(rows: list[list[str]], head: list[str], need: tuple[str, ...], source: str,
+             first: int) -> dict[str, np.ndarray]:
+    idx = {c: head.index(c) for c in need if c in head}
+    out = {c: [] for c in idx}
+    for k, row in enumerate(rows):
+        if not row or not "".join(row).strip():
+            continue
+        for c, i in idx.items():
+            try:
+                v = float(row[i])
+            except (ValueError, IndexError):
+                raise InputError(f"{source}, line {first + k}: {c} must be a number, got "
+                                 f"{row[i] if i < len(row) else 'nothing'!r}") from None
+            if not np.isfinite(v):
+                raise InputError(f"{source}, line {first + k}: {c} must be finite, got {row[i]!r}")
+            out[c].append(v)
+    arr = {c: np.array(v) for c, v in out.items()}
+    if "direction" in need and "direction" not in arr:
+        arr["direction"] = np.ones(len(next(iter(arr.values()))))
+    if "direction" in arr and not np.isin(arr["direction"], (-1, 1)).all():
+        raise InputError(f"{source}: direction must be +1 (counter-clockwise) or -1 (clockwise)")
+    if len(next(iter(arr.values()))) < 3:
+        raise InputError(f"{source}: a check test needs at least 3 readings")
+    return arr
