@@ -117,7 +117,6 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
         raise InputError(f"{source}: unknown key(s) {unknown}; allowed: {sorted(_PLAN_KEYS)}")
     plan = Plan(machine if machine is not None else load_machine())
     m = plan.machine
-    defaults = default_positions(m)
     kw: dict[str, Any] = {"source": source}
     if "tracker" in raw:
         kw["tracker"] = _xyz(raw["tracker"], f"{source}: tracker")
@@ -132,40 +131,7 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
             raise InputError(f"{source}: rounds must be a positive integer, got {r!r}")
         kw["rounds"] = r
     if "axes" in raw:
-        axes = raw["axes"]
-        if not isinstance(axes, Mapping) or not axes:
-            raise InputError(f"{source}: axes must be an object {{AXIS: {{positions: [...]}}}}")
-        pos, at = {}, {}
-        for a, spec in axes.items():
-            if a not in m.axes:
-                raise InputError(f"{source}: axes: unknown axis {a!r}; axes of {m.name} are {', '.join(m.axes)}")
-            spec = spec or {}
-            if not isinstance(spec, Mapping):
-                raise InputError(f"{source}: axes.{a} must be an object")
-            bad = sorted(set(spec) - {"positions", "start", "stop", "count", "at"})
-            if bad:
-                raise InputError(f"{source}: axes.{a}: unknown key(s) {bad}")
-            if "positions" in spec:
-                p = sc.numbers(spec["positions"], source, f"axes.{a}.positions", 2)
-            elif "start" in spec or "stop" in spec or "count" in spec:
-                n = spec.get("count")
-                if isinstance(n, bool) or not isinstance(n, int) or n < 2:
-                    raise InputError(f"{source}: axes.{a}.count must be a whole number >= 2, got {n!r}")
-                p = np.linspace(sc.number(spec.get("start"), source, f"axes.{a}.start"),
-                                sc.number(spec.get("stop"), source, f"axes.{a}.stop"), n)
-            else:
-                p = defaults[a].copy()
-            if p.ndim != 1 or len(p) < 2 or not np.isfinite(p).all() or len(np.unique(p)) != len(p):
-                raise InputError(f"{source}: axes.{a}: positions must be >= 2 distinct finite numbers")
-            lim = m.limits[m.index(a)]
-            if lim and (p.min() < lim[0] or p.max() > lim[1]):
-                raise InputError(f"{source}: axes.{a}: positions must lie in [{lim[0]:g}, {lim[1]:g}] {m.unit(a)}")
-            pos[a] = p
-            other = spec.get("at", {}) or {}
-            if not isinstance(other, Mapping) or any(k not in m.axes or k == a for k in other):
-                raise InputError(f"{source}: axes.{a}.at must map other axes to positions, got {other!r}")
-            at[a] = {k: sc.number(v, source, f"axes.{a}.at.{k}") for k, v in other.items()}
-        kw["positions"], kw["at"] = pos, at
+        kw["positions"], kw["at"] = _axes(raw["axes"], source, m)
     if "points" in raw:
         pts = raw["points"]
         if not isinstance(pts, Mapping) or set(pts) - {"tool", "table"}:
@@ -188,6 +154,50 @@ def plan_from_dict(raw: Mapping, source: str = "<plan>", machine: str | Machine 
                 raise InputError(f"{source}: {k} must be a {kind}number, got {v!r}")
             kw[k] = float(v)
     return replace(plan, **kw)
+
+
+def _axes(axes: Any, source: str, m: Machine) -> tuple[dict[str, np.ndarray], dict[str, dict[str, float]]]:
+    """(positions, other axes' positions) by axis from a plan's "axes" object; bad values name the key."""
+    if not isinstance(axes, Mapping) or not axes:
+        raise InputError(f"{source}: axes must be an object {{AXIS: {{positions: [...]}}}}")
+    defaults = default_positions(m)
+    pos, at = {}, {}
+    for a, spec in axes.items():
+        if a not in m.axes:
+            raise InputError(f"{source}: axes: unknown axis {a!r}; axes of {m.name} are {', '.join(m.axes)}")
+        spec = spec or {}
+        if not isinstance(spec, Mapping):
+            raise InputError(f"{source}: axes.{a} must be an object")
+        bad = sorted(set(spec) - {"positions", "start", "stop", "count", "at"})
+        if bad:
+            raise InputError(f"{source}: axes.{a}: unknown key(s) {bad}")
+        pos[a] = _positions(spec, a, source, m, defaults[a])
+        other = spec.get("at", {}) or {}
+        if not isinstance(other, Mapping) or any(k not in m.axes or k == a for k in other):
+            raise InputError(f"{source}: axes.{a}.at must map other axes to positions, got {other!r}")
+        at[a] = {k: sc.number(v, source, f"axes.{a}.at.{k}") for k, v in other.items()}
+    return pos, at
+
+
+def _positions(spec: Mapping, a: str, source: str, m: Machine, default: np.ndarray) -> np.ndarray:
+    """One axis' positions (mm or deg): listed, start/stop/count, or the spec's default; distinct, finite and
+    inside the axis' limits."""
+    if "positions" in spec:
+        p = sc.numbers(spec["positions"], source, f"axes.{a}.positions", 2)
+    elif "start" in spec or "stop" in spec or "count" in spec:
+        n = spec.get("count")
+        if isinstance(n, bool) or not isinstance(n, int) or n < 2:
+            raise InputError(f"{source}: axes.{a}.count must be a whole number >= 2, got {n!r}")
+        p = np.linspace(sc.number(spec.get("start"), source, f"axes.{a}.start"),
+                        sc.number(spec.get("stop"), source, f"axes.{a}.stop"), n)
+    else:
+        p = default.copy()
+    if p.ndim != 1 or len(p) < 2 or not np.isfinite(p).all() or len(np.unique(p)) != len(p):
+        raise InputError(f"{source}: axes.{a}: positions must be >= 2 distinct finite numbers")
+    lim = m.limits[m.index(a)]
+    if lim and (p.min() < lim[0] or p.max() > lim[1]):
+        raise InputError(f"{source}: axes.{a}: positions must lie in [{lim[0]:g}, {lim[1]:g}] {m.unit(a)}")
+    return p
 
 
 def load_plan(path: str | Path, machine: str | Machine | None = None) -> Plan:

@@ -114,18 +114,9 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
     if machine is None:
         machine = plan.machine if isinstance(plan, Plan) else (model.machine if model is not None else None)
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
-    pl = as_plan(plan, m)
-    if tracker is not None:
-        pl = replace(pl, tracker=tuple(float(c) for c in (trk.parse_xyz(tracker) if isinstance(tracker, str)
-                                                          else np.asarray(tracker, dtype=float).reshape(3))))
-    if rounds is not None:
-        if int(rounds) != rounds or rounds < 1:
-            raise InputError(f"rounds must be a positive integer, got {rounds!r}")
-        pl = replace(pl, rounds=int(rounds))
+    pl = _plan(plan, m, tracker, rounds)
     eff = [e.bind(m, {"tool": pl.tool_points, "table": pl.table_points}) for e in as_effects(effects)]
     t_pos = np.asarray(pl.tracker, dtype=float)
-    if not np.isfinite(t_pos).all():
-        raise InputError(f"tracker position must be finite, got {pl.tracker}")
     rows = schedule(pl)
     _check_poses(m, pl, rows)
     warm = parse_warm_up(temperature) if temperature is not None else (
@@ -157,7 +148,29 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
     moved = [a for a in m.axes if np.any(rows.axes[rows.axis != a, m.index(a)] != 0)]
     if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (docs/design.md)
         rec.other_positions = {a: rows.axes[:, m.index(a)].copy() for a in moved}
-    truth = {
+    rec.truth = _truth(m, pl, spec, noise, seed, model, warm, [e.truth(rows) for e in eff])
+    return rec, rec.truth
+
+
+def _plan(plan, m: Machine, tracker, rounds) -> Plan:
+    """The plan of a simulation with the caller's tracker position and number of rounds (checked)."""
+    pl = as_plan(plan, m)
+    if tracker is not None:
+        pl = replace(pl, tracker=tuple(float(c) for c in (trk.parse_xyz(tracker) if isinstance(tracker, str)
+                                                          else np.asarray(tracker, dtype=float).reshape(3))))
+    if rounds is not None:
+        if int(rounds) != rounds or rounds < 1:
+            raise InputError(f"rounds must be a positive integer, got {rounds!r}")
+        pl = replace(pl, rounds=int(rounds))
+    if not np.isfinite(np.asarray(pl.tracker, dtype=float)).all():
+        raise InputError(f"tracker position must be finite, got {pl.tracker}")
+    return pl
+
+
+def _truth(m: Machine, pl: Plan, spec: trk.TrackerSpec, noise: bool, seed, model: ErrorModel | None,
+           warm: WarmUp | None, effects: list[dict]) -> dict:
+    """What a simulated campaign planted (written beside it by ``write_campaign``; docs/design.md)."""
+    return {
         "machine": m.name,
         "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)", "time": "s"},
         "tracker": list(pl.tracker),
@@ -174,10 +187,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         "model": None if model is None else model.to_dict(),
         "temperature": {"start_c": pl.temperature_c,
                         **({} if warm is None else {"rise_c": warm.rise_c, "tau_s": warm.tau_s, "t0_s": warm.t0_s})},
-        "effects": [e.truth(rows) for e in eff],
+        "effects": effects,
     }
-    rec.truth = truth
-    return rec, truth
 
 
 def simulate_campaign(model: ErrorModel | None = None, *, machine=None, tracker=None, rounds=4, seed=0,

@@ -55,7 +55,7 @@ def _report(res) -> str:
     lines = [f"{res.source}: {'weighted (tracker covariance)' if res.weighted else 'unweighted'} least squares, "
              f"reference lines: {res.reference}"]
     for axis, ar in res.axes.items():
-        unit = "deg" if axis in "ABC" else "mm"
+        unit = res.model.kinematics.unit(axis)
         lines.append(f"\naxis {axis}: {len(ar.positions)} positions, {len(ar.rounds)} rounds, points "
                      f"{','.join(ar.points)}; mean +- std of the mean; um and urad")
         lines.append(f"{'pos/' + unit:>9}" + "".join(f"{n:>17}" for n in ar.names) + f"{'rms9/um':>9}")

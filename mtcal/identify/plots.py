@@ -28,7 +28,7 @@ def plot_axis(result, model, out_dir: str | Path) -> list[Path]:
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     ar = result
-    unit = "deg" if ar.axis in "ABC" else "mm"
+    unit = model.kinematics.unit(ar.axis)
     x = ar.positions
     xs = np.linspace(x.min(), x.max(), 300)
     fig, axs = plt.subplots(1, 2, figsize=(11, 4.2))

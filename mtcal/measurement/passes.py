@@ -54,18 +54,24 @@ def _value(v):
     return v.item() if isinstance(v, np.generic) else v
 
 
-def group_passes(rec: Recording, rows: Iterable[int], directions: Iterable[int], axis: str
-                 ) -> dict[tuple[int, float, int], dict[str, int]]:
-    """The readings ``rows`` of one axis as passes: {(round, position key, direction): {point: row}}.  A point read
-    twice in one pass is refused naming both lines (repeats are never averaged silently)."""
-    groups: dict[tuple[int, float, int], dict[str, int]] = {}
+def group_passes(rec: Recording, rows: Iterable[int], directions: Iterable[int], axis: str, *,
+                 by_station: bool = False, repeats: str = "refuse") -> dict[tuple, dict[str, int]]:
+    """The readings ``rows`` of one axis as passes: {(round, position key, direction): {point: row}}, with the
+    station first in the key when ``by_station``.  A point read twice in one pass is refused naming both lines
+    (``repeats="refuse"``: repeats are never averaged silently) or its first reading kept (``"first"``: the
+    gross-error screen, which reports the repeat itself)."""
+    groups: dict[tuple, dict[str, int]] = {}
+    st = rec.stations() if by_station else None
     for i, d in zip(rows, directions):
         key = (int(rec.round[i]), float(position_key(rec.position[i])), int(d))
+        key = (st[i], *key) if by_station else key
         g = groups.setdefault(key, {})
         pt = str(rec.point[i])
         if pt in g:
+            if repeats == "first":
+                continue
             raise InputError(f"{rec.where(i)}: point {pt} read twice (first at line {int(rec.line[g[pt]])}) in one "
-                             f"pass: axis {axis}, round {key[0]}, position {key[1]:g}, direction {key[2]:+d}; "
+                             f"pass: axis {axis}, round {key[-3]}, position {key[-2]:g}, direction {key[-1]:+d}; "
                              f"repeated readings of one pass are not averaged silently: remove one or give it its "
                              f"own round")
         g[pt] = int(i)

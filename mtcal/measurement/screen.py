@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.measurement.passes import position_key, reference_position
+from mtcal.measurement.passes import group_passes, position_key, reference_position
 from mtcal.measurement.recordings import Recording
 
 RIGID_K = 10.0         # robust standard deviations of a pair distance
@@ -78,7 +78,7 @@ def screen(rec: Recording) -> Screen:
     _duplicates(rec, out)
     for axis in rec.axes():
         rows = np.flatnonzero((rec.axis == axis) & out.keep)
-        passes = _passes(rec, rows)
+        passes = group_passes(rec, rows, rec.direction[rows], axis, by_station=True, repeats="first")
         rigid = _rigidity(rec, axis, passes, out)
         bad = rigid | _cross_round(rec, axis, passes, rigid, out)
         for key in bad:
@@ -127,16 +127,6 @@ def _duplicates(rec: Recording, out: Screen) -> None:
                 "duplicate_row", key[1], key[2], key[3], (key[4],), (int(rec.line[j]), int(rec.line[i])), 0.0,
                 f"line {int(rec.line[i])} repeats line {int(rec.line[j])} ({key[1]} round {key[2]} at {key[3]:g}, "
                 f"point {key[4]}): a duplicated row, left out"))
-
-
-def _passes(rec: Recording, rows: np.ndarray) -> dict[tuple, dict[str, int]]:
-    """{(station, round, position key, direction): {point: row}} (the first row of a point where it repeats)."""
-    st = rec.stations()
-    out: dict[tuple, dict[str, int]] = {}
-    for i in rows:
-        key = (st[i], int(rec.round[i]), float(position_key(rec.position[i])), int(rec.direction[i]))
-        out.setdefault(key, {}).setdefault(str(rec.point[i]), int(i))
-    return out
 
 
 def _pair_distances(rec: Recording, passes: dict) -> dict[tuple[str, str], dict[tuple, float]]:

@@ -1354,6 +1354,65 @@ def cases_issue20(C: Corpus):
                   [err(None, None, "unknown machine")])
 
 
+def ballbar(rows=None, head="angle_deg,deviation_mm,direction", header=("plane: XY", "radius_mm: 100")):
+    """A measured circular test (docs/guide/checks.md): a 2 um squareness oval both ways, 5 deg steps."""
+    import math
+    if rows is None:
+        rows = [[f"{a:g}", f"{-0.002 * math.sin(math.radians(2 * a)) / 2:.7f}", d]
+                for d in ("1", "-1") for a in range(0, 360, 5)]
+    return "".join(f"# {h}\n" for h in header) + rows_to_csv(head.split(","), rows)
+
+
+def cases_checks(C: Corpus):
+    """mtcal check predict | evaluate and mtcal verify (issue 25)."""
+    model = jdump(HAND_MODEL)
+    pj = {"kind": "stdout_json", "keys": ["model", "tests"]}
+    C.add("check_predict_valid", "check", "model JSON",
+          ["predict", "--model", "m.json", "--circular", "XY,100", "--rtest", "C,100,0,0", "--json"],
+          {"m.json": model}, [ok(pj)])
+    C.add("check_predict_plot", "check", "model JSON", ["predict", "--model", "m.json", "--circular", "YZ,50,0,0,0",
+                                                         "--plot", "p.png"], {"m.json": model},
+          [ok({"kind": "png", "file": "p.png"})])
+    for cid, arg, word in [("plane", "XB,100", "plane"), ("radius", "XY,-5", "radius"), ("words", "XY,abc", "number"),
+                           ("centre", "XY,100,1,2", "centre")]:
+        C.add(f"check_predict_bad_{cid}", "check", "option", ["predict", "--model", "m.json", "--circular", arg],
+              {"m.json": model}, [err(None, None, word, "XY", "mm")])
+    C.add("check_predict_rtest_linear", "check", "option", ["predict", "--model", "m.json", "--rtest", "X"],
+          {"m.json": model}, [err(None, None, "rotary")])
+    C.add("check_predict_nothing", "check", "option", ["predict", "--model", "m.json"], {"m.json": model},
+          [err(None, None, "--circular", "--rtest")])
+    C.add("check_predict_model_missing", "check", "path", ["predict", "--model", "m.json", "--circular", "XY,100"],
+          expect=[err("m.json", None, "no such file", "not found", "missing")])
+    ej = {"kind": "stdout_json", "keys": ["kind", "measured", "predicted", "residual", "agrees", "findings"]}
+    C.add("check_evaluate_valid", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json", "--json"],
+          {"t.csv": ballbar(), "m.json": model}, [ok(ej)])
+    rows = [["0", "0.001", "1"], ["5", "x", "1"], ["10", "0", "1"], ["15", "0", "1"]]
+    C.add("check_evaluate_bad_cell", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json"],
+          {"t.csv": ballbar(rows), "m.json": model}, [err("t.csv", 5, "deviation_mm", "number")])
+    rows = [["0", "0.001", "2"], ["5", "0", "1"], ["10", "0", "1"]]
+    C.add("check_evaluate_bad_direction", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json"],
+          {"t.csv": ballbar(rows), "m.json": model}, [err("t.csv", None, "direction")])
+    C.add("check_evaluate_no_radius", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json"],
+          {"t.csv": ballbar(header=("plane: XY",)), "m.json": model}, [err("t.csv", None, "radius")])
+    C.add("check_evaluate_columns", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json"],
+          {"t.csv": ballbar(head="a,b,c"), "m.json": model}, [err("t.csv", None, "columns")])
+    C.add("check_evaluate_empty", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json"],
+          {"t.csv": "", "m.json": model}, [err("t.csv", None, "no data", "empty")])
+    C.add("check_evaluate_no_file", "check", "option", ["evaluate", "--model", "m.json"], {"m.json": model},
+          [err(None, None, "TEST.csv")])
+    C.add("check_plot_overwrites_input", "check", "overwrite", ["evaluate", "t.csv", "--model", "m.json", "--plot",
+                                                                "t.csv"], {"t.csv": ballbar(), "m.json": model},
+          [err("t.csv", None, "input", "overwrite", "same")])
+    header, rows = recording_x_only()
+    vj = {"kind": "stdout_json", "keys": ["passed", "errors", "not_covered"]}
+    C.add("verify_recording", "verify", "recording CSV", ["rec.csv", "--model", "m.json", "--json"],
+          {"rec.csv": rows_to_csv(header, rows), "m.json": model}, [ok(vj)])
+    C.add("verify_check_file", "verify", "check CSV", ["t.csv", "--model", "m.json", "--json"],
+          {"t.csv": ballbar(), "m.json": model}, [ok({"kind": "stdout_json", "keys": ["passed", "check"]})])
+    C.add("verify_model_missing", "verify", "path", ["rec.csv", "--model", "m.json"],
+          {"rec.csv": rows_to_csv(header, rows)}, [err("m.json", None, "no such file", "not found", "missing")])
+
+
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
     C = Corpus(root)
@@ -1374,6 +1433,7 @@ def build(root: Path) -> list[dict]:
     cases_issue20(C)
     cases_export_guard(C)
     cases_signals(C)
+    cases_checks(C)
     C.write()
     return C.cases
 
