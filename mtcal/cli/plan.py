@@ -20,7 +20,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     machine_argument(p, DEFAULT_MACHINE)
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.campaign.simulate)")
     p.add_argument("--monte-carlo", type=integer(0), default=0, metavar="N",
-                   help="also run N simulated rounds per axis through the estimator (GUM Supplement 1)")
+                   help="also run the estimator on N simulated draws (GUM Supplement 1): rounds per axis for the "
+                        "three-point method, whole campaigns of the plan for the joint fit")
+    p.add_argument("--estimator", choices=("auto", "joint", "three-point"), default="auto",
+                   help="the estimator to predict: auto (default) = the one mtcal identify uses with the same "
+                        "inputs: the joint fit with a tracker position (--weighting tracker), three-point without")
     p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
                    help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
@@ -90,7 +94,7 @@ def run(args: argparse.Namespace) -> int:
         return _design(args, plan)
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
     res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
-                           weighting=args.weighting, axes=axes).to_dict()
+                           weighting=args.weighting, axes=axes, estimator=args.estimator).to_dict()
     if args.plot:
         logging.getLogger("mtcal.planning.plan").info("computing the placement map ...")
         mp = plot_placement_map(args.plot, plan, tracker=res["tracker"], z=res["tracker"][2])
@@ -100,8 +104,14 @@ def run(args: argparse.Namespace) -> int:
         return 0
     t = res["tracker"]
     passes = "out and back passes averaged" if res["approaches_per_round"] == 2 else "one pass"
-    print(f"tracker at ({t[0]:g}, {t[1]:g}, {t[2]:g}) mm; one round = {passes}, each 3 reflectors vs the round's "
-          f"reference reading; {res['weighting']} weighting; sigma in um / urad")
+    if "joint" in res["estimator"]:
+        where = (f"{len(res['stations'])} stations" if res.get("stations") else
+                 f"tracker at ({t[0]:g}, {t[1]:g}, {t[2]:g}) mm")
+        print(f"{where}; estimator: the joint fit (as mtcal identify with a tracker position); {passes} per round; "
+              f"'1 round' = the estimate's sigma x sqrt(rounds); sigma in um / urad")
+    else:
+        print(f"tracker at ({t[0]:g}, {t[1]:g}, {t[2]:g}) mm; estimator: three-point, one round = {passes}, each 3 "
+              f"reflectors vs the round's reference reading; {res['weighting']} weighting; sigma in um / urad")
     mc = res.get("monte_carlo", {}).get("axes", {})
     mean_label = f"mean of {res['rounds']}"
     head = f"{'error':8s} {'unit':5s} {'1 round':>9s}" + (f" {'MC':>9s}" if mc else "") + f" {mean_label:>11s}"

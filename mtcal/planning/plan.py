@@ -31,8 +31,10 @@ from mtcal.io import save_figure
 from mtcal.kinematics.defaults import tracker_positions
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement import tracker as trk
+from mtcal.planning.joint import joint_monte_carlo, joint_sigma
 
 WEIGHTINGS = ("tracker", "none")
+ESTIMATORS = ("auto", "joint", "three-point")  # auto: what identify uses (joint with a tracker position)
 log = logging.getLogger(__name__)
 
 
@@ -154,22 +156,41 @@ class PlanResult:
     mean_of_rounds: dict[str, dict[str, float]] = field(default_factory=dict)
     by_position: dict[str, dict] = field(default_factory=dict)
     monte_carlo: dict | None = None
+    stations: dict[str, list[float]] | None = None
 
     def to_dict(self) -> dict:
         out = {"units": {"length": "mm", "angle": "rad"}, **asdict(self)}
-        if self.monte_carlo is None:
-            del out["monte_carlo"]
+        for k in ("monte_carlo", "stations"):
+            if out[k] is None:
+                del out[k]
         return out
 
 
 def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None = None, monte_carlo_n: int = 0,
-                     seed: int = 0, weighting: str = "tracker", axes: Iterable[str] | None = None) -> PlanResult:
-    """The answer of `mtcal plan` (see PlanResult) for a tracker position (3,) mm (default: the plan's)."""
+                     seed: int = 0, weighting: str = "tracker", axes: Iterable[str] | None = None,
+                     estimator: str = "auto") -> PlanResult:
+    """The answer of `mtcal plan` (see PlanResult) for a tracker position (3,) mm (default: the plan's).
+
+    ``estimator``: the one ``identify`` will use with the same inputs ("auto": the joint fit when the tracker is
+    known, weighting "tracker"; the three-point method without), or "joint" / "three-point" by name; the joint
+    fit's prediction is mtcal.planning.joint (linear propagation; ``monte_carlo_n`` campaigns for the Monte
+    Carlo), the three-point method's ``linear_covariance`` / ``monte_carlo`` below."""
+    if estimator not in ESTIMATORS:
+        raise InputError(f"`estimator` must be one of {', '.join(ESTIMATORS)}, got {estimator!r}")
+    if estimator == "auto":
+        estimator = "joint" if weighting == "tracker" else "three-point"
+    if estimator == "joint" and weighting != "tracker":
+        raise InputError("the joint fit weights by the tracker's law: it needs `weighting` tracker")
     m, pl = _machine_and_plan(machine, plan)
     if tracker is not None:
         pl = replace(pl, tracker=tuple(float(c) for c in np.asarray(tracker, dtype=float).reshape(3)))
-    t = np.asarray(pl.tracker, dtype=float)
     names = list(axes) if axes is not None else list(pl.positions)
+    for a in names:
+        if a not in pl.positions:
+            raise InputError(f"axis {a!r} is not in the plan (axes: {', '.join(pl.positions)})")
+    if estimator == "joint":
+        return _plan_joint(m, pl, names, monte_carlo_n, seed)
+    t = np.asarray(pl.tracker, dtype=float)
     approaches = 2 if pl.bidirectional else 1
     res = PlanResult(t.tolist(), m.name, weighting, pl.rounds, approaches,
                      "one round as mtcal identify reports it: per pass one reading per reflector at the position and "
@@ -181,8 +202,6 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None =
         res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.threepoint.estimate",
                            "axes": {}}
     for a in names:
-        if a not in pl.positions:
-            raise InputError(f"axis {a!r} is not in the plan (axes: {', '.join(pl.positions)})")
         mid = mid_position(pl, a)
         pos = pl.positions[a]
         sd = np.sqrt(np.einsum("pii->pi", linear_covariance(m, pl, a, pos, t, weighting, approaches=approaches)))
@@ -199,6 +218,43 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None =
             log.info("Monte Carlo %d rounds of axis %s", monte_carlo_n, a)
             est = monte_carlo(m, pl, a, [mid], t, int(monte_carlo_n), seed, weighting, approaches=approaches)
             res.monte_carlo["axes"][a] = {n: float(v) for n, v in zip(en, est[:, 0].std(axis=0, ddof=1))}
+    return res
+
+
+def _plan_joint(m: Machine, pl: Plan, names: list[str], monte_carlo_n: int, seed: int) -> PlanResult:
+    """PlanResult of the joint fit: ``mean_of_rounds`` its standard uncertainty from all rounds (linear
+    propagation), ``axes`` and ``by_position`` the one-round equivalent (times sqrt(rounds)), ``monte_carlo`` the
+    standard deviation over ``monte_carlo_n`` campaigns (one-round equivalent, as ``axes``)."""
+    approaches = 2 if pl.bidirectional else 1
+    stations = {k: list(v) for k, v in pl.stations.items()} if pl.stations else None
+    res = PlanResult(list(pl.tracker), m.name, "tracker", pl.rounds, approaches,
+                     "the joint weighted fit mtcal identify uses with a tracker position (mtcal.identify.joint): "
+                     "every reading of " + (f"{len(stations)} stations" if stations else "the station") + " in one "
+                     "fit weighted by the AT960 covariance, reflectors and station alignments estimated; "
+                     "mean_of_rounds: the estimate from all rounds (linear propagation, mtcal.planning.joint); axes "
+                     "and by_position: its one-round equivalent (times sqrt(rounds))")
+    lin = joint_sigma(m, pl)
+    mc = joint_monte_carlo(m, pl, int(monte_carlo_n), seed) if monte_carlo_n else None
+    if mc is not None:
+        res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.joint.joint_fit",
+                           "of": "campaigns of the plan, one-round equivalent as axes", "axes": {}}
+    root = math.sqrt(pl.rounds)
+    for a in names:
+        pos, sd = lin[a]
+        mid = mid_position(pl, a)
+        i_mid = int(np.argmin(np.abs(pos - mid)))
+        en = m.error_motions(a)
+        ref = pl.reference_position(a)
+        res.mid_travel[a] = mid
+        res.mean_of_rounds[a] = {n: float(sd[i_mid, j]) for j, n in enumerate(en)}
+        res.axes[a] = {n: float(sd[i_mid, j] * root) for j, n in enumerate(en)}
+        res.by_position[a] = {"positions": pos.tolist(), **{n: [None if p == ref else float(v * root)
+                                                                  for p, v in zip(pos, sd[:, j])]
+                                                             for j, n in enumerate(en)}}
+        if mc is not None:
+            res.monte_carlo["axes"][a] = {n: float(v * root) for n, v in zip(en, mc[a][1][i_mid])}
+    if stations:
+        res.stations = stations
     return res
 
 

@@ -677,9 +677,11 @@ def cases_simulate(C: Corpus):
 
 
 def cases_plan(C: Corpus):
-    C.add("plan_valid_pos2", "plan", "option", ["--tracker=-1500,225,150", "--axes", "X", "--json"], {},
+    C.add("plan_valid_pos2", "plan", "option", ["--tracker=-1500,225,150", "--axes", "X", "--estimator", "three-point",
+                                                 "--json"], {},
           [ok({"kind": "plan_sigma", "axis": "X", "name": "E_XX", "value": 0.0019, "rtol": 0.15})])
-    C.add("plan_tracker_negative_sep", "plan", "option", ["--tracker", "-1500,225,150", "--axes", "X", "--json"], {},
+    C.add("plan_tracker_negative_sep", "plan", "option", ["--tracker", "-1500,225,150", "--axes", "X", "--estimator",
+                                                           "three-point", "--json"], {},
           [ok({"kind": "plan_sigma", "axis": "X", "name": "E_XX", "value": 0.0019, "rtol": 0.15})])
     for cid, argv, words in [("tracker_two", ["--tracker", "1,2"], ["--tracker"]),
                              ("tracker_text", ["--tracker", "a,b,c"], ["--tracker"]),
