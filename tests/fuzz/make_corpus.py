@@ -1415,6 +1415,27 @@ def cases_checks(C: Corpus):
           {"rec.csv": rows_to_csv(header, rows)}, [err("m.json", None, "no such file", "not found", "missing")])
 
 
+def cases_uncertainty(C: Corpus):
+    """mtcal uncertainty (issue 26): a valid run in this process, bad options, outputs onto the input."""
+    header, rows = recording_x_only()
+    rec = rows_to_csv(header, rows)
+    uj = {"kind": "stdout_json", "keys": ["trials", "seed", "errors", "constants", "volumetric"]}
+    C.add("uncertainty_valid", "uncertainty", "recording CSV",
+          ["rec.csv", "--trials", "2", "--workers", "0", "--tracker=250,-1500,150", "--json"], {"rec.csv": rec},
+          [ok(uj)])
+    for cid, argv, word in [("trials_one", ["--trials", "1"], "--trials"),
+                            ("trials_word", ["--trials", "x"], "--trials"),
+                            ("p_high", ["--p", "1.5"], "--p"), ("workers_neg", ["--workers", "-1"], "--workers"),
+                            ("centring_nan", ["--centring-um", "nan"], "--centring-um")]:
+        C.add(f"uncertainty_opt_{cid}", "uncertainty", "option", ["rec.csv", *argv], {"rec.csv": rec},
+              [err(None, None, word, option=True)])
+    C.add("uncertainty_store_onto_input", "uncertainty", "overwrite",
+          ["rec.csv", "--store", "rec.csv", "--workers", "0", "--tracker=250,-1500,150"], {"rec.csv": rec},
+          [err("rec.csv", None, "input", "overwrite", "same")])
+    C.add("uncertainty_no_file", "uncertainty", "path", ["rec.csv"],
+          expect=[err("rec.csv", None, "no such file", "not found", "missing")])
+
+
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
     C = Corpus(root)
@@ -1436,6 +1457,7 @@ def build(root: Path) -> list[dict]:
     cases_export_guard(C)
     cases_signals(C)
     cases_checks(C)
+    cases_uncertainty(C)
     C.write()
     return C.cases
 

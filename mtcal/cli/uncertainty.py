@@ -1,0 +1,104 @@
+"""`mtcal uncertainty REC.csv --trials N --seed S [--workers K | --scheduler ADDRESS] [--json]`: a GUM Supplement 1
+Monte Carlo through the whole estimator (mtcal.uncertainty; this module parses arguments and formats)."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from mtcal.cli._options import integer, machine_argument, real, xyz
+from mtcal.io import atomic_write_text, dumps, refuse_overwrite
+
+NAME = "uncertainty"
+HELP = ("GUM Supplement 1 Monte Carlo of the identification: readings drawn from the tracker's law and its "
+        "systematic terms, identify re-run per trial on Dask; 95 %% intervals of every error, constant and of the "
+        "tool tip over the work volume (mm, rad)")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("recording", metavar="REC.csv", help="the recording identify ran on (docs/design.md)")
+    p.add_argument("--trials", type=integer(2), default=1000,
+                   help="trials (default 1000; the most with --tolerance-um)")
+    p.add_argument("--seed", type=integer(0), default=0, help="trial k draws from (seed, k) (default 0)")
+    p.add_argument("--workers", type=integer(0), metavar="K",
+                   help="local worker processes (default: the machine's cores; 0: in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask cluster (tcp://host:8786)")
+    p.add_argument("--store", metavar="TRIALS.npz", help="keep the trials here; a later run extends them")
+    p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position (mm), as given to identify")
+    p.add_argument("--method", choices=("auto", "three-point", "joint"), default="auto", help="as identify's")
+    p.add_argument("--p", type=real(0.5, 0.999), default=0.95, help="coverage probability (default 0.95)")
+    p.add_argument("--tolerance-um", type=real(0, unit="um", lo_open=True), metavar="UM",
+                   help="adaptive stopping (GUM-S1 7.9): stop when the interval limits are stable to this (um; "
+                        "angles in urad)")
+    p.add_argument("--air-temperature-u", type=real(0, 10, "K"), default=0.3, metavar="K",
+                   help="u of the tracker's air temperature (K, default 0.3): its length scale, Edlen")
+    p.add_argument("--air-pressure-u", type=real(0, 50, "hPa"), default=0.5, metavar="HPA",
+                   help="u of the tracker's air pressure (hPa, default 0.5)")
+    p.add_argument("--centring-um", type=real(0, 100, "um"), default=2.5 / 3 ** 0.5, metavar="UM",
+                   help="u of each reflector's centring (um per axis, default 1.44: +-2.5 um rectangular)")
+    p.add_argument("--material-temperature-u", type=real(0, 20, "K"), default=0.0, metavar="K",
+                   help="u of the structure's temperature (K, default 0: off) with --alpha")
+    p.add_argument("--alpha", type=real(0, 1e-3, "1/K"), default=11.5e-6, metavar="PER_K",
+                   help="expansion coefficient (1/K, default 11.5e-6: steel)")
+    p.add_argument("--budget", action="store_true", help="also the uncertainty budget (one-at-a-time Monte Carlo)")
+    p.add_argument("--plots", metavar="DIR", help="write uncertainty_AXIS.png (bands) into DIR")
+    p.add_argument("-o", "--output", metavar="RESULT.json", help="write the JSON answer here")
+    machine_argument(p, None)
+
+
+def run(args: argparse.Namespace) -> int:
+    from mtcal.measurement.recordings import read_recording
+    from mtcal.uncertainty import Inputs, monte_carlo
+    from mtcal.uncertainty.plots import plot_bands
+
+    refuse_overwrite([args.output, args.store], args.recording)
+    rec = read_recording(args.recording, args.machine)
+    inputs = Inputs(air_temperature_u_k=args.air_temperature_u, air_pressure_u_hpa=args.air_pressure_u,
+                    centring_u_um=args.centring_um, alpha_per_k=args.alpha,
+                    material_temperature_u_k=args.material_temperature_u)
+    bar = _progress(args)
+    try:
+        res = monte_carlo(rec, trials=args.trials, seed=args.seed, p=args.p, inputs=inputs, workers=args.workers,
+                          scheduler=args.scheduler, store=args.store, budget=args.budget,
+                          tolerance_mm=None if args.tolerance_um is None else args.tolerance_um * 1e-3,
+                          progress=bar.update if bar else None, tracker=args.tracker, method=args.method,
+                          **({"machine": args.machine} if args.machine else {}))
+    finally:
+        if bar:
+            bar.close()
+    out = res.to_dict()
+    if args.plots:
+        out["plots"] = [str(p) for p in plot_bands(res, args.plots)]
+    if args.output:
+        atomic_write_text(args.output, dumps(out) + "\n")
+    if args.json:
+        print(dumps(out))
+        return 0
+    print(_text(out))
+    return 0
+
+
+def _progress(args):
+    if args.quiet or args.json:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=args.trials, unit="trial", file=sys.stderr, desc="mtcal uncertainty")
+
+
+def _text(d: dict) -> str:
+    lines = [f"{d['trials']} trials (seed {d['seed']}, estimator {d['inputs']['estimator']}), {d['seconds']:.1f} s; "
+             f"{d['p']:.0%} intervals, probabilistically symmetric; translations um, angles urad"]
+    for n, e in d["errors"].items():
+        s = 1e6 if n[2] in "ABC" else 1e3
+        half = max((h - lo) / 2 for lo, h in zip(e["lo95"], e["hi95"])) * s
+        lines.append(f"  {n:6s} axis {e['axis']}: largest half-width {half:8.2f}")
+    for n, c in d["constants"].items():
+        lines.append(f"  {n:6s} {c['mean'] * 1e6:8.2f} urad, [{c['lo95'] * 1e6:.2f}, {c['hi95'] * 1e6:.2f}]")
+    v = d["volumetric"]
+    lines.append(f"  tool tip over {len(v['poses'])} poses of the work volume: largest half-width "
+                 f"{v['u95_max_mm'] * 1e3:.2f} um")
+    for term, b in d.get("budget", {}).items():
+        lines.append(f"  budget {term:9s}: tool tip u up to {b['volumetric_u_max_mm'] * 1e3:.2f} um")
+    return "\n".join(lines)

@@ -1,0 +1,297 @@
+"""GUM Supplement 1 Monte Carlo through the whole estimator: ``monte_carlo(rec, ...)``.
+
+Each trial draws the recording's readings from their PDFs (mtcal.uncertainty.inputs), runs ``identify`` with the
+options the user ran it with (method, tracker, degree selection: the whole nonlinear estimator) and keeps the
+model's errors at their table positions, its constants and the tool tip's deviation at a fixed set of poses.
+Trials run on Dask (``dask.distributed``): a local cluster of processes by default (no set-up), or an existing
+cluster (``scheduler`` address).  Trial k is seeded from (seed, k), so the result is the same whatever the number of
+workers and their order.  Results go to a store (``store``, an .npz written atomically) that a later run extends;
+Ctrl-C keeps what is done.
+
+Reduction (GUM-S1 7.7): the estimate is the mean, the standard uncertainty the standard deviation of the trials,
+coverage intervals for probability p from the order statistics: probabilistically symmetric (the (1-p)/2 and
+(1+p)/2 quantiles) and shortest (the narrowest window holding p of the trials).  Adaptive stopping (GUM-S1 7.9):
+trials in stages of ``stage`` until twice the standard deviation of the stages' interval limits is below the
+numerical tolerance (``tolerance_mm``; angles scaled by 1/1000 mm, i.e. 1 urad as 1 um)."""
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from mtcal.errors import InputError
+from mtcal.io import atomic_open
+from mtcal.measurement.recordings import Recording
+from mtcal.uncertainty.inputs import TERMS, Inputs
+from mtcal.uncertainty.trials import Outputs, draw, trackers_of
+
+log = logging.getLogger(__name__)
+BATCH = 4  # trials per Dask task: a task runs ~1-4 s
+
+
+def _trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: dict, outputs: Outputs,
+                 seed: int, ks: list[int]) -> tuple[list[int], np.ndarray]:
+    """Trials ``ks`` (run on a worker): their output vectors (len(ks), size)."""
+    from dataclasses import replace
+
+    from mtcal.identify.run import identify
+
+    out = np.empty((len(ks), outputs.size))
+    quiet = logging.getLogger("mtcal")
+    quiet.setLevel(logging.ERROR)
+    for i, k in enumerate(ks):
+        xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]))
+        out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
+    return ks, out
+
+
+@dataclass
+class Store:
+    """The trials done: their indices and output vectors, with what they were drawn under (``key``)."""
+
+    key: str
+    index: np.ndarray
+    values: np.ndarray
+
+    @classmethod
+    def load(cls, path: Path | None, key: str, size: int) -> "Store":
+        if path is None or not Path(path).exists():
+            return cls(key, np.zeros(0, dtype=np.int64), np.zeros((0, size)))
+        with np.load(path, allow_pickle=False) as z:
+            if str(z["key"]) != key:
+                raise InputError(f"{path}: its trials were drawn from another recording, seed or options; give a "
+                                 f"new store (or the same inputs) to extend it")
+            return cls(key, z["index"], z["values"])
+
+    def save(self, path: Path | None) -> None:
+        if path is None:
+            return
+        with atomic_open(path, "wb") as fh:
+            np.savez(fh, key=np.array(self.key), index=self.index, values=self.values)
+
+    def add(self, ks: list[int], v: np.ndarray) -> None:
+        self.index = np.concatenate([self.index, np.asarray(ks, dtype=np.int64)])
+        self.values = np.vstack([self.values, v])
+
+
+def _client(workers: int | None, scheduler: str | None):
+    """A Dask client: the cluster at ``scheduler``, else a local cluster of ``workers`` processes (default: the
+    machine's cores)."""
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        return Client(scheduler), None
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                           silence_logs=logging.ERROR)
+    return Client(cluster), cluster
+
+
+def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, outputs: Outputs, seed: int,
+               store: Store, store_path: Path | None, workers: int | None = None, scheduler: str | None = None,
+               progress=None) -> None:
+    """Run trials ``ks`` into ``store`` (saved as blocks arrive; Ctrl-C keeps what is done)."""
+    if not ks:
+        return
+    trackers = trackers_of(rec, options.get("tracker"))
+    blocks = [ks[i:i + BATCH] for i in range(0, len(ks), BATCH)]
+    if workers == 0:  # in this process (tests, debugging)
+        for b in blocks:
+            store.add(*_trial_block(rec, trackers, inputs, options, outputs, seed, b))
+            if progress:
+                progress(len(b))
+        store.save(store_path)
+        return
+    from dask.distributed import as_completed
+
+    client, cluster = _client(workers, scheduler)
+    try:
+        args = [client.scatter(x, broadcast=True) for x in (rec, trackers, inputs, options, outputs)]
+        futures = [client.submit(_trial_block, *args, seed, b, pure=False) for b in blocks]
+        last = time.monotonic()
+        for fut in as_completed(futures):
+            store.add(*fut.result())
+            if progress:
+                progress(BATCH)
+            if time.monotonic() - last > 30:
+                store.save(store_path)
+                last = time.monotonic()
+    finally:
+        store.save(store_path)
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+# ---------------------------------------------------------------------------------------------- reduction
+def intervals(samples: np.ndarray, p: float = 0.95) -> dict[str, np.ndarray]:
+    """GUM-S1 7.7 over the trials (axis 0): mean, standard uncertainty, the probabilistically symmetric interval
+    (lo, hi) and the shortest one (lo_short, hi_short) for probability ``p``."""
+    x = np.sort(samples, axis=0)
+    n = len(x)
+    q = int(round(p * n))
+    lo, hi = x[int(np.floor((1 - p) / 2 * n))], x[min(n - 1, int(np.ceil((1 + p) / 2 * n)) - 1)]
+    width = x[q - 1:] - x[:n - q + 1]
+    j = np.argmin(width, axis=0)
+    cols = np.arange(x.shape[1])
+    return {"mean": samples.mean(axis=0), "u": samples.std(axis=0, ddof=1), "lo": lo, "hi": hi,
+            "lo_short": x[j, cols], "hi_short": x[j + q - 1, cols]}
+
+
+@dataclass
+class UncertaintyResult:
+    """The Monte Carlo's answer: trials, seed, p, the inputs, and per error / constant / pose the estimate and
+    intervals (mm and rad); ``budget`` {term: u of each output} when asked; ``convergence`` the interval limits
+    after each stage."""
+
+    trials: int
+    seed: int
+    p: float
+    inputs: dict
+    outputs: Outputs
+    stats: dict[str, np.ndarray]
+    budget: dict[str, dict] = field(default_factory=dict)
+    convergence: list[dict] = field(default_factory=list)
+    seconds: float = 0.0
+
+    def to_dict(self) -> dict:
+        s, o = self.stats, self.outputs
+
+        def pick(sl):
+            return {"mean": s["mean"][sl].tolist(), "u": s["u"][sl].tolist(), "lo95": s["lo"][sl].tolist(),
+                    "hi95": s["hi"][sl].tolist(), "lo95_shortest": s["lo_short"][sl].tolist(),
+                    "hi95_shortest": s["hi_short"][sl].tolist()}
+
+        errors = {n: {"axis": ax, "positions": pos.tolist(), **pick(sl)} for n, (ax, pos, sl) in o.functions.items()}
+        consts = {n: {k: float(v[0]) for k, v in pick(slice(i, i + 1)).items()} for n, i in o.constants.items()}
+        vol = pick(o.volumetric)
+        n = len(o.poses)
+        out = {"trials": self.trials, "seed": self.seed, "p": self.p,
+               "units": {"length": "mm", "angle": "rad", "positions": "mm or deg"}, "inputs": self.inputs,
+               "errors": errors, "constants": consts,
+               "volumetric": {"poses": o.poses.tolist(), "deviation_xyz_mm": {k: np.reshape(v, (n, 3)).tolist()
+                                                                              for k, v in vol.items()},
+                              "u95_max_mm": float(np.max(np.reshape(np.array(vol["hi95"]) - np.array(vol["lo95"]),
+                                                                    (n, 3))) / 2) if n else 0.0},
+               "seconds": self.seconds}
+        if self.budget:
+            out["budget"] = self.budget
+        if self.convergence:
+            out["convergence"] = self.convergence
+        return out
+
+
+def default_poses(machine, model, n: int = 100, seed: int = 0) -> np.ndarray:
+    """``n`` random poses (n, n_axes) inside every error function's measured range (the rotary axes' too)."""
+    rng = np.random.default_rng(seed)
+    q = np.zeros((n, len(machine.axes)))
+    for i, a in enumerate(machine.axes):
+        pos = [f.positions for f in model.functions.values() if f.axis == a]
+        if pos:
+            lo, hi = max(p.min() for p in pos), min(p.max() for p in pos)
+            q[:, i] = rng.uniform(lo, hi, n)
+    return q
+
+
+def _key(rec: Recording, seed: int, options: dict, inputs: Inputs, outputs: Outputs) -> str:
+    """What a store's trials were drawn under: the readings, seed, estimator options, inputs and output layout."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for part in (rec.xyz.tobytes(), rec.position.tobytes(), repr(seed), repr(sorted((k, repr(v)) for k, v in
+                                                                                   options.items())),
+                 repr(inputs), repr(sorted(outputs.functions)), outputs.poses.tobytes(), repr(outputs.tables)):
+        h.update(part if isinstance(part, bytes) else part.encode())
+    return h.hexdigest()
+
+
+def _angular(outputs: Outputs) -> np.ndarray:
+    """True where an output is an angle (rad): errors and constants named E_A.., E_B.., E_C.."""
+    a = np.zeros(outputs.size, dtype=bool)
+    for n, (_, _, sl) in outputs.functions.items():
+        a[sl] = n[2] in "ABC"
+    for n, i in outputs.constants.items():
+        a[i] = n[2] in "ABC"
+    return a
+
+
+def _stage_spread(values: np.ndarray, stage: int, p: float, scale: np.ndarray) -> float:
+    """GUM-S1 7.9.4: twice the standard deviation of the mean of the stages' interval limits (largest over the
+    outputs, angles as mm by ``scale``)."""
+    h = len(values) // stage
+    lims = [intervals(values[i * stage:(i + 1) * stage], p) for i in range(h)]
+    worst = 0.0
+    for key in ("lo", "hi", "mean"):
+        v = np.array([lim[key] for lim in lims]) * scale
+        worst = max(worst, float(np.max(2 * v.std(axis=0, ddof=1) / np.sqrt(h))))
+    return worst
+
+
+def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float = 0.95, inputs: Inputs | None = None,
+                workers: int | None = None, scheduler: str | None = None, store: str | Path | None = None,
+                poses: np.ndarray | None = None, budget: bool = False, tolerance_mm: float | None = None,
+                stage: int = 100, progress=None, tables: bool = False, **identify_options) -> UncertaintyResult:
+    """The Monte Carlo of ``identify(rec, **identify_options)`` (module docstring): ``trials`` (the most with
+    ``tolerance_mm``: adaptive), ``workers`` local processes (default the cores; 0: in this process) or the
+    cluster at ``scheduler``; ``store`` keeps and extends the trials; ``budget``: one-at-a-time runs of each input
+    term (a quarter of the trials each, at least 50); ``tables``: the errors' table values instead of the fitted
+    functions (linear in the readings: what linear propagation predicts)."""
+    from mtcal.identify.run import identify
+
+    t0 = time.perf_counter()
+    inputs = inputs or Inputs()
+    base = identify(rec, worth=False, **identify_options)
+    options = {**identify_options, "method": base.method}
+    if options.get("tracker") is None and rec.tracker_xyz is None and "tracker_estimated" in base.model.meta:
+        options["tracker"] = np.asarray(base.model.meta["tracker_estimated"]["position_mm"])  # as identify did
+    m = base.model.kinematics
+    outputs = Outputs.of(base.model, default_poses(m, base.model) if poses is None else poses, tables)
+    path = None if store is None else Path(store)
+    st = Store.load(path, _key(rec, seed, options, inputs, outputs), outputs.size)
+    scale = np.where(_angular(outputs), 1e3, 1.0)
+    history = []
+    target = trials if tolerance_mm is None else min(trials, stage)
+    while True:
+        done = set(st.index.tolist())
+        run_trials(rec, [k for k in range(target) if k not in done], inputs=inputs, options=options, outputs=outputs,
+                   seed=seed, store=st, store_path=path, workers=workers, scheduler=scheduler, progress=progress)
+        vals = _ordered(st, target)
+        if tolerance_mm is None or target >= trials:
+            break
+        spread = _stage_spread(vals, stage, p, scale) if target >= 2 * stage else np.inf
+        history.append({"trials": target, "twice_sd_of_limits_mm": spread})
+        if spread <= tolerance_mm:
+            break
+        target = min(trials, target + stage)
+    res = UncertaintyResult(len(vals), seed, p, {**inputs.to_dict(), "estimator": options["method"]}, outputs,
+                            intervals(vals, p), convergence=history)
+    if budget:
+        n = max(50, trials // 4)
+        for term in TERMS:
+            sub = inputs.only(term)
+            if sub == inputs.only("none"):
+                continue
+            bs = Store(term, np.zeros(0, dtype=np.int64), np.zeros((0, outputs.size)))
+            run_trials(rec, list(range(n)), inputs=sub, options=options, outputs=outputs, seed=seed + 1, store=bs,
+                       store_path=None, workers=workers, scheduler=scheduler, progress=progress)
+            res.budget[term] = _budget_line(_ordered(bs, n), outputs)
+    res.seconds = time.perf_counter() - t0
+    return res
+
+
+def _ordered(st: Store, n: int) -> np.ndarray:
+    """The first ``n`` trials' values in trial order (the result does not depend on when each arrived)."""
+    order = np.argsort(st.index)
+    keep = order[st.index[order] < n]
+    return st.values[keep]
+
+
+def _budget_line(values: np.ndarray, outputs: Outputs) -> dict:
+    """One input term's share: the largest standard uncertainty of each error over its positions, of each
+    constant, and of the tool tip over the poses (mm, rad)."""
+    u = values.std(axis=0, ddof=1)
+    return {"errors": {n: float(u[sl].max()) for n, (_, _, sl) in outputs.functions.items()},
+            "constants": {n: float(u[i]) for n, i in outputs.constants.items()},
+            "volumetric_u_max_mm": float(u[outputs.volumetric].max()) if len(outputs.poses) else 0.0}

@@ -1,0 +1,86 @@
+"""One Monte Carlo trial: the recording's readings drawn from their PDFs (mtcal.uncertainty.inputs), the same
+estimator the user ran (``identify`` with the same options: method, tracker, degree selection), and the trial's
+output vector (the layout ``Outputs``).  Trial k draws from ``np.random.default_rng([seed, k])``: its result does
+not depend on which worker runs it, or in which order."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtcal.errors import InputError
+from mtcal.measurement import tracker as trk
+from mtcal.measurement.recordings import Recording
+from mtcal.model.errormodel import ErrorModel
+from mtcal.uncertainty.inputs import Inputs
+
+
+@dataclass
+class Outputs:
+    """Where each output sits in a trial's vector: every error function at its table positions (mm or rad; the
+    fitted function the model evaluates, or with ``tables`` the table values, linear in the readings), every
+    constant, and the tool tip's first-order deviation (x, y, z, mm) at each of ``poses`` (n, n_axes)."""
+
+    functions: dict[str, tuple[str, np.ndarray, slice]]
+    constants: dict[str, int]
+    poses: np.ndarray
+    volumetric: slice
+    size: int
+    tables: bool = False
+
+    @classmethod
+    def of(cls, model: ErrorModel, poses: np.ndarray, tables: bool = False) -> "Outputs":
+        k, funcs, consts = 0, {}, {}
+        for n, f in sorted(model.functions.items()):
+            funcs[n] = (f.axis, f.positions.copy(), slice(k, k + len(f.positions)))
+            k += len(f.positions)
+        for n in sorted(model.constants):
+            consts[n] = k
+            k += 1
+        vol = slice(k, k + 3 * len(poses))
+        return cls(funcs, consts, np.asarray(poses, dtype=float), vol, vol.stop, tables)
+
+    def vector(self, model: ErrorModel) -> np.ndarray:
+        """A trial's model as the output vector (an error the trial's model lacks is 0, as the model file says)."""
+        out = np.zeros(self.size)
+        for n, (_, pos, sl) in self.functions.items():
+            f = model.functions.get(n)
+            out[sl] = 0.0 if f is None else np.interp(pos, f.positions, f.values) if self.tables else f(pos, "hold")
+        for n, i in self.constants.items():
+            out[i] = model.constants.get(n, 0.0)
+        m = model.kinematics
+        if len(self.poses):
+            out[self.volumetric] = m.deviation(self.poses, model.errors_at(m, self.poses, "hold"))[:, :3].ravel()
+        return out
+
+
+def draw(rec: Recording, trackers: np.ndarray, inputs: Inputs, rng: np.random.Generator) -> np.ndarray:
+    """One draw of the readings (n, 3) mm: the recorded values plus the tracker noise (about each row's tracker
+    ``trackers`` (n, 3)), each station's scale error about its tracker, each reflector's centring offset and the
+    structure's thermal expansion about the machine origin."""
+    xyz = rec.xyz.copy()
+    st = rec.stations()
+    spec = inputs.noise
+    if spec.radial_um or spec.radial_um_per_m or spec.transverse_um or spec.transverse_um_per_m:
+        xyz += trk.sample(rec.xyz, trackers, rng, spec)
+    if inputs.scale_u:
+        for s in np.unique(st):
+            on = st == s
+            xyz[on] += rng.normal(0.0, inputs.scale_u) * (rec.xyz[on] - trackers[on])
+    if inputs.centring_u_um:
+        labels = np.unique(rec.point)
+        off = rng.normal(0.0, inputs.centring_u_um * 1e-3, (len(labels), 3))
+        xyz += off[np.searchsorted(labels, rec.point)]
+    if inputs.material_temperature_u_k:
+        xyz += rng.normal(0.0, inputs.material_temperature_u_k) * inputs.alpha_per_k * rec.xyz
+    return xyz
+
+
+def trackers_of(rec: Recording, tracker) -> np.ndarray:
+    """Each row's tracker position (n, 3) mm: the recording's columns, else the one given; refuses neither."""
+    if rec.tracker_xyz is not None:
+        return np.asarray(rec.tracker_xyz, dtype=float)
+    if tracker is None:
+        raise InputError(f"{rec.source}: the Monte Carlo draws each reading about its tracker: give the tracker "
+                         f"position (`tracker`) or the tracker_x,y,z columns")
+    return np.broadcast_to(np.asarray(tracker, dtype=float).reshape(3), rec.xyz.shape).copy()

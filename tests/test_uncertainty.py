@@ -1,0 +1,90 @@
+"""GUM Supplement 1 Monte Carlo through the whole estimator (issue 26, mtcal.uncertainty): the coverage intervals
+against closed forms (a normal and an exponential PDF), the Monte Carlo against linear propagation where the
+estimator is linear (the joint fit's table values, whose covariance identify reports), results identical with 1
+and 2 Dask workers, a store that later runs extend, and the command's contract."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import mtcal
+from mtcal.cli import main
+from mtcal.data import path
+from mtcal.data.make_demo_data import DEMO_PLAN
+from mtcal.errors import InputError
+from mtcal.uncertainty import Inputs, intervals, monte_carlo
+
+T = DEMO_PLAN["tracker"]
+
+
+@pytest.fixture(scope="module")
+def rec_x():
+    """A simulated campaign of the demo's true machine, axis X only (4 rounds, AT960 noise)."""
+    truth = mtcal.load_model(path("demo_truth.json"))
+    rec, _ = mtcal.simulate(truth, plan=DEMO_PLAN, rounds=None, seed=5)
+    return rec.select(rec.axis == "X")
+
+
+def test_intervals_have_the_closed_forms():
+    rng = np.random.default_rng(0)
+    z = rng.standard_normal((200000, 1))
+    s = intervals(z, 0.95)
+    assert s["lo"][0] == pytest.approx(-1.95996, abs=0.02) and s["hi"][0] == pytest.approx(1.95996, abs=0.02)
+    assert s["lo_short"][0] == pytest.approx(-1.95996, abs=0.03)  # symmetric PDF: the same interval
+    e = rng.exponential(1.0, (200000, 1))
+    s = intervals(e, 0.95)  # shortest: [0, -ln 0.05]; symmetric: [-ln 0.975, -ln 0.025]
+    assert s["lo_short"][0] == pytest.approx(0.0, abs=1e-3) and s["hi_short"][0] == pytest.approx(2.9957, abs=0.03)
+    assert s["lo"][0] == pytest.approx(0.02532, abs=2e-3) and s["hi"][0] == pytest.approx(3.6889, abs=0.04)
+
+
+def test_monte_carlo_agrees_with_linear_propagation_where_the_estimator_is_linear(rec_x):
+    """Tracker noise only, the table values (linear in the readings): the trials' standard deviation equals the
+    joint fit's linear propagation (identify's std_mean) to sampling error (80 trials: +-16 % at 1 sigma)."""
+    r = monte_carlo(rec_x, trials=80, seed=2, workers=0, inputs=Inputs().only("noise"), tracker=T, tables=True)
+    base = mtcal.identify(rec_x, tracker=T, worth=False).model
+    ratios = []
+    for n, (_, _pos, sl) in r.outputs.functions.items():
+        sm = np.asarray(base.functions[n].extra["std_mean"])
+        keep = sm > 0  # the reference position: zero by definition
+        ratios.append(np.sqrt(np.mean(r.stats["u"][sl][keep] ** 2) / np.mean(sm[keep] ** 2)))
+    assert all(0.75 < q < 1.3 for q in ratios), ratios
+
+
+def test_identical_with_one_and_two_workers_and_the_store_extends(rec_x, tmp_path):
+    one = monte_carlo(rec_x, trials=8, seed=3, workers=1, tracker=T)
+    two = monte_carlo(rec_x, trials=8, seed=3, workers=2, tracker=T)
+    assert all(np.array_equal(one.stats[k], two.stats[k]) for k in one.stats)
+    store = tmp_path / "trials.npz"
+    monte_carlo(rec_x, trials=4, seed=3, workers=0, tracker=T, store=store)
+    calls = []
+    more = monte_carlo(rec_x, trials=8, seed=3, workers=0, tracker=T, store=store, progress=calls.append)
+    assert sum(calls) == 4  # only the four new trials ran
+    whole = monte_carlo(rec_x, trials=8, seed=3, workers=0, tracker=T)
+    np.testing.assert_allclose(more.stats["mean"], whole.stats["mean"], rtol=0, atol=0)
+    with pytest.raises(InputError, match="another"):
+        monte_carlo(rec_x, trials=8, seed=4, workers=0, tracker=T, store=store)
+
+
+def test_systematic_terms_add_to_the_tool_tip(rec_x):
+    """The tracker's scale and the reflectors' centring are inputs of their own: with them the tool tip's interval
+    is wider than with the noise alone (the budget's lines)."""
+    r = monte_carlo(rec_x, trials=8, seed=1, workers=0, tracker=T, budget=True)
+    b = r.budget
+    assert set(b) == {"noise", "scale", "centring"}  # material temperature is off by default
+    assert b["centring"]["volumetric_u_max_mm"] > 0 and b["scale"]["volumetric_u_max_mm"] > 0
+
+
+def test_cli_contract(rec_x, tmp_path, capsys):
+    from mtcal.measurement.recordings import write_recording
+    f = tmp_path / "rec.csv"
+    write_recording(rec_x, f)
+    assert main(["uncertainty", str(f), "--trials", "4", "--workers", "0", "--tracker", "250,-1500,150", "--json",
+                 "--plots", str(tmp_path / "p")]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert {"trials", "seed", "errors", "constants", "volumetric"} <= set(d) and d["trials"] == 4
+    e = d["errors"]["E_XX"]
+    assert {"axis", "positions", "mean", "lo95", "hi95"} <= set(e) and e["axis"] == "X"
+    assert all(lo <= m <= hi for lo, m, hi in zip(e["lo95"], e["mean"], e["hi95"]))
+    assert (tmp_path / "p" / "uncertainty_X.png").stat().st_size > 10000
