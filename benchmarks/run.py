@@ -50,9 +50,11 @@ def main() -> int:
         print("[bench] derive ...", file=sys.stderr, flush=True)
         results["derive_seconds"] = derive_seconds()
     print(json.dumps(results, sort_keys=True))
-    if args.save:
+    if args.save:  # --only updates its figures and keeps the others'
         results["date"] = time.strftime("%Y-%m-%d")
-        (HERE / "results.json").write_text(json.dumps(results, sort_keys=True, indent=1) + "\n")
+        path = HERE / "results.json"
+        old = json.loads(path.read_text()) if args.only and path.exists() else {}
+        path.write_text(json.dumps({**old, **results}, sort_keys=True, indent=1) + "\n")
     return 0
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from mtcal.cli._options import integer, machine_argument, real, xyz
 from mtcal.io import atomic_write_text, dumps, refuse_overwrite
@@ -40,7 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--alpha", type=real(0, 1e-3, "1/K"), default=11.5e-6, metavar="PER_K",
                    help="expansion coefficient (1/K, default 11.5e-6: steel)")
     p.add_argument("--budget", action="store_true", help="also the uncertainty budget (one-at-a-time Monte Carlo)")
-    p.add_argument("--plots", metavar="DIR", help="write uncertainty_AXIS.png (bands) into DIR")
+    p.add_argument("--plots", metavar="DIR", help="write uncertainty_AXIS.png (bands) and, adaptive, convergence.png "
+                                                  "into DIR")
     p.add_argument("-o", "--output", metavar="RESULT.json", help="write the JSON answer here")
     machine_argument(p, None)
 
@@ -48,7 +50,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from mtcal.measurement.recordings import read_recording
     from mtcal.uncertainty import Inputs, monte_carlo
-    from mtcal.uncertainty.plots import plot_bands
+    from mtcal.uncertainty.plots import plot_bands, plot_convergence
 
     refuse_overwrite([args.output, args.store], args.recording)
     rec = read_recording(args.recording, args.machine)
@@ -68,6 +70,8 @@ def run(args: argparse.Namespace) -> int:
     out = res.to_dict()
     if args.plots:
         out["plots"] = [str(p) for p in plot_bands(res, args.plots)]
+        conv = plot_convergence(res, Path(args.plots) / "convergence.png")
+        out["plots"] += [str(conv)] if conv else []
     if args.output:
         atomic_write_text(args.output, dumps(out) + "\n")
     if args.json:

@@ -41,3 +41,27 @@ def plot_bands(res, folder: str | Path) -> list[Path]:
         plt.close(fig)
         out.append(p)
     return out
+
+
+def plot_convergence(res, path: str | Path) -> Path | None:
+    """The adaptive run's stages (GUM-S1 7.9): twice the standard deviation of the stages' interval limits against
+    the number of trials (um; angles in urad), with the tolerance reached; None for a run of fixed length."""
+    if not res.convergence:
+        return None
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    n = [c["trials"] for c in res.convergence]
+    v = [c["twice_sd_of_limits_mm"] * 1e3 for c in res.convergence]
+    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    ax.plot(n, v, "o-")
+    ax.set_xlabel("trials")
+    ax.set_ylabel("2 sd of the interval limits (um, urad)")
+    ax.set_yscale("log")
+    ax.grid(alpha=0.3)
+    ax.set_title("Monte Carlo convergence (GUM-S1 7.9)", fontsize=10)
+    fig.tight_layout()
+    save_figure(fig, path, dpi=110)
+    plt.close(fig)
+    return Path(path)
