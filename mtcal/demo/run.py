@@ -39,7 +39,7 @@ from mtcal.nc.gcode import read_moves
 from mtcal.planning.plan import plan_uncertainty, plot_placement_map
 from mtcal.plate.reversal import fit_plate, plot_plate, read_plate_csv
 
-STEPS = 7
+STEPS = 8
 log = logging.getLogger(__name__)
 
 
