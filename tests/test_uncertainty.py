@@ -88,3 +88,28 @@ def test_cli_contract(rec_x, tmp_path, capsys):
     assert {"axis", "positions", "mean", "lo95", "hi95"} <= set(e) and e["axis"] == "X"
     assert all(lo <= m <= hi for lo, m, hi in zip(e["lo95"], e["mean"], e["hi95"]))
     assert (tmp_path / "p" / "uncertainty_X.png").stat().st_size > 10000
+
+
+def test_compensate_reports_the_task_uncertainty_of_its_program(rec_x, tmp_path, capsys):
+    """`mtcal uncertainty --program P` gives the tool tip's interval at P's moves; `mtcal compensate P
+    --uncertainty` reports it (in place of the model agreeing with itself) and refuses another program's, writing
+    nothing."""
+    import shutil
+
+    from mtcal.measurement.recordings import write_recording
+    f, prog = tmp_path / "rec.csv", tmp_path / "part.nc"
+    write_recording(rec_x, f)
+    shutil.copy(path("sample_5axis.nc"), prog)
+    mtcal.save_model(mtcal.identify(rec_x, tracker=T, worth=False).model, tmp_path / "m.json")
+    assert main(["uncertainty", str(f), "--trials", "4", "--workers", "0", "--tracker", "250,-1500,150",
+                 "--program", str(prog), "-o", str(tmp_path / "mc.json"), "-q"]) == 0
+    capsys.readouterr()
+    assert main(["compensate", str(prog), "--model", str(tmp_path / "m.json"), "-o", str(tmp_path / "c.nc"),
+                 "--uncertainty", str(tmp_path / "mc.json"), "--json"]) == 0
+    tu = json.loads(capsys.readouterr().out)["task_uncertainty"]
+    assert tu["trials"] == 4 and tu["moves"] > 100 and 0 < tu["u95_rms_um"] <= tu["u95_max_um"] < 100
+    other = tmp_path / "other.nc"
+    shutil.copy(prog, other)
+    assert main(["compensate", str(other), "--model", str(tmp_path / "m.json"), "-o", str(tmp_path / "d.nc"),
+                 "--uncertainty", str(tmp_path / "mc.json")]) == 2
+    assert "not the Monte Carlo of this program" in capsys.readouterr().err and not (tmp_path / "d.nc").exists()

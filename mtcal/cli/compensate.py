@@ -55,13 +55,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    default=MAX_ROTARY_CORRECTION_DEG, metavar="DEG",
                    help=f"the same for rotary axes (default {MAX_ROTARY_CORRECTION_DEG:g})")
     p.add_argument("--tables", metavar="DIR", help="also write per-axis compensation tables (CSV) to DIR")
+    p.add_argument("--uncertainty", metavar="MC.json",
+                   help="report the tool tip's uncertainty after compensation from `mtcal uncertainty REC.csv "
+                        "--program PROGRAM -o MC.json` (GUM-S1 Monte Carlo of the model at this program's moves)")
     p.add_argument("--residual-every", type=integer(1), default=RESIDUAL_EVERY, metavar="K",
                    help="evaluate the exact error-inclusive residual of what is written on every K-th move (and on "
                         f"every inserted point); 1: on all moves (default {RESIDUAL_EVERY}; the JSON says which)")
 
 
 def run(args: argparse.Namespace) -> int:
-    refuse_overwrite([args.output], args.program, args.model, dirs={args.tables: TABLE_FILES})
+    refuse_overwrite([args.output], args.program, args.model, args.uncertainty, dirs={args.tables: TABLE_FILES})
     last = [time.perf_counter()]
 
     def progress(done: int, total: int) -> None:
@@ -75,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
                              tolerance=args.tolerance, precision=args.precision, residual_every=args.residual_every,
                              max_correction=args.max_correction, max_rotary_correction=args.max_rotary_correction,
                              allow_subprograms=args.allow_subprograms, kind=args.input, tables=args.tables,
-                             force=args.force, progress=progress)
+                             force=args.force, progress=progress, uncertainty=args.uncertainty)
     worth = res["model_worth"]
     if worth and worth.get("may_worsen"):
         log.warning("warning: %s: compensating with this model may make the machine worse: it corrects %.1f um RMS "
@@ -92,6 +95,11 @@ def run(args: argparse.Namespace) -> int:
     print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um -> predicted residual "
           f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written; exact model on "
           f"{r['evaluated_on']})")
+    if "task_uncertainty" in res:
+        tu = res["task_uncertainty"]
+        print(f"tool tip after compensation: U95 up to {tu['u95_max_um']:.2f} um, RMS {tu['u95_rms_um']:.2f} um over "
+              f"{tu['moves']} moves ({tu['trials']}-trial Monte Carlo of the model: its own uncertainty, not the "
+              f"residual above)")
     if worth:
         print(f"model     : corrects {worth['corrects_rms_um']:.1f} um RMS over its measured volume; its own error, "
               f"predicted from the rounds, {worth['predicted_error_rms_um']:.1f} um RMS (the residual above is the "

@@ -40,6 +40,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="u of the structure's temperature (K, default 0: off) with --alpha")
     p.add_argument("--alpha", type=real(0, 1e-3, "1/K"), default=11.5e-6, metavar="PER_K",
                    help="expansion coefficient (1/K, default 11.5e-6: steel)")
+    p.add_argument("--program", metavar="P.nc",
+                   help="the tool tip's interval at this program's moves (up to 500; the task-specific uncertainty "
+                        "that `mtcal compensate --uncertainty` reports) instead of 100 poses of the work volume")
     p.add_argument("--budget", action="store_true", help="also the uncertainty budget (one-at-a-time Monte Carlo)")
     p.add_argument("--plots", metavar="DIR", help="write uncertainty_AXIS.png (bands) and, adaptive, convergence.png "
                                                   "into DIR")
@@ -52,15 +55,20 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.uncertainty import Inputs, monte_carlo
     from mtcal.uncertainty.plots import plot_bands, plot_convergence
 
-    refuse_overwrite([args.output, args.store], args.recording)
+    refuse_overwrite([args.output, args.store], args.recording, args.program)
     rec = read_recording(args.recording, args.machine)
+    poses = None
+    if args.program:
+        from mtcal.kinematics.machine import DEFAULT_MACHINE, load_machine
+        from mtcal.uncertainty.run import program_poses
+        poses = program_poses(args.program, load_machine(args.machine or DEFAULT_MACHINE))
     inputs = Inputs(air_temperature_u_k=args.air_temperature_u, air_pressure_u_hpa=args.air_pressure_u,
                     centring_u_um=args.centring_um, alpha_per_k=args.alpha,
                     material_temperature_u_k=args.material_temperature_u)
     bar = _progress(args)
     try:
         res = monte_carlo(rec, trials=args.trials, seed=args.seed, p=args.p, inputs=inputs, workers=args.workers,
-                          scheduler=args.scheduler, store=args.store, budget=args.budget,
+                          scheduler=args.scheduler, store=args.store, budget=args.budget, poses=poses,
                           tolerance_mm=None if args.tolerance_um is None else args.tolerance_um * 1e-3,
                           progress=bar.update if bar else None, tracker=args.tracker, method=args.method,
                           **({"machine": args.machine} if args.machine else {}))
@@ -68,6 +76,8 @@ def run(args: argparse.Namespace) -> int:
         if bar:
             bar.close()
     out = res.to_dict()
+    if args.program:
+        out["volumetric"]["program"] = Path(args.program).name
     if args.plots:
         out["plots"] = [str(p) for p in plot_bands(res, args.plots)]
         conv = plot_convergence(res, Path(args.plots) / "convergence.png")
@@ -101,8 +111,8 @@ def _text(d: dict) -> str:
     for n, c in d["constants"].items():
         lines.append(f"  {n:6s} {c['mean'] * 1e6:8.2f} urad, [{c['lo95'] * 1e6:.2f}, {c['hi95'] * 1e6:.2f}]")
     v = d["volumetric"]
-    lines.append(f"  tool tip over {len(v['poses'])} poses of the work volume: largest half-width "
-                 f"{v['u95_max_mm'] * 1e3:.2f} um")
+    where = f"moves of {v['program']}" if v.get("program") else "poses of the work volume"
+    lines.append(f"  tool tip over {len(v['poses'])} {where}: largest half-width {v['u95_max_mm'] * 1e3:.2f} um")
     for term, b in d.get("budget", {}).items():
         lines.append(f"  budget {term:9s}: tool tip u up to {b['volumetric_u_max_mm'] * 1e3:.2f} um")
     return "\n".join(lines)

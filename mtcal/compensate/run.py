@@ -7,9 +7,12 @@ import os
 import time
 from typing import Callable
 
+import numpy as np
+
 from mtcal.compensate.program import ProgramCompensator
 from mtcal.compensate.solver import MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY, Compensator
 from mtcal.compensate.tables import write_tables
+from mtcal.errors import InputError
 from mtcal.model.errormodel import ErrorModel, load_model
 from mtcal.model.iso_types import iso_types
 from mtcal.model.plausibility import check_model
@@ -24,6 +27,7 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
                        max_correction: float = MAX_CORRECTION_MM,
                        max_rotary_correction: float = MAX_ROTARY_CORRECTION_DEG, allow_subprograms: bool = False,
                        kind: str = "auto", tables: str | os.PathLike | None = None, force: bool = False,
+                       uncertainty: str | os.PathLike | None = None,
                        progress: Callable[[int, int], None] | None = None) -> dict:
     """Write ``output``, the program compensated for ``model`` (a path or an ErrorModel), and return the report.
 
@@ -31,7 +35,9 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
     iterations default to 1 (first order) for "position" and 2 (fixed point on the exact model) for "full";
     tool_length (mm) below the error reference point; cone (deg) around B = 0 where only the position is
     corrected; tolerance (mm) the largest predicted mid-segment error before a feed move is subdivided.  A model
-    that fails the plausibility guard (mtcal.model.plausibility) raises InputError unless ``force``.  The
+    that fails the plausibility guard (mtcal.model.plausibility) raises InputError unless ``force``.
+    ``uncertainty``: the JSON of `mtcal uncertainty --program` for this program (its tool tip's interval after
+    compensation, a Monte Carlo of the model), reported as "task_uncertainty".  The
     returned dict is the JSON answer of `mtcal compensate` (lengths in mm unless a key says um, angles urad)."""
     mdl = model if isinstance(model, ErrorModel) else load_model(model)
     name = str(model) if not isinstance(model, ErrorModel) else "<model>"
@@ -40,6 +46,7 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
     if iterations is None:
         iterations = 2 if scope == "full" else 1
     comp = Compensator(mdl, scope=scope, tool_length=tool_length, iterations=iterations, cone=cone, outside=outside)
+    task = task_uncertainty(uncertainty, program) if uncertainty else None  # refused before anything is written
     t0 = time.perf_counter()
     pc = ProgramCompensator(comp, tolerance=tolerance, precision=precision, progress=progress,
                             residual_every=residual_every, max_correction=max_correction,
@@ -67,4 +74,27 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
         "warnings": {"outside_range": comp.outside_counts, "uncompensated_rapids": rep.uncompensated_rapids},
         "tables": written, "seconds": round(dt, 3),
         "model_worth": mdl.meta.get("worth"),
+        **({"task_uncertainty": task} if task else {}),
     }
+
+
+def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike) -> dict:
+    """The tool tip's uncertainty after compensation from `mtcal uncertainty --program` (its JSON at ``path``): the
+    largest and RMS half-width of the 95 % intervals over the program's moves (um); refused when it was computed
+    for another program or over the work volume."""
+    from pathlib import Path
+
+    from mtcal.io import read_json
+
+    d = read_json(path, "uncertainty result")
+    vol = d.get("volumetric", {}) if isinstance(d, dict) else {}
+    if vol.get("program") != Path(program).name:
+        raise InputError(f"{path}: not the Monte Carlo of this program's tool tip (run `mtcal uncertainty REC.csv "
+                         f"--program {Path(program).name}`); it holds {vol.get('program') or 'the work volume'}")
+    lo, hi = (np.asarray(vol["deviation_xyz_mm"][k], dtype=float) for k in ("lo95", "hi95"))
+    half = np.linalg.norm(hi - lo, axis=1) / 2
+    return {"trials": d.get("trials"), "p": d.get("p"), "moves": len(half), "u95_max_um": float(half.max() * 1e3),
+            "u95_rms_um": float(np.sqrt(np.mean(half**2)) * 1e3),
+            "of": "the tool tip after compensation: the model's own uncertainty at the program's moves (GUM-S1 "
+                  "Monte Carlo of the identification, mtcal uncertainty --program); half-width of the 95 % "
+                  "interval of |deviation|, per move"}

@@ -183,6 +183,17 @@ class UncertaintyResult:
         return out
 
 
+def program_poses(program: str | Path, machine, n: int = 500) -> np.ndarray:
+    """The nominal axes (m, n_axes) of a G-code program's moves, at most ``n`` of them evenly spread (the poses of
+    the task-specific uncertainty: the tool tip of this program after compensation)."""
+    from mtcal.nc.gcode import read_moves
+
+    q = read_moves(program, machine=machine)
+    if not len(q):
+        raise InputError(f"{program}: no move with every linear axis known")
+    return q[np.unique(np.linspace(0, len(q) - 1, min(n, len(q))).round().astype(int))]
+
+
 def default_poses(machine, model, n: int = 100, seed: int = 0) -> np.ndarray:
     """``n`` random poses (n, n_axes) inside every error function's measured range (the rotary axes' too)."""
     rng = np.random.default_rng(seed)
