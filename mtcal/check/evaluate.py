@@ -97,7 +97,7 @@ def _circular(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, ove
         if key not in info:
             raise InputError(f"{test.source}: the circular test's {key} is not given (header '# {key}: ...' or option)")
     s = circ.CircleSetup(info["plane"], float(info["radius_mm"]), info.get("centre_mm"),
-                         fixed=info.get("fixed_deg", info.get("fixed", {})), tool_length=info.get("tool_length", 0.0))
+                         fixed=info.get("fixed") or info.get("fixed_deg", {}), tool_length=info.get("tool_length", 0.0))
     th, meas, d = test.data["angle_deg"], test.data["deviation_mm"], test.data["direction"]
     g = circ.geometry(m, s, th)
     pred, _ = circ.radial_deviation(m, model, g, s.tool_length)
@@ -125,7 +125,7 @@ def _rtest(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, over: 
     if "axis" not in info:
         raise InputError(f"{test.source}: the R-test's axis is not given (header '# axis: C' or option)")
     s = rt.RTestSetup(info["axis"], tuple(test.data["position_deg"].tolist()), tuple(info.get("sphere_mm", (0, 0, 0))),
-                      info.get("fixed_deg", info.get("fixed", {})), info.get("tool_length", 0.0))
+                      info.get("fixed") or info.get("fixed_deg", {}), info.get("tool_length", 0.0))
     q = rt.sweep_axes(m, s)
     J = rt.deviation_sensitivity(m, q, s)
     pred = np.einsum("nke,ne->nk", J, model.errors_at(m, q, extrapolate="hold"))
