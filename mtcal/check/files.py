@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mtcal.campaign.effects import parse_items
 from mtcal.errors import InputError
 
 CIRCULAR_COLUMNS = ("angle_deg", "deviation_mm", "direction")
@@ -71,14 +72,15 @@ def _numbers(val: str, n: int | None, what: str, source: str, line: int) -> tupl
     return out
 
 
-def _fixed(val: str, source: str, line: int) -> dict[str, float]:
+def parse_fixed(text: str, what: str) -> dict[str, float]:
+    """'B=0,C=30' -> {axis: deg}: the rotary axes held during a check test (mtcal.campaign.effects.parse_items, the
+    one key=value reader); ``what`` names the field or option in the message."""
     out = {}
-    for item in filter(None, (v.strip() for v in val.split(","))):
-        name, _, num = item.partition("=")
+    for name, num in parse_items(text, what).items():
         try:
-            out[name.strip().upper()] = float(num)
+            out[name.upper()] = float(num)
         except ValueError:
-            raise InputError(f"{source}, line {line}: fixed_deg items are AXIS=deg, got {item!r}") from None
+            raise InputError(f"{what}: items are AXIS=deg, got {name}={num!r}") from None
     return out
 
 
@@ -114,7 +116,7 @@ def read_check(path: str | Path) -> MeasuredCheck:
         elif key == "radius_mm":
             info[key] = _numbers(val, 1, key, source, line)[0]
         elif key == "fixed_deg":
-            info[key] = _fixed(val, source, line)
+            info[key] = parse_fixed(val, f"{source}, line {line}: fixed_deg")
         elif key in ("plane", "axis"):
             info[key] = val.upper()
     return MeasuredCheck(kind, source, info, data)

@@ -43,10 +43,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.check import evaluate_check, read_check
+    from mtcal.check.files import parse_fixed
     from mtcal.model.errormodel import load_model
 
     model = load_model(args.model)
-    fixed = _fixed(args.fixed)
+    fixed = parse_fixed(args.fixed, "`fixed`")
     if args.plot:
         refuse_overwrite(args.plot, args.model, *([args.test] if args.test else []))
     if args.action == "evaluate":
@@ -63,17 +64,6 @@ def run(args: argparse.Namespace) -> int:
         _plot_predictions(tests, args.plot)
     print(dumps({"model": args.model, "tests": tests}) if args.json else "\n".join(_text(t) for t in tests))
     return 0
-
-
-def _fixed(text: str) -> dict[str, float]:
-    out = {}
-    for item in filter(None, (v.strip() for v in text.split(","))):
-        name, _, num = item.partition("=")
-        try:
-            out[name.strip().upper()] = float(num)
-        except ValueError:
-            raise InputError(f"--fixed items are AXIS=DEG, got {item!r}") from None
-    return out
 
 
 def _predict(args, model, fixed: dict[str, float]) -> list[dict]:
