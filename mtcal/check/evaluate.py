@@ -25,6 +25,15 @@ from mtcal.model.fits import uncertainty_columns as fit_columns
 K_AGREE = 4.0  # max |residual| / combined sigma over hundreds of readings: beyond it the model and the test differ
 
 
+def constant_sigmas(model: ErrorModel) -> dict[str, float]:
+    """Standard uncertainty (rad) of each constant the model states one for: the joint fit's
+    ``squareness_sigma``, else the three-point rounds' ``squareness_type_a`` std_mean."""
+    out = dict(model.meta.get("squareness_sigma") or {})
+    for name, st in (model.meta.get("squareness_type_a") or {}).items():
+        out.setdefault(name, st.get("std_mean", 0.0))
+    return {k: float(v) for k, v in out.items()}
+
+
 def uncertainty_columns(model: ErrorModel, machine, axes: np.ndarray) -> np.ndarray:
     """The model's errors' uncertainty at axis positions ``axes`` (n, n_axes) as independent columns
     (n, n_errors, k): a fitted function's from its coefficients' covariance (mtcal.model.fits.uncertainty_columns:
@@ -42,10 +51,7 @@ def uncertainty_columns(model: ErrorModel, machine, axes: np.ndarray) -> np.ndar
             cols = np.interp(x, f.positions, np.nan_to_num(np.asarray(f.extra["std_mean"], dtype=float)))[:, None]
         if cols is not None:
             blocks.append((machine.error_names.index(name), cols))
-    const = dict(model.meta.get("squareness_sigma") or {})
-    for name, st in (model.meta.get("squareness_type_a") or {}).items():
-        const.setdefault(name, st.get("std_mean", 0.0))
-    for name, v in const.items():
+    for name, v in constant_sigmas(model).items():
         if name in machine.error_names:
             blocks.append((machine.error_names.index(name), np.full((len(axes), 1), float(v))))
     out = np.zeros((len(axes), len(machine.error_names), sum(c.shape[1] for _, c in blocks)))
@@ -107,9 +113,9 @@ def _circular(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, ove
     resid = meas - pred
     found, noise = fit_signatures(th, resid, d, s.plane, s.radius_mm, L)
     coef = circ.lsq_centre(th, resid)
-    setup_terms = coef[0] + coef[1] * np.cos(np.radians(th)) + coef[2] * np.sin(np.radians(th))
+    centred = circ.about_lsq_centre(th, resid, coef) - coef[0]  # the set-up terms (centre, radius) taken out
     dynamic = sum((f.size * d * np.sin(2 * np.radians(th)) for f in found if not f.quasi_static), np.zeros_like(th))
-    z = (resid - setup_terms - dynamic) / np.sqrt(u**2 + noise**2)
+    z = (centred - dynamic) / np.sqrt(u**2 + noise**2)
     worst = float(np.abs(z).max())
     agrees = worst <= K_AGREE and not any(f.quasi_static for f in found)
     centre = tuple(float(g.centre_axes[m.index(a)]) for a in m.linear_axes)

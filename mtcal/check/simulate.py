@@ -13,6 +13,7 @@ import numpy as np
 from mtcal.check import circular as circ
 from mtcal.check import rtest as rt
 from mtcal.check.files import MeasuredCheck
+from mtcal.generated import signatures_numpy as S
 from mtcal.model.errormodel import ErrorModel
 
 
@@ -20,9 +21,9 @@ def _actual_axes(machine, q: np.ndarray, velocity: np.ndarray, backlash: dict[st
                  servo_lag_s: dict[str, float]) -> np.ndarray:
     """Axis positions reached (mm, deg) for commands ``q`` moving at ``velocity`` (per s)."""
     qa = q.copy()
-    for a, b in backlash.items():
+    for a, b in backlash.items():  # the campaign simulator's formula (derive/signatures.py: + d b / 2)
         i = machine.index(a)
-        qa[:, i] += 0.5 * b * np.sign(velocity[:, i])
+        qa[:, i] += S.backlash_model(np.sign(velocity[:, i]), [b])[:, 0]
     for a, tau in servo_lag_s.items():
         i = machine.index(a)
         qa[:, i] -= tau * velocity[:, i]

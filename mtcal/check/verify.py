@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mtcal.check.evaluate import after_compensation, evaluate_check, uncertainty_columns
+from mtcal.check.evaluate import after_compensation, constant_sigmas, evaluate_check, uncertainty_columns
 from mtcal.check.files import MeasuredCheck
 from mtcal.model.errormodel import ErrorModel
 
@@ -82,8 +82,8 @@ def _compare(name: str, new: ErrorModel, model: ErrorModel, m, covered: set[str]
     scale = 1e6 if unit == "urad" else 1e3
     if name in new.constants or (name not in new.functions and name in model.constants):
         left = float(new.constants.get(name, 0.0))
-        u_new = _constant_sigma(new, name)
-        u_mod = _constant_sigma(model, name)
+        u_new = constant_sigmas(new).get(name, 0.0)
+        u_mod = constant_sigmas(model).get(name, 0.0)
         z = abs(left) / max(np.hypot(u_new, u_mod), 1e-15)
         share = left / model.constants[name] if in_model and model.constants.get(name) else None
         return _row(name, None, abs(left), None, z, in_model, share, unit, scale)
@@ -128,10 +128,3 @@ def _share_words(share: float | None) -> str:
     if 0.25 <= share <= 0.75:
         return f"{share:.2f} of the model's error is still there: applied in part (a unit or factor wrong?)"
     return f"{share:.2f} of the model's error: the machine has changed, or the model missed this error"
-
-
-def _constant_sigma(model: ErrorModel, name: str) -> float:
-    s = (model.meta.get("squareness_sigma") or {}).get(name)
-    if s is None:
-        s = ((model.meta.get("squareness_type_a") or {}).get(name) or {}).get("std_mean", 0.0)
-    return float(s)
