@@ -202,23 +202,34 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None =
         res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.threepoint.estimate",
                            "axes": {}}
     for a in names:
-        mid = mid_position(pl, a)
         pos = pl.positions[a]
         sd = np.sqrt(np.einsum("pii->pi", linear_covariance(m, pl, a, pos, t, weighting, approaches=approaches)))
-        i_mid = int(np.argmin(np.abs(pos - mid)))
+        _axis_figures(res, m, pl, a, pos, sd, sd / math.sqrt(pl.rounds))
         en = m.error_motions(a)
-        ref = pl.reference_position(a)
-        res.mid_travel[a] = mid
-        res.axes[a] = {n: float(sd[i_mid, j]) for j, n in enumerate(en)}
-        res.mean_of_rounds[a] = {n: float(sd[i_mid, j] / math.sqrt(pl.rounds)) for j, n in enumerate(en)}
-        res.by_position[a] = {"positions": pos.tolist(), **{n: [None if p == ref else float(v)
-                                                                  for p, v in zip(pos, sd[:, j])]
-                                                             for j, n in enumerate(en)}}
         if monte_carlo_n:
             log.info("Monte Carlo %d rounds of axis %s", monte_carlo_n, a)
-            est = monte_carlo(m, pl, a, [mid], t, int(monte_carlo_n), seed, weighting, approaches=approaches)
+            est = monte_carlo(m, pl, a, [res.mid_travel[a]], t, int(monte_carlo_n), seed, weighting,
+                              approaches=approaches)
             res.monte_carlo["axes"][a] = {n: float(v) for n, v in zip(en, est[:, 0].std(axis=0, ddof=1))}
     return res
+
+
+def _axis_figures(res: PlanResult, m: Machine, pl: Plan, a: str, pos: np.ndarray, one_round: np.ndarray,
+                  mean: np.ndarray) -> int:
+    """Axis ``a`` of ``res`` from the standard uncertainties (P, 6) at ``pos`` of one round and of the mean of the
+    rounds: at mid-travel, and per position (one round; None at the reference position, zero by definition).
+    Returns the mid-travel index."""
+    mid = mid_position(pl, a)
+    i_mid = int(np.argmin(np.abs(pos - mid)))
+    en = m.error_motions(a)
+    ref = pl.reference_position(a)
+    res.mid_travel[a] = mid
+    res.axes[a] = {n: float(one_round[i_mid, j]) for j, n in enumerate(en)}
+    res.mean_of_rounds[a] = {n: float(mean[i_mid, j]) for j, n in enumerate(en)}
+    res.by_position[a] = {"positions": pos.tolist(), **{n: [None if p == ref else float(v)
+                                                              for p, v in zip(pos, one_round[:, j])]
+                                                         for j, n in enumerate(en)}}
+    return i_mid
 
 
 def _plan_joint(m: Machine, pl: Plan, names: list[str], monte_carlo_n: int, seed: int) -> PlanResult:
@@ -241,18 +252,9 @@ def _plan_joint(m: Machine, pl: Plan, names: list[str], monte_carlo_n: int, seed
     root = math.sqrt(pl.rounds)
     for a in names:
         pos, sd = lin[a]
-        mid = mid_position(pl, a)
-        i_mid = int(np.argmin(np.abs(pos - mid)))
-        en = m.error_motions(a)
-        ref = pl.reference_position(a)
-        res.mid_travel[a] = mid
-        res.mean_of_rounds[a] = {n: float(sd[i_mid, j]) for j, n in enumerate(en)}
-        res.axes[a] = {n: float(sd[i_mid, j] * root) for j, n in enumerate(en)}
-        res.by_position[a] = {"positions": pos.tolist(), **{n: [None if p == ref else float(v * root)
-                                                                  for p, v in zip(pos, sd[:, j])]
-                                                             for j, n in enumerate(en)}}
+        i_mid = _axis_figures(res, m, pl, a, pos, sd * root, sd)
         if mc is not None:
-            res.monte_carlo["axes"][a] = {n: float(v * root) for n, v in zip(en, mc[a][1][i_mid])}
+            res.monte_carlo["axes"][a] = {n: float(v * root) for n, v in zip(m.error_motions(a), mc[a][1][i_mid])}
     if stations:
         res.stations = stations
     return res
