@@ -113,3 +113,16 @@ def test_compensate_reports_the_task_uncertainty_of_its_program(rec_x, tmp_path,
     assert main(["compensate", str(other), "--model", str(tmp_path / "m.json"), "-o", str(tmp_path / "d.nc"),
                  "--uncertainty", str(tmp_path / "mc.json")]) == 2
     assert "not the Monte Carlo of this program" in capsys.readouterr().err and not (tmp_path / "d.nc").exists()
+
+
+def test_an_in_process_run_leaves_the_callers_logging_as_it_was(rec_x):
+    """Trials silence the library's progress while they run; in this process (workers 0) the level comes back."""
+    import logging
+    log = logging.getLogger("mtcal")
+    before = log.level
+    log.setLevel(logging.INFO)
+    try:
+        monte_carlo(rec_x, trials=2, seed=0, workers=0, tracker=T)
+        assert log.level == logging.INFO
+    finally:
+        log.setLevel(before)

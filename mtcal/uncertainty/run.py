@@ -41,10 +41,14 @@ def _trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: 
 
     out = np.empty((len(ks), outputs.size))
     quiet = logging.getLogger("mtcal")
-    quiet.setLevel(logging.ERROR)
-    for i, k in enumerate(ks):
-        xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]))
-        out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
+    level = quiet.level
+    quiet.setLevel(logging.ERROR)  # a trial's progress is not the user's (restored: --workers 0 runs in-process)
+    try:
+        for i, k in enumerate(ks):
+            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]))
+            out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
+    finally:
+        quiet.setLevel(level)
     return ks, out
 
 
