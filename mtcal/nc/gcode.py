@@ -448,12 +448,13 @@ def _fill_plain(lines: list[str], first_line: int, t: _AxisWords, state: ModalSt
                  letters=w.letters)
 
 
-def _forward_fill(state: ModalState, given: np.ndarray, wdec: np.ndarray,
-                  floor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _forward_fill(state: ModalState, given: np.ndarray, wdec: np.ndarray, floor: np.ndarray,
+                  complete: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """(axes, decimals) (m, n_axes) of rows in absolute mm with no mode change: every axis at its last written
-    value (from ``state`` before the first), decimals the running maximum (at least ``floor``); ``state`` advanced."""
+    value (from ``state`` before the first), decimals the running maximum (at least ``floor``); ``state`` advanced.
+    ``complete``: the caller knows every row has every word (nothing to fill)."""
     m = len(given)
-    if m and not np.isnan(given).any():  # every row has every word
+    if m and complete:
         axes = given.copy()
     else:
         filled = np.vstack([state.position[None, :], given])
@@ -908,7 +909,8 @@ def scan_block(text: str, state: ModalState, first_line: int, min_decimals: tupl
     if tables is None:
         return None  # an axis twice on one line: parse_chunk refuses it
     rows, given, present, wdec, numidx = tables
-    axes, decimals = _forward_fill(state, given, wdec, np.where(w.linear, min_decimals[0], min_decimals[2]))
+    axes, decimals = _forward_fill(state, given, wdec, np.where(w.linear, min_decimals[0], min_decimals[2]),
+                                   complete=len(vals) == given.size)
     motion = np.full(len(rows), state.motion, dtype=np.int64)
     if g[0] is not None:
         j = np.searchsorted(g[0], rows, "right") - 1
