@@ -1,7 +1,7 @@
 """Options shared by the subcommands, defined once: --json, -q/--quiet and --debug on every command
 (``add_common_arguments``, added by mtcal.cli), --machine on every command that takes a machine
-(``machine_argument``), and the argparse ``type=`` helpers: every numeric option is checked (finite, in range,
-unit named) at parse time.
+(``machine_argument``), --tracker-model on every command that takes a tracker law (``tracker_model_argument``),
+and the argparse ``type=`` helpers: every numeric option is checked (finite, in range, unit named) at parse time.
 
 A helper raises ``argparse.ArgumentTypeError``, so argparse prints ``mtcal CMD: error: argument --OPT: PROBLEM``
 and exits 2.  ``join_negative_values`` lets ``--tracker -2000,0,300`` mean what it says (argparse would take the
@@ -19,7 +19,7 @@ import numpy as np
 from mtcal.errors import InputError
 
 # options whose value may start with '-' (a negative first number): pre-joined as --OPT=VALUE
-NEGATIVE_OK = ("--tracker", "--target-points")
+NEGATIVE_OK = ("--tracker", "--target-points", "--tracker-model")
 _NUMBERISH = re.compile(r"^-[0-9.]")
 
 
@@ -93,6 +93,26 @@ def xyz(text: str) -> np.ndarray:
         return parse_xyz(text, what=None)
     except InputError as exc:
         raise argparse.ArgumentTypeError(exc.problem) from None
+
+
+def tracker_law(text: str):
+    """An instrument's name or 'a_r,b_r,a_t,b_t[,k]' (MPE, um and um/m) -> TrackerSpec (``--tracker-model``;
+    mtcal.measurement.tracker.tracker_model)."""
+    from mtcal.measurement.tracker import tracker_model
+    try:
+        return tracker_model(text, what=None)
+    except InputError as exc:
+        raise argparse.ArgumentTypeError(exc.problem) from None
+
+
+def tracker_model_argument(p: argparse.ArgumentParser, what: str) -> None:
+    """--tracker-model NAME|a_r,b_r,a_t,b_t[,k], the same for every command that takes one; ``what`` says what the
+    law does in that command."""
+    from mtcal.measurement.tracker import TRACKER_MODELS
+    p.add_argument("--tracker-model", metavar="NAME|a_r,b_r,a_t,b_t[,k]", type=tracker_law, default=None,
+                   help=f"the tracker's noise law: an instrument ({', '.join(TRACKER_MODELS)}; case-insensitive) or "
+                   "its MPE along the beam a_r um + b_r um/m and across it a_t um + b_t um/m, sigma = MPE / k "
+                   f"(default k 2) (default: AT960); {what}")
 
 
 finite = real()

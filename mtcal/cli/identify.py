@@ -6,7 +6,7 @@ import logging
 
 import numpy as np
 
-from mtcal.cli._options import integer, machine_argument, nonnegative, xyz
+from mtcal.cli._options import integer, machine_argument, nonnegative, tracker_model_argument, xyz
 from mtcal.errors import InputError
 from mtcal.identify import fitting
 from mtcal.identify.run import identify
@@ -30,8 +30,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", metavar="MODEL.json", help="write the error model (mm, rad) here")
     p.add_argument("--plots", metavar="DIR", help="write PNG plots (errors with +-2 sigma bars, fits, reference lines)")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz,
-                   help="tracker position in the machine frame (mm): weight the least squares by the AT960 covariance "
-                        "(default: estimated from the scatter of the rounds)")
+                   help="tracker position in the machine frame (mm): weight the least squares by the tracker law's "
+                        "covariance (--tracker-model) (default: estimated from the scatter of the rounds)")
+    tracker_model_argument(p, "the prior of the weights: the repeated rounds still check its shape and the data's law "
+                           "is used (and said) where they disagree; the JSON key noise_law reports the law used")
     p.add_argument("--reference", choices=fitting.REFERENCE_METHODS, default="least-squares",
                    help="ISO 230-1 reference straight line for straightness and squareness (default least-squares)")
     p.add_argument("--layout", choices=("tidy", "inspire"), default="tidy",
@@ -85,7 +87,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         rec = read_recording(args.recording[0], args.machine)
     res = identify(rec, tracker=args.tracker, machine=args.machine, reference=args.reference,
-                   outlier_k=args.outlier_k, max_degree=args.max_degree, method=args.method)
+                   outlier_k=args.outlier_k, max_degree=args.max_degree, method=args.method,
+                   tracker_model=args.tracker_model)
     for w in res.warnings:
         log.warning("warning: %s", w)
     if args.output:

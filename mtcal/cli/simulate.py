@@ -5,7 +5,7 @@ import argparse
 import logging
 
 from mtcal.campaign import effects as fx
-from mtcal.cli._options import integer, machine_argument, real, xyz
+from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
 from mtcal.io import dumps, refuse_overwrite
 
 NAME = "simulate"
@@ -27,7 +27,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "(default: the plan's, else thesis Pos. 1 = 250,-1500,150)")
     p.add_argument("--rounds", type=integer(1), metavar="N", help="rounds (default: the plan's, else 4)")
     p.add_argument("--seed", type=integer(0), default=0, metavar="S", help="random seed (default 0)")
-    p.add_argument("--no-noise", action="store_true", help="exact readings (no AT960 noise)")
+    p.add_argument("--no-noise", action="store_true", help="exact readings (no tracker noise)")
+    tracker_model_argument(p, "the law the readings' noise is drawn from (every station's)")
     p.add_argument("--effect", action="append", default=[], metavar="NAME[:key=value,...]",
                    help=f"plant an effect (repeatable): {', '.join(fx.NAMES)}; e.g. backlash:axis=X,amount=0.004")
     p.add_argument("--temperature", metavar="rise_c=K,tau_s=S,t0_s=S", nargs="?", const="",
@@ -56,6 +57,9 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     plan = load_plan(args.plan, machine) if args.plan else None
+    from mtcal.measurement.tracker import AT960
+
+    spec = args.tracker_model or AT960
     trackers = args.tracker or []
     stations = ([(f"S{i + 1}", tuple(t)) for i, t in enumerate(trackers)] if len(trackers) > 1
                 else list(plan.stations.items()) if plan is not None and plan.stations and not trackers else None)
@@ -63,18 +67,19 @@ def run(args: argparse.Namespace) -> int:
         from mtcal.campaign.stations import ALIGNMENT_UM, ALIGNMENT_URAD, simulate_stations
         rec, truth = simulate_stations(
             model, stations, machine=machine, rounds=args.rounds or 1, seed=args.seed, effects=effects,
-            noise=not args.no_noise, plan=plan, temperature=args.temperature,
+            noise=not args.no_noise, plan=plan, temperature=args.temperature, spec=spec,
             alignment_um=ALIGNMENT_UM if args.alignment_um is None else args.alignment_um,
             alignment_urad=ALIGNMENT_URAD if args.alignment_urad is None else args.alignment_urad)
     else:
         rec, truth = simulate(model, machine=machine, tracker=trackers[0] if trackers else None, rounds=args.rounds,
                               seed=args.seed, effects=effects, noise=not args.no_noise, plan=plan,
-                              temperature=args.temperature)
+                              temperature=args.temperature, spec=spec)
     truth["model_file"] = args.model
     truth["plan_file"] = args.plan
     tp = write_campaign(rec, truth, args.output)
     summary = {"output": args.output, "truth": str(tp), "rows": len(rec), "axes": rec.axes(),
-               "rounds": truth["rounds"], "tracker": truth["tracker"], "noise": truth["noise"], "seed": args.seed,
+               "rounds": truth["rounds"], "tracker": truth["tracker"], "noise": truth["noise"],
+               "tracker_model": {"instrument": spec.label, **spec.mpe()}, "seed": args.seed,
                "duration_s": float(rec.time_s.max()), "effects": truth["effects"],
                **({"stations": truth["stations"]} if "stations" in truth else {})}
     if args.json:
@@ -82,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(f"wrote {args.output}: {len(rec)} readings, axes {' '.join(rec.axes())}, {truth['rounds']} rounds, "
               f"{summary['duration_s'] / 3600:.2f} h simulated; " + _where(truth)
-              + f"; noise {'AT960' if truth['noise'] else 'off'}")
+              + f"; noise {spec.label if truth['noise'] else 'off'}")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
         log.info("truth: %s", tp)

@@ -1,21 +1,22 @@
 """The noise model of the diagnosis: the covariance of every reading, given or estimated from the data.
 
 A laser tracker's reading covariance is a small radial part along the beam and a much larger transverse part across
-it (angle encoders; AT960, mtcal.measurement.tracker). With the tracker position given (``--tracker``), the AT960
-covariance
-about it weights the readings. Without it, the position is estimated from the scatter of the repeated rounds: the
-residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread along the beam;
-each reading's residual is taken about the mean of its cell over the rounds (tracker_position.round_scatter), so a
-misfit that repeats every round stays out of the noise model; (1) each reflector's residual scatter (3x3, pooled
-over its readings) gives a beam line through the reflector along its least-spread direction, (2) the point closest
-to all beam lines starts (3) a maximum-likelihood fit of the tracker position under the AT960 covariance times a
-scale c near 1 (prior log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as
-from the convergence of the beams; Nelder-Mead from that start and from 1.5 m along the mean beam on either side),
-(4) twice: the base refitted with the weights of the estimate, and the fit of (3) repeated on its residuals (the
-unweighted fit leaks the large transverse noise into the radial residuals of other readings). The estimate is used
-when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); else (or with one round)
-the readings are weighted equally, sigma from the residuals. The estimation itself (starts, likelihood, test) is
-mtcal.measurement.tracker_position, shared with identify. Units: mm."""
+it (angle encoders; mtcal.measurement.tracker). The prior law is the AT960's unless another instrument or numbers
+are named (``tracker_model``); with the tracker position given (``--tracker``), its covariance about the tracker
+weights the readings, unless the repeated rounds' scatter is shaped otherwise (estimate_shape, a ratio test against
+the prior law): then the data's law, said. Without it, the position is estimated from the scatter of the repeated
+rounds: the residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread
+along the beam; each reading's residual is taken about the mean of its cell over the rounds
+(tracker_position.round_scatter), so a misfit that repeats every round stays out of the noise model; (1) each
+reflector's residual scatter (3x3, pooled over its readings) gives a beam line through the reflector along its
+least-spread direction, (2) the point closest to all beam lines starts (3) a maximum-likelihood fit of the tracker
+position under the prior's covariance times a scale c near 1 (prior log c ~ N(0, 0.3^2): the distance comes from the
+size of the transverse scatter as well as from the convergence of the beams; Nelder-Mead from that start and from
+1.5 m along the mean beam on either side), (4) twice: the base refitted with the weights of the estimate, and the
+fit of (3) repeated on its residuals (the unweighted fit leaks the large transverse noise into the radial residuals
+of other readings). The estimate is used when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3
+dof, p < 1e-3); else (or with one round) the readings are weighted equally, sigma from the residuals. The estimation
+itself (starts, likelihood, test) is mtcal.measurement.tracker_position, shared with identify. Units: mm."""
 from __future__ import annotations
 
 from dataclasses import replace
@@ -25,9 +26,12 @@ from scipy import stats
 
 from mtcal.diagnose.design import base_design, engine_for, whiten
 from mtcal.diagnose.prepared import NoiseModel, Prepared
-from mtcal.measurement.tracker import AT960
+from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
+    SHAPE_HIGH,
+    SHAPE_LOW,
+    ShapeEstimate,
     beam_starts,
     estimate_shape,
     isotropic_nll,
@@ -38,36 +42,41 @@ from mtcal.measurement.tracker_position import (
 ITERATIONS = 2          # refits of the base with the estimated weights
 
 
-def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> NoiseModel:
-    """The noise model of ``prep``'s readings (see module docstring)."""
+def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, prior: TrackerSpec = AT960
+                ) -> NoiseModel:
+    """The noise model of ``prep``'s readings (see module docstring) under the ``prior`` law (the AT960's unless
+    another instrument or numbers are named, mtcal.measurement.tracker.tracker_model): its shape is checked against
+    the repeated rounds (estimate_shape, a ratio test against the prior, not the AT960) and gives way to the data's
+    where they differ."""
     xyz = prep.rec.xyz
     n = len(xyz)
+    name = prior.name or "given law"
     several = len(set(prep.rec.round.tolist())) >= 2
     if tracker is not None:
         t = np.asarray(tracker, float)
-        sh = estimate_shape(prep.rec, t) if several else None
+        sh = estimate_shape(prep.rec, t, prior) if several else None
         if sh is not None and sh.replaces_base:
             return NoiseModel.at960(xyz, t, "tracker law estimated (given tracker)",
-                                    f"tracker position given; the repeated rounds are not shaped like an AT960's: "
-                                    f"{sh.law_text()}", sh.spec, shape=sh.to_dict())
-        return NoiseModel.at960(xyz, t, "AT960 (given tracker)",
+                                    f"tracker position given; the repeated rounds are not shaped like {prior.whose}: "
+                                    f"{sh.law_text()}", sh.spec, _law(sh, prior), shape=sh.to_dict())
+        return NoiseModel.at960(xyz, t, f"{name} (given tracker)",
                                 "tracker position given (`tracker` or the recording's tracker_x,y,z columns)",
-                                **({"shape": sh.to_dict()} if sh is not None else {}))
+                                prior, _law(sh, prior), **({"shape": sh.to_dict()} if sh is not None else {}))
     if not several:
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
-    r = _base_residuals(prep, max_degree)
+    r = _base_residuals(prep, max_degree, prior)
     groups = list(_groups(prep))
-    t, _, nll = min((refine(xyz, r, s) for s in beam_starts(xyz, r, groups)), key=lambda v: v[2])
+    t, _, nll = min((refine(xyz, r, s, prior) for s in beam_starts(xyz, r, groups, prior)), key=lambda v: v[2])
     for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
         # large transverse noise into the radial residuals of other readings
-        r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "").W)
-        t, _, nll = refine(xyz, r, t)
-    sh = estimate_shape(prep.rec, t)
-    spec = sh.spec if sh.replaces_base else AT960
+        r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", prior).W)
+        t, _, nll = refine(xyz, r, t, prior)
+    sh = estimate_shape(prep.rec, t, prior)
+    spec = sh.spec if sh.replaces_base else prior
     if sh.replaces_base:  # another instrument's shape: the position again under the data's law
-        r = _base_residuals(prep, max_degree, NoiseModel.at960(xyz, t, "", "", spec).W)
+        r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", spec).W)
         t, _, nll = refine(xyz, r, t, spec)
-        sh = estimate_shape(prep.rec, t)
+        sh = estimate_shape(prep.rec, t, prior)
         spec = sh.spec
     c = xyz.mean(axis=0)
     lr = 2.0 * (isotropic_nll(r) - nll)
@@ -80,19 +89,30 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int) -> 
     if sh.replaces_base:
         return NoiseModel.at960(xyz, t, "tracker law estimated (estimated tracker)",
                                 f"tracker position and noise law estimated from the scatter of the repeated rounds: "
-                                f"{sh.law_text()}", spec, **details)
-    return NoiseModel.at960(xyz, t, "AT960 (estimated tracker)",
+                                f"{sh.law_text()}", spec, _law(sh, prior), **details)
+    return NoiseModel.at960(xyz, t, f"{name} (estimated tracker)",
                             "tracker position estimated from the shape of the scatter of the repeated rounds "
-                            "(beam lines of the least spread, then maximum likelihood under the AT960 shape)",
-                            **details)
+                            f"(beam lines of the least spread, then maximum likelihood under the {name} shape)",
+                            prior, _law(sh, prior), **details)
 
 
-def _base_residuals(prep: Prepared, max_degree: int, W: np.ndarray | None = None) -> np.ndarray:
+def _law(sh: ShapeEstimate | None, prior: TrackerSpec) -> dict:
+    """``noise_model.law``: the prior's law, or the data's where the repeated rounds reject the prior's shape."""
+    if sh is None:
+        return law_report(prior, prior, "prior", "one round: the shape is not checked")
+    ratio = f"the data's radial : transverse ratio is {sh.rho:.3g} times {prior.whose}"
+    if sh.replaces_base:
+        return law_report(sh.spec, prior, "data", f"{ratio}, outside [{SHAPE_LOW:g}, {SHAPE_HIGH:g}]")
+    return law_report(prior, prior, "prior", f"the repeated rounds agree with its shape ({ratio})")
+
+
+def _base_residuals(prep: Prepared, max_degree: int, prior: TrackerSpec, W: np.ndarray | None = None
+                    ) -> np.ndarray:
     """(n, 3) residuals (mm) of the quasi-static base family (or the given model), fitted with the whitening W
     (None: unweighted)."""
     n = len(prep.rec)
     if W is not None:
-        prep = replace(prep, noise=NoiseModel(W, "AT960", ""))
+        prep = replace(prep, noise=NoiseModel(W, prior.label, ""))
     degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
     eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
     raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]

@@ -16,8 +16,9 @@ uses the reference readings of all its axes.  A parked axis still sits in an err
 side (mtcal.diagnose.design), so only what moves one reflector relative to the others is no longer absorbed.
 
 Several tracker stations (docs/design.md; ``tracker`` a dict label -> tracker position): every reading is weighted
-by the AT960 covariance about its own station's tracker, and the tracker-dependent candidates are per station
-(``Geometry.station``, ``Geometry.trackers``); the base adds every station's alignment (mtcal.diagnose.design).
+by the prior law's covariance (the AT960's unless ``tracker_model`` names another) about its own station's tracker,
+and the tracker-dependent candidates are per station (``Geometry.station``, ``Geometry.trackers``); the base adds
+every station's alignment (mtcal.diagnose.design).
 
 The weights (whitening W, W^T W = covariance^-1) come from mtcal.diagnose.noise.
 """
@@ -32,6 +33,7 @@ from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.passes import first_readings, position_key, reference_position
 from mtcal.measurement.recordings import Recording
+from mtcal.measurement.tracker import AT960, TrackerSpec
 
 TIE_POSITIONS = True   # default: reflector positions shared by axes measured from the same reference pose
 
@@ -100,12 +102,14 @@ def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.
 
 
 def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
-            max_degree: int = 3, tie_positions: bool = TIE_POSITIONS) -> Prepared:
+            max_degree: int = 3, tie_positions: bool = TIE_POSITIONS, tracker_model: TrackerSpec = AT960
+            ) -> Prepared:
     """Nominal positions, point Jacobians and weights of every reading (see module docstring); ``tracker`` (3,)
     mm, a dict station label -> (3,) mm (several stations: the recording's station column labels the rows), or
     None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise, with
     the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
-    from the same reference pose (module docstring), else one per (axis, reflector)."""
+    from the same reference pose (module docstring), else one per (axis, reflector); ``tracker_model``: the prior
+    noise law (mtcal.measurement.tracker, default the AT960's)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
     if n == 0:
@@ -158,8 +162,8 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
         g.trackers = {k: np.asarray(v, dtype=float).reshape(3) for k, v in tracker.items()}
     prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group, local,
                     NoiseModel.isotropic(n))
-    prep.noise = (NoiseModel.stations(rec.xyz, g.station, g.trackers) if several
-                  else noise_model(prep, t, max_degree))
+    prep.noise = (NoiseModel.stations(rec.xyz, g.station, g.trackers, tracker_model) if several
+                  else noise_model(prep, t, max_degree, tracker_model))
     if t is None and prep.noise.tracker is not None:
         prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)
     return prep

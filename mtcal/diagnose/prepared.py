@@ -10,7 +10,7 @@ import numpy as np
 from mtcal.diagnose import effects as fx
 from mtcal.kinematics.machine import Machine
 from mtcal.measurement.recordings import Recording
-from mtcal.measurement.tracker import AT960, TrackerSpec, covariance
+from mtcal.measurement.tracker import AT960, TrackerSpec, covariance, law_report
 
 
 @dataclass
@@ -22,6 +22,7 @@ class NoiseModel:
     how: str
     tracker: list[float] | None = None  # mm, machine frame
     details: dict = field(default_factory=dict)
+    law: dict | None = None            # the tracker law that weights the readings (``law_report``); None: isotropic
 
     @property
     def weighted(self) -> bool:
@@ -33,24 +34,29 @@ class NoiseModel:
 
     @classmethod
     def at960(cls, xyz: np.ndarray, tracker: np.ndarray, kind: str, how: str, spec: TrackerSpec = AT960,
-              **details) -> "NoiseModel":
-        """Readings weighted by the covariance of ``spec``'s law (default the AT960's) about ``tracker`` (mm)."""
-        return cls(_whitening(xyz, tracker, spec), kind, how, [float(v) for v in tracker], dict(details))
+              law: dict | None = None, **details) -> "NoiseModel":
+        """Readings weighted by the covariance of ``spec``'s law (default the AT960's) about ``tracker`` (mm);
+        ``law``: how it is reported (``law_report``; default: ``spec`` as the prior)."""
+        return cls(_whitening(xyz, tracker, spec), kind, how, [float(v) for v in tracker], dict(details),
+                   law if law is not None else law_report(spec, spec, "prior"))
 
     @classmethod
-    def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray]) -> "NoiseModel":
-        """The AT960 covariance of every reading about its own station's tracker (several stations)."""
+    def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray],
+                 spec: TrackerSpec = AT960) -> "NoiseModel":
+        """The covariance of ``spec``'s law (the prior, default the AT960's) of every reading about its own
+        station's tracker (several stations)."""
         W = np.empty((len(xyz), 3, 3))
         for label, t in trackers.items():
             on = station == label
-            W[on] = _whitening(xyz[on], t)
-        return cls(W, "AT960 (given trackers, per station)",
-                   "each reading weighted by the AT960 covariance about its own station's tracker (the recording's "
-                   "station and tracker_x,y,z columns)", None,
-                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}})
+            W[on] = _whitening(xyz[on], t, spec)
+        return cls(W, f"{spec.name or 'given law'} (given trackers, per station)",
+                   f"each reading weighted by {spec.whose} covariance about its own station's tracker (the "
+                   "recording's station and tracker_x,y,z columns)", None,
+                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}},
+                   law_report(spec, spec, "prior", "several stations: the prior law, the shape is not estimated"))
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "how": self.how, "tracker": self.tracker, **self.details}
+        return {"kind": self.kind, "how": self.how, "tracker": self.tracker, "law": self.law, **self.details}
 
 
 def _whitening(xyz: np.ndarray, tracker: np.ndarray, spec: TrackerSpec = AT960) -> np.ndarray:

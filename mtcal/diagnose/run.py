@@ -16,6 +16,7 @@ from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen as screen_gross
+from mtcal.measurement.tracker import as_tracker_model
 
 log = logging.getLogger("mtcal.diagnose")
 MAX_DEGREE = 6  # the quasi-static family: error functions up to degree 6 (a few undulations over the travel)
@@ -23,15 +24,18 @@ MAX_DEGREE = 6  # the quasi-static family: error functions up to degree 6 (a few
 
 def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None,
              level: float = 0.01, max_degree: int = MAX_DEGREE, max_effects: int = 8,
-             tie_positions: bool = TIE_POSITIONS) -> Diagnosis:
+             tie_positions: bool = TIE_POSITIONS, tracker_model=None) -> Diagnosis:
     """Diagnose a recording (see mtcal.diagnose).  ``level``: family-wise significance level; ``tracker`` (3,)
     mm or None (noise model estimated from the data; a recording of several stations weighs each about its own
     tracker_x,y,z columns and fits every station's alignment, mtcal.diagnose.design); ``tie_positions``:
     reflector positions shared by the axes measured from the same reference pose (mtcal.diagnose.prepare), else
-    one per (axis, reflector)."""
+    one per (axis, reflector); ``tracker_model``: the tracker's noise law, the prior of the noise model (an
+    instrument's name, "a_r,b_r,a_t,b_t[,k]" MPE in um and um/m, or a TrackerSpec; None: the AT960's;
+    mtcal.measurement.tracker.tracker_model): the repeated rounds still check its shape (mtcal.diagnose.noise)."""
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
+    prior = as_tracker_model(tracker_model)
     gross = screen_gross(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
     for p in gross.problems:
         log.warning("warning: data problem: %s", p.text)
@@ -39,7 +43,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
         log.warning("warning: %s", note)
     rec = rec.select(gross.keep) if gross.problems else rec
     tracker = _station_tracker(rec, tracker)
-    prep = prepare(rec, machine, model, tracker, max_degree, tie_positions)
+    prep = prepare(rec, machine, model, tracker, max_degree, tie_positions, prior)
     say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
     wy, w = whiten(prep.W, prep.y), Columns(prep.W)
     # the null of every test: the quasi-static family at its largest degree (or the given model), not the

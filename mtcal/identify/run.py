@@ -34,6 +34,8 @@ from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
+    SHAPE_HIGH,
+    SHAPE_LOW,
     PositionEstimate,
     estimate_position,
     estimate_shape,
@@ -51,7 +53,7 @@ METHOD_TEXT = {"three-point": "three-point (Zhang & Hu), least squares over all 
 def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACHINE, reference: str = "least-squares",
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
              max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto", worth: bool = True,
-             noise_law: trk.TrackerSpec | None = None) -> IdentifyResult:
+             noise_law: trk.TrackerSpec | None = None, tracker_model=None) -> IdentifyResult:
     """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
     reference: reference straight line method (mtcal.identify.fitting.REFERENCE_METHODS); outlier_k: a round whose value
     differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
@@ -60,9 +62,12 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     the scatter of the rounds, ``estimate_station``; else three-point, with a warning); worth: also run the
     estimator on two halves of the rounds to state the model's predicted error against what it corrects
     (``model.meta["worth"]``, mtcal.identify.compare.split_half_worth) and warn when compensating may make the machine
-    worse; noise_law: the tracker law the joint fit weights by (default: the AT960's, or the one the repeated rounds
-    show where they are shaped otherwise, ``_noise_law``)."""
+    worse; tracker_model: the tracker's noise law, the prior (an instrument's name, "a_r,b_r,a_t,b_t[,k]" MPE in
+    um and um/m, or a TrackerSpec; None: the AT960's; mtcal.measurement.tracker.tracker_model); noise_law: the
+    law the fit weights by, as it is (default: the prior's, or the one the repeated rounds show where they are
+    shaped otherwise, ``_noise_law``)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
+    prior = trk.as_tracker_model(tracker_model)
     if method not in METHODS:
         raise InputError(f"`method` must be one of {METHODS}, got {method!r}")
     if reference not in fitting.REFERENCE_METHODS:
@@ -74,13 +79,13 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         warnings += [*(p.text for p in gross.problems), *gross.notes]
     estimated = None
     if method == "auto":
-        method, tracker, estimated = _auto_method(rec, tracker, warnings)
+        method, tracker, estimated = _auto_method(rec, tracker, warnings, prior)
     t = None if tracker is None else np.asarray(tracker, dtype=float).reshape(3)
     for axis in rec.axes():
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
-    results, slopes, joint, spec = _fit_axes(rec, m, t, method, reference, noise_law, warnings,
-                                             (outlier_k, max_deviation_mm))
+    results, slopes, joint, spec, law = _fit_axes(rec, m, t, method, reference, noise_law, warnings,
+                                                  (outlier_k, max_deviation_mm), prior)
     sq = fitting.squareness(slopes)
     sq_stats = _squareness_type_a(results, m, reference, sq)
     if set(m.linear_axes) <= set(results) and len(sq) < 3:
@@ -91,9 +96,11 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     meta = dict(model.meta, method=METHOD_TEXT[method])
     if estimated is not None:
         meta["tracker_estimated"] = {"position_mm": estimated.position.tolist(),
-                                     "sigma_mm": estimated.sigma_mm.tolist(), "noise_scale_vs_at960": estimated.scale,
+                                     "sigma_mm": estimated.sigma_mm.tolist(),
+                                     "noise_scale_vs_at960": estimated.scale,  # vs the prior's (AT960 by default)
                                      "how": "estimated from the scatter of the repeated rounds "
                                             "(mtcal.measurement.tracker_position)"}
+    meta.update({"noise_law": law} if law else {})
     if worth:
         w = _worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
                                                   max_harmonics=max_harmonics, method=method, noise_law=spec))
@@ -111,11 +118,15 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
 
 
 def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, reference: str,
-              noise_law: trk.TrackerSpec | None, warnings: list[str], limits: tuple[float, float]):
+              noise_law: trk.TrackerSpec | None, warnings: list[str], limits: tuple[float, float],
+              prior: trk.TrackerSpec = trk.AT960):
     """(results {axis: AxisResult with its reference lines}, straightness slopes {E_IJ: mm/mm}, the joint fit or
-    None, the noise law it weighted by): the joint fit of all axes, or three-point axis by axis (the rotary axes
-    on readings turned into the ISO frame the linear axes' reference lines define)."""
-    joint, spec = None, noise_law
+    None, the noise law the fit weighted by, its report (trk.law_report) or None): the joint fit of all axes, or
+    three-point axis by axis (the rotary axes on readings turned into the ISO frame the linear axes' reference lines
+    define)."""
+    joint, spec, law = None, noise_law, None
+    if noise_law is None and (t is not None or method == "joint" or rec.tracker_xyz is not None):
+        spec, law = _noise_law(rec, t, warnings, prior)
     if method == "joint" or len(set(rec.stations().tolist())) > 1:
         if method != "joint":
             raise InputError(f"{rec.source}: several tracker stations need the joint fit (`method` joint)")
@@ -123,7 +134,6 @@ def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, ref
         for axis in rec.axes():  # the same input checks as the per-position method (gross errors, collinearity)
             sub = rec.select(rec.axis == axis)
             _check_shape(sub, axis, _passes(sub, axis))
-        spec = noise_law or _noise_law(rec, t, warnings)
         joint = identify_joint.joint_fit(rec, m, t, spec)
         warnings += joint.warnings
         results = {axis: identify_joint.axis_result(joint, rec, m, axis) for axis in rec.axes()}
@@ -131,7 +141,7 @@ def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, ref
         results = {}
         for axis in (a for a in rec.axes() if m.kind(a) == "linear"):
             log.info("identifying axis %s", axis)
-            results[axis] = _identify_axis(rec, axis, m, t, warnings, *limits)
+            results[axis] = _identify_axis(rec, axis, m, t, warnings, *limits, spec=spec or prior)
     lines = reference_lines(results, m, reference)
     results = {a: replace(r, lines=lines.get(a, {})) for a, r in results.items()}
     slopes = {nm: line["slope"] for ls in lines.values() for nm, line in ls.items()}
@@ -140,9 +150,9 @@ def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, ref
         for axis in rec.axes():
             if axis not in results:
                 log.info("identifying axis %s (readings turned into the ISO frame of the linear axes)", axis)
-                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, *limits)
+                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, *limits, spec=spec or prior)
         results = {a: results[a] for a in rec.axes()}
-    return results, slopes, joint, spec
+    return results, slopes, joint, spec, law
 
 
 def _worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], kw: dict) -> dict | None:
@@ -179,26 +189,34 @@ def _worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], k
     return w.to_dict()
 
 
-def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str]) -> trk.TrackerSpec:
-    """The law the joint fit weights by: the AT960's, or where one station's repeated rounds are shaped otherwise
-    (mtcal.measurement.tracker_position.estimate_shape) the data's, said in ``warnings``."""
-    if t is None or len(set(rec.stations().tolist())) > 1 or len(set(rec.round.tolist())) < 2:
-        return trk.AT960
-    sh = estimate_shape(rec, t)
+def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior: trk.TrackerSpec = trk.AT960
+               ) -> tuple[trk.TrackerSpec, dict]:
+    """The law the fit weights by, and its report (trk.law_report): the prior's (the AT960's unless
+    ``tracker_model`` names another), or where one station's repeated rounds are shaped otherwise
+    (mtcal.measurement.tracker_position.estimate_shape, a ratio test against the prior) the data's, said in
+    ``warnings``."""
+    if len(set(rec.stations().tolist())) > 1:
+        return prior, trk.law_report(prior, prior, "prior", "several stations: the shape is not checked")
+    if t is None and rec.tracker_xyz is not None:
+        t = rec.tracker_xyz[0]
+    if t is None or len(set(rec.round.tolist())) < 2:
+        return prior, trk.law_report(prior, prior, "prior", "the shape is not checked (one round or no tracker)")
+    sh = estimate_shape(rec, t, prior)
+    ratio = f"the data's radial : transverse ratio is {sh.rho:.3g} times {prior.whose}"
     if not sh.replaces_base:
-        return trk.AT960
-    warnings.append(f"noise law: the repeated rounds are not shaped like an AT960's; the joint fit weights by the "
+        return prior, trk.law_report(prior, prior, "prior", f"the repeated rounds agree with its shape ({ratio})")
+    warnings.append(f"noise law: the repeated rounds are not shaped like {prior.whose}; the fit weights by the "
                     f"data's: {sh.law_text()}")
-    return sh.spec
+    return sh.spec, trk.law_report(sh.spec, prior, "data", f"{ratio}, outside [{SHAPE_LOW:g}, {SHAPE_HIGH:g}]")
 
 
-def _auto_method(rec: Recording, tracker, warnings: list[str]):
+def _auto_method(rec: Recording, tracker, warnings: list[str], prior: trk.TrackerSpec = trk.AT960):
     """identify's default estimator: (method, tracker position or None, the estimate or None).  The joint fit
     when the tracker position is given or estimated from the rounds' scatter; else three-point, with a warning
     naming what is lost."""
     estimated = None
     if tracker is None and rec.tracker_xyz is None:
-        estimated, why = estimate_station(rec)
+        estimated, why = estimate_station(rec, prior)
         if estimated is None and len(np.unique(rec.round)) > 1 and not np.any(round_scatter(rec)):  # noise-free
             log.info("tracker position not estimated (%s): three-point method", why)
         elif estimated is None:
@@ -213,8 +231,7 @@ def _auto_method(rec: Recording, tracker, warnings: list[str]):
     return method, tracker, estimated
 
 
-def estimate_station(rec: Recording) -> tuple[PositionEstimate | None,
-str]:
+def estimate_station(rec: Recording, spec: trk.TrackerSpec = trk.AT960) -> tuple[PositionEstimate | None, str]:
     """Where the tracker stood, from the scatter of the repeated rounds (mtcal.measurement.tracker_position):
     (estimate, "")
     or (None, why not).  One station only (a multi-station recording carries its trackers' positions)."""
@@ -227,7 +244,7 @@ str]:
         return None, "the rounds repeat exactly: no scatter (noise-free readings?)"
     groups = [sel for a in rec.axes() for p in np.unique(rec.point[rec.axis == a])
               if (sel := (rec.axis == a) & (rec.point == p)).sum() >= 6]
-    est = estimate_position(rec.xyz, r, groups)
+    est = estimate_position(rec.xyz, r, groups, spec)
     if not est.accepted:
         return None, (f"the scatter shows no tracker shape (likelihood ratio {est.likelihood_ratio:.1f}, "
                       f"p = {est.p_isotropic:.2g})" if est.p_isotropic >= LR_LEVEL else

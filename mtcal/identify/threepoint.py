@@ -187,9 +187,9 @@ def _passes(rec: Recording, axis: str):
 
 
 def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str], outlier_k: float,
-                   max_dev: float) -> AxisResult:
-    """One axis by the three-point method: every pass solved (weighted by the tracker law when ``t`` is given,
-    else isotropic from the residuals), passes of one round at one position averaged, Type A over rounds."""
+                   max_dev: float, spec: trk.TrackerSpec = trk.AT960) -> AxisResult:
+    """One axis by the three-point method: every pass solved (weighted by the tracker law ``spec`` when ``t`` is
+    given, else isotropic from the residuals), passes of one round at one position averaged, Type A over rounds."""
     ps = _passes(rec, axis)
     rows, ref_rows = ps["rows"], ps["ref_rows"]
     readings, refs = rec.xyz[rows], rec.xyz[ref_rows]
@@ -199,7 +199,7 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
     _check_shape(rec, axis, ps)
     cov = c_ref = None
     if t is not None:
-        c_read, c_ref = delta_covariance(readings, refs, rrel, rf, t, parts=True)
+        c_read, c_ref = delta_covariance(readings, refs, rrel, rf, t, parts=True, spec=spec)
         cov = c_read + c_ref
     e, resid, ce = solve_frame(pts, dls, cov)
     var, var_ref = _pass_variances(pts, resid, ce, cov, c_ref, (rows == ref_rows).all(axis=1))

@@ -1,16 +1,15 @@
 """Where the tracker stood, estimated from the scatter of repeated readings (mm, machine frame).
 
 A laser tracker's reading covariance (mtcal.measurement.tracker) is small along the beam and large across it, so the
-scatter of
-repeated readings of one reflector is flattest along the line to the tracker.  ``estimate_position`` turns the
-scatter ``r`` (n, 3) of readings ``xyz`` (n, 3) into the station: (1) each group's (a reflector's) least-spread
-direction gives a beam line through it, (2) the point closest to all beam lines, and 1.5 m either side along the mean
-beam, start (3) a maximum-likelihood fit of the position under the AT960 covariance times a scale c near 1 (prior
-log c ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the convergence of
-the beams; Nelder-Mead).  The estimate is accepted when it beats isotropic noise by a likelihood-ratio test (chi^2
-with 3 dof, p < 1e-3); its covariance is the inverse of the negative log-likelihood's Hessian.  Used by the
-diagnosis (scatter = residuals of its base family) and by identify (scatter = readings about their mean over the
-rounds, no model needed).
+scatter of repeated readings of one reflector is flattest along the line to the tracker. ``estimate_position`` turns
+the scatter ``r`` (n, 3) of readings ``xyz`` (n, 3) into the station: (1) each group's (a reflector's) least-spread
+direction gives a beam line through it, (2) the point closest to all beam lines, and 1.5 m either side along the
+mean beam, start (3) a maximum-likelihood fit of the position under the prior law's covariance (the AT960's unless
+another is named, mtcal.measurement.tracker.tracker_model) times a scale c near 1 (prior log c ~ N(0, 0.3^2): the
+distance comes from the size of the transverse scatter as well as from the convergence of the beams; Nelder-Mead).
+The estimate is accepted when it beats isotropic noise by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); its
+covariance is the inverse of the negative log-likelihood's Hessian. Used by the diagnosis (scatter = residuals of
+its base family) and by identify (scatter = readings about their mean over the rounds, no model needed).
 """
 from __future__ import annotations
 
@@ -27,7 +26,7 @@ from mtcal.measurement.tracker import AT960, TrackerSpec, covariance
 LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (a tracker) vs isotropic noise
 START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
 MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
-SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (AT960)
+SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (the prior law)
 HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01)  # mm, mm, mm, log c: central differences of the log-likelihood
 SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data's radial : transverse ratio over
 # the base's is above SHAPE_HIGH (both with and without each round's mean removed: effects the scatter holds raise
@@ -37,7 +36,8 @@ SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data
 @dataclass(frozen=True)
 class PositionEstimate:
     """The estimated station (mm), its covariance (mm^2; None when the Hessian is not positive definite), the
-    noise scale relative to the AT960 specification, and the likelihood-ratio test against isotropic noise."""
+    noise scale relative to the prior law's specification (AT960 by default), and the likelihood-ratio test against
+    isotropic noise."""
 
     position: np.ndarray
     covariance: np.ndarray | None
@@ -60,7 +60,8 @@ def least_spread(r: np.ndarray) -> np.ndarray:
     return np.linalg.eigh(r.T @ r)[1][:, 0]
 
 
-def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) -> list[np.ndarray]:
+def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: TrackerSpec = AT960
+                ) -> list[np.ndarray]:
     """Starting positions (mm): the point closest (least squares) to every group's beam line (unless they are
     parallel), and START_DISTANCE either side of the readings' centre along the mean beam."""
     A, b = np.zeros((3, 3)), np.zeros(3)
@@ -77,12 +78,12 @@ def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) -> lis
     u = np.linalg.eigh(M)[1][:, -1]
     c = xyz.mean(axis=0)
     starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
-    starts = [s for s in starts if math.isfinite(nll(xyz, r, np.append(s, 0.0)))]
+    starts = [s for s in starts if math.isfinite(nll(xyz, r, np.append(s, 0.0), spec))]
     return starts or [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
 
 
 def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> float:
-    """Negative log-likelihood (up to a constant) of the scatter under c * AT960 covariance about the tracker
+    """Negative log-likelihood (up to a constant) of the scatter under c * ``spec``'s covariance about the tracker
     t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
     it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
     t, logc = v[:3], float(v[3])
@@ -113,29 +114,33 @@ def isotropic_nll(r: np.ndarray) -> float:
     return 1.5 * live * (math.log(float(np.sum(r**2)) / (3 * live)) + 1.0)
 
 
-def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray) -> np.ndarray | None:
+def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> np.ndarray | None:
     h = np.asarray(HESSIAN_STEP)
-    f0 = nll(xyz, r, v)
+
+    def f(x):
+        return nll(xyz, r, x, spec)
+
+    f0 = f(v)
     H = np.zeros((4, 4))
     for i in range(4):
         for j in range(i, 4):
             ei, ej = np.eye(4)[i] * h[i], np.eye(4)[j] * h[j]
-            H[i, j] = H[j, i] = (nll(xyz, r, v + ei + ej) - nll(xyz, r, v + ei - ej) - nll(xyz, r, v - ei + ej)
-                                 + nll(xyz, r, v - ei - ej)) / (4 * h[i] * h[j]) if i != j else \
-                (nll(xyz, r, v + ei) - 2 * f0 + nll(xyz, r, v - ei)) / h[i] ** 2
+            H[i, j] = H[j, i] = (f(v + ei + ej) - f(v + ei - ej) - f(v - ei + ej) + f(v - ei - ej)) / (
+                4 * h[i] * h[j]) if i != j else (f(v + ei) - 2 * f0 + f(v - ei)) / h[i] ** 2
     if not np.all(np.isfinite(H)) or np.linalg.eigvalsh(H)[0] <= 0:
         return None
     return np.linalg.inv(H)[:3, :3]
 
 
-def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray]) -> PositionEstimate:
+def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: TrackerSpec = AT960
+                      ) -> PositionEstimate:
     """The station (see module docstring) from readings ``xyz`` (n, 3) mm, their scatter ``r`` (n, 3) mm (rows of
-    zeros carry none) and the groups (boolean masks) of readings of one reflector."""
-    best = min((refine(xyz, r, s) for s in beam_starts(xyz, r, groups)), key=lambda v: v[2])
+    zeros carry none) and the groups (boolean masks) of readings of one reflector, under ``spec``'s law."""
+    best = min((refine(xyz, r, s, spec) for s in beam_starts(xyz, r, groups, spec)), key=lambda v: v[2])
     t, logc, f = best
     lr = 2.0 * (isotropic_nll(r) - f)
     p = float(stats.chi2.sf(max(lr, 0.0), 3))
-    return PositionEstimate(t, _covariance(xyz, r, np.append(t, logc)), math.exp(logc), lr, p)
+    return PositionEstimate(t, _covariance(xyz, r, np.append(t, logc), spec), math.exp(logc), lr, p)
 
 
 def round_scatter(rec: Recording, values: np.ndarray | None = None) -> np.ndarray:
@@ -183,7 +188,8 @@ def _shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpe
 
 @dataclass(frozen=True)
 class ShapeEstimate:
-    """The noise law the repeated rounds show about a tracker position, against a base law (the AT960's):
+    """The noise law the repeated rounds show about a tracker position, against a base law (the prior: the
+    AT960's unless another is named, ``base``):
     ``rho`` = the data's radial : transverse ratio over the base's (from the model-free round scatter; ``rho_centred``
     the same with each round's mean removed), ``scale`` = the transverse variance over the base's, and ``spec``,
     the base law with both sigmas scaled to the data's.  ``replaces_base``: the shapes differ beyond what effects
@@ -193,6 +199,7 @@ class ShapeEstimate:
     rho: float
     rho_centred: float
     scale: float
+    base: TrackerSpec = AT960
 
     @property
     def replaces_base(self) -> bool:
@@ -210,13 +217,13 @@ class ShapeEstimate:
         law = self.law()
         return (f"1 sigma along the beam {law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across "
                 f"{law['transverse_um']:.1f} um + {law['transverse_um_per_m']:.1f} um/m (radial : transverse "
-                f"{self.rho:.2g} times the AT960's)")
+                f"{self.rho:.2g} times {self.base.whose})")
 
     def to_dict(self) -> dict:
         return {"law_1sigma": {k: round(v, 4) for k, v in self.law().items()},
                 "radial_to_transverse_over_base": round(self.rho, 3),
                 "same_with_round_means_removed": round(self.rho_centred, 3),
-                "used": "estimated law" if self.replaces_base else "base law (AT960)",
+                "used": "estimated law" if self.replaces_base else f"base law ({self.base.label})",
                 "rule": f"the base law's shape gives way above {SHAPE_HIGH:g} or below {SHAPE_LOW:g} "
                         f"(mtcal.measurement.tracker_position)"}
 
@@ -231,4 +238,4 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> 
     c, k = math.sqrt(scale), rho
     spec = TrackerSpec(base.radial_um * c * k, base.radial_um_per_m * c * k, base.transverse_um * c,
                        base.transverse_um_per_m * c, base.k)
-    return ShapeEstimate(spec, rho, rho_c, scale)
+    return ShapeEstimate(spec, rho, rho_c, scale, base)
