@@ -7,7 +7,8 @@ axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (docs/design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
 outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
-thermal_temperature.  Parameters are checked (finite, in a physical range) and a bad one is an InputError.
+thermal_temperature; issue 24: nest_knock.  Parameters are checked (finite, in a physical range) and a bad one is
+an InputError.
 API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
 
@@ -32,6 +33,9 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
 * nest_creep     one reflector's nest (``point`` on ``side``) creeps at rate_mm_s along ``direction`` (the side's
                  local frame: spindle or workpiece coordinates), linearly from t0_s: local + v (t - t0_s); the
                  exact kinematics carry it to the machine frame (it turns with the table).  10 um/h = 2.78e-6 mm/s.
+* nest_knock     one reflector's nest (``point`` on ``side``) knocked at t0_s: displaced by ``size`` mm along
+                 ``direction`` (the side's local frame) from then on, through the rest of that axis' block and the
+                 next ones (default t0_s: half the campaign's duration).
 * tracker_settling  the tracker stand settles: every reading turns about the axis ``about`` through the tracker
                  position by theta = rate_rad_s (t - t0_s) + angle_rad (1 - exp(-(t - t0_s) / tau_s)) (a ramp
                  and / or a first-order settling); exact rotation, distances to the tracker unchanged.
@@ -206,6 +210,11 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                                  "mm/s (10 um/h = 2.78e-6)"),
                    "direction": ("+Z", _dir, "X, Y, Z, -X, -Y, -Z or a;b;c, the side's local frame"),
                    "t0_s": (0.0, _in(0.0, 1e7), "s, start of the creep")},
+    "nest_knock": {"point": (None, str, "point label; default the first reflector of the side"),
+                   "side": (None, _choice("tool", "table"), "side carrying the nest; default the first axis' side"),
+                   "size": (0.020, _in(-5.0, 5.0, "mm"), "mm"),
+                   "direction": ("+Z", _dir, "X, Y, Z, -X, -Y, -Z or a;b;c, the side's local frame"),
+                   "t0_s": (math.nan, _float, "s; default: half the campaign's duration")},
     "tracker_settling": {"angle_rad": (20e-6, _in(-1e-2, 1e-2, "rad"), "rad, final tilt of the settling"),
                          "tau_s": (1800.0, _in(1.0, 1e7, "s"), "s, settling time constant"),
                          "rate_rad_s": (0.0, _in(-1e-5, 1e-5, "rad/s"), "rad/s, steady tilt rate (a ramp)"),
@@ -301,7 +310,7 @@ class Effect:
         elif self.name == "reversal_angular":
             p["error"] = p["error"] or f"E_B{lin[0]}"
             self._member("error", p["error"], [f"E_{c}{a}" for a in lin for c in "ABC"])
-        elif self.name == "nest_creep":
+        elif self.name in ("nest_creep", "nest_knock"):
             p["side"] = p["side"] or machine.side(machine.axes[0])
             labels = list(points[p["side"]]) if points else [k for k, _ in machine.campaign["reflectors"][p["side"]]]
             p["point"] = p["point"] or labels[0]
@@ -365,12 +374,16 @@ class Effect:
                                                                       [p["ppm_per_k"]])[:, 0]
 
     def move_nests(self, rows: Rows, local: np.ndarray) -> None:
-        """nest_creep: add the creep of the nest to the reflector's local coordinates (n, 3) mm in place, before
-        the exact kinematics carry them to the machine frame."""
-        if self.name != "nest_creep":
+        """nest_creep, nest_knock: add the nest's creep or step to the reflector's local coordinates (n, 3) mm in
+        place, before the exact kinematics carry them to the machine frame."""
+        if self.name not in ("nest_creep", "nest_knock"):
             return
         p = self.params
         on = (rows.point == p["point"]) & (rows.side == p["side"])
+        if self.name == "nest_knock":  # the creep's model with a step for the time: displacement * [t >= t0]
+            after = (rows.time_s[on] >= self.knock_time(rows)).astype(float)
+            local[on] += S.nest_creep_model(p["size"] * _unit(p["direction"]), after)
+            return
         dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
         local[on] += S.nest_creep_model(p["rate_mm_s"] * _unit(p["direction"]), dt)
 
@@ -435,6 +448,11 @@ class Effect:
         dt = np.maximum(np.asarray(t, dtype=float) - p["t0_s"], 0.0)
         return S.tracker_settling_angle([p["rate_rad_s"], p["angle_rad"]], dt, p["tau_s"])[..., 0]
 
+    def knock_time(self, rows: Rows) -> float:
+        """nest_knock: when the nest is knocked (s; default half the campaign's duration)."""
+        t = self.params["t0_s"]
+        return float(rows.time_s.max() / 2 if math.isnan(t) else t)
+
     def offset_time(self, rows: Rows) -> float:
         t = self.params["t_from_s"]
         return float(rows.time_s.max() / 2 if math.isnan(t) else t)
@@ -482,6 +500,13 @@ class Effect:
                 on = (rows.point == p["point"]) & (rows.side == p["side"])
                 span = float(np.maximum(rows.time_s[on] - p["t0_s"], 0.0).max()) if on.any() else 0.0
                 out["displacement_mm"] = p["rate_mm_s"] * span
+        elif n == "nest_knock":
+            out.update(point=p["point"], side=p["side"], size=p["size"], direction=_unit(p["direction"]).tolist())
+            if rows is not None:
+                t = self.knock_time(rows)
+                on = (rows.point == p["point"]) & (rows.side == p["side"]) & (rows.time_s >= t)
+                out.update(t0_s=t, readings_after=int(on.sum()),
+                           from_axis=str(rows.axis[on][np.argmin(rows.time_s[on])]) if on.any() else None)
         elif n == "tracker_settling":
             out.update(about=_unit(p["about"]).tolist())
             if rows is not None:

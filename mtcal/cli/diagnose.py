@@ -4,7 +4,7 @@ from __future__ import annotations
 import argparse
 import logging
 
-from mtcal.cli._options import machine_argument, probability, xyz
+from mtcal.cli._options import machine_argument, probability, tracker_model_argument, xyz
 
 NAME = "diagnose"
 log = logging.getLogger("mtcal." + NAME)
@@ -16,9 +16,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", metavar="MODEL.json", help="base model = this error model (residuals = recordings "
                    "minus its simulation); default: fit smooth error functions to the recording")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz,
-                   help="tracker position, mm, machine frame: weights readings by the AT960 covariance (default: "
-                   "the position estimated from the scatter of the repeated rounds; the JSON key noise_model says "
-                   "which was used)")
+                   help="tracker position, mm, machine frame: weights readings by the tracker law's covariance "
+                   "(--tracker-model; default: the position estimated from the scatter of the repeated rounds; the "
+                   "JSON key noise_model says which was used)")
+    tracker_model_argument(p, "the prior of the noise model: the repeated rounds still check its shape and the "
+                           "data's law is used (and said) where they disagree; noise_model.law reports the law used")
     p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (default: "
                    "every station in one fit, each weighted about its own tracker_x,y,z, with its own alignment)")
     p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
@@ -26,7 +28,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="one position per (axis, reflector) instead of sharing a reflector's position between the "
                    "axes measured from the same reference pose (then a reflector creeping between the axes is "
                    "absorbed; docs, diagnosis base model)")
-    p.add_argument("--plots", metavar="DIR", help="write residuals_before.png and residuals_after.png to DIR")
+    p.add_argument("--plots", metavar="DIR",
+                   help="write residuals_before.png, residuals_after.png and a picture per finding "
+                        "(finding_N_NAME_AXIS.png: a reversal by approach direction, a drift or knock against time, "
+                        "a periodic error against position) to DIR")
     machine_argument(p)
 
 
@@ -38,14 +43,14 @@ def _fmt(e: dict) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from mtcal.diagnose import diagnose, plot_residuals
+    from mtcal.diagnose import diagnose, plot_findings, plot_residuals
     from mtcal.errors import InputError
     from mtcal.io import dumps, refuse_overwrite
     from mtcal.kinematics.machine import DEFAULT_MACHINE
     from mtcal.measurement.recordings import read_recording
     from mtcal.model.errormodel import load_model
 
-    refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png"]})
+    refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png", "finding_*.png"]})
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     rec = read_recording(args.recording, machine)
@@ -56,15 +61,22 @@ def run(args: argparse.Namespace) -> int:
                              f"(stations: {', '.join(sorted(set(rec.stations())))})")
         rec = rec.select(keep)
     d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level,
-                 tie_positions=not args.per_axis_positions)
+                 tie_positions=not args.per_axis_positions, tracker_model=args.tracker_model)
     out = d.to_dict()
     if args.plots:
-        out["plots"] = plot_residuals(d, args.plots)
+        out["plots"] = plot_residuals(d, args.plots) + plot_findings(d, args.plots)
     if args.json:
         print(dumps(out))
         return 0
-    unit = "sigma ratio (1 = AT960 spec)" if d.prep.weighted else "unweighted"
+    law = d.noise.law
+    spec = ("the data's law" if law["source"] == "data" else "the law given" if law["instrument"] == "given numbers"
+            else f"{law['instrument']} spec") if law else "the trackers' law"
+    unit = f"sigma ratio (1 = {spec})" if d.prep.weighted else "unweighted"
     print(f"noise model: {d.noise.kind}: {d.noise.how}")
+    if law:
+        print(f"noise law (MPE, k = {law['k']:g}): along the beam {law['radial_um']:.3g} um + "
+              f"{law['radial_um_per_m']:.3g} um/m, across {law['transverse_um']:.3g} um + "
+              f"{law['transverse_um_per_m']:.3g} um/m: {law['obtained']}")
     print(f"{args.recording}: {len(rec)} readings; base model: {d.base['kind']}, degrees "
           f"{', '.join(f'{a}={k}' for a, k in d.base['degrees'].items())}")
     print(f"sigma {d.base_sigma * 1e3:.3f} um before -> {d.sigma_after * 1e3:.3f} um after "

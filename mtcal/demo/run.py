@@ -26,7 +26,7 @@ from mtcal.compensate.run import compensate_program
 from mtcal.data import path
 from mtcal.data.make_demo_data import DEMO_EFFECT, DEMO_PLAN, DEMO_SEED, build_for
 from mtcal.demo.stations import plot_stations, report_lines, run_stations
-from mtcal.diagnose import diagnose, diagnose_plate, plot_residuals
+from mtcal.diagnose import diagnose, diagnose_plate, plot_findings, plot_residuals
 from mtcal.identify import fitting
 from mtcal.identify.plots import plot_all
 from mtcal.identify.run import identify
@@ -306,6 +306,7 @@ def _diagnose_step(s: _Story) -> dict:
     """The diagnosis of the campaign (tracker given) beside what was planted."""
     d = diagnose(read_recording(s.rec_path, s.m.name), None, machine=s.m.name, tracker=s.xyz)
     plot_residuals(d, s.plots)
+    plot_findings(d, s.plots)
     diag = _json(d.to_dict())
     return {"base_sigma": diag["base_sigma"],
             "effects": [e for e in diag["effects"] if e.get("significant")],
@@ -450,8 +451,12 @@ def report(s: dict, out: Path) -> str:
     lines += ["", f"{d['not_significant']} further candidate effects tested and not significant.", "",
               "Planted in the campaign (hidden from the analysis): " + "; ".join(_planted(e) for e in d["planted"]) +
               ".", ""]
-    for png in sorted((out / "plots").glob("diagnose*.png")):
+    lines += ["Each finding in the readings (partial residual along the effect: a reversal split by the direction of "
+              "approach, a drift or knock against time, a periodic error against position):", ""]
+    for png in sorted((out / "plots").glob("finding_*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
+    lines += ["", "The residuals of the quasi-static model alone, in time order (the findings are hard to see here):",
+              "", "![residuals before](plots/residuals_before.png)"]
     lines += ["", "## Plate reversal: NBS Table 1 (Hocken & Borchardt 1979)", "",
               f"alpha = {p['alpha'] * 1e6:.2f}e-6 rad, beta = {p['beta'] * 1e6:.2f}e-6 rad, gamma = "
               f"{p['gamma'] * 1e6:.2f}e-6, ex = {p['ex'] * 1e6:.2f} uin, ey = {p['ey'] * 1e6:.2f} uin, sigma = "

@@ -21,6 +21,8 @@ Base model (frames: machine frame = tracker frame, mm; positions mm or deg; erro
   from); other axes keep one position per (axis, reflector).  A shift of one (round, reflector) sequence (a
   re-seated nest) is the candidate effect "offset", and so is a tracker knock (effects.py "offset": every reading
   from t0 on shifted by one vector; t0 scanned over the gaps between reading times, counted in the multiplicity);
+  one nest knocked (every later reading of that reflector shifted in its side's frame) is "nest_knock", scanned
+  the same way;
 * weights: the AT960 covariance (mtcal.measurement.tracker) of every reading about the tracker position, given or
 estimated
   from the scatter of the repeated rounds (mtcal.diagnose.noise; whitened least squares; sigma ratio 1 = the
@@ -41,21 +43,27 @@ before), not the BIC-selected base: BIC may choose a degree below the truth's (a
 as a quadratic), and a smooth candidate (a periodic error whose pitch is near the travel) would then be
 "found" in the cubic misfit.  An effect is reported only if no error function of the family explains it; the
 reported base (degrees, sigma before and after, estimates, cross-validation) is the BIC base with the selected
-effects.  With ``model`` given the null is that model (plus offsets), as before.
+effects.  With ``model`` given the null is that model (plus offsets), as before.  Sizes are what the readings
+observe: a side's drift starts no earlier than the side is first read, its interval covers the onset and time
+constant (profile); error motions that change while their axis is measured are located ("position x time") and
+left unexplained; every finding has a picture (pictures).
 
 Modules: prepare (nominal positions, Jacobians), noise (weights), design (base columns), engine (F tests by
 projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors
-and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), report
-(typed findings, JSON), plate (plate fits), run (``diagnose()``)."""
+and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), profile
+(intervals over nuisance parameters), report (typed findings, JSON), pictures (one per finding), plate (plate
+fits), run (``diagnose()``)."""
 from mtcal._verb import callable_package
 from mtcal.diagnose.engine import Engine, Score
+from mtcal.diagnose.pictures import plot_findings
 from mtcal.diagnose.plate import diagnose_plate, format_plate_diagnosis
 from mtcal.diagnose.prepare import prepare
 from mtcal.diagnose.prepared import Prepared
 from mtcal.diagnose.report import Diagnosis, Finding, plot_residuals
 from mtcal.diagnose.run import MAX_DEGREE, diagnose
 
-__all__ = ["diagnose", "diagnose_plate", "format_plate_diagnosis", "plot_residuals", "prepare", "Prepared",
+__all__ = ["diagnose", "diagnose_plate", "format_plate_diagnosis", "plot_findings", "plot_residuals", "prepare",
+           "Prepared",
            "Diagnosis", "Finding", "Engine", "Score", "MAX_DEGREE"]
 
 callable_package(__name__, diagnose)  # mtcal.diagnose(...) is the verb even once the package is imported

@@ -67,6 +67,8 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         for pitch in grid:
             out.append(fx.periodic(g, a, pitch, span))
         out.append(fx.scale(g, a))
+        if np.isfinite(rec.time_s[on]).all() and len(set(rec.round[on].tolist())) > 2:  # a change over rounds
+            out.append(fx.growing_free(g, a))
         for e in prep.machine.error_motions(a):
             out.append(fx.second_order(g, a, e))
         notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})
@@ -79,9 +81,9 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         t0 = float(np.min(rec.time_s))
         sides = set(g.side.tolist())
         targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else [])
-        for target in targets:
-            for tau in fx.TAUS_S:
-                out.append(fx.thermal_drift(g, target, tau, t0))
+        for target in targets:  # a side's drift may start when it is first seen or when an axis' block starts
+            for onset in onsets(rec, g.side == ("tool" if target == "spindle" else "table")):
+                out += [fx.thermal_drift(g, target, tau, onset) for tau in fx.TAUS_S]
         nests = sorted(set(zip(rec.point.tolist(), g.side.tolist())))   # a label may name a nest on each side
         out += [fx.nest_creep(g, label, side, t0) for label, side in nests]
         for st in g.stations():  # a tracker's drift and settling start when that station is set up
@@ -104,6 +106,16 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
     return out, notes
+
+
+def onsets(rec, seen: np.ndarray) -> list[float]:
+    """Where a side's drift may start (s): its first reading (``seen``: the side's rows) and the start of each axis'
+    block after it.  Never before the side is first seen: the readings cannot tell when a drift began before
+    they watched that side (any earlier onset has the same shape from then on, only a larger, extrapolated
+    amplitude), so the size stated is the one they observe."""
+    first = float(np.min(rec.time_s[seen]))
+    starts = {float(np.min(rec.time_s[rec.axis == a])) for a in np.unique(rec.axis)}
+    return sorted({first} | {t for t in starts if t > first})
 
 
 def reversal_named(prep: Prepared, axis: str) -> list[fx.Candidate]:
@@ -150,7 +162,27 @@ def scanned(prep: Prepared, eng: Engine) -> list[tuple[str, fx.Candidate, int]]:
         where = {"from_axis": str(prep.rec.axis[first]), **where_of(prep, kscan["rows"]),
                  "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
         out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where, st), kcount))
-    return out
+    nest = _nest_knock(prep, eng)
+    return out + ([nest] if nest else [])
+
+
+def _nest_knock(prep: Prepared, eng: Engine) -> tuple[str, fx.Candidate, int] | None:
+    """A knocked nest: the change point scanned over each nest's reading times (one vector in the side's frame from
+    t0 on), the best over the nests, with the members scanned in all."""
+    g = prep.geometry
+    if not np.isfinite(prep.rec.time_s).all():
+        return None
+    frame = g.rotation.reshape(-1, 3, 3)
+    scans = [((label, side), *knock_scan(prep, eng, (g.point == label) & (g.side == side), frame))
+             for label, side in sorted(set(zip(g.point.tolist(), g.side.tolist())))]
+    count = sum(c for _, _, c in scans)
+    if not count:
+        return None
+    (label, side), best, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
+    first = best["rows"][np.argmin(prep.order[best["rows"]])]
+    where = {"from_axis": str(prep.rec.axis[first]), **where_of(prep, best["rows"]),
+             "last_reading_before_s": best["before_s"], "first_reading_after_s": best["after_s"]}
+    return "nest_knock", fx.nest_knock(g, label, side, best["t0"], where), count
 
 
 def screen(cands: list[fx.Candidate], notes: list[dict], eng: Engine, w) -> list[fx.Candidate]:

@@ -24,6 +24,7 @@ import numpy as np
 from mtcal.campaign.effects import NAMES
 from mtcal.generated import signatures_numpy as S
 from mtcal.kinematics.machine import Machine
+from mtcal.measurement.passes import reference_position
 
 # The effect names (docs/design.md): the simulator's physics (the one list, mtcal.campaign.effects.NAMES) and
 # what only the diagnosis names (a straightness that differs by approach direction has no simulator model yet).
@@ -261,6 +262,20 @@ def nest_creep(g: Geometry, label: str, side: str, t0: float) -> Candidate:
                      extra={"point": str(label), "side": side, "t0_s": float(t0)})
 
 
+def nest_knock(g: Geometry, label: str, side: str, t0: float, where: dict) -> Candidate:
+    """One reflector's nest (label, on the tool or table side) knocked at ``t0`` (s): displaced by one vector (mm,
+    the side's local frame) from then on, across the axis blocks that follow -- the creep's generated signature
+    with a step for the time.  t0 is scanned over the gaps between that nest's reading times
+    (mtcal.diagnose.scans.knock_scan)."""
+    on = (g.point == label) & (g.side == side) & np.isfinite(g.time_s)
+    step = (on & (g.time_s >= t0)).astype(float)
+    G = S.nest_creep_signature(g.rotation.reshape(-1, 9), step) * on[:, None, None]
+    return Candidate("nest_knock", None, f"point {label} ({side} side) knocked at t0 = {t0:.6g} s (from axis "
+                     f"{where['from_axis']} round {where['round']} at {where['position']:g}, {where['readings']} "
+                     f"reading(s) after)", G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="nest_knock",
+                     extra={"point": str(label), "side": side, "t0_s": float(t0), **where})
+
+
 def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = None) -> Candidate:
     """The tracker (of ``station``: its readings only) turning slowly about an axis through it: rotation vector
     w dt + a (1 - exp(-dt/tau)) (rad/s, rad; x, y, z components), every reading rotated about the tracker."""
@@ -311,7 +326,41 @@ def reversal_free(g: Geometry, axis: str) -> Candidate:
                         for p in labels], axis=-1)
     return Candidate(UNEXPLAINED, axis, "direction of approach x reflector (free-form reversal)", G,
                      [f"r_{c}({p}) (mm)" for p in labels for c in "xyz"], family=f"{UNEXPLAINED} reversal {axis}",
-                     extra={"points": labels})
+                     extra={"points": labels, "kind": "reversal"})
+
+
+def growing_free(g: Geometry, axis: str) -> Candidate:
+    """Free-form change of an axis' error motions with time while it is measured: each of its six error motions
+    plus sum c_eji s_j tau_i, s_1 = s and s_2 = s^2 (s = the position from the axis' reference position over the
+    travel; a rotary axis: cos and sin less their values there), tau_1 = tau and tau_2 = tau^2 - mean (tau = (t -
+    the block's mid time) / its duration), c_eji in mm or rad.  A scale or straightness growing over the rounds (a
+    ball screw warming with no temperature channel).  Like the base's error functions it vanishes at the reference
+    position (mtcal.measurement.passes), so a drift of the whole side stays thermal_drift's.  Selected itself, it
+    is reported under "unexplained" (located by position x time), never as a named effect."""
+    on = (g.axis == axis) & np.isfinite(g.time_s)  # the caller makes sure the axis' times are all known
+    t = g.time_s[on]
+    tau = np.zeros(len(g.axis))
+    tau[on] = (t - 0.5 * (t.min() + t.max())) / max(float(np.ptp(t)), 1e-9)
+    q = g.position[on]
+    q0 = reference_position(q)
+    if g.linear(axis):
+        s = (q - q0) / max(float(np.ptp(q)), 1e-9)
+        shapes = [s, s**2]
+    else:
+        th, t0 = np.deg2rad(q), np.deg2rad(q0)
+        shapes = [np.cos(th) - np.cos(t0), np.sin(th) - np.sin(t0)]
+    times = [tau[on], tau[on] ** 2 - np.mean(tau[on] ** 2)]
+    cols, names = [], []
+    for e in g.machine.error_motions(axis):
+        for i, tm in enumerate(times):
+            for j, sh in enumerate(shapes):
+                f = np.zeros(len(g.axis))
+                f[on] = sh * tm
+                cols.append(g.col(e) * f[:, None])
+                names.append(f"c_{e},{j + 1}{i + 1} ({'rad' if e[2] in 'ABC' else 'mm'})")
+    return Candidate(UNEXPLAINED, axis, "position x time (error motions changing while measured)",
+                     np.stack(cols, axis=-1), names, family=f"{UNEXPLAINED} growing {axis}",
+                     extra={"kind": "growing", "errors": list(g.machine.error_motions(axis))})
 
 
 def repeated(g: Geometry, c: Candidate) -> Candidate:

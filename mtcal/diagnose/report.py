@@ -35,6 +35,8 @@ class Finding:
     sigma_after: float | None
     evidence: dict | None
     details: dict = field(default_factory=dict)
+    # what the effect adds to the fit beyond the base (whitened, (3 n,)): its picture (mtcal.diagnose.pictures)
+    fitted: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
         return {"name": self.name, "axis": self.axis, "direction": self.direction, "significant": self.significant,
@@ -76,8 +78,8 @@ class Diagnosis:
                 "unexplained": [_unexplained(x) for x in self.unexplained],
                 "base_model": self.base, "noise_model": self.noise.to_dict(),
                 "units": {"length": "mm", "angle": "rad", "position": "mm (linear axes) or deg (rotary axes)",
-                          "sigma_ratio": "1 = the tracker's specification (AT960) when the readings are weighted "
-                                         "by it (noise_model)"},
+                          "sigma_ratio": "1 = the tracker's specification (noise_model.law) when the readings are "
+                                         "weighted by it (noise_model)"},
                 **({"data_problems": self.data_problems} if self.data_problems else {}),
                 "notes": self.notes}
 
@@ -95,6 +97,8 @@ def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
     the side's frame; else the largest component), named in the note."""
     c = s.candidate
     theta, cov = eng.estimate([w(c)])
+    if c.extra.get("kind") == "growing":
+        return _growing_located(prep, eng, c, s, theta, w)
     sd = np.sqrt(np.maximum(np.diag(cov), 1e-300))
     pick = np.abs(theta) * (np.abs(theta) > 3 * sd)
     k = int(np.argmax(pick if pick.any() else np.abs(theta)))
@@ -108,6 +112,27 @@ def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
                    0.0, float(abs(theta[k])), note)
 
 
+def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.ndarray, w) -> Located:
+    """A selected position x time free form as an unexplained mismatch: its size is the largest displacement it
+    fits (mm, a reading's, relative to the block's middle in time), and the error motion whose own columns explain
+    the most of it is named in the note with what would name the physics."""
+    disp = np.linalg.norm(np.einsum("nik,k->ni", c.G, theta), axis=1)
+    errors = c.extra["errors"]
+    per = len(c.params) // len(errors)
+    share = [eng.score(w(fx.Candidate(c.name, c.axis, "", c.G[:, :, j * per:(j + 1) * per], []))).delta
+             for j in range(len(errors))]
+    k = int(np.argmax(share))
+    frac = share[k] / max(s.score.delta, 1e-300)
+    note = (f"the error motions of axis {c.axis} change while it is measured (position x time: not a drift of a "
+            f"side, which moves every position alike): up to {disp.max() * 1e3:.2f} um at a reading, mostly "
+            f"{errors[k]} ({min(frac, 1.0):.0%} of it alone); a scale or straightness growing with the machine's "
+            f"temperature (e.g. a ball screw warming): record a temperature channel (temperature_c) and the "
+            f"diagnosis names it (thermal_temperature), or let the axis reach a steady temperature first")
+    return Located(c.axis, "position x time", errors[k], float(-s.logp_adj / math.log(10)),
+                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(disp > 0)), s.score.F, 0.0,
+                   float(disp.max()), note)
+
+
 def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
     """The reported estimate (one number with its unit and standard uncertainty) and all parameters."""
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
@@ -119,7 +144,7 @@ def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
         params["phase_deg"] = float(np.degrees(np.arctan2(theta[1], theta[0])))
         return {"estimate": amp, "uncertainty": u, "unit": c.extra["amplitude_unit"],
                 "parameters": params, "direction": None}
-    if c.extra.get("variant") == "tracker knock":  # the step: its size (mm) along its direction, from t0 on
+    if c.extra.get("variant") == "tracker knock" or c.name == "nest_knock":  # a step: its size (mm), from t0 on
         size = float(np.linalg.norm(theta))
         g = theta / size if size > 0 else np.zeros(3)
         k = int(np.argmax(np.abs(theta)))
@@ -235,7 +260,7 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
     from mtcal.diagnose.engine import WEAK_TOL
     Gs = [w(s.candidate) for s in steps]
     theta_all, cov_all = eng.estimate(Gs) if steps else (np.zeros(0), np.zeros((0, 0)))
-    cum = eng.copy_base()
+    cum, base = eng.copy_base(), eng.copy_base()
     out, off = [], 0
     for i, s in enumerate(steps):
         c, sc = s.candidate, s.score
@@ -255,7 +280,10 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
                    **{k2: v for k2, v in c.extra.items() if not k2.startswith("_") and k2 != "rows"}}
         est = h.pop("estimate")
         details.update(h)
-        f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details)
+        details.update(_profiled(prep, eng, Gs[:i] + Gs[i + 1:], c, w, d, details))
+        v = Gs[i] @ theta_all[off - k:off]
+        f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details,
+                    fitted=v - base.project(v[:, None])[:, 0])
         if s.confounded_with:
             details["confounded_with"] = s.confounded_with
         aliases = possible_aliases(prep, c, eng.copy_base(), w)
@@ -275,6 +303,26 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
             details["note"] = f"significant in the F test but no gain on {how}"
         out.append(f)
     return out
+
+
+def _profiled(prep: Prepared, eng: Engine, others: list[np.ndarray], c: fx.Candidate, w, direction: str | None,
+              details: dict) -> dict:
+    """A side's drift sized over its nuisance parameters (mtcal.diagnose.profile): the 95 % interval of the
+    reported figure (the final value, or the change over the record for a ramp), its standard uncertainty at least
+    the interval's half-width / 1.96, and the profile's report; {} for other findings."""
+    from mtcal.diagnose.profile import Z95, members, profile
+
+    if not direction:
+        return {}
+    k = "XYZ".index(direction[1])
+    prof = profile(eng, others, members(prep, c), w, k, float(np.nanmax(prep.rec.time_s)))
+    if prof is None:
+        return {}
+    sign = 1.0 if direction[0] == "+" else -1.0
+    key = "change_interval_95" if details.get("variant") == "ramp over the record" else "interval_95"
+    lo, hi = sorted(sign * v for v in prof[key])
+    return {"interval_95": [lo, hi], "uncertainty": max(details["uncertainty"], (hi - lo) / (2 * Z95)),
+            "profile": prof}
 
 
 def rejected_findings(last: dict, chosen: set, notes: list[dict], inadequate: list = ()) -> list[Finding]:

@@ -144,12 +144,14 @@ def outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
     return best, count
 
 
-def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None) -> tuple[dict | None, int]:
-    """Change point of a tracker knock: every reading from t0 on (all axes, all reflectors; of the readings
-    ``among``, bool (n,), e.g. one tracker station's, else all) shifted by one vector.  t0 is scanned over the
-    gaps between distinct reading times; each step column (whitened W_i on the readings after t0) is scored by
-    running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across the base blocks.  Returns (best
-    {"delta", "t0", "rows"}, number of separable change points scanned)."""
+def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None,
+               frame: np.ndarray | None = None) -> tuple[dict | None, int]:
+    """Change point of a knock: every reading from t0 on (all axes, all reflectors; of the readings ``among``, bool
+    (n,), e.g. one tracker station's or one nest's, else all) shifted by one vector (machine frame; with ``frame``
+    (n, 3, 3), the rotation of each reading's local frame, one vector in that frame: a knocked nest turns with its
+    side).  t0 is scanned over the gaps between distinct reading times; each step column (whitened W_i R_i on the
+    readings after t0) is scored by running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across the
+    base blocks.  Returns (best {"delta", "t0", "rows"}, number of separable change points scanned)."""
     rec = prep.rec
     n = len(rec)
     o = np.argsort(prep.order)
@@ -161,7 +163,7 @@ def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None) -> 
     r = eng.r.reshape(n, 3)
     Qf = eng.full_rows()
     t = rec.time_s[o]
-    Wo = W[o]
+    Wo = W[o] if frame is None else W[o] @ frame[o]
     A = np.cumsum((Wo.transpose(0, 2, 1) @ Wo)[::-1], axis=0)[::-1]                  # G^T G
     B = np.cumsum(np.einsum("nkp,nkj->npj", Qf[o], Wo)[::-1], axis=0)[::-1]          # Q^T G
     b = np.cumsum(np.einsum("nki,nk->ni", Wo, r[o])[::-1], axis=0)[::-1]             # G^T r

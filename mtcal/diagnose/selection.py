@@ -33,7 +33,8 @@ RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least t
 ROUND_SPECIFIC = ("outlier", "offset")
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
 # alone absorbs most of a drift into its reflector positions)
-ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature")
+ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature",
+                                    "nest_knock")
 
 SEPARATE_BY = {
     frozenset(("rotary_location", "offset")): "measure the rotary axis again at the end of the campaign, or from a "
@@ -48,6 +49,10 @@ SEPARATE_BY = {
                                                          "follows the temperature, a time-driven one the clock",
     frozenset(("nest_creep", "thermal_drift")): "measure with a second reflector in the same nest position (or "
                                                 "swap reflectors between nests): a creeping nest moves one point",
+    frozenset(("nest_knock", "offset")): "measure a second reflector in the same nest, or re-measure the first "
+                                         "axis at the end: a knocked nest moves one point, a knocked tracker all",
+    frozenset(("nest_knock", "nest_creep")): "re-measure the nest's first positions at the end and log the times: a "
+                                             "creep grows with time, a knock is a step",
     frozenset(("tracker_settling", "thermal_drift")): "measure a fixed reference nest off the machine at the start "
                                                       "and end: a settling tracker turns every reading about itself",
     frozenset(("reversal_angular", "backlash")): "measure with reflectors at several offsets from the axis: an "
@@ -174,6 +179,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         v = min((o for o in todo if o.score.logp <= top + tol), key=lambda o: o.logp_adj)
         todo.remove(v)
         if v.candidate.name == fx.UNEXPLAINED:
+            if v.candidate.extra.get("kind") == "growing":
+                return v  # no named effect changes an error motion's shape with time (without a temperature)
             if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
                 return v  # the named reversal effects of the axis cannot explain it
             continue

@@ -1,0 +1,114 @@
+"""Issue 24, classes that went wrong on the independent generator, planted through the physical simulator:
+a drift of the table that starts when the rotary axes start (sized from what the readings observe, with its
+uncertainty over the onset and time constant), a nest knocked mid-campaign (one reflector displaced from then on,
+across axis blocks), a scale growing while its axis is measured without a temperature channel (located and left
+unexplained, not named a drift), and a picture per finding."""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import campaigns as C
+import numpy as np
+import pytest
+
+from mtcal import load_machine
+from mtcal.diagnose import diagnose, plot_findings
+
+FIVE = C.Design(rounds=4)
+
+
+def _significant(d):
+    return [f for f in d.effects if f.significant]
+
+
+@pytest.mark.parametrize("seed, told", [(0, True), (1, False)])
+def test_a_table_drift_starting_with_the_rotary_axes_is_sized_by_what_the_readings_see(seed, told):
+    """19 um along +Y, tau 1800 s, from the first reading of B (the table is first seen then): before, reported
+    as a 290 um drift from the record's start (+-11 um). Now the onset is the first table reading, the size within
+    30 % of the truth and the 95 % interval over (onset, tau) holds it."""
+    rec0 = C.make(FIVE, (), 0).recording
+    t_b = float(rec0.time_s[rec0.axis == "B"].min())
+    c = C.make(FIVE, [("thermal_drift", {"amplitude": 0.019, "tau_s": 1800.0, "direction": "+Y", "target": "table",
+                                         "t0_s": t_b})], seed)
+    d = diagnose(c.recording, tracker=c.tracker if told else None)
+    drifts = [f for f in _significant(d) if f.name == "thermal_drift"]
+    if not told and not drifts:  # the warm-up writes the temperature channel: a temperature-driven drift is right
+        assert [f.name for f in _significant(d)] == ["thermal_temperature"]
+        return
+    (f,) = drifts
+    assert f["target"] == "table" and f["t0_s"] == pytest.approx(t_b)
+    assert abs(f.estimate - 0.019) < 0.3 * 0.019, f.estimate
+    lo, hi = f["interval_95"]
+    assert lo <= 0.019 <= hi and f["profile"]["members"] > 20
+
+
+def test_onsets_never_precede_the_side_being_seen():
+    """The candidate onsets of the table's drift start at its first reading (the first rotary axis here)."""
+    from mtcal.diagnose.candidates import onsets
+
+    rec = C.make(FIVE, (), 0).recording
+    table = np.isin(rec.axis, ["B", "C"])
+    got = onsets(rec, table)
+    assert got[0] == pytest.approx(rec.time_s[rec.axis == "B"].min()) and len(got) == 2
+
+
+@pytest.mark.parametrize("axis, side", [("Y", "tool"), ("C", "table")])
+def test_a_knocked_nest_is_one_finding(axis, side):
+    """Reflector P knocked by 20 um (its side's +X) in the middle of one axis' block, displaced through the rest
+    of the campaign: before, a re-seated nest in the wrong round, tracker knocks and a creep. Now one finding,
+    nest_knock of P on that side, 20 um within 30 %, splitting P's readings where the knock did (to one reading),
+    with the tracker told and not."""
+    rec0 = C.make(FIVE, (), 0).recording
+    t0 = float(np.median(rec0.time_s[rec0.axis == axis]))
+    c = C.make(FIVE, [("nest_knock", {"side": side, "size": 0.02, "direction": "+X", "t0_s": t0})], 3)
+    after = c.truth["effects"][0]["readings_after"]
+    for tracker in (c.tracker, None):
+        sig = _significant(diagnose(c.recording, tracker=tracker))
+        assert [f.name for f in sig] == ["nest_knock"], [(f.name, f.get("where")) for f in sig]
+        f = sig[0]
+        assert (f["point"], f["side"]) == ("P", side) and abs(f["readings"] - after) <= 1  # t0 to one reading
+        assert abs(f.estimate - 0.02) < 0.3 * 0.02, f.estimate
+
+
+def test_the_simulated_knock_moves_one_nest_from_t0_on():
+    """The planted physics: only P's readings from t0 on move, by 20 um (the spindle's frame is the machine's at
+    these axes' positions for a tool-side nest, up to the machine's small errors)."""
+    clean = C.make(FIVE, (), 5).recording
+    side = np.array([load_machine("dmu50").side(a) for a in clean.axis])
+    t0 = float(np.median(clean.time_s))
+    knocked = C.make(FIVE, [("nest_knock", {"side": "tool", "size": 0.02, "direction": "+Z", "t0_s": t0})], 5)
+    diff = np.linalg.norm(knocked.recording.xyz - clean.xyz, axis=1)
+    moved = (clean.point == "P") & (clean.time_s >= t0) & np.isin(clean.axis, ["X", "Y", "Z"])
+    assert np.allclose(diff[moved], 0.02, atol=1e-6) and diff[~np.isin(clean.point, ["P"])].max() < 1e-9
+    assert knocked.truth["effects"][0]["readings_after"] == int(((clean.point == "P") & (clean.time_s >= t0)
+                                                                 & (side == "tool")).sum())
+
+
+def test_a_scale_growing_while_measured_is_located_not_named():
+    """X's scale grows with a 3 K warm-up while X is measured (100 ppm/K, no temperature channel given): before, a
+    279 um spindle drift, a settling tracker, a knock. Now one unexplained mismatch located by position x time,
+    mostly E_XX, and no named effect."""
+    c = C.make(C.Design(rounds=5, axes=("X", "Y", "Z")),
+               [("thermal_temperature", {"axis": "X", "ppm_per_k": 100.0, "drift_mm_per_k": 0.0})], 0,
+               temperature="rise_c=3,tau_s=1800,t0_s=0")
+    rec = replace(c.recording, temperature_c=np.full(len(c.recording), np.nan))
+    d = diagnose(rec, tracker=c.tracker).to_dict()
+    assert [e["name"] for e in d["effects"] if e["significant"]] == []
+    (u,) = d["unexplained"]
+    assert (u["axis"], u["by"], u["where"]) == ("X", "position x time", "E_XX") and 0.03 < u["size_mm"] < 0.2
+
+
+def test_a_picture_per_finding(tmp_path):
+    """A planted backlash of X gets its picture: the partial residual split by approach direction (um, machine
+    frame, along the effect), the + and - means on either side of zero and well apart."""
+    c = C.make(C.Design(rounds=4, axes=("X", "Y", "Z")), [("backlash", {"axis": "X", "amount": 0.012})], 2)
+    d = diagnose(c.recording, tracker=c.tracker)
+    paths = plot_findings(d, tmp_path)
+    assert [p.rsplit("/", 1)[-1] for p in paths] == ["finding_1_backlash_X.png"]
+    assert (tmp_path / "finding_1_backlash_X.png").stat().st_size > 10000
+    from mtcal.diagnose.pictures import _series
+    f = _significant(d)[0]
+    y, m, on = _series(d, f)
+    rec = d.prep.rec
+    up, down = (y[on & (rec.direction == s)].mean() for s in (1, -1))
+    assert up * down < 0 and abs(up - down) > 1.0
