@@ -207,13 +207,18 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     """Why the effect ``c`` does not explain the misfit it fits, or None.  A reversal effect (``REVERSALS``) must
     leave no reversal that differs between reflectors beyond what the named reversal effects of its axis explain
     together (free-form check, F test at ``level``); a scanned one-off displacement (outlier reading or bump) must
-    not be found, in the same direction, at the same places in the other rounds."""
+    not be found, in the same direction, at the same places in the other rounds; a knocked nest's displacement must
+    persist beyond the sequence it starts in."""
     if c.name in REVERSALS:
         sc = _reversal_misfit(prep, eng, c.axis, w, level)
         if sc is not None:
             return (f"no reversal effect explains the direction-dependent misfit on {c.axis}: it differs between "
                     f"reflectors beyond their signatures (free-form reversal per reflector: F = {sc.F:.1f}, "
                     f"p = {math.exp(sc.logp):.2g})")
+    if c.name == "nest_knock":
+        why = _knock_does_not_persist(prep, eng, c, w, level)
+        if why:
+            return why
     if c.name == "outlier":
         rep = w(fx.repeated(prep.geometry, c))
         sc = eng.score(rep)
@@ -225,6 +230,27 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
                 return (f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
                         f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
     return None
+
+
+def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    """Why a knocked nest is not one, or None: its displacement must persist beyond the sequence (axis, round,
+    reflector) it starts in, in the same direction (else a one-off reading or a bump fits it, and a second "knock"
+    would step the nest back)."""
+    on = np.any(c.G != 0, axis=(1, 2))
+    first = prep.seq[np.flatnonzero(on)[np.argmin(prep.order[on])]]
+    late = on & (prep.seq != first)
+    if not late.any():
+        return "displaced within one sequence only: a one-off reading or a bump, not a knock"
+    G_late = c.G * late[:, None, None]
+    sc = eng.score(w(fx.Candidate(c.name, c.axis, "", G_late, c.params)))
+    if sc.separable and sc.logp < math.log(level):
+        Gc, Gl = w(c), w(fx.Candidate(c.name, c.axis, "", G_late, c.params))
+        t_all = np.linalg.lstsq(Gc - eng.project(Gc), eng.r, rcond=None)[0]
+        t_late = np.linalg.lstsq(Gl - eng.project(Gl), eng.r, rcond=None)[0]
+        if t_all @ t_late > 0:
+            return None
+    return (f"the displacement does not persist after the readings where it starts (the later readings alone: "
+            f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a one-off reading or a bump, not a knock")
 
 
 def _absorbed(eng: Engine, best: Step, v: Step, w: Columns, level: float) -> bool:
