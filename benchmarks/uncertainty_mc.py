@@ -3,12 +3,20 @@
 `python benchmarks/uncertainty_mc.py speed [--trials 40]`: trials per second with 1 and 2 local Dask workers on
 the bundled campaign (all five axes, the joint fit), and the projected wall time of 10^6 trials on N workers.
 
-`python benchmarks/uncertainty_mc.py coverage [--n 40] [--trials 100] [--axis X]`: over n simulated campaigns of
-the demo's true machine (independent seeds, AT960 noise, tracker given), the share of 95 % intervals (symmetric)
-that hold the truth, for the table values and for the fitted functions the model evaluates, of the positioning
-and angular errors of one axis (truth taken relative to the reference position, as identify defines the errors;
-straightness is left out: its reference line is a convention of the frame, not of the truth).  The Monte Carlo
-draws noise only: the campaigns carry no scale or centring error.
+`python benchmarks/uncertainty_mc.py coverage [--n 240] [--trials 200] [--refs 6] [--direct 6] [--stations 1|4]`:
+how often the 95 % intervals hold the truth, over n simulated campaigns of the demo's true machine (all five
+axes; the demo plan from one station, 4 rounds, tracker given; or from four stations, 1 round each), AT960 noise
+only (the campaigns carry no scale or centring error, so the Monte Carlo draws noise only).  The truth in
+identify's gauge is the noise-free campaign's identification (its functions reproduce the true tables to < 1e-6
+mm).  A Monte Carlo of every campaign is out of reach here (240 x 200 trials x 0.25 s), so ``refs`` further
+campaigns get one, and their intervals' offsets about their own estimates, averaged, are applied to the n
+campaigns' estimates: the estimator's real scatter over campaigns judged against the Monte Carlo's width
+(``width_spread_between_refs`` says how much that width varies between campaigns; ``coverage_95_direct`` judges
+the ``direct`` reference campaigns by their own intervals).  Reported per kind (errors at their table positions,
+table values and fitted functions; constants; the tool tip at 100 poses of the work volume and at 100 moves of
+the sample program): coverage of the intervals as reduced (``percentile``, the product's) and, for the analysis,
+re-centred on the estimate and reflected (``basic`` bootstrap); the estimator's scatter and bias in units of the
+Monte Carlo's standard uncertainty.
 """
 from __future__ import annotations
 
@@ -24,9 +32,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import mtcal  # noqa: E402
+from mtcal.campaign.stations import simulate_stations  # noqa: E402
 from mtcal.data import path  # noqa: E402
 from mtcal.data.make_demo_data import DEMO_PLAN  # noqa: E402
 from mtcal.uncertainty import Inputs, monte_carlo  # noqa: E402
+from mtcal.uncertainty.run import default_poses, program_poses  # noqa: E402
+from mtcal.uncertainty.trials import Outputs  # noqa: E402
 
 
 def speed(trials: int) -> dict:
@@ -44,27 +55,80 @@ def speed(trials: int) -> dict:
     return out
 
 
-def coverage(n: int, trials: int, axis: str) -> dict:
+FOUR = {"S1": (250.0, -1500.0, 150.0), "S2": (-1500.0, 250.0, 150.0), "S3": (1500.0, 300.0, 150.0),
+        "S4": (-300.0, 1500.0, 150.0)}
+
+
+def _campaign(truth, stations: int, seed: int, noise: bool = True):
+    """(recording, identify options) of one campaign of the demo's true machine: the demo plan from its one
+    station (4 rounds, tracker given), or from the four stations FOUR (1 round each, tracker columns)."""
+    if stations == 1:
+        rec, _ = mtcal.simulate(truth, plan=DEMO_PLAN, rounds=None, seed=seed, noise=noise)
+        return rec, {"tracker": DEMO_PLAN["tracker"]}
+    al = {} if noise else {"alignment_um": 0.0, "alignment_urad": 0.0}
+    rec, _ = simulate_stations(truth, list(FOUR.items()), rounds=1, seed=seed, plan=DEMO_PLAN, noise=noise, **al)
+    return rec, {}
+
+
+def _groups(outputs: Outputs, n_volume: int) -> dict[str, np.ndarray]:
+    """Output indices by kind: errors, constants, the tool tip over the work volume and over the program."""
+    err = np.concatenate([np.arange(s.start, s.stop) for _, _, s in outputs.functions.values()])
+    vol = np.arange(outputs.volumetric.start, outputs.volumetric.stop)
+    return {"errors": err, "constants": np.array(sorted(outputs.constants.values()), dtype=int),
+            "volume": vol[:3 * n_volume], "program": vol[3 * n_volume:]}
+
+
+def coverage(n: int, trials: int, stations: int, refs: int, direct: int) -> dict:
+    """Coverage of the 95 % intervals (module docstring): the truth in identify's gauge is the noise-free
+    campaign's identification (its functions reproduce the true tables to < 1e-6 mm); ``refs`` campaigns get a
+    Monte Carlo of ``trials`` trials, whose interval offsets about their estimate are applied to the estimates of
+    ``n`` further campaigns (the estimator's own scatter over campaigns against the Monte Carlo's width);
+    ``direct`` of the ``refs`` are also judged by their own interval."""
     truth = mtcal.load_model(path("demo_truth.json"))
-    m = truth.kinematics
-    names = [e for e in m.error_motions(axis) if e == m.positioning_errors[axis] or e[2] in "ABC"]
-    hit = {"tables": [], "fits": []}
-    for k in range(n):
-        rec, _ = mtcal.simulate(truth, plan=DEMO_PLAN, rounds=None, seed=5000 + k)
-        rec = rec.select(rec.axis == axis)
-        for mode in hit:
-            r = monte_carlo(rec, trials=trials, seed=k, workers=2, inputs=Inputs().only("noise"),
-                            tracker=DEMO_PLAN["tracker"], tables=(mode == "tables"))
-            for nme in names:
-                _, pos, sl = r.outputs.functions[nme]
-                ref = DEMO_PLAN["axes"][axis]["start"] * 0.0  # the reference position: closest to zero
-                ref = pos[np.argmin(np.abs(pos - ref))]
-                true = truth.functions[nme](pos, "hold") - truth.functions[nme](np.array([ref]), "hold")[0]
-                keep = pos != ref
-                hit[mode] += ((r.stats["lo"][sl] <= true) & (true <= r.stats["hi"][sl]))[keep].tolist()
-    return {"campaigns": n, "trials": trials, "axis": axis, "errors": names,
-            **{f"coverage_95_{k}": float(np.mean(v)) for k, v in hit.items()},
-            "intervals": {k: len(v) for k, v in hit.items()}}
+    rec0, opt = _campaign(truth, stations, 0, noise=False)
+    gauge = mtcal.identify(rec0, worth=False, **opt).model
+    m = gauge.kinematics
+    poses = np.vstack([default_poses(m, gauge, 100), program_poses(path("sample_5axis.nc"), m, 100)])
+    out = {"campaigns": n, "stations": stations, "trials": trials, "reference_campaigns": refs}
+    models = [mtcal.identify(_campaign(truth, stations, 5000 + c)[0], worth=False, **opt).model for c in range(n)]
+    for mode in ("tables", "fits"):
+        o = Outputs.of(gauge, poses, mode == "tables")
+        true = o.vector(gauge)
+        lo, hi, mid, u, hits = [], [], [], [], []
+        for k in range(refs):
+            rec, _ = _campaign(truth, stations, 9000 + k)
+            r = monte_carlo(rec, trials=trials, seed=k, workers=2, inputs=Inputs().only("noise"), poses=poses,
+                            tables=mode == "tables", **opt)
+            est = o.vector(mtcal.identify(rec, worth=False, **opt).model)
+            lo.append(r.stats["lo"] - est)
+            hi.append(r.stats["hi"] - est)
+            mid.append(r.stats["mean"] - est)
+            u.append(r.stats["u"])
+            hits.append((r.stats["lo"] <= true + 1e-12) & (true - 1e-12 <= r.stats["hi"]))
+        dlo, dhi, dmid, u = np.mean(lo, axis=0), np.mean(hi, axis=0), np.mean(mid, axis=0), np.mean(u, axis=0)
+        est = np.array([o.vector(mdl) for mdl in models])
+        variants = {"percentile": (dlo, dhi), "centred_on_estimate": (dlo - dmid, dhi - dmid),
+                    "basic": (-dhi, -dlo)}
+        res = {}
+        for g, idx in _groups(o, 100).items():
+            if mode == "tables" and g in ("volume", "program"):
+                continue  # the tool tip is the fitted functions' in both
+            idx = idx[u[idx] > 1e-9]  # outputs the gauge holds (an error at its reference position) have no spread
+            if not len(idx):
+                continue
+            z = (est[:, idx] - true[idx]) / u[idx]
+            res[g] = {"outputs": int(len(idx)),
+                      **{f"coverage_95_{v}": float(((est[:, idx] + a[idx] <= true[idx] + 1e-12)
+                                                    & (true[idx] - 1e-12 <= est[:, idx] + b[idx])).mean())
+                         for v, (a, b) in variants.items()},
+                      "coverage_95_direct": float(np.mean([h[idx].mean() for h in hits[:direct]])) if direct else None,
+                      "scatter_over_mc_u": float(np.sqrt(np.mean(z.std(axis=0, ddof=1) ** 2))),
+                      "bias_over_mc_u_rms": float(np.sqrt(np.mean(z.mean(axis=0) ** 2))),
+                      "trial_mean_shift_over_u_rms": float(np.sqrt(np.mean((dmid[idx] / u[idx]) ** 2))),
+                      "width_spread_between_refs": float(np.median(np.std(np.array(hi) - np.array(lo), axis=0)[idx]
+                                                                   / (dhi - dlo)[idx]))}
+        out[mode] = res
+    return out
 
 
 def main() -> None:
@@ -72,9 +136,12 @@ def main() -> None:
     ap.add_argument("what", choices=("speed", "coverage"))
     ap.add_argument("--trials", type=int, default=None)
     ap.add_argument("--n", type=int, default=40)
-    ap.add_argument("--axis", default="X")
+    ap.add_argument("--stations", type=int, choices=(1, 4), default=1)
+    ap.add_argument("--refs", type=int, default=6)
+    ap.add_argument("--direct", type=int, default=6)
     a = ap.parse_args()
-    res = speed(a.trials or 40) if a.what == "speed" else coverage(a.n, a.trials or 100, a.axis)
+    res = (speed(a.trials or 40) if a.what == "speed"
+           else coverage(a.n, a.trials or 200, a.stations, a.refs, min(a.direct, a.refs)))
     print(json.dumps(res, indent=1))
 
 

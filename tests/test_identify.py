@@ -341,7 +341,7 @@ def test_cli_json_model_and_plots(tmp_path, capsys):
     assert code == 0
     js = json.loads(capsys.readouterr().out)
     assert set(js["axes"]) == set("XYZBC") and set(js["squareness"]) == {"E_C0Y", "E_B0Z", "E_A0Z"}
-    assert js["axes"]["X"]["errors"]["E_XX"].keys() == {"mean", "std", "std_mean"}
+    assert js["axes"]["X"]["errors"]["E_XX"].keys() == {"mean", "std", "std_mean", "u95"}
     # the readings' noise is isotropic (1 um): under the AT960 law (30:1) the joint fit was 29 um from the truth and
     # the split-half prediction warned (23 um against 42 um corrected); the rounds show the shape (issue 24), the
     # fit weights by it, and nothing warns any more

@@ -5,6 +5,7 @@ import argparse
 import logging
 import sys
 import time
+from pathlib import Path
 
 from mtcal.cli._options import integer, real
 from mtcal.compensate.run import compensate_program
@@ -63,6 +64,22 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         f"every inserted point); 1: on all moves (default {RESIDUAL_EVERY}; the JSON says which)")
 
 
+def _after_line(res: dict, args: argparse.Namespace) -> str:
+    """What the compensated tool tip is uncertain by: the Monte Carlo's interval at this program's moves when
+    ``--uncertainty`` gives it, else identify's split-half prediction of the model's error, else what to run."""
+    if "task_uncertainty" in res:
+        tu = res["task_uncertainty"]
+        return (f"tool tip uncertain by U95 up to {tu['u95_max_um']:.2f} um, RMS {tu['u95_rms_um']:.2f} um over "
+                f"{tu['moves']} moves ({tu['trials']}-trial Monte Carlo of the identification, {args.uncertainty})")
+    hint = (f"for the tool tip's interval at these moves run `mtcal uncertainty REC.csv --program "
+            f"{Path(args.program).name} -o MC.json` and give --uncertainty MC.json")
+    worth = res["model_worth"]
+    if worth:
+        return (f"the model's own error, predicted from the rounds: {worth['predicted_error_rms_um']:.1f} um RMS over "
+                f"its measured volume (it corrects {worth['corrects_rms_um']:.1f} um RMS); {hint}")
+    return f"not stated (the model carries no prediction of its own error); {hint}"
+
+
 def run(args: argparse.Namespace) -> int:
     refuse_overwrite([args.output], args.program, args.model, args.uncertainty, dirs={args.tables: TABLE_FILES})
     last = [time.perf_counter()]
@@ -92,18 +109,12 @@ def run(args: argparse.Namespace) -> int:
     print(f"{args.program} -> {args.output}: {res['moves']} moves, {res['lines_changed']} lines changed, "
           f"{res['lines_inserted']} inserted ({res['subdivided_moves']} moves subdivided), scope {args.scope}")
     print(f"ISO/TR 16907: {', '.join(res['iso_16907']['covered']) or 'none (zero model)'}")
-    print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um -> predicted residual "
-          f"max {r['position_um']['max']:.4f} um, RMS {r['position_um']['rms']:.4f} um (as written; exact model on "
-          f"{r['evaluated_on']})")
-    if "task_uncertainty" in res:
-        tu = res["task_uncertainty"]
-        print(f"tool tip after compensation: U95 up to {tu['u95_max_um']:.2f} um, RMS {tu['u95_rms_um']:.2f} um over "
-              f"{tu['moves']} moves ({tu['trials']}-trial Monte Carlo of the model: its own uncertainty, not the "
-              f"residual above)")
-    if worth:
-        print(f"model     : corrects {worth['corrects_rms_um']:.1f} um RMS over its measured volume; its own error, "
-              f"predicted from the rounds, {worth['predicted_error_rms_um']:.1f} um RMS (the residual above is the "
-              f"model agreeing with itself)")
+    print(f"tool tip  : uncompensated max {res['uncompensated']['position_um']['max']:.3f} um (the model's prediction "
+          f"of the machine's error at the moves)")
+    print(f"after     : {_after_line(res, args)}")
+    print(f"solver    : the written program on the model itself: max {r['position_um']['max']:.4f} um, RMS "
+          f"{r['position_um']['rms']:.4f} um (the compensation's numerical residual, not the machine's remaining "
+          f"error; exact model on {r['evaluated_on']})")
     full = args.scope == "full"
     lab = "controllable" if full else "not corrected (scope position)"
     print(f"tool axis : uncompensated max {res['uncompensated']['orientation_urad']['max']:.2f} urad -> residual "

@@ -4,8 +4,9 @@ from __future__ import annotations
 import argparse
 import logging
 import math
+import sys
 
-from mtcal.cli._options import integer, machine_argument, real, xyz
+from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
 from mtcal.errors import InputError
 from mtcal.io import dumps, refuse_overwrite
 from mtcal.kinematics.machine import DEFAULT_MACHINE
@@ -21,11 +22,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--plan", metavar="PLAN.json", help="measurement plan (schema in mtcal.campaign.simulate)")
     p.add_argument("--monte-carlo", type=integer(0), default=0, metavar="N",
                    help="also run the estimator on N simulated draws (GUM Supplement 1): rounds per axis for the "
-                        "three-point method, whole campaigns of the plan for the joint fit")
+                        "three-point method, whole campaigns of the plan for the joint fit; with --target-um: N "
+                        "trials of mtcal identify per step of the design's path on Dask, which then decide the "
+                        "recommendation")
+    p.add_argument("--workers", type=integer(0), metavar="K",
+                   help="with --target-um --monte-carlo: local Dask worker processes (default: the cores)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="with --target-um --monte-carlo: an existing Dask cluster (tcp://host:8786)")
     p.add_argument("--estimator", choices=("auto", "joint", "three-point"), default="auto",
                    help="the estimator to predict: auto (default) = the one mtcal identify uses with the same "
                         "inputs: the joint fit with a tracker position (--weighting tracker), three-point without")
     p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
+    tracker_model_argument(p, "the law the prediction weights and draws by")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
                    help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
     p.add_argument("--axes", metavar="X,Y,...", help="axes to report (default: all axes of the plan)")
@@ -63,21 +71,43 @@ def _design(args: argparse.Namespace, plan) -> int:
     heights = _floats(args.heights, None, "--heights")
     log = logging.getLogger("mtcal.planning.plan")
     d = design(plan, floor, heights, args.target_um, args.hours, args.max_spread, args.max_stations, progress=log.info)
+    if args.monte_carlo:
+        d = _design_monte_carlo(d, plan, args)
     if args.json:
         print(dumps(d.to_dict()))
         return 0
     r = d.recommended
     print(f"target {d.target_um:g} um (RMS over the work volume of the identified model's 3-D standard uncertainty): "
           f"{'met' if d.met else 'NOT met'}")
+    mc = "" if r.monte_carlo_um is None else f", Monte Carlo {r.monte_carlo_um:.2f} um"
     print(f"recommended: {len(r.stations)} station(s), {r.rounds_per_station} round(s) each, reflectors spread "
-          f"{r.reflector_scale:g}x, {r.hours:.1f} h -> predicted {r.model_um:.2f} um (model and compensated machine)")
+          f"{r.reflector_scale:g}x, {r.hours:.1f} h -> predicted {r.model_um:.2f} um{mc} (model and compensated "
+          f"machine); decided by {d.decided_by}")
     for label, pos in r.stations:
         print(f"  station {label}: {', '.join(f'{c:g}' for c in pos)} mm")
-    print("path: " + " -> ".join(f"{len(p.stations)} st. {p.model_um:.2f} um" for p in d.steps))
+    print("path: " + " -> ".join(f"{len(p.stations)} st. {p.model_um:.2f} um" + (
+        "" if p.monte_carlo_um is None else f" (MC {p.monte_carlo_um:.2f})") for p in d.steps))
     for a in d.alternatives:
         print(f"alternative at the same stations' time: {len(a.stations)} station(s) x {a.rounds_per_station} rounds, "
               f"spread {a.reflector_scale:g}x: {a.model_um:.2f} um")
     return 0
+
+
+def _design_monte_carlo(d, plan, args: argparse.Namespace):
+    """The design's path re-evaluated by the Monte Carlo of identify (mtcal.uncertainty.design), with a progress
+    bar over all the trials it may run."""
+    from mtcal.uncertainty.design import design_monte_carlo
+
+    bar = None
+    if not (args.quiet or args.json):
+        from tqdm import tqdm
+        bar = tqdm(total=args.monte_carlo * len(d.steps), unit="trial", file=sys.stderr, desc="mtcal plan")
+    try:
+        return design_monte_carlo(d, plan, args.monte_carlo, args.seed, args.workers, args.scheduler,
+                                  progress=bar.update if bar else None)
+    finally:
+        if bar:
+            bar.close()
 
 
 def run(args: argparse.Namespace) -> int:
@@ -94,7 +124,8 @@ def run(args: argparse.Namespace) -> int:
         return _design(args, plan)
     axes = None if not args.axes else [a.strip().upper() for a in args.axes.split(",") if a.strip()]
     res = plan_uncertainty(args.tracker, plan, monte_carlo_n=args.monte_carlo, seed=args.seed,
-                           weighting=args.weighting, axes=axes, estimator=args.estimator).to_dict()
+                           weighting=args.weighting, axes=axes, estimator=args.estimator,
+                           tracker_model=args.tracker_model).to_dict()
     if args.plot:
         logging.getLogger("mtcal.planning.plan").info("computing the placement map ...")
         mp = plot_placement_map(args.plot, plan, tracker=res["tracker"], z=res["tracker"][2])

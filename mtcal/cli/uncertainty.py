@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from mtcal.cli._options import integer, machine_argument, real, xyz
+from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
 from mtcal.io import atomic_write_text, dumps, refuse_overwrite
 
 NAME = "uncertainty"
@@ -26,6 +26,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--store", metavar="TRIALS.npz", help="keep the trials here; a later run extends them")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz, help="tracker position (mm), as given to identify")
     p.add_argument("--method", choices=("auto", "three-point", "joint"), default="auto", help="as identify's")
+    tracker_model_argument(p, "as given to identify; the trials draw from the law identify then weights by")
     p.add_argument("--p", type=real(0.5, 0.999), default=0.95, help="coverage probability (default 0.95)")
     p.add_argument("--tolerance-um", type=real(0, unit="um", lo_open=True), metavar="UM",
                    help="adaptive stopping (GUM-S1 7.9): stop when the interval limits are stable to this (um; "
@@ -71,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
                           scheduler=args.scheduler, store=args.store, budget=args.budget, poses=poses,
                           tolerance_mm=None if args.tolerance_um is None else args.tolerance_um * 1e-3,
                           progress=bar.update if bar else None, tracker=args.tracker, method=args.method,
+                          tracker_model=args.tracker_model,
                           **({"machine": args.machine} if args.machine else {}))
     finally:
         if bar:

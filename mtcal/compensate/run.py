@@ -61,7 +61,9 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
         "iso_16907": iso_types(mdl, mdl.kinematics, scope),
         "lines": rep.lines, "moves": rep.moves, "lines_changed": rep.lines_changed,
         "lines_inserted": rep.lines_inserted, "subdivided_moves": rep.subdivided_moves,
-        "residual": {"evaluated_on": rep.residual_evaluated_on(),
+        "residual": {"of": "the written program's tool tip on the model itself: the compensation's numerical "
+                           "residual, not the machine's remaining error (that is task_uncertainty, or model_worth)",
+                     "evaluated_on": rep.residual_evaluated_on(),
                      "position_um": rep.position.as_dict(1e3),
                      "orientation_urad": (rep.orientation if full else rep.orientation_all).as_dict(1e6),
                      "orientation_all_urad": rep.orientation_all.as_dict(1e6),

@@ -23,7 +23,7 @@ def build_model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine
         fits[axis] = {}
         rotary = m.axis_kinds[m.axes.index(axis)] == "rotary"
         periodic = rotary and fitting.is_periodic(ar.positions)
-        std, sm = ar.std, ar.std_mean
+        std, sm, u95 = ar.std, ar.std_mean, ar.u95
         for i, nm in enumerate(ar.names):
             vals = ar.values(nm)
             pr = ar.per_round[..., i]
@@ -37,7 +37,8 @@ def build_model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine
             if "covariance" in fit.info:  # reported at the noise law's level (the factor only sized the function)
                 fit.info["covariance"] = (np.asarray(fit.info["covariance"]) / ar.fit_variance_factor).tolist()
             warnings += _fit_leaves(nm, i >= 3, ar, pr, cov, ErrorFunction(axis, ar.positions, vals, fit))
-            extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "n": ar.n.tolist()}
+            extra = {"std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(), "u95": u95[:, i].tolist(),
+                     "n": ar.n.tolist()}
             if nm in ar.lines:
                 extra["reference_line"] = ar.lines[nm]
             funcs[nm] = ErrorFunction(axis, ar.positions.copy(), vals, fit, extra)

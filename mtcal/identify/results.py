@@ -74,6 +74,28 @@ class AxisResult:
             return np.sqrt(np.diagonal(self.covariance).reshape(len(self.positions), 6))
         return self.std / np.sqrt(self.n[:, None])
 
+    @property
+    def dof(self) -> np.ndarray:
+        """Degrees of freedom of ``std_mean`` per position: n - 1 rounds for the three-point method's Type A;
+        infinite for the joint fit, whose covariance comes from the noise law (GUM 6.3.3, G.3)."""
+        if self.covariance is not None:
+            return np.full(len(self.positions), np.inf)
+        return np.where(self.n >= 2, self.n - 1.0, np.nan)
+
+    @property
+    def k95(self) -> np.ndarray:
+        """Coverage factor per position for a 95 % interval of the mean: Student's t_0.975(dof) (GUM G.3.2; 4.30
+        for 3 rounds, 3.18 for 4, where +-2 sigma would cover 82 % and 86 %), 1.96 for the joint fit."""
+        from scipy.stats import t
+
+        with np.errstate(invalid="ignore"):
+            return t.ppf(0.975, self.dof)
+
+    @property
+    def u95(self) -> np.ndarray:
+        """Expanded uncertainty (n_positions, 6), mm and rad: half-width of the 95 % interval of each mean."""
+        return self.k95[:, None] * self.std_mean
+
     def values(self, name: str, corrected: bool = True) -> np.ndarray:
         """Mean per position of one error; straightness with its reference-line slope removed if ``corrected``."""
         v = self.mean[:, self.names.index(name)]
@@ -82,11 +104,13 @@ class AxisResult:
         return v
 
     def to_json(self) -> dict:
-        mean, std, sm = self.mean, self.std, self.std_mean
+        mean, std, sm, u95 = self.mean, self.std, self.std_mean, self.u95
         return {"positions": self.positions.tolist(), "rounds": self.rounds.tolist(), "points": list(self.points),
                 "reference_position": self.reference_position, "n": self.n.tolist(),
-                "errors": {nm: {"mean": mean[:, i].tolist(), "std": std[:, i].tolist(), "std_mean": sm[:, i].tolist()}
-                           for i, nm in enumerate(self.names)},
+                "dof": [None if not np.isfinite(d) else float(d) for d in self.dof],
+                "k95": [None if not np.isfinite(k) else float(k) for k in self.k95],
+                "errors": {nm: {"mean": mean[:, i].tolist(), "std": std[:, i].tolist(), "std_mean": sm[:, i].tolist(),
+                                "u95": u95[:, i].tolist()} for i, nm in enumerate(self.names)},
                 "residual_rms": self.residual_rms.tolist(),
                 "reference_lines": self.lines, "fits": {n: f.to_dict() for n, f in self.fits.items()},
                 **({} if self.reversal is None else
@@ -114,6 +138,6 @@ class IdentifyResult:
                 "axes": {a: r.to_json() for a, r in self.axes.items()},
                 "squareness": self.squareness, "squareness_type_a": self.squareness_stats,
                 "squareness_convention": fitting.SQUARENESS_CONVENTION,
-                **{k: self.model.meta[k] for k in ("tracker_estimated",) if k in self.model.meta},
+                **{k: self.model.meta[k] for k in ("tracker_estimated", "noise_law") if k in self.model.meta},
                 **({"data_problems": self.data_problems} if self.data_problems else {}),
                 "warnings": self.warnings}

@@ -20,20 +20,21 @@ from mtcal.kinematics.machine import Machine
 from mtcal.measurement import tracker as trk
 
 
-def _campaign(m: Machine, pl: Plan, noise: bool, seed: int):
-    """One simulated campaign of the plan (zero errors): several stations when the plan names them."""
+def _campaign(m: Machine, pl: Plan, noise: bool, seed: int, spec: trk.TrackerSpec = trk.AT960):
+    """One simulated campaign of the plan (zero errors, the tracker law ``spec``): several stations when the plan
+    names them."""
     if pl.stations:
         rec, _ = simulate_stations(None, list(pl.stations.items()), machine=m, rounds=pl.rounds, seed=seed,
-                                   noise=noise, plan=pl, alignment_um=0.0, alignment_urad=0.0)
+                                   noise=noise, plan=pl, alignment_um=0.0, alignment_urad=0.0, spec=spec)
         return rec, None
-    rec, _ = simulate(None, machine=m, plan=pl, rounds=None, seed=seed, noise=noise)
+    rec, _ = simulate(None, machine=m, plan=pl, rounds=None, seed=seed, noise=noise, spec=spec)
     return rec, np.asarray(pl.tracker, dtype=float)
 
 
 def joint_sigma(m: Machine, pl: Plan, spec: trk.TrackerSpec = trk.AT960) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """{axis: (positions, standard uncertainty (n_positions, 6))} of the joint fit's estimate from all rounds, by
     linear propagation (module docstring)."""
-    rec, t = _campaign(m, pl, noise=False, seed=0)
+    rec, t = _campaign(m, pl, noise=False, seed=0, spec=spec)
     res = joint_fit(rec, m, t, spec)
     out = {}
     for axis in rec.axes():
@@ -49,7 +50,7 @@ def joint_monte_carlo(m: Machine, pl: Plan, n: int, seed: int = 0,
     est: dict[str, list[np.ndarray]] = {}
     pos: dict[str, np.ndarray] = {}
     for k in range(n):
-        rec, t = _campaign(m, pl, noise=True, seed=seed + k)
+        rec, t = _campaign(m, pl, noise=True, seed=seed + k, spec=spec)
         res = joint_fit(rec, m, t, spec)
         for axis in rec.axes():
             ar = axis_result(res, rec, m, axis)

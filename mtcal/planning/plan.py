@@ -168,13 +168,15 @@ class PlanResult:
 
 def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None = None, monte_carlo_n: int = 0,
                      seed: int = 0, weighting: str = "tracker", axes: Iterable[str] | None = None,
-                     estimator: str = "auto") -> PlanResult:
+                     estimator: str = "auto", tracker_model=None) -> PlanResult:
     """The answer of `mtcal plan` (see PlanResult) for a tracker position (3,) mm (default: the plan's).
 
     ``estimator``: the one ``identify`` will use with the same inputs ("auto": the joint fit when the tracker is
     known, weighting "tracker"; the three-point method without), or "joint" / "three-point" by name; the joint
     fit's prediction is mtcal.planning.joint (linear propagation; ``monte_carlo_n`` campaigns for the Monte
-    Carlo), the three-point method's ``linear_covariance`` / ``monte_carlo`` below."""
+    Carlo), the three-point method's ``linear_covariance`` / ``monte_carlo`` below.  ``tracker_model``: the
+    tracker's noise law (an instrument's name, "a_r,b_r,a_t,b_t[,k]" or a TrackerSpec; None: the AT960's)."""
+    spec = trk.as_tracker_model(tracker_model)
     if estimator not in ESTIMATORS:
         raise InputError(f"`estimator` must be one of {', '.join(ESTIMATORS)}, got {estimator!r}")
     if estimator == "auto":
@@ -189,27 +191,28 @@ def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None =
         if a not in pl.positions:
             raise InputError(f"axis {a!r} is not in the plan (axes: {', '.join(pl.positions)})")
     if estimator == "joint":
-        return _plan_joint(m, pl, names, monte_carlo_n, seed)
+        return _plan_joint(m, pl, names, monte_carlo_n, seed, spec)
     t = np.asarray(pl.tracker, dtype=float)
     approaches = 2 if pl.bidirectional else 1
     res = PlanResult(t.tolist(), m.name, weighting, pl.rounds, approaches,
                      "one round as mtcal identify reports it: per pass one reading per reflector at the position and "
                      "the round's reference reading (position closest to zero, first approach), 3 equations per "
                      "reflector (mtcal.identify.threepoint.estimate), " +
-                     ("generalised LS weighted by the AT960 covariance" if weighting == "tracker" else "ordinary LS")
+                     (f"generalised LS weighted by {spec.whose} covariance" if weighting == "tracker"
+                      else "ordinary LS")
                      + "; the passes of a round (out and back) averaged; mean_of_rounds: independent rounds")
     if monte_carlo_n:
         res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.threepoint.estimate",
                            "axes": {}}
     for a in names:
         pos = pl.positions[a]
-        sd = np.sqrt(np.einsum("pii->pi", linear_covariance(m, pl, a, pos, t, weighting, approaches=approaches)))
+        sd = np.sqrt(np.einsum("pii->pi", linear_covariance(m, pl, a, pos, t, weighting, spec, approaches)))
         _axis_figures(res, m, pl, a, pos, sd, sd / math.sqrt(pl.rounds))
         en = m.error_motions(a)
         if monte_carlo_n:
             log.info("Monte Carlo %d rounds of axis %s", monte_carlo_n, a)
-            est = monte_carlo(m, pl, a, [res.mid_travel[a]], t, int(monte_carlo_n), seed, weighting,
-                              approaches=approaches)
+            est = monte_carlo(m, pl, a, [res.mid_travel[a]], t, int(monte_carlo_n), seed, weighting, spec,
+                              approaches)
             res.monte_carlo["axes"][a] = {n: float(v) for n, v in zip(en, est[:, 0].std(axis=0, ddof=1))}
     return res
 
@@ -232,7 +235,8 @@ def _axis_figures(res: PlanResult, m: Machine, pl: Plan, a: str, pos: np.ndarray
     return i_mid
 
 
-def _plan_joint(m: Machine, pl: Plan, names: list[str], monte_carlo_n: int, seed: int) -> PlanResult:
+def _plan_joint(m: Machine, pl: Plan, names: list[str], monte_carlo_n: int, seed: int,
+                spec: trk.TrackerSpec = trk.AT960) -> PlanResult:
     """PlanResult of the joint fit: ``mean_of_rounds`` its standard uncertainty from all rounds (linear
     propagation), ``axes`` and ``by_position`` the one-round equivalent (times sqrt(rounds)), ``monte_carlo`` the
     standard deviation over ``monte_carlo_n`` campaigns (one-round equivalent, as ``axes``)."""
@@ -241,11 +245,11 @@ def _plan_joint(m: Machine, pl: Plan, names: list[str], monte_carlo_n: int, seed
     res = PlanResult(list(pl.tracker), m.name, "tracker", pl.rounds, approaches,
                      "the joint weighted fit mtcal identify uses with a tracker position (mtcal.identify.joint): "
                      "every reading of " + (f"{len(stations)} stations" if stations else "the station") + " in one "
-                     "fit weighted by the AT960 covariance, reflectors and station alignments estimated; "
+                     f"fit weighted by {spec.whose} covariance, reflectors and station alignments estimated; "
                      "mean_of_rounds: the estimate from all rounds (linear propagation, mtcal.planning.joint); axes "
                      "and by_position: its one-round equivalent (times sqrt(rounds))")
-    lin = joint_sigma(m, pl)
-    mc = joint_monte_carlo(m, pl, int(monte_carlo_n), seed) if monte_carlo_n else None
+    lin = joint_sigma(m, pl, spec)
+    mc = joint_monte_carlo(m, pl, int(monte_carlo_n), seed, spec) if monte_carlo_n else None
     if mc is not None:
         res.monte_carlo = {"n": int(monte_carlo_n), "seed": seed, "solver": "mtcal.identify.joint.joint_fit",
                            "of": "campaigns of the plan, one-round equivalent as axes", "axes": {}}

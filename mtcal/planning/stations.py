@@ -29,6 +29,7 @@ from mtcal.campaign.stations import STATION_CHANGE_S, simulate_stations
 from mtcal.errors import InputError
 from mtcal.identify.joint import JointResult, joint_fit
 from mtcal.kinematics.machine import Machine
+from mtcal.measurement.recordings import Recording
 
 
 def scaled_points(plan: Plan, scale: float) -> Plan:
@@ -88,6 +89,7 @@ class Prediction:
     model_um: float
     compensated_um: float
     per_axis_um: dict[str, float] = field(default_factory=dict)
+    monte_carlo_um: float | None = None  # the same figure by Monte Carlo of identify (mtcal.uncertainty.design)
 
 
 def campaign_hours(plan: Plan, n_stations: int, rounds: int) -> float:
@@ -96,13 +98,19 @@ def campaign_hours(plan: Plan, n_stations: int, rounds: int) -> float:
     return (n_stations * t + (n_stations - 1) * STATION_CHANGE_S) / 3600.0
 
 
+def nominal_campaign(plan: Plan, stations, rounds: int = 1, scale: float = 1.0) -> Recording:
+    """The exact readings of a candidate campaign (nominal machine, stations aligned exactly, no noise):
+    ``stations`` [(label, (x, y, z) mm)], ``rounds`` per station, reflector layouts spread ``scale`` times."""
+    rec, _ = simulate_stations(None, stations, machine=plan.machine, rounds=rounds, plan=scaled_points(plan, scale),
+                               noise=False, alignment_um=0.0, alignment_urad=0.0)
+    return rec
+
+
 def predict(plan: Plan, stations, rounds: int = 1, scale: float = 1.0, grid: np.ndarray | None = None) -> Prediction:
     """Prediction for one campaign: ``stations`` [(label, (x, y, z) mm)], ``rounds`` per station, reflector
     layouts spread ``scale`` times."""
     m = plan.machine
-    pl = scaled_points(plan, scale)
-    rec, _ = simulate_stations(None, stations, machine=m, rounds=rounds, plan=pl, noise=False,
-                               alignment_um=0.0, alignment_urad=0.0)
+    rec = nominal_campaign(plan, stations, rounds, scale)
     res = joint_fit(rec, m, per_round=False, steps=1)  # exact nominal readings: one linearisation is exact
     g = poses(plan) if grid is None else grid
     h = deviation_map(res, m, g).reshape(-1, res.layout.n)
@@ -115,7 +123,7 @@ def predict(plan: Plan, stations, rounds: int = 1, scale: float = 1.0, grid: np.
             sel[c:c + 6] = True
         per_axis[axis] = _rms_um(h[:, sel], res.covariance[np.ix_(sel, sel)])
     return Prediction([(s, list(map(float, t))) for s, t in stations], rounds, scale,
-                      campaign_hours(pl, len(stations), rounds), um, um, per_axis)
+                      campaign_hours(plan, len(stations), rounds), um, um, per_axis)
 
 
 @dataclass
@@ -127,6 +135,7 @@ class Design:
     met: bool
     steps: list[Prediction]
     alternatives: list[Prediction]
+    decided_by: str = "linear propagation"
 
     def to_dict(self) -> dict:
         return {"units": {"uncertainty": "um (RMS over the work volume of the 3-D standard uncertainty)",

@@ -1,9 +1,12 @@
 """The input quantities of the Monte Carlo (GUM Supplement 1, 6.4): what a trial draws, with its defaults and their
 sources.  Lengths in mm, the tracker's law as mtcal.measurement.tracker states it.
 
-* Each reading: the tracker's noise law (radial and transverse, a + b L; the AT960's by default, or the law
-  identify used: the data's where the repeated rounds are shaped otherwise), about that reading's tracker,
-  independent per reading; a reading's PDF is Gaussian centred on the value recorded (GUM-S1 6.4.7).
+* Each reading: the tracker's noise law (radial and transverse, a + b L), about that reading's tracker,
+  independent per reading; a reading's PDF is Gaussian centred on the value recorded (GUM-S1 6.4.7).  By default
+  (``noise`` None) the law identify weighted by (its model's ``noise_law``: the prior's, the AT960's unless
+  `tracker_model` names another, or the data's where the repeated rounds are shaped otherwise), scaled up by the
+  joint fit's Birge ratio when the readings scatter more than that law says (as identify's covariance is); the
+  ratio comes from thousands of degrees of freedom, so its own uncertainty is left out (mtcal.uncertainty.run).
 * The tracker's length scale (per station and trial): the refractive index of air from the air temperature and
   pressure the tracker's weather station reads.  Edlen: dn/dT = -0.93 ppm/K, dn/dp = +0.27 ppm/hPa; a station
   read to u(T) = 0.3 K and u(p) = 0.5 hPa (typical of a tracker's weather station; Leica AT960 data sheet: air
@@ -29,7 +32,8 @@ EDLEN_PPM_PER_HPA = 0.27
 class Inputs:
     """The Monte Carlo's input quantities (module docstring); 0 switches a term off."""
 
-    noise: trk.TrackerSpec = trk.AT960
+    noise: trk.TrackerSpec | None = None  # None: the law identify used (module docstring)
+    noise_how: str = ""
     air_temperature_u_k: float = 0.3
     air_pressure_u_hpa: float = 0.5
     centring_u_um: float = 2.5 / 3 ** 0.5
@@ -45,8 +49,8 @@ class Inputs:
     def only(self, term: str) -> "Inputs":
         """These inputs with every term but ``term`` ("noise", "scale", "centring", "material") switched off: one
         line of the uncertainty budget (one-at-a-time Monte Carlo)."""
-        zero_noise = trk.TrackerSpec(0.0, 0.0, 0.0, 0.0, self.noise.k)
-        return Inputs(self.noise if term == "noise" else zero_noise,
+        zero_noise = trk.TrackerSpec(0.0, 0.0, 0.0, 0.0, self.noise.k if self.noise else 2.0)
+        return Inputs(self.noise if term == "noise" else zero_noise, self.noise_how if term == "noise" else "",
                       self.air_temperature_u_k if term == "scale" else 0.0,
                       self.air_pressure_u_hpa if term == "scale" else 0.0,
                       self.centring_u_um if term == "centring" else 0.0, self.alpha_per_k,
@@ -54,8 +58,7 @@ class Inputs:
 
     def to_dict(self) -> dict:
         d = asdict(self)
-        d["noise"] = {k: getattr(self.noise, k) for k in ("radial_um", "radial_um_per_m", "transverse_um",
-                                                         "transverse_um_per_m", "k")}
+        d["noise"] = None if self.noise is None else {**self.noise.mpe(), "instrument": self.noise.label}
         d["tracker_scale_u_ppm"] = self.scale_u * 1e6
         return d
 

@@ -4,7 +4,7 @@ output vector (the layout ``Outputs``).  Trial k draws from ``np.random.default_
 not depend on which worker runs it, or in which order."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -19,7 +19,8 @@ from mtcal.uncertainty.inputs import Inputs
 class Outputs:
     """Where each output sits in a trial's vector: every error function at its table positions (mm or rad; the
     fitted function the model evaluates, or with ``tables`` the table values, linear in the readings), every
-    constant, and the tool tip's first-order deviation (x, y, z, mm) at each of ``poses`` (n, n_axes)."""
+    constant, and the tool tip's first-order deviation (x, y, z, mm) at each of ``poses`` (n, n_axes); for the
+    fitted functions also their table values (``shadow``, not reported: mtcal.uncertainty.run.zero_fits)."""
 
     functions: dict[str, tuple[str, np.ndarray, slice]]
     constants: dict[str, int]
@@ -27,6 +28,7 @@ class Outputs:
     volumetric: slice
     size: int
     tables: bool = False
+    shadow: slice = field(default_factory=lambda: slice(0, 0))  # fitted functions' table values (``zero_fits``)
 
     @classmethod
     def of(cls, model: ErrorModel, poses: np.ndarray, tables: bool = False) -> "Outputs":
@@ -34,11 +36,13 @@ class Outputs:
         for n, f in sorted(model.functions.items()):
             funcs[n] = (f.axis, f.positions.copy(), slice(k, k + len(f.positions)))
             k += len(f.positions)
+        n_values = k
         for n in sorted(model.constants):
             consts[n] = k
             k += 1
         vol = slice(k, k + 3 * len(poses))
-        return cls(funcs, consts, np.asarray(poses, dtype=float), vol, vol.stop, tables)
+        shadow = slice(vol.stop, vol.stop + (0 if tables else n_values))
+        return cls(funcs, consts, np.asarray(poses, dtype=float), vol, shadow.stop, tables, shadow)
 
     def vector(self, model: ErrorModel) -> np.ndarray:
         """A trial's model as the output vector (an error the trial's model lacks is 0, as the model file says)."""
@@ -46,6 +50,8 @@ class Outputs:
         for n, (_, pos, sl) in self.functions.items():
             f = model.functions.get(n)
             out[sl] = 0.0 if f is None else np.interp(pos, f.positions, f.values) if self.tables else f(pos, "hold")
+            if f is not None and not self.tables:
+                out[self.shadow.start + sl.start:self.shadow.start + sl.stop] = np.interp(pos, f.positions, f.values)
         for n, i in self.constants.items():
             out[i] = model.constants.get(n, 0.0)
         m = model.kinematics
