@@ -144,3 +144,20 @@ def test_rates_on_campaigns_of_an_independent_generator():
     r = rates(n=24, seed=7)
     assert r["gross"] >= 3 and r["found"] == r["gross"], r["missed"]
     assert r["without_gross"] >= 10 and not r["false_alarms"] and not r["refused"]
+
+
+def test_a_reading_where_the_tracker_found_no_target_is_named_so():
+    """A tracker writes 0, 0, 0 when it finds no target (the icelinker recordings do: docs/guide/real-data-tracker.md):
+    the screen says so, naming the line, instead of "misread, mistyped or another reflector"."""
+    _, lines = _campaign(6)
+    bad = list(lines)
+    i = _rows(lines, "X", 2, "Q")[3]
+    f = bad[i].split(",")
+    header = lines[0].split(",")
+    for c in ("x", "y", "z"):
+        f[header.index(c)] = "0"
+    bad[i] = ",".join(f)
+    s = screen(parse_recording("\n".join(bad), "rec.csv"))
+    (p,) = s.problems
+    assert p.kind == "far_reading" and p.points == ("Q",) and "no target (the tracker wrote 0, 0, 0)" in p.text
+    assert str(i + 1) in p.text

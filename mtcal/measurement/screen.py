@@ -189,8 +189,16 @@ def _explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], median: d
     lines = tuple(int(rec.line[g[p]]) for p in pts)
     return DataProblem("far_reading", axis, rnd, q, pts, lines, size,
                        f"reading of {' or '.join(pts)} in {where} (line(s) {', '.join(map(str, lines))}) is "
-                       f"{size:.3g} mm from where its nest is relative to the others: misread, mistyped or another "
-                       f"reflector: pass left out")
+                       f"{size:.3g} mm from where its nest is relative to the others: "
+                       f"{_cause(rec, [g[p] for p in pts])}: pass left out")
+
+
+def _cause(rec: Recording, rows: list[int]) -> str:
+    """What a far reading looks like: no target (a tracker writes 0, 0, 0 when it found none), else a misread,
+    mistyped or other reflector."""
+    if all(not np.any(rec.xyz[i]) for i in rows):
+        return "no target (the tracker wrote 0, 0, 0)"
+    return "misread, mistyped or another reflector"
 
 
 def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out: Screen) -> set[tuple]:
@@ -241,7 +249,7 @@ def _cross_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], ref
     pts = tuple(sorted(p for p, d in dev.items() if d > PASS_FLOOR_MM))
     return DataProblem("far_reading", axis, rnd, q, pts, tuple(int(rec.line[g[p]]) for p in pts), size,
                        f"reading of {' and '.join(pts)} in {where} is {size:.3g} mm from where the other rounds "
-                       f"read it: misread, mistyped or another reflector: pass left out")
+                       f"read it: {_cause(rec, [g[p] for p in pts])}: pass left out")
 
 
 def _reference_rounds(rec: Recording, axis: str, out: Screen) -> None:
