@@ -50,19 +50,19 @@ def test_more_stations_predict_less_and_design_stops_at_the_target():
 
 def test_monte_carlo_of_identify_decides_the_design(tmp_path, capsys):
     """Issue 26: with `--monte-carlo` the design's path is re-evaluated by the Monte Carlo of identify (the joint
-    fit with fitted functions) on Dask's machinery, which then decides.  Linear propagation through the per-position
-    estimates is an upper bound (about 25.5 / 11.0 / 3.1 um for one to three stations; the Monte Carlo 14-17 /
-    6.2-7.5 / 2.0-2.3 um over seeds): at a 9 um target it recommends two stations where the linear figure needs
-    three."""
+    fit with fitted functions, on a machine with errors of the thesis' magnitudes) on Dask's machinery, which then
+    decides.  Linear propagation through the per-position estimates is an upper bound (about 25.5 / 11.0 / 3.1 um
+    for one to three stations; the Monte Carlo, 20 trials, 20.7-21.0 / 8.3-9.4 um over seeds 0-2): at a 10.5 um
+    target it recommends two stations where the linear figure needs three."""
     from mtcal.planning.stations import Design
     from mtcal.uncertainty.design import design_monte_carlo
 
     steps = [predict(PLAN, STATIONS[:k], 1) for k in (1, 2, 3)]
-    d = design_monte_carlo(Design(9.0, steps[-1], True, steps, []), PLAN, trials=10, workers=0)
+    d = design_monte_carlo(Design(10.5, steps[-1], True, steps, []), PLAN, trials=20, workers=0)
     assert len(d.recommended.stations) == 2 and d.met and "Monte Carlo" in d.decided_by
     assert d.steps[2].monte_carlo_um is None  # not needed: the second step met the target
     for p in d.steps[:2]:
-        assert 0.4 * p.model_um < p.monte_carlo_um < p.model_um, (p.model_um, p.monte_carlo_um)
+        assert 0.6 * p.model_um < p.monte_carlo_um < p.model_um, (p.model_um, p.monte_carlo_um)
 
     import json
 

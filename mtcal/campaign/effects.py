@@ -35,7 +35,7 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  exact kinematics carry it to the machine frame (it turns with the table).  10 um/h = 2.78e-6 mm/s.
 * nest_knock     one reflector's nest (``point`` on ``side``) knocked at t0_s: displaced by ``size`` mm along
                  ``direction`` (the side's local frame) from then on, through the rest of that axis' block and the
-                 next ones (default t0_s: half the campaign's duration).
+                 next ones (default t0_s: the middle of that nest's readings; a knock after them is refused).
 * tracker_settling  the tracker stand settles: every reading turns about the axis ``about`` through the tracker
                  position by theta = rate_rad_s (t - t0_s) + angle_rad (1 - exp(-(t - t0_s) / tau_s)) (a ramp
                  and / or a first-order settling); exact rotation, distances to the tracker unchanged.
@@ -214,7 +214,7 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                    "side": (None, _choice("tool", "table"), "side carrying the nest; default the first axis' side"),
                    "size": (0.020, _in(-5.0, 5.0, "mm"), "mm"),
                    "direction": ("+Z", _dir, "X, Y, Z, -X, -Y, -Z or a;b;c, the side's local frame"),
-                   "t0_s": (math.nan, _float, "s; default: half the campaign's duration")},
+                   "t0_s": (math.nan, _float, "s; default: the middle of that nest's readings")},
     "tracker_settling": {"angle_rad": (20e-6, _in(-1e-2, 1e-2, "rad"), "rad, final tilt of the settling"),
                          "tau_s": (1800.0, _in(1.0, 1e7, "s"), "s, settling time constant"),
                          "rate_rad_s": (0.0, _in(-1e-5, 1e-5, "rad/s"), "rad/s, steady tilt rate (a ramp)"),
@@ -449,11 +449,18 @@ class Effect:
         return S.tracker_settling_angle([p["rate_rad_s"], p["angle_rad"]], dt, p["tau_s"])[..., 0]
 
     def knock_time(self, rows: Rows) -> float:
-        """nest_knock: when the nest is knocked (s; default half the campaign's duration)."""
-        t = self.params["t0_s"]
-        return float(rows.time_s.max() / 2 if math.isnan(t) else t)
+        """nest_knock: when the nest is knocked (s; default the middle of that nest's readings).  A knock after
+        its last reading moves nothing: refused."""
+        p = self.params
+        on = (rows.point == p["point"]) & (rows.side == p["side"])
+        t = float(np.median(rows.time_s[on])) if math.isnan(p["t0_s"]) and on.any() else p["t0_s"]
+        if not np.any(on & (rows.time_s >= t)):
+            raise InputError(f"effect nest_knock: point {p['point']} ({p['side']} side) is not read after t0_s = "
+                             f"{t:g} s: the knock would move nothing")
+        return float(t)
 
     def offset_time(self, rows: Rows) -> float:
+        """offset: when the tracker is knocked (s; default half the campaign's duration)."""
         t = self.params["t_from_s"]
         return float(rows.time_s.max() / 2 if math.isnan(t) else t)
 

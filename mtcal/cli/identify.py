@@ -28,7 +28,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="tidy recording CSV (axis,round,position,point,x,y,z[,time_s,direction,temperature_c]; mm and "
                         "deg, machine frame); with --layout inspire: one export per round, in round order")
     p.add_argument("-o", "--output", metavar="MODEL.json", help="write the error model (mm, rad) here")
-    p.add_argument("--plots", metavar="DIR", help="write PNG plots (errors with +-2 sigma bars, fits, reference lines)")
+    p.add_argument("--plots", metavar="DIR", help="write PNG plots (errors with their 95 %% bands, fits, reference "
+                                                  "lines)")
     p.add_argument("--tracker", metavar="x,y,z", type=xyz,
                    help="tracker position in the machine frame (mm): weight the least squares by the tracker law's "
                         "covariance (--tracker-model) (default: estimated from the scatter of the rounds)")

@@ -35,7 +35,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
     tracker_model_argument(p, "the law the prediction weights and draws by")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",
-                   help="estimator weighting: AT960 covariance (identify --tracker, default) or none")
+                   help="estimator weighting: the tracker law's covariance (identify --tracker, default) or none")
     p.add_argument("--axes", metavar="X,Y,...", help="axes to report (default: all axes of the plan)")
     p.add_argument("--target-um", type=real(0, unit="um", lo_open=True), metavar="UM",
                    help="design the measurement: recommend stations, reflector spread and rounds for this volumetric "
@@ -117,6 +117,9 @@ def run(args: argparse.Namespace) -> int:
 
     if args.monte_carlo == 1:
         raise InputError("--monte-carlo needs at least 2 rounds for a standard deviation")
+    if args.tracker_model is not None and (args.target_um is not None or args.plot):
+        raise InputError("--tracker-model sets the law of the prediction for one placement; the design (--target-um) "
+                         "and the map (--plot) still weight by the AT960's: run them without it")
     refuse_overwrite([args.plot], args.plan)
     m = load_machine(args.machine)
     plan = load_plan(args.plan, m) if args.plan else Plan(m)

@@ -82,7 +82,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         sides = set(g.side.tolist())
         targets = (["spindle"] if "tool" in sides else []) + (["table"] if "table" in sides else [])
         for target in targets:  # a side's drift may start when it is first seen or when an axis' block starts
-            for onset in onsets(rec, g.side == ("tool" if target == "spindle" else "table")):
+            for onset in onsets(rec, g.side == fx.SIDE[target]):
                 out += [fx.thermal_drift(g, target, tau, onset) for tau in fx.TAUS_S]
         nests = sorted(set(zip(rec.point.tolist(), g.side.tolist())))   # a label may name a nest on each side
         out += [fx.nest_creep(g, label, side, t0) for label, side in nests]
@@ -158,10 +158,7 @@ def scanned(prep: Prepared, eng: Engine) -> list[tuple[str, fx.Candidate, int]]:
     kcount = sum(c for _, _, c in scans)
     if kcount:
         st, kscan, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
-        first = kscan["rows"][np.argmin(prep.order[kscan["rows"]])]
-        where = {"from_axis": str(prep.rec.axis[first]), **where_of(prep, kscan["rows"]),
-                 "last_reading_before_s": kscan["before_s"], "first_reading_after_s": kscan["after_s"]}
-        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], where, st), kcount))
+        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], _knock_where(prep, kscan), st), kcount))
     nest = _nest_knock(prep, eng)
     return out + ([nest] if nest else [])
 
@@ -179,10 +176,15 @@ def _nest_knock(prep: Prepared, eng: Engine) -> tuple[str, fx.Candidate, int] | 
     if not count:
         return None
     (label, side), best, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
-    first = best["rows"][np.argmin(prep.order[best["rows"]])]
-    where = {"from_axis": str(prep.rec.axis[first]), **where_of(prep, best["rows"]),
-             "last_reading_before_s": best["before_s"], "first_reading_after_s": best["after_s"]}
-    return "nest_knock", fx.nest_knock(g, label, side, best["t0"], where), count
+    return "nest_knock", fx.nest_knock(g, label, side, best["t0"], _knock_where(prep, best)), count
+
+
+def _knock_where(prep: Prepared, scan: dict) -> dict:
+    """Where a scanned knock (``knock_scan``'s best) starts: the axis of its first reading after t0, that
+    reading's round, point and position, and the readings either side of the change."""
+    first = scan["rows"][np.argmin(prep.order[scan["rows"]])]
+    return {"from_axis": str(prep.rec.axis[first]), **where_of(prep, scan["rows"]),
+            "last_reading_before_s": scan["before_s"], "first_reading_after_s": scan["after_s"]}
 
 
 def screen(cands: list[fx.Candidate], notes: list[dict], eng: Engine, w) -> list[fx.Candidate]:

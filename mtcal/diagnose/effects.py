@@ -31,6 +31,7 @@ from mtcal.measurement.passes import reference_position
 VOCABULARY = (*NAMES, "reversal_straightness")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
 UNEXPLAINED = "unexplained"  # name of the free-form candidates: selected, they are reported as unexplained
+SIDE = {"spindle": "tool", "table": "table"}  # the side (of the readings) a drift's target moves
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
 
 
@@ -168,7 +169,7 @@ def pitch_grid(positions: np.ndarray, linear: bool, max_harmonic: int) -> tuple[
 def thermal_drift(g: Geometry, target: str, tau: float, t0: float, station: str | None = None) -> Candidate:
     """A side (spindle, table) or the tracker (of ``station``: its readings only) drifting from t0 (s)."""
     rows, _, of = g.at(station)
-    on = {"spindle": g.side == "tool", "table": g.side == "table", "tracker": rows}[target]
+    on = rows if target == "tracker" else g.side == SIDE[target]
     dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
     G = S.thermal_drift_signature(dt, float(tau)) * on[:, None, None]
     c = Candidate("thermal_drift", None, f"{target}{of}, tau={tau:.0f} s", G,
@@ -273,7 +274,8 @@ def nest_knock(g: Geometry, label: str, side: str, t0: float, where: dict) -> Ca
     return Candidate("nest_knock", None, f"point {label} ({side} side) knocked at t0 = {t0:.6g} s (from axis "
                      f"{where['from_axis']} round {where['round']} at {where['position']:g}, {where['readings']} "
                      f"reading(s) after)", G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="nest_knock",
-                     extra={"point": str(label), "side": side, "t0_s": float(t0), **where})
+                     extra={"point": str(label), "side": side, "t0_s": float(t0), "frame": f"the {side} side's",
+                            **where})
 
 
 def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = None) -> Candidate:
@@ -305,7 +307,7 @@ def thermal_temperature_scale(g: Geometry, axis: str, dT: np.ndarray) -> Candida
 
 def thermal_temperature_drift(g: Geometry, target: str, dT: np.ndarray) -> Candidate:
     """A side (spindle, table) or the tracker drifting by c dT with the recorded temperature rise (mm/K)."""
-    on = {"spindle": g.side == "tool", "table": g.side == "table", "tracker": np.ones(len(g.axis), bool)}[target]
+    on = np.ones(len(g.axis), bool) if target == "tracker" else g.side == SIDE[target]
     G = S.thermal_temperature_drift_signature(dT) * on[:, None, None]
     return Candidate("thermal_temperature", None, f"{target} drifting with temperature", G,
                      ["c_x (mm/K)", "c_y (mm/K)", "c_z (mm/K)"], family="thermal_temperature",

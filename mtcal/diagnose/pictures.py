@@ -17,16 +17,16 @@ import re
 
 import numpy as np
 
-from mtcal.diagnose import effects as fx
 from mtcal.diagnose.report import Diagnosis, Finding
 from mtcal.io import save_figure
 
-REVERSAL = ("backlash", "reversal_angular", "reversal_straightness", fx.UNEXPLAINED)
+REVERSAL = ("backlash", "reversal_angular", "reversal_straightness")
 TIME = ("thermal_drift", "thermal_temperature", "nest_creep", "nest_knock", "tracker_settling", "tracker_scale")
 
 
 def _series(diag: Diagnosis, f: Finding) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(partial residual, the effect's fit, touched) per reading, um, along the effect's main direction: the first
+    """(partial residual, the effect's fit, the readings it moves) per reading, um, along the effect's main direction:
+    the first
     principal direction of the displacements it fits in the machine frame (unwhitened, so that one direction means
     the same for every reading)."""
     n = len(diag.prep.rec)
@@ -36,7 +36,7 @@ def _series(diag: Diagnosis, f: Finding) -> tuple[np.ndarray, np.ndarray, np.nda
     d = np.linalg.svd(fit, full_matrices=False)[2][0]
     if np.sum(fit @ d) < 0:
         d = -d
-    return part @ d * 1e3, fit @ d * 1e3, np.linalg.norm(fit, axis=1) > 1e-9 * np.abs(fit).max()
+    return part @ d * 1e3, fit @ d * 1e3, f.touched
 
 
 def _kind(f: Finding) -> str:

@@ -32,7 +32,7 @@ def members(prep, c: fx.Candidate) -> list[fx.Candidate]:
     if c.name != "thermal_drift" or c.extra.get("target") not in ("spindle", "table"):
         return []
     g = prep.geometry
-    seen = g.side == ("tool" if c.extra["target"] == "spindle" else "table")
+    seen = g.side == fx.SIDE[c.extra["target"]]
     taus = sorted(set(TAU_GRID_S.tolist()) | set((c.extra["tau_s"] * np.geomspace(1 / 3, 3, 25)).tolist()))
     return [fx.thermal_drift(g, c.extra["target"], tau, t0) for t0 in onsets(prep.rec, seen) for tau in taus]
 

@@ -37,6 +37,7 @@ class Finding:
     details: dict = field(default_factory=dict)
     # what the effect adds to the fit beyond the base (whitened, (3 n,)): its picture (mtcal.diagnose.pictures)
     fitted: np.ndarray | None = field(default=None, repr=False, compare=False)
+    touched: np.ndarray | None = field(default=None, repr=False, compare=False)  # (n,) the readings it moves
 
     def to_dict(self) -> dict:
         return {"name": self.name, "axis": self.axis, "direction": self.direction, "significant": self.significant,
@@ -92,9 +93,10 @@ def _unexplained(x: Located) -> dict:
 
 
 def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
-    """A selected free-form candidate (a misfit no named effect explains) as an unexplained, located mismatch:
-    its size is the largest well-determined component (|value| > 3 sd) of the per-reflector reversal vectors (mm,
-    the side's frame; else the largest component), named in the note."""
+    """A selected free-form candidate (a misfit no named effect explains) as an unexplained, located mismatch: a
+    free-form reversal sized by the largest well-determined component (|value| > 3 sd) of its per-reflector
+    reversal vectors (mm, the side's frame; else the largest component), named in the note; a position x time free
+    form by ``_growing_located``."""
     c = s.candidate
     theta, cov = eng.estimate([w(c)])
     if c.extra.get("kind") == "growing":
@@ -185,7 +187,7 @@ def ramp(c: fx.Candidate, head: dict, t: np.ndarray) -> dict:
     change = [v * frac for v in head["vector"]]
     if c.extra["tau_s"] <= record:
         return {**head, "change_over_record": change, "record_s": record}
-    k = int(np.argmax(np.abs(change)))
+    k = "XYZ".index(head["direction"][1])  # the headline's component (its direction and uncertainty)
     return {**head, "variant": "ramp over the record", "estimate": abs(change[k]),
             "uncertainty": head["uncertainty"] * frac, "vector": change,
             "vector_uncertainty": [v * frac for v in head["vector_uncertainty"]], "record_s": record,
@@ -283,7 +285,7 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
         details.update(_profiled(prep, eng, Gs[:i] + Gs[i + 1:], c, w, d, details))
         v = Gs[i] @ theta_all[off - k:off]
         f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details,
-                    fitted=v - base.project(v[:, None])[:, 0])
+                    fitted=v - base.project(v[:, None])[:, 0], touched=np.any(c.G != 0, axis=(1, 2)))
         if s.confounded_with:
             details["confounded_with"] = s.confounded_with
         aliases = possible_aliases(prep, c, eng.copy_base(), w)

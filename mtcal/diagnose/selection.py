@@ -241,16 +241,15 @@ def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Col
     late = on & (prep.seq != first)
     if not late.any():
         return "displaced within one sequence only: a one-off reading or a bump, not a knock"
-    G_late = c.G * late[:, None, None]
-    sc = eng.score(w(fx.Candidate(c.name, c.axis, "", G_late, c.params)))
-    if sc.separable and sc.logp < math.log(level):
-        Gc, Gl = w(c), w(fx.Candidate(c.name, c.axis, "", G_late, c.params))
-        t_all = np.linalg.lstsq(Gc - eng.project(Gc), eng.r, rcond=None)[0]
-        t_late = np.linalg.lstsq(Gl - eng.project(Gl), eng.r, rcond=None)[0]
-        if t_all @ t_late > 0:
-            return None
-    return (f"the displacement does not persist after the readings where it starts (the later readings alone: "
-            f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a one-off reading or a bump, not a knock")
+    Gc, Gl = w(c), w(fx.Candidate(c.name, c.axis, "", c.G * late[:, None, None], c.params))
+    sc = eng.score(Gl)
+    if not (sc.separable and sc.logp < math.log(level)):
+        return (f"the displacement does not persist after the readings where it starts (the later readings alone: "
+                f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a one-off reading or a bump, not a knock")
+    t_all, t_late = (np.linalg.lstsq(G - eng.project(G), eng.r, rcond=None)[0] for G in (Gc, Gl))
+    if t_all @ t_late <= 0:
+        return "the later readings are displaced the other way: a one-off reading or a bump, not a knock"
+    return None
 
 
 def _absorbed(eng: Engine, best: Step, v: Step, w: Columns, level: float) -> bool:

@@ -125,7 +125,7 @@ def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, ref
     three-point axis by axis (the rotary axes on readings turned into the ISO frame the linear axes' reference lines
     define)."""
     joint, spec, law = None, noise_law, None
-    if noise_law is None and (t is not None or method == "joint" or rec.tracker_xyz is not None):
+    if noise_law is None and (t is not None or method == "joint"):  # the fits that weight by a law
         spec, law = _noise_law(rec, t, warnings, prior)
     if method == "joint" or len(set(rec.stations().tolist())) > 1:
         if method != "joint":
@@ -201,6 +201,9 @@ def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior:
         t = rec.tracker_xyz[0]
     if t is None or len(set(rec.round.tolist())) < 2:
         return prior, trk.law_report(prior, prior, "prior", "the shape is not checked (one round or no tracker)")
+    if not np.any(round_scatter(rec)):
+        return prior, trk.law_report(prior, prior, "prior", "the rounds do not scatter (noise-free readings): the "
+                                                            "shape is not checked")
     sh = estimate_shape(rec, t, prior)
     ratio = f"the data's radial : transverse ratio is {sh.rho:.3g} times {prior.whose}"
     if not sh.replaces_base:

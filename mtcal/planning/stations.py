@@ -98,10 +98,11 @@ def campaign_hours(plan: Plan, n_stations: int, rounds: int) -> float:
     return (n_stations * t + (n_stations - 1) * STATION_CHANGE_S) / 3600.0
 
 
-def nominal_campaign(plan: Plan, stations, rounds: int = 1, scale: float = 1.0) -> Recording:
-    """The exact readings of a candidate campaign (nominal machine, stations aligned exactly, no noise):
-    ``stations`` [(label, (x, y, z) mm)], ``rounds`` per station, reflector layouts spread ``scale`` times."""
-    rec, _ = simulate_stations(None, stations, machine=plan.machine, rounds=rounds, plan=scaled_points(plan, scale),
+def nominal_campaign(plan: Plan, stations, rounds: int = 1, scale: float = 1.0, model=None) -> Recording:
+    """The exact readings of a candidate campaign (stations aligned exactly, no noise) of the nominal machine, or
+    of ``model``'s: ``stations`` [(label, (x, y, z) mm)], ``rounds`` per station, reflector layouts spread ``scale``
+    times."""
+    rec, _ = simulate_stations(model, stations, machine=plan.machine, rounds=rounds, plan=scaled_points(plan, scale),
                                noise=False, alignment_um=0.0, alignment_urad=0.0)
     return rec
 

@@ -67,8 +67,9 @@ class Store:
             return cls(key, np.zeros(0, dtype=np.int64), np.zeros((0, size)))
         with np.load(path, allow_pickle=False) as z:
             if str(z["key"]) != key:
-                raise InputError(f"{path}: its trials were drawn from another recording, seed or options; give a "
-                                 f"new store (or the same inputs) to extend it")
+                raise InputError(f"{path}: its trials were drawn from another recording, seed or options, or kept "
+                                 f"another layout of outputs (an older mtcal); give a new store (or the same inputs) "
+                                 f"to extend it")
             return cls(key, z["index"], z["values"])
 
     def save(self, path: Path | None) -> None:
@@ -246,8 +247,11 @@ def _key(rec: Recording, seed: int, options: dict, inputs: Inputs, outputs: Outp
 def _angular(outputs: Outputs) -> np.ndarray:
     """True where an output is an angle (rad): errors and constants named E_A.., E_B.., E_C.."""
     a = np.zeros(outputs.size, dtype=bool)
+    n0 = outputs.shadow.start
     for n, (_, _, sl) in outputs.functions.items():
         a[sl] = n[2] in "ABC"
+        if outputs.shadow.stop > n0:  # the table values of the fitted functions (zero_fits)
+            a[n0 + sl.start:n0 + sl.stop] = n[2] in "ABC"
     for n, i in outputs.constants.items():
         a[i] = n[2] in "ABC"
     return a
@@ -312,7 +316,7 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
             bs = Store(term, np.zeros(0, dtype=np.int64), np.zeros((0, outputs.size)))
             run_trials(rec, list(range(n)), inputs=sub, options=options, outputs=outputs, seed=seed + 1, store=bs,
                        store_path=None, workers=workers, scheduler=scheduler, progress=progress)
-            res.budget[term] = _budget_line(_ordered(bs, n), outputs)
+            res.budget[term] = _budget_line(_ordered(bs, n), outputs, base.model)
     res.seconds = time.perf_counter() - t0
     return res
 
@@ -330,7 +334,8 @@ def drawn_law(inputs: Inputs, base) -> Inputs:
     law = base.model.meta.get("noise_law")
     spec = trk.AT960 if not law else trk.TrackerSpec(*(law[k] for k in ("radial_um", "radial_um_per_m", "transverse_um",
                                                                           "transverse_um_per_m", "k")),
-                                                     name=law["instrument"] if law["source"] == "prior" else "")
+                                                     name=law["instrument"] if law["source"] == "prior"
+                                                     and law["instrument"] != "given numbers" else "")
     how = "the law identify weighted by" + (f" ({law['obtained']})" if law else " (the AT960's)")
     birge = float((base.joint or {}).get("birge_ratio", 1.0))
     if birge > 1.0:
@@ -347,10 +352,10 @@ def _ordered(st: Store, n: int) -> np.ndarray:
     return st.values[keep]
 
 
-def _budget_line(values: np.ndarray, outputs: Outputs) -> dict:
-    """One input term's share: the largest standard uncertainty of each error over its positions, of each
-    constant, and of the tool tip over the poses (mm, rad)."""
-    u = values.std(axis=0, ddof=1)
+def _budget_line(values: np.ndarray, outputs: Outputs, model) -> dict:
+    """One input term's share: the largest standard uncertainty of each error over its positions (as reported:
+    ``zero_fits``), of each constant, and of the tool tip over the poses (mm, rad)."""
+    u = zero_fits({"u": values.std(axis=0, ddof=1)}, outputs, model)["u"]
     return {"errors": {n: float(u[sl].max()) for n, (_, _, sl) in outputs.functions.items()},
             "constants": {n: float(u[i]) for n, i in outputs.constants.items()},
             "volumetric_u_max_mm": float(u[outputs.volumetric].max()) if len(outputs.poses) else 0.0}

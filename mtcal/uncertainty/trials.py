@@ -18,7 +18,9 @@ from mtcal.uncertainty.inputs import Inputs
 @dataclass
 class Outputs:
     """Where each output sits in a trial's vector: every error function at its table positions (mm or rad; the
-    fitted function the model evaluates, or with ``tables`` the table values, linear in the readings), every
+    fitted function the model evaluates -- reported with its table values' statistics where the degree selection
+    set it to zero, mtcal.uncertainty.run.zero_fits -- or with ``tables`` the table values, linear in the
+    readings), every
     constant, and the tool tip's first-order deviation (x, y, z, mm) at each of ``poses`` (n, n_axes); for the
     fitted functions also their table values (``shadow``, not reported: mtcal.uncertainty.run.zero_fits)."""
 
