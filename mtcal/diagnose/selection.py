@@ -220,10 +220,11 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
         if why:
             return why
     if c.name == "outlier":
-        rep = w(fx.repeated(prep.geometry, c))
-        sc = eng.score(rep)
+        rep, Gc = w(fx.repeated(prep.geometry, c)), w(c)
+        with_it = eng.copy()
+        with_it.add(Gc)  # given the one-off displacement: else the base's share of it shows at those places
+        sc = with_it.score(rep)
         if sc.separable and sc.logp < math.log(level):
-            Gc = w(c)
             A = np.hstack([Gc, rep])
             theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)
             if theta[:Gc.shape[1]] @ theta[Gc.shape[1]:] > 0:
