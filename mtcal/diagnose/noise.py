@@ -29,8 +29,6 @@ from mtcal.diagnose.prepared import NoiseModel, Prepared
 from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
-    SHAPE_HIGH,
-    SHAPE_LOW,
     ShapeEstimate,
     beam_starts,
     estimate_shape,
@@ -100,10 +98,7 @@ def _law(sh: ShapeEstimate | None, prior: TrackerSpec) -> dict:
     """``noise_model.law``: the prior's law, or the data's where the repeated rounds reject the prior's shape."""
     if sh is None:
         return law_report(prior, prior, "prior", "one round: the shape is not checked")
-    ratio = f"the data's radial : transverse ratio is {sh.rho:.3g} times {prior.whose}"
-    if sh.replaces_base:
-        return law_report(sh.spec, prior, "data", f"{ratio}, outside [{SHAPE_LOW:g}, {SHAPE_HIGH:g}]")
-    return law_report(prior, prior, "prior", f"the repeated rounds agree with its shape ({ratio})")
+    return sh.report()
 
 
 def _base_residuals(prep: Prepared, max_degree: int, prior: TrackerSpec, W: np.ndarray | None = None

@@ -34,8 +34,6 @@ from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
-    SHAPE_HIGH,
-    SHAPE_LOW,
     PositionEstimate,
     estimate_position,
     estimate_shape,
@@ -205,12 +203,11 @@ def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior:
         return prior, trk.law_report(prior, prior, "prior", "the rounds do not scatter (noise-free readings): the "
                                                             "shape is not checked")
     sh = estimate_shape(rec, t, prior)
-    ratio = f"the data's radial : transverse ratio is {sh.rho:.3g} times {prior.whose}"
     if not sh.replaces_base:
-        return prior, trk.law_report(prior, prior, "prior", f"the repeated rounds agree with its shape ({ratio})")
+        return prior, sh.report()
     warnings.append(f"noise law: the repeated rounds are not shaped like {prior.whose}; the fit weights by the "
                     f"data's: {sh.law_text()}")
-    return sh.spec, trk.law_report(sh.spec, prior, "data", f"{ratio}, outside [{SHAPE_LOW:g}, {SHAPE_HIGH:g}]")
+    return sh.spec, sh.report()
 
 
 def _auto_method(rec: Recording, tracker, warnings: list[str], prior: trk.TrackerSpec = trk.AT960):

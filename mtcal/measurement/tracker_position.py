@@ -21,7 +21,7 @@ from scipy import optimize, stats
 
 from mtcal.measurement.passes import position_key
 from mtcal.measurement.recordings import Recording
-from mtcal.measurement.tracker import AT960, TrackerSpec, covariance
+from mtcal.measurement.tracker import AT960, TrackerSpec, covariance, law_report
 
 LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (a tracker) vs isotropic noise
 START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
@@ -218,6 +218,14 @@ class ShapeEstimate:
         return (f"1 sigma along the beam {law['radial_um']:.2f} um + {law['radial_um_per_m']:.2f} um/m, across "
                 f"{law['transverse_um']:.1f} um + {law['transverse_um_per_m']:.1f} um/m (radial : transverse "
                 f"{self.rho:.2g} times {self.base.whose})")
+
+    def report(self) -> dict:
+        """The law to weight by, as the JSON answers report it (tracker.law_report): the data's where the rounds
+        reject the base's shape, else the base's; the ratio said either way."""
+        ratio = f"the data's radial : transverse ratio is {self.rho:.3g} times {self.base.whose}"
+        if self.replaces_base:
+            return law_report(self.spec, self.base, "data", f"{ratio}, outside [{SHAPE_LOW:g}, {SHAPE_HIGH:g}]")
+        return law_report(self.base, self.base, "prior", f"the repeated rounds agree with its shape ({ratio})")
 
     def to_dict(self) -> dict:
         return {"law_1sigma": {k: round(v, 4) for k, v in self.law().items()},

@@ -332,15 +332,13 @@ def drawn_law(inputs: Inputs, base) -> Inputs:
     if inputs.noise is not None:
         return replace(inputs, noise_how=inputs.noise_how or "given")
     law = base.model.meta.get("noise_law")
-    spec = trk.AT960 if not law else trk.TrackerSpec(*(law[k] for k in ("radial_um", "radial_um_per_m", "transverse_um",
-                                                                          "transverse_um_per_m", "k")),
-                                                     name=law["instrument"] if law["source"] == "prior"
-                                                     and law["instrument"] != "given numbers" else "")
+    named = law and law["source"] == "prior" and law["instrument"] != "given numbers"
+    spec = trk.AT960 if not law else trk.TrackerSpec(**{k: law[k] for k in trk.AT960.mpe()},
+                                                     name=law["instrument"] if named else "")
     how = "the law identify weighted by" + (f" ({law['obtained']})" if law else " (the AT960's)")
     birge = float((base.joint or {}).get("birge_ratio", 1.0))
     if birge > 1.0:
-        spec = trk.TrackerSpec(*(v * birge for v in (spec.radial_um, spec.radial_um_per_m, spec.transverse_um,
-                                                     spec.transverse_um_per_m)), spec.k, name=spec.name)
+        spec = replace(spec, **{k: v * birge for k, v in spec.mpe().items() if k != "k"})
         how += f", times the joint fit's Birge ratio {birge:.3f} (the readings scatter more than it says)"
     return replace(inputs, noise=spec, noise_how=how)
 
