@@ -14,7 +14,7 @@ from mtcal.model.errormodel import ErrorModel
 ROWS = [  # (effect, parameters, base: "fit" = fitted, "model" = an empty given model)
     ("backlash", {"axis": "X", "amount": 0.004}, "fit"),
     ("backlash", {"axis": "C", "amount": 20e-6}, "fit"),
-    ("periodic", {"axis": "Y", "amplitude": 0.002, "pitch": 200.0}, "fit"),
+    ("periodic", {"axis": "Y", "amplitude": 0.002, "pitch": 120.0}, "fit"),
     ("periodic", {"axis": "C", "amplitude": 10e-6, "pitch": 90.0}, "fit"),
     ("thermal_drift", {"amplitude": 0.004, "direction": "+Y", "tau_s": 1800.0}, "fit"),
     ("outlier", {"axis": "X", "size": 0.05, "direction": "+Z"}, "fit"),

@@ -206,8 +206,12 @@ def _names(p: Planted, f: dict) -> bool:
 
 
 def _accepted(p: Planted, f: dict) -> bool:
-    """``f`` names ``p``, or lists it among what it cannot be told apart from (confounded_with)."""
-    return _names(p, f) or any(_names(p, c) for c in f.get("confounded_with") or [])
+    """``f`` names ``p``, or lists it among what it cannot be told apart from (confounded_with): by one of its
+    names, or (a class an "unexplained" entry finds) as an unexplained misfit on an axis where it shows."""
+    rivals = f.get("confounded_with") or []
+    return (_names(p, f) or any(_names(p, c) for c in rivals)
+            or MAPPING[p.cls].unexplained and any(c["name"] == "unexplained" and c.get("axis") in p.axes
+                                                  for c in rivals))
 
 
 def _problem_finds(p: Planted, dp: dict) -> bool:
@@ -257,7 +261,8 @@ def judge(answer: dict, planted: list[Planted]) -> Verdict:
       unexplained, no data problem; anything claimed is a false alarm (wrong).
     * A planted class is *found* when a significant finding names it (one of its MAPPING names, at its place:
       axis, reading, nest or station as MAPPING says), or a significant finding lists such a name in its
-      ``confounded_with``, or an ``unexplained`` entry lies on an axis where it shows (not for gross errors), or a
+      ``confounded_with``, or an ``unexplained`` entry lies on an axis where it shows (not for gross errors; also
+      as a ``confounded_with`` entry of a significant finding), or a
       data problem at its axis and round reports it (gross errors, outliers; a label swap: the same two points).
       It is *stated* out of reach when a ``not_separable`` entry carries one of its names (on its axis), else
       *missed*.

@@ -87,6 +87,13 @@ def test_unexplained_on_an_axis_where_it_shows_is_right():
     assert judge(answer(sig("scale", "X"), unexplained=[un]), [grow]).verdict == "wrong"
     drift = Planted("thermal_drift", "Y", ("Y", "Z"))
     assert judge(answer(unexplained=[dict(un, axis="Z")]), [drift]).verdict == "right"
+    # a named effect stating that it cannot be told from an unexplained misfit where the planted one shows
+    knock = sig("offset", None, variant="tracker knock",
+                confounded_with=[{"name": "unexplained", "axis": "X", "where": "position x time, linear"}])
+    assert judge(answer(knock), [grow]).verdict == "right"
+    knock["confounded_with"][0]["axis"] = "Y"
+    assert judge(answer(knock), [grow]).verdict == "wrong"
+    assert judge(answer(knock), [Planted("label_swap", "Y", ("Y",))]).verdict == "wrong"  # no unexplained for it
 
 
 def test_nests_readings_and_stations_must_match():

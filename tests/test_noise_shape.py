@@ -85,3 +85,19 @@ def test_identify_weights_by_the_data_law_and_comes_closer_to_the_truth(monkeypa
     monkeypatch.setattr(run, "_noise_law", lambda rec, t, warnings, prior=AT960: (AT960, None))
     at960 = run.identify(rec, tracker=T, method="joint", worth=False)
     assert error_um(data_law) < 0.5 * error_um(at960), (error_um(data_law), error_um(at960))
+
+
+def test_identify_checks_the_shape_of_several_stations():
+    """Several stations: identify weighted every station by the AT960's law, unchecked ("several stations: the shape
+    is not checked").  The repeated rounds of every station about its own tracker show an isotropic tracker's
+    shape; the joint fit weights by it and says so."""
+    from mtcal.campaign.stations import simulate_stations
+    from mtcal.identify import identify
+    from mtcal.kinematics.defaults import tracker_positions
+
+    stations = list(tracker_positions(M).items())[:2]
+    rec, _ = simulate_stations(load_model(path("demo_truth.json")), stations, machine=M, rounds=2, seed=210,
+                               plan=as_plan(DEMO_PLAN, M), spec=OTHERS["isotropic"])
+    res = identify(rec, machine=M, worth=False)
+    law = res.model.meta["noise_law"]
+    assert law["source"] == "data" and any(w.startswith("noise law: ") for w in res.warnings), law

@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.diagnose import effects as fx
+from mtcal.diagnose.design import ROTARY_HARMONICS
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
@@ -63,12 +64,13 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         else:
             notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
                       for nm in ("backlash", "reversal_angular", "reversal_straightness")]
-        grid, span = fx.pitch_grid(rec.position[on], g.linear(a), max_degree)
+        grid, span = fx.pitch_grid(rec.position[on], g.linear(a), min(max_degree, ROTARY_HARMONICS))
         for pitch in grid:
             out.append(fx.periodic(g, a, pitch, span))
         out.append(fx.scale(g, a))
-        if np.isfinite(rec.time_s[on]).all() and len(set(rec.round[on].tolist())) > 2:  # a change over rounds
-            out.append(fx.growing_free(g, a))
+        rounds = len(set(rec.round[on].tolist()))
+        if np.isfinite(rec.time_s[on]).all() and rounds >= 2:  # a change over rounds: linear from two on
+            out += [fx.growing_free(g, a, full) for full in ((False, True) if rounds > 2 else (False,))]
         for e in prep.machine.error_motions(a):
             out.append(fx.second_order(g, a, e))
         notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})

@@ -30,6 +30,16 @@ import numpy as np
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.prepared import Prepared
 
+ROTARY_HARMONICS = 6  # rotary axes: harmonics up to 6 per turn; a higher one is a periodic error (a candidate)
+
+
+def family_degrees(prep: Prepared, max_degree: int) -> dict[str, int]:
+    """The quasi-static family's largest degree of every axis: polynomials up to ``max_degree`` on linear axes,
+    harmonics up to min(``max_degree``, ROTARY_HARMONICS) on rotary axes; 0 (nothing fitted) on a given model."""
+    if prep.given_model:
+        return {a: 0 for a in prep.axes}
+    return {a: max_degree if prep.geometry.linear(a) else min(max_degree, ROTARY_HARMONICS) for a in prep.axes}
+
 
 def _basis(linear: bool, q: np.ndarray, q_ref: float, degree: int, span: float) -> np.ndarray:
     """(n, k) smooth functions of the position vanishing at the reference position."""

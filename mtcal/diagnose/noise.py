@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 from scipy import stats
 
-from mtcal.diagnose.design import base_design, engine_for, whiten
+from mtcal.diagnose.design import base_design, engine_for, family_degrees, whiten
 from mtcal.diagnose.prepared import NoiseModel, Prepared
 from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
 from mtcal.measurement.tracker_position import (
@@ -94,24 +94,50 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
                             prior, _law(sh, prior), **details)
 
 
+def stations_model(prep: Prepared, max_degree: int, prior: TrackerSpec = AT960) -> NoiseModel:
+    """The noise model of a recording of several stations (each reading about its own station's tracker, given):
+    one instrument's law, its shape checked against the scatter of the repeated rounds of every station together
+    (estimate_shape about each reading's own tracker) and replaced by the data's where they differ.  Where no
+    station repeats a reading (one round each), the base's residuals show the shape instead: fitted under the
+    prior, then ITERATIONS times under the law they gave (a fit under the wrong shape absorbs the noise of the
+    direction it overweights, which hides that direction's share)."""
+    g, rec = prep.geometry, prep.rec
+    t = np.stack([g.trackers[s] for s in g.station.tolist()])
+    model = NoiseModel.stations(rec.xyz, g.station, g.trackers, prior)
+    if np.any(round_scatter(rec)):
+        sh, how = estimate_shape(rec, t, prior), "the repeated rounds of every station"
+    else:
+        how = "the residuals of the base (no station repeats a reading)"
+        for _ in range(ITERATIONS + 1):
+            r = _base_residuals(prep, max_degree, prior, model.W, scatter=False)
+            if not np.any(r):
+                return model
+            sh = estimate_shape(rec, t, prior, r)
+            model = NoiseModel.stations(rec.xyz, g.station, g.trackers, sh.spec)
+    spec = sh.spec if sh.replaces_base else prior
+    return NoiseModel.stations(rec.xyz, g.station, g.trackers, spec, _law(sh, prior),
+                               shape={**sh.to_dict(), "from": how})
+
+
 def _law(sh: ShapeEstimate | None, prior: TrackerSpec) -> dict:
     """``noise_model.law``: the prior's law, or the data's where the repeated rounds reject the prior's shape."""
     if sh is None:
-        return law_report(prior, prior, "prior", "one round: the shape is not checked")
+        return law_report(prior, prior, "prior", "one round (or noise-free rounds): the shape is not checked")
     return sh.report()
 
 
-def _base_residuals(prep: Prepared, max_degree: int, prior: TrackerSpec, W: np.ndarray | None = None
-                    ) -> np.ndarray:
+def _base_residuals(prep: Prepared, max_degree: int, prior: TrackerSpec, W: np.ndarray | None = None,
+                    scatter: bool = True) -> np.ndarray:
     """(n, 3) residuals (mm) of the quasi-static base family (or the given model), fitted with the whitening W
-    (None: unweighted)."""
+    (None: unweighted); ``scatter``: about the mean of each reading's cell over the rounds (round_scatter)."""
     n = len(prep.rec)
     if W is not None:
         prep = replace(prep, noise=NoiseModel(W, prior.label, ""))
-    degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
+    degrees = family_degrees(prep, max_degree)
     eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
     raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]
-    return round_scatter(prep.rec, raw)  # a misfit that repeats every round stays out of the noise model
+    # about the cell means: a misfit that repeats every round stays out of the noise model
+    return round_scatter(prep.rec, raw) if scatter else raw
 
 
 def _groups(prep: Prepared):

@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.diagnose import effects as fx
-from mtcal.diagnose.noise import NoiseModel, noise_model
+from mtcal.diagnose.noise import NoiseModel, noise_model, stations_model
 from mtcal.diagnose.prepared import Prepared
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
@@ -162,7 +162,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
         g.trackers = {k: np.asarray(v, dtype=float).reshape(3) for k, v in tracker.items()}
     prep = Prepared(rec, m, g, y, axes, q_ref, seq, seq_keys, rank, model is not None, Aoff, group, local,
                     NoiseModel.isotropic(n))
-    prep.noise = (NoiseModel.stations(rec.xyz, g.station, g.trackers, tracker_model) if several
+    prep.noise = (stations_model(prep, max_degree, tracker_model) if several
                   else noise_model(prep, t, max_degree, tracker_model))
     if t is None and prep.noise.tracker is not None:
         prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)

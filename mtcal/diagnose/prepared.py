@@ -42,18 +42,22 @@ class NoiseModel:
 
     @classmethod
     def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray],
-                 spec: TrackerSpec = AT960) -> "NoiseModel":
-        """The covariance of ``spec``'s law (the prior, default the AT960's) of every reading about its own
-        station's tracker (several stations)."""
+                 spec: TrackerSpec = AT960, law: dict | None = None, **details) -> "NoiseModel":
+        """The covariance of ``spec``'s law (default the AT960's) of every reading about its own station's tracker
+        (several stations); ``law``: how it is reported (``law_report``; default: ``spec`` as the prior, its
+        shape not checked)."""
         W = np.empty((len(xyz), 3, 3))
         for label, t in trackers.items():
             on = station == label
             W[on] = _whitening(xyz[on], t, spec)
-        return cls(W, f"{spec.name or 'given law'} (given trackers, per station)",
-                   f"each reading weighted by {spec.whose} covariance about its own station's tracker (the "
+        data = bool(law) and law.get("source") == "data"
+        name = "tracker law estimated" if data else spec.name or "given law"
+        return cls(W, f"{name} (given trackers, per station)",
+                   f"each reading weighted by {'the estimated law' if data else spec.whose} covariance about its own "
+                   "station's tracker (the "
                    "recording's station and tracker_x,y,z columns)", None,
-                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}},
-                   law_report(spec, spec, "prior", "several stations: the prior law, the shape is not estimated"))
+                   {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}, **details},
+                   law if law is not None else law_report(spec, spec, "prior", "the shape is not checked"))
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "how": self.how, "tracker": self.tracker, "law": self.law, **self.details}

@@ -7,7 +7,7 @@ import numpy as np
 
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import candidates, screen
-from mtcal.diagnose.design import base_design, engine_for, raw_sigma, whiten
+from mtcal.diagnose.design import base_design, engine_for, family_degrees, raw_sigma, whiten
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
@@ -19,7 +19,8 @@ from mtcal.measurement.screen import screen as screen_gross
 from mtcal.measurement.tracker import as_tracker_model
 
 log = logging.getLogger("mtcal.diagnose")
-MAX_DEGREE = 6  # the quasi-static family: error functions up to degree 6 (a few undulations over the travel)
+MAX_DEGREE = 7  # the quasi-static family: polynomials up to degree 7 on linear axes (two undulations over the
+#                travel), harmonics up to design.ROTARY_HARMONICS on rotary axes
 
 
 def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None,
@@ -48,8 +49,8 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     wy, w = whiten(prep.W, prep.y), Columns(prep.W)
     # the null of every test: the quasi-static family at its largest degree (or the given model), not the
     # BIC-selected base: an effect is reported only if no smooth error function of the family explains it
-    test_degrees = {a: 0 if prep.given_model else max_degree for a in prep.axes}
-    eng = engine_for(prep, base_design(prep, test_degrees), wy)
+    test_degrees = family_degrees(prep, max_degree)
+    eng = null_eng = engine_for(prep, base_design(prep, test_degrees), wy)
     cands, notes = candidates(prep, max_degree)
     if not prep.given_model:
         cands = screen(cands, notes, eng, w)
@@ -57,11 +58,12 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
     steps = backward(eng, steps, w, level, say)
     null = ("the given model" if prep.given_model else
-            f"the quasi-static family at degree {max_degree} on every axis") + " + the effects selected before"
+            f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)})"
+            ) + " + the effects selected before"
 
     # the reported base: degrees by BIC with the selected effects in the fit, then base alone and with effects
     degrees = (dict(test_degrees) if prep.given_model
-               else select_degrees(prep, wy, max_degree, say, [w(s.candidate) for s in steps]))
+               else select_degrees(prep, wy, test_degrees, say, [w(s.candidate) for s in steps]))
     base = base_design(prep, degrees)
     eng = engine_for(prep, base, wy)
     base_sigma, base_ratio, r_before = raw_sigma(prep, eng.r, eng.dof), eng.sigma, eng.r.copy()
@@ -78,12 +80,13 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     effects = selected_findings(prep, eng, [s for s in steps if s not in free], w, cv, null)
     effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
     effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)
-    unexplained = [free_form_located(prep, eng, s, w) for s in free] + locate(prep, after, level)
+    unexplained = [free_form_located(prep, eng, s, w) for s in free] + locate(prep, _null_with(null_eng, steps, w),
+                                                                                level)
     base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
                  "parameters": int(after.copy_base().p), "readings": len(rec),
                  "tests_against": null if prep.given_model else
-                 f"the quasi-static family at degree {max_degree} on every axis (degrees above: BIC with the "
-                 f"selected effects in the fit)", "weighted": prep.weighted,
+                 f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)}; degrees above: "
+                 "BIC with the selected effects in the fit)", "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
                           + _positions(prep) + _alignments(prep)}
     if prep.stations:
@@ -93,6 +96,20 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep, data_problems=[p.to_dict() for p in gross.problems])
+
+
+def _degrees_text(degrees: dict[str, int]) -> str:
+    return ", ".join(f"{a} {d}" for a, d in degrees.items())
+
+
+def _null_with(null_eng, steps, w):
+    """The null of the tests (the family at its largest degree, or the given model) with the selected effects:
+    what "unexplained" is located against -- a misfit a smooth error function of the family explains is not
+    unexplained, as it is no effect (the BIC-selected base is the reported model, not the test's null)."""
+    e = null_eng.copy_base()
+    for s in steps:
+        e.add(w(s.candidate))
+    return e
 
 
 def _positions(prep) -> str:

@@ -51,6 +51,9 @@ SEPARATE_BY = {
                                                 "swap reflectors between nests): a creeping nest moves one point",
     frozenset(("nest_knock", "offset")): "measure a second reflector in the same nest, or re-measure the first "
                                          "axis at the end: a knocked nest moves one point, a knocked tracker all",
+    frozenset(("offset", fx.UNEXPLAINED)): "measure more rounds of the axis and record a temperature channel: a "
+                                           "knock is a step, an error motion growing with the heat goes on growing "
+                                           "with the position and the time",
     frozenset(("nest_knock", "nest_creep")): "re-measure the nest's first positions at the end and log the times: a "
                                              "creep grows with time, a knock is a step",
     frozenset(("tracker_settling", "thermal_drift")): "measure a fixed reference nest off the machine at the start "
@@ -151,8 +154,7 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
             break
         c = best.candidate
         before = eng.sigma
-        rivals = [v for v in sig if v is not best and v.candidate.family != c.family
-                  and fx.UNEXPLAINED not in (c.name, v.candidate.name)]
+        rivals = [v for v in sig if v is not best and v.candidate.family != c.family and _rival(c, v.candidate)]
         shared = {id(v): eng.shared_fit(w(c), w(v.candidate)) for v in rivals}
         eng.add(w(c))
         best.confounded_with += [_confound(c, v, shared[id(v)]) for v in rivals
@@ -208,7 +210,8 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     leave no reversal that differs between reflectors beyond what the named reversal effects of its axis explain
     together (free-form check, F test at ``level``); a scanned one-off displacement (outlier reading or bump) must
     not be found, in the same direction, at the same places in the other rounds; a knocked nest's displacement must
-    persist beyond the sequence it starts in."""
+    persist beyond the sequence it starts in; a knock (of the tracker or of a nest) must be a step, not a change
+    that goes on growing after t0."""
     if c.name in REVERSALS:
         sc = _reversal_misfit(prep, eng, c.axis, w, level)
         if sc is not None:
@@ -217,6 +220,10 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
                     f"p = {math.exp(sc.logp):.2g})")
     if c.name == "nest_knock":
         why = _knock_does_not_persist(prep, eng, c, w, level)
+        if why:
+            return why
+    if "t0_s" in c.extra:
+        why = _knock_keeps_growing(prep, eng, c, w, level)
         if why:
             return why
     if c.name == "outlier":
@@ -253,6 +260,36 @@ def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Col
     return None
 
 
+def _knock_keeps_growing(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    """Why a knock is no step, or None: with the step fitted, its displacement must not go on growing after t0
+    through the axis block it falls in (the same columns times the time since t0, over that block's later
+    readings; F test at ``level``, the same direction as the step).  A drift, or an error motion growing while
+    the axis is measured, seen from a reference position that is not its zero, is such a ramp."""
+    rec, t0 = prep.rec, c.extra["t0_s"]
+    on = np.any(c.G != 0, axis=(1, 2))
+    first = np.flatnonzero(on)[np.argmin(rec.time_s[on])]
+    block = on & (rec.axis == rec.axis[first])
+    t = rec.time_s[block]
+    if block.sum() < 3 or np.ptp(t) <= 0:
+        return None
+    ramp = np.zeros(len(rec))
+    ramp[block] = (rec.time_s[block] - t0) / np.ptp(t)
+    Gc, Gr = w(c), w(fx.Candidate(c.name, c.axis, "", c.G * ramp[:, None, None], c.params))
+    with_it = eng.copy()
+    with_it.add(Gc)
+    sc = with_it.score(Gr)
+    if not (sc.separable and sc.logp < math.log(level)):
+        return None
+    A = np.hstack([Gc, Gr])
+    theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)
+    k = Gc.shape[1]
+    if theta[:k] @ theta[k:] <= 0:
+        return None
+    return (f"the displacement goes on growing after t0 through axis {rec.axis[first]} (a ramp beside the step: "
+            f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a gradual change (a drift, or an error motion growing "
+            "while the axis is measured), not a knock")
+
+
 def _absorbed(eng: Engine, best: Step, v: Step, w: Columns, level: float) -> bool:
     """A rival ``v`` significant before ``best`` was added (to ``eng``), no longer significant after it, with
     evidence of the same order (log p at least half of best's): the campaign cannot tell the two apart."""
@@ -260,6 +297,13 @@ def _absorbed(eng: Engine, best: Step, v: Step, w: Columns, level: float) -> boo
         return False
     sc = eng.score(w(v.candidate))
     return not (sc.separable and sc.logp + v.log_multiplicity < math.log(level))
+
+
+def _rival(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether ``o`` may be reported as confounded with the selected ``c``: named effects with each other, and a
+    named effect with the position x time free form (an error motion growing while measured: a named effect
+    that absorbs it may be that instead); never a free form selected itself."""
+    return c.name != fx.UNEXPLAINED and (o.name != fx.UNEXPLAINED or o.extra.get("kind") == "growing")
 
 
 def _confound(c: fx.Candidate, v: Step, cos: float) -> dict:
@@ -312,11 +356,12 @@ def _with(eng: Engine, steps: Sequence[Step], w: Columns) -> Engine:
     return e
 
 
-def select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, say: Callable[[str], None],
+def select_degrees(prep: Prepared, wy: np.ndarray, largest: dict[str, int], say: Callable[[str], None],
                    effects: Sequence[np.ndarray] = ()) -> dict[str, int]:
-    """Per axis, the degree (1..max) with the least BIC of the axis' own whitened fit, with the whitened
-    columns ``effects`` (N, k) of the selected effects in the fit (restricted to the axis' readings): an
-    unmodelled effect (backlash) inflates the residual and would make BIC choose too low a degree."""
+    """Per axis, the degree (1..``largest[axis]``, design.family_degrees) with the least BIC of the axis' own
+    whitened fit, with the whitened columns ``effects`` (N, k) of the selected effects in the fit (restricted to
+    the axis' readings): an unmodelled effect (backlash) inflates the residual and would make BIC choose too low
+    a degree."""
     out = {}
     for a in prep.axes:
         on = prep.rec.axis == a
@@ -325,7 +370,7 @@ def select_degrees(prep: Prepared, wy: np.ndarray, max_degree: int, say: Callabl
             G = np.hstack(effects)[np.repeat(on, 3)]
             G = G[:, np.any(G != 0, axis=0)]
         best = None
-        for d in range(1, max_degree + 1):
+        for d in range(1, largest[a] + 1):
             e = engine_for(prep, base_design(prep, {a: d}, [a]), wy, on)
             if G is not None and G.shape[1]:
                 e.add(G)

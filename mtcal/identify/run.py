@@ -190,18 +190,17 @@ def _worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], k
 def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior: trk.TrackerSpec = trk.AT960
                ) -> tuple[trk.TrackerSpec, dict]:
     """The law the fit weights by, and its report (trk.law_report): the prior's (the AT960's unless
-    ``tracker_model`` names another), or where one station's repeated rounds are shaped otherwise
-    (mtcal.measurement.tracker_position.estimate_shape, a ratio test against the prior) the data's, said in
-    ``warnings``."""
-    if len(set(rec.stations().tolist())) > 1:
-        return prior, trk.law_report(prior, prior, "prior", "several stations: the shape is not checked")
+    ``tracker_model`` names another), or where the repeated rounds (every station's about its own tracker) are
+    shaped otherwise (mtcal.measurement.tracker_position.estimate_shape, a ratio test against the prior) the
+    data's, said in ``warnings``."""
     if t is None and rec.tracker_xyz is not None:
-        t = rec.tracker_xyz[0]
+        t = rec.tracker_xyz  # each reading's own station's tracker
     if t is None or len(set(rec.round.tolist())) < 2:
         return prior, trk.law_report(prior, prior, "prior", "the shape is not checked (one round or no tracker)")
     if not np.any(round_scatter(rec)):
-        return prior, trk.law_report(prior, prior, "prior", "the rounds do not scatter (noise-free readings): the "
-                                                            "shape is not checked")
+        return prior, trk.law_report(prior, prior, "prior", "no reading is repeated at one station (noise-free "
+                                                            "readings, or one round per station): the shape is "
+                                                            "not checked")
     sh = estimate_shape(rec, t, prior)
     if not sh.replaces_base:
         return prior, sh.report()

@@ -175,7 +175,7 @@ def _shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpe
     """(rho, transverse variance scale): the scatter along the beam over the base law's radial sigma (normal:
     1.4826 x median |z|) against the scatter across it over the transverse sigma (chi^2, 2 dof: median / 2 ln 2)."""
     live = np.any(r != 0, axis=1)
-    d = xyz[live] - np.asarray(t, float)
+    d = xyz[live] - np.broadcast_to(np.asarray(t, float), xyz.shape)[live]
     dist = np.linalg.norm(d, axis=1)
     u = d / dist[:, None]
     s_r, s_t = base.sigmas(dist)
@@ -236,11 +236,14 @@ class ShapeEstimate:
                         f"(mtcal.measurement.tracker_position)"}
 
 
-def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> ShapeEstimate:
-    """The tracker's noise law about ``t`` (mm) from the scatter of the repeated rounds of ``rec`` (model-free, so
-    no misfit of a model passes for noise).  Medians make it robust to outliers; the distance law (a : b of each
-    direction) stays the base's: one machine's readings span too short a range of distances to separate a and b."""
-    r = round_scatter(rec)
+def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: np.ndarray | None = None
+                   ) -> ShapeEstimate:
+    """The tracker's noise law about ``t`` (mm: (3,), or (n, 3) every reading's own station's tracker: several
+    stations of one instrument share the law) from the scatter of the repeated rounds of ``rec`` (model-free, so no
+    misfit of a model passes for noise).  Medians make it robust to outliers; the distance law (a : b of each
+    direction) stays the base's: one machine's readings span too short a range of distances to separate a and b.
+    ``r``: (n, 3) mm scatter to use instead (a model's residuals where no reading is repeated at one station)."""
+    r = round_scatter(rec) if r is None else r
     rho, scale = _shape_ratio(rec.xyz, r, t, base)
     rho_c, _ = _shape_ratio(rec.xyz, _round_centred(rec, r), t, base)
     c, k = math.sqrt(scale), rho
