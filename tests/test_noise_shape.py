@@ -82,7 +82,7 @@ def test_identify_weights_by_the_data_law_and_comes_closer_to_the_truth(monkeypa
     rec = _campaign(OTHERS["isotropic"], 200)
     data_law = run.identify(rec, tracker=T, method="joint", worth=False)
     assert any(w.startswith("noise law: ") for w in data_law.warnings)
-    monkeypatch.setattr(run, "_noise_law", lambda rec, t, warnings, prior=AT960: (AT960, None))
+    monkeypatch.setattr(run, "_noise_law", lambda rec, t, warnings, prior=AT960, known=True: (AT960, None))
     at960 = run.identify(rec, tracker=T, method="joint", worth=False)
     assert error_um(data_law) < 0.5 * error_um(at960), (error_um(data_law), error_um(at960))
 

@@ -19,6 +19,7 @@ dof, p < 1e-3); else (or with one round) the readings are weighted equally, sigm
 itself (starts, likelihood, test) is mtcal.measurement.tracker_position, shared with identify. Units: mm."""
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -35,9 +36,11 @@ from mtcal.measurement.tracker_position import (
     isotropic_nll,
     refine,
     round_scatter,
+    shape_ratio,
 )
 
 ITERATIONS = 2          # refits of the base with the estimated weights
+MIN_STATION_READINGS = 30  # readings with scatter a station needs for its own sigmas (else the common law)
 
 
 def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, prior: TrackerSpec = AT960
@@ -69,12 +72,12 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", prior).W)
         t, _, nll = refine(xyz, r, t, prior)
-    sh = estimate_shape(prep.rec, t, prior)
+    sh = estimate_shape(prep.rec, t, prior, known=False)
     spec = sh.spec if sh.replaces_base else prior
     if sh.replaces_base:  # another instrument's shape: the position again under the data's law
         r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", spec).W)
         t, _, nll = refine(xyz, r, t, spec)
-        sh = estimate_shape(prep.rec, t, prior)
+        sh = estimate_shape(prep.rec, t, prior, known=False)
         spec = sh.spec
     c = xyz.mean(axis=0)
     lr = 2.0 * (isotropic_nll(r) - nll)
@@ -100,12 +103,14 @@ def stations_model(prep: Prepared, max_degree: int, prior: TrackerSpec = AT960) 
     (estimate_shape about each reading's own tracker) and replaced by the data's where they differ.  Where no
     station repeats a reading (one round each), the base's residuals show the shape instead: fitted under the
     prior, then ITERATIONS times under the law they gave (a fit under the wrong shape absorbs the noise of the
-    direction it overweights, which hides that direction's share)."""
+    direction it overweights, which hides that direction's share).  Each station's sigmas are then scaled to its
+    own scatter (_station_laws)."""
     g, rec = prep.geometry, prep.rec
     t = np.stack([g.trackers[s] for s in g.station.tolist()])
     model = NoiseModel.stations(rec.xyz, g.station, g.trackers, prior)
-    if np.any(round_scatter(rec)):
-        sh, how = estimate_shape(rec, t, prior), "the repeated rounds of every station"
+    r = round_scatter(rec)
+    if np.any(r):
+        sh, how = estimate_shape(rec, t, prior, r), "the repeated rounds of every station"
     else:
         how = "the residuals of the base (no station repeats a reading)"
         for _ in range(ITERATIONS + 1):
@@ -115,8 +120,30 @@ def stations_model(prep: Prepared, max_degree: int, prior: TrackerSpec = AT960) 
             sh = estimate_shape(rec, t, prior, r)
             model = NoiseModel.stations(rec.xyz, g.station, g.trackers, sh.spec)
     spec = sh.spec if sh.replaces_base else prior
-    return NoiseModel.stations(rec.xyz, g.station, g.trackers, spec, _law(sh, prior),
-                               shape={**sh.to_dict(), "from": how})
+    specs, factors = _station_laws(prep, r, t, spec)
+    return NoiseModel.stations(rec.xyz, g.station, g.trackers, spec, _law(sh, prior), specs,
+                               shape={**sh.to_dict(), "from": how}, per_station=factors)
+
+
+def _station_laws(prep: Prepared, r: np.ndarray, t: np.ndarray, spec: TrackerSpec
+                  ) -> tuple[dict[str, TrackerSpec], dict[str, dict]]:
+    """Each station's law: ``spec`` with its radial and transverse sigmas scaled to that station's own scatter
+    ``r`` (shape_ratio: robust medians along and across its beams).  The distance law (a : b) is the prior's, and
+    stations at other distances show where the instrument's is not (a law constant in distance reads low near the
+    tracker and high far from it); a station with no scatter keeps ``spec``.  Returns the laws and the factors."""
+    specs, factors = {}, {}
+    for label in prep.geometry.trackers:
+        on = (prep.geometry.station == label) & np.any(r != 0, axis=1)
+        if on.sum() < MIN_STATION_READINGS:
+            continue
+        rho, st2 = shape_ratio(prep.rec.xyz[on], r[on], t[on], spec)
+        fr, ft = rho * math.sqrt(st2), math.sqrt(st2)
+        specs[label] = replace(spec, radial_um=spec.radial_um * fr, radial_um_per_m=spec.radial_um_per_m * fr,
+                               transverse_um=spec.transverse_um * ft,
+                               transverse_um_per_m=spec.transverse_um_per_m * ft)
+        factors[label] = {"radial": round(fr, 3), "transverse": round(ft, 3)}
+    return specs, {"factors": factors, "rule": "each station's sigmas scaled to its own scatter (robust medians "
+                                               "along and across the beam) against the law above"}
 
 
 def _law(sh: ShapeEstimate | None, prior: TrackerSpec) -> dict:

@@ -42,20 +42,21 @@ class NoiseModel:
 
     @classmethod
     def stations(cls, xyz: np.ndarray, station: np.ndarray, trackers: dict[str, np.ndarray],
-                 spec: TrackerSpec = AT960, law: dict | None = None, **details) -> "NoiseModel":
-        """The covariance of ``spec``'s law (default the AT960's) of every reading about its own station's tracker
-        (several stations); ``law``: how it is reported (``law_report``; default: ``spec`` as the prior, its
-        shape not checked)."""
+                 spec: TrackerSpec = AT960, law: dict | None = None, specs: dict[str, TrackerSpec] | None = None,
+                 **details) -> "NoiseModel":
+        """The covariance of ``spec``'s law (default the AT960's; ``specs``: a station's own where given) of every
+        reading about its own station's tracker (several stations); ``law``: how it is reported (``law_report``;
+        default: ``spec`` as the prior, its shape not checked)."""
         W = np.empty((len(xyz), 3, 3))
         for label, t in trackers.items():
             on = station == label
-            W[on] = _whitening(xyz[on], t, spec)
+            W[on] = _whitening(xyz[on], t, (specs or {}).get(label, spec))
         data = bool(law) and law.get("source") == "data"
         name = "tracker law estimated" if data else spec.name or "given law"
         return cls(W, f"{name} (given trackers, per station)",
                    f"each reading weighted by {'the estimated law' if data else spec.whose} covariance about its own "
-                   "station's tracker (the "
-                   "recording's station and tracker_x,y,z columns)", None,
+                   "station's tracker (the recording's station and tracker_x,y,z columns)"
+                   + (", each station's sigmas scaled to its own scatter (per_station)" if specs else ""), None,
                    {"trackers": {k: [float(v) for v in t] for k, t in trackers.items()}, **details},
                    law if law is not None else law_report(spec, spec, "prior", "the shape is not checked"))
 

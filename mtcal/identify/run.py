@@ -83,7 +83,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
     results, slopes, joint, spec, law = _fit_axes(rec, m, t, method, reference, noise_law, warnings,
-                                                  (outlier_k, max_deviation_mm), prior)
+                                                  (outlier_k, max_deviation_mm), prior, known=estimated is None)
     sq = fitting.squareness(slopes)
     sq_stats = _squareness_type_a(results, m, reference, sq)
     if set(m.linear_axes) <= set(results) and len(sq) < 3:
@@ -117,14 +117,14 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
 
 def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, reference: str,
               noise_law: trk.TrackerSpec | None, warnings: list[str], limits: tuple[float, float],
-              prior: trk.TrackerSpec = trk.AT960):
+              prior: trk.TrackerSpec = trk.AT960, known: bool = True):
     """(results {axis: AxisResult with its reference lines}, straightness slopes {E_IJ: mm/mm}, the joint fit or
     None, the noise law the fit weighted by, its report (trk.law_report) or None): the joint fit of all axes, or
     three-point axis by axis (the rotary axes on readings turned into the ISO frame the linear axes' reference lines
-    define)."""
+    define); ``known``: the tracker position was given, not estimated (the shape check's band, estimate_shape)."""
     joint, spec, law = None, noise_law, None
     if noise_law is None and (t is not None or method == "joint"):  # the fits that weight by a law
-        spec, law = _noise_law(rec, t, warnings, prior)
+        spec, law = _noise_law(rec, t, warnings, prior, known=known)
     if method == "joint" or len(set(rec.stations().tolist())) > 1:
         if method != "joint":
             raise InputError(f"{rec.source}: several tracker stations need the joint fit (`method` joint)")
@@ -187,8 +187,8 @@ def _worth(rec: Recording, m: Machine, model: ErrorModel, warnings: list[str], k
     return w.to_dict()
 
 
-def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior: trk.TrackerSpec = trk.AT960
-               ) -> tuple[trk.TrackerSpec, dict]:
+def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior: trk.TrackerSpec = trk.AT960,
+               known: bool = True) -> tuple[trk.TrackerSpec, dict]:
     """The law the fit weights by, and its report (trk.law_report): the prior's (the AT960's unless
     ``tracker_model`` names another), or where the repeated rounds (every station's about its own tracker) are
     shaped otherwise (mtcal.measurement.tracker_position.estimate_shape, a ratio test against the prior) the
@@ -201,7 +201,7 @@ def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior:
         return prior, trk.law_report(prior, prior, "prior", "no reading is repeated at one station (noise-free "
                                                             "readings, or one round per station): the shape is "
                                                             "not checked")
-    sh = estimate_shape(rec, t, prior)
+    sh = estimate_shape(rec, t, prior, known=known)
     if not sh.replaces_base:
         return prior, sh.report()
     warnings.append(f"noise law: the repeated rounds are not shaped like {prior.whose}; the fit weights by the "

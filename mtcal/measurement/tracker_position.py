@@ -30,7 +30,11 @@ SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its 
 HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01)  # mm, mm, mm, log c: central differences of the log-likelihood
 SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data's radial : transverse ratio over
 # the base's is above SHAPE_HIGH (both with and without each round's mean removed: effects the scatter holds raise
-# it by up to 2-3, never lower it) or below SHAPE_LOW; other trackers differ by 0.4 (1 : 70) to 30 (isotropic)
+# it by up to 2-3, never lower it) or below SHAPE_LOW; other trackers differ by 0.4 (1 : 70) to 30 (isotropic) ...
+SHAPE_NEAR, SHAPE_AGREE = 1.4, 1.25  # ... and already beyond 1.4 (below 1 / 1.4) where the ratio with and without
+# the round means agree within 1.25: an effect in the scatter (a drift, a bump, a re-seated nest) moves the two
+# apart (tests/test_noise_shape.py: 1.2-1.8 against 1.9-3.1), the instrument's own shape does not (gen2: an
+# AT960-like tracker's ratio is 0.66-2.3 times the AT960's, its estimates agree within 1.1)
 
 
 @dataclass(frozen=True)
@@ -171,7 +175,7 @@ def _round_centred(rec: Recording, r: np.ndarray) -> np.ndarray:
     return out
 
 
-def _shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpec) -> tuple[float, float]:
+def shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpec) -> tuple[float, float]:
     """(rho, transverse variance scale): the scatter along the beam over the base law's radial sigma (normal:
     1.4826 x median |z|) against the scatter across it over the transverse sigma (chi^2, 2 dof: median / 2 ln 2)."""
     live = np.any(r != 0, axis=1)
@@ -193,17 +197,20 @@ class ShapeEstimate:
     ``rho`` = the data's radial : transverse ratio over the base's (from the model-free round scatter; ``rho_centred``
     the same with each round's mean removed), ``scale`` = the transverse variance over the base's, and ``spec``,
     the base law with both sigmas scaled to the data's.  ``replaces_base``: the shapes differ beyond what effects
-    in the scatter can make (SHAPE_HIGH, SHAPE_LOW)."""
+    in the scatter can make (SHAPE_HIGH, SHAPE_LOW; SHAPE_NEAR where the two ratios agree, SHAPE_AGREE)."""
 
     spec: TrackerSpec
     rho: float
     rho_centred: float
     scale: float
     base: TrackerSpec = AT960
+    known: bool = True   # the tracker position given, not estimated (an estimate's error raises both ratios alike)
 
     @property
     def replaces_base(self) -> bool:
-        return min(self.rho, self.rho_centred) > SHAPE_HIGH or max(self.rho, self.rho_centred) < SHAPE_LOW
+        lo, hi = sorted((self.rho, self.rho_centred))
+        near = self.known and hi / lo < SHAPE_AGREE and (lo > SHAPE_NEAR or hi < 1 / SHAPE_NEAR)
+        return lo > SHAPE_HIGH or hi < SHAPE_LOW or near
 
     def law(self) -> dict:
         """One-sigma law a + b L of each direction (um, um/m)."""
@@ -224,7 +231,7 @@ class ShapeEstimate:
         reject the base's shape, else the base's; the ratio said either way."""
         ratio = f"the data's radial : transverse ratio is {self.rho:.3g} times {self.base.whose}"
         if self.replaces_base:
-            return law_report(self.spec, self.base, "data", f"{ratio}, outside [{SHAPE_LOW:g}, {SHAPE_HIGH:g}]")
+            return law_report(self.spec, self.base, "data", f"{ratio}, outside {self._band()}")
         return law_report(self.base, self.base, "prior", f"the repeated rounds agree with its shape ({ratio})")
 
     def to_dict(self) -> dict:
@@ -232,21 +239,26 @@ class ShapeEstimate:
                 "radial_to_transverse_over_base": round(self.rho, 3),
                 "same_with_round_means_removed": round(self.rho_centred, 3),
                 "used": "estimated law" if self.replaces_base else f"base law ({self.base.label})",
-                "rule": f"the base law's shape gives way above {SHAPE_HIGH:g} or below {SHAPE_LOW:g} "
-                        f"(mtcal.measurement.tracker_position)"}
+                "rule": f"the base law's shape gives way outside {self._band()} (mtcal.measurement.tracker_position)"}
+
+    @staticmethod
+    def _band() -> str:
+        return (f"[{SHAPE_LOW:g}, {SHAPE_HIGH:g}], or (the tracker position given) [{1 / SHAPE_NEAR:.3g}, "
+                f"{SHAPE_NEAR:g}] where the ratios with and without the round means agree within {SHAPE_AGREE:g}")
 
 
-def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: np.ndarray | None = None
-                   ) -> ShapeEstimate:
+def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: np.ndarray | None = None,
+                   known: bool = True) -> ShapeEstimate:
     """The tracker's noise law about ``t`` (mm: (3,), or (n, 3) every reading's own station's tracker: several
     stations of one instrument share the law) from the scatter of the repeated rounds of ``rec`` (model-free, so no
     misfit of a model passes for noise).  Medians make it robust to outliers; the distance law (a : b of each
     direction) stays the base's: one machine's readings span too short a range of distances to separate a and b.
-    ``r``: (n, 3) mm scatter to use instead (a model's residuals where no reading is repeated at one station)."""
+    ``r``: (n, 3) mm scatter to use instead (a model's residuals where no reading is repeated at one station);
+    ``known``: ``t`` is given (False: estimated from the same scatter; only the wide band applies)."""
     r = round_scatter(rec) if r is None else r
-    rho, scale = _shape_ratio(rec.xyz, r, t, base)
-    rho_c, _ = _shape_ratio(rec.xyz, _round_centred(rec, r), t, base)
+    rho, scale = shape_ratio(rec.xyz, r, t, base)
+    rho_c, _ = shape_ratio(rec.xyz, _round_centred(rec, r), t, base)
     c, k = math.sqrt(scale), rho
     spec = TrackerSpec(base.radial_um * c * k, base.radial_um_per_m * c * k, base.transverse_um * c,
                        base.transverse_um_per_m * c, base.k)
-    return ShapeEstimate(spec, rho, rho_c, scale, base)
+    return ShapeEstimate(spec, rho, rho_c, scale, base, known)
