@@ -15,7 +15,7 @@ ROWS = [  # (effect, parameters, base: "fit" = fitted, "model" = an empty given 
     ("backlash", {"axis": "X", "amount": 0.004}, "fit"),
     ("backlash", {"axis": "C", "amount": 20e-6}, "fit"),
     ("periodic", {"axis": "Y", "amplitude": 0.002, "pitch": 120.0}, "fit"),
-    ("periodic", {"axis": "C", "amplitude": 10e-6, "pitch": 90.0}, "fit"),
+    ("periodic", {"axis": "C", "amplitude": 10e-6, "pitch": 45.0}, "fit"),  # 8 per turn: above the harmonics
     ("thermal_drift", {"amplitude": 0.004, "direction": "+Y", "tau_s": 1800.0}, "fit"),
     ("outlier", {"axis": "X", "size": 0.05, "direction": "+Z"}, "fit"),
     ("outlier", {"axis": "B", "size": 0.03, "mode": "bump"}, "fit"),

@@ -121,22 +121,30 @@ def stations_model(prep: Prepared, max_degree: int, prior: TrackerSpec = AT960) 
             model = NoiseModel.stations(rec.xyz, g.station, g.trackers, sh.spec)
     spec = sh.spec if sh.replaces_base else prior
     specs, factors = _station_laws(prep, r, t, spec)
+    for _ in range(ITERATIONS if len(specs) < len(g.trackers) else 0):  # a station that repeats no reading: its
+        # sigmas from the base's residuals, refitted under the laws so far
+        W = NoiseModel.stations(rec.xyz, g.station, g.trackers, spec, specs=specs).W
+        res = _base_residuals(prep, max_degree, prior, W, scatter=False)
+        specs, factors = _station_laws(prep, r, t, spec, res)
     return NoiseModel.stations(rec.xyz, g.station, g.trackers, spec, _law(sh, prior), specs,
                                shape={**sh.to_dict(), "from": how}, per_station=factors)
 
 
-def _station_laws(prep: Prepared, r: np.ndarray, t: np.ndarray, spec: TrackerSpec
+def _station_laws(prep: Prepared, r: np.ndarray, t: np.ndarray, spec: TrackerSpec, res: np.ndarray | None = None
                   ) -> tuple[dict[str, TrackerSpec], dict[str, dict]]:
     """Each station's law: ``spec`` with its radial and transverse sigmas scaled to that station's own scatter
-    ``r`` (shape_ratio: robust medians along and across its beams).  The distance law (a : b) is the prior's, and
-    stations at other distances show where the instrument's is not (a law constant in distance reads low near the
-    tracker and high far from it); a station with no scatter keeps ``spec``.  Returns the laws and the factors."""
+    ``r`` (shape_ratio: robust medians along and across its beams), or where it repeats too few readings to its
+    base residuals ``res`` (when given).  The distance law (a : b) is the prior's, and stations at other distances
+    show where the instrument's is not (a law constant in distance reads low near the tracker and high far from
+    it); a station with neither keeps ``spec``.  Returns the laws and the factors."""
     specs, factors = {}, {}
     for label in prep.geometry.trackers:
-        on = (prep.geometry.station == label) & np.any(r != 0, axis=1)
+        mine = prep.geometry.station == label
+        v = r if (mine & np.any(r != 0, axis=1)).sum() >= MIN_STATION_READINGS or res is None else res
+        on = mine & np.any(v != 0, axis=1)
         if on.sum() < MIN_STATION_READINGS:
             continue
-        rho, st2 = shape_ratio(prep.rec.xyz[on], r[on], t[on], spec)
+        rho, st2 = shape_ratio(prep.rec.xyz[on], v[on], t[on], spec)
         fr, ft = rho * math.sqrt(st2), math.sqrt(st2)
         specs[label] = replace(spec, radial_um=spec.radial_um * fr, radial_um_per_m=spec.radial_um_per_m * fr,
                                transverse_um=spec.transverse_um * ft,

@@ -11,9 +11,9 @@ from mtcal.diagnose.design import base_design, engine_for, family_degrees, raw_s
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
-from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward, select_degrees
+from mtcal.diagnose.selection import Columns, backward, cv_gain, folds, forward, select_degrees, with_steps
 from mtcal.errors import InputError
-from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine
+from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen as screen_gross
 from mtcal.measurement.tracker import as_tracker_model
@@ -37,7 +37,9 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
     prior = as_tracker_model(tracker_model)
-    gross = screen_gross(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
+    machine = machine if isinstance(machine, Machine) else load_machine(machine)
+    # gross errors of the data (swapped labels, far readings, duplicated rows): left out
+    gross = screen_gross(rec, {a: machine.side(a) for a in rec.axes() if a in machine.axes})
     for p in gross.problems:
         log.warning("warning: data problem: %s", p.text)
     for note in gross.notes:
@@ -50,7 +52,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     # the null of every test: the quasi-static family at its largest degree (or the given model), not the
     # BIC-selected base: an effect is reported only if no smooth error function of the family explains it
     test_degrees = family_degrees(prep, max_degree)
-    eng = null_eng = engine_for(prep, base_design(prep, test_degrees), wy)
+    eng = null_eng = engine_for(prep, base_design(prep, test_degrees), wy)  # forward adds the effects to it
     cands, notes = candidates(prep, max_degree)
     if not prep.given_model:
         cands = screen(cands, notes, eng, w)
@@ -67,10 +69,8 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     base = base_design(prep, degrees)
     eng = engine_for(prep, base, wy)
     base_sigma, base_ratio, r_before = raw_sigma(prep, eng.r, eng.dof), eng.sigma, eng.r.copy()
-    located = locate(prep, eng, level)
-    after = eng.copy_base()
-    for s in steps:
-        after.add(w(s.candidate))
+    located = locate(prep, null_eng.copy_base(), level)  # against the tests' null, as "unexplained" below
+    after = with_steps(eng, steps, w)
 
     def cv(step, others):
         held, how = folds(prep, step.candidate)
@@ -80,7 +80,9 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     effects = selected_findings(prep, eng, [s for s in steps if s not in free], w, cv, null)
     effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
     effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)
-    unexplained = [free_form_located(prep, eng, s, w) for s in free] + locate(prep, _null_with(null_eng, steps, w),
+    # located against the tests' null with the effects (a misfit a smooth error function of the family explains
+    # is no effect, so not unexplained either), not the BIC-selected base that is reported
+    unexplained = [free_form_located(prep, eng, s, w) for s in free] + locate(prep, with_steps(null_eng, steps, w),
                                                                                 level)
     base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
                  "parameters": int(after.copy_base().p), "readings": len(rec),
@@ -100,16 +102,6 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
 
 def _degrees_text(degrees: dict[str, int]) -> str:
     return ", ".join(f"{a} {d}" for a, d in degrees.items())
-
-
-def _null_with(null_eng, steps, w):
-    """The null of the tests (the family at its largest degree, or the given model) with the selected effects:
-    what "unexplained" is located against -- a misfit a smooth error function of the family explains is not
-    unexplained, as it is no effect (the BIC-selected base is the reported model, not the test's null)."""
-    e = null_eng.copy_base()
-    for s in steps:
-        e.add(w(s.candidate))
-    return e
 
 
 def _positions(prep) -> str:

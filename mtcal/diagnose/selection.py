@@ -321,7 +321,7 @@ def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
     while len(selected) > 1:
         worst = None
         for j, s in enumerate(selected):
-            e = _with(eng, [o for i, o in enumerate(selected) if i != j], w)
+            e = with_steps(eng, [o for i, o in enumerate(selected) if i != j], w)
             s2 = e.score(w(s.candidate))
             lp2 = (s2.logp + s.log_multiplicity) if s2.separable else 0.0
             if worst is None or lp2 > worst[1]:
@@ -331,8 +331,8 @@ def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
         j = worst[0]
         kept = selected[j]
         # a later, overlapping, smaller effect may have taken j's signal: drop whichever leaves the least misfit
-        rss_j = _with(eng, selected[:j] + selected[j + 1:], w).rss
-        later = [(_with(eng, selected[:i] + selected[i + 1:], w).rss, i) for i, o in enumerate(selected)
+        rss_j = with_steps(eng, selected[:j] + selected[j + 1:], w).rss
+        later = [(with_steps(eng, selected[:i] + selected[i + 1:], w).rss, i) for i, o in enumerate(selected)
                  if i > j and o.score.delta < kept.score.delta
                  and eng.copy_base().overlap(w(kept.candidate), w(o.candidate)) > 0.5]
         rss_o, i = min(later, default=(float("inf"), -1))
@@ -349,7 +349,8 @@ def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
     return selected
 
 
-def _with(eng: Engine, steps: Sequence[Step], w: Columns) -> Engine:
+def with_steps(eng: Engine, steps: Sequence[Step], w: Columns) -> Engine:
+    """``eng``'s base with the columns of ``steps`` added (a new engine)."""
     e = eng.copy_base()
     for s in steps:
         e.add(w(s.candidate))

@@ -71,7 +71,8 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     if reference not in fitting.REFERENCE_METHODS:
         raise InputError(f"`reference` must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     warnings: list[str] = []
-    gross = screen(rec)  # gross errors of the data (swapped labels, far readings, duplicated rows): left out
+    # gross errors of the data (swapped labels, far readings, duplicated rows): left out
+    gross = screen(rec, {a: m.side(a) for a in rec.axes() if a in m.axes})
     if gross.problems:
         rec = rec.select(gross.keep)
         warnings += [*(p.text for p in gross.problems), *gross.notes]

@@ -26,6 +26,7 @@ outlier of tens of µm) are left to the diagnosis, which models them.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -71,15 +72,21 @@ class Screen:
 
 
 
-def screen(rec: Recording) -> Screen:
+def screen(rec: Recording, sides: Mapping[str, str] | None = None) -> Screen:
     """Find gross errors in ``rec`` (see module docstring); the recording itself is not changed: apply
-    ``rec.select(result.keep)``."""
+    ``rec.select(result.keep)``.  ``sides``: axis -> the side its reflectors sit on (the machine's, e.g. "tool",
+    "table"): the axes of one side judge each other's reflector distances (_pooled_medians); None: each axis
+    alone."""
     out = Screen(keep=np.ones(len(rec), bool))
     _duplicates(rec, out)
+    by_axis = {}
     for axis in rec.axes():
         rows = np.flatnonzero((rec.axis == axis) & out.keep)
-        passes = group_passes(rec, rows, rec.direction[rows], axis, by_station=True, repeats="first")
-        rigid = _rigidity(rec, axis, passes, out)
+        by_axis[axis] = group_passes(rec, rows, rec.direction[rows], axis, by_station=True, repeats="first")
+    group = {a: (sides or {}).get(a, f"axis {a}") for a in by_axis}
+    medians = {g: _pooled_medians(rec, [p for a, p in by_axis.items() if group[a] == g]) for g in set(group.values())}
+    for axis, passes in by_axis.items():
+        rigid = _rigidity(rec, axis, passes, medians[group[axis]], out)
         bad = rigid | _cross_round(rec, axis, passes, rigid, out)
         for key in bad:
             out.keep[list(passes[key].values())] = False
@@ -137,10 +144,21 @@ def _pair_distances(rec: Recording, passes: dict) -> dict[tuple[str, str], dict[
     return out
 
 
-def _rigidity(rec: Recording, axis: str, passes: dict, out: Screen) -> set[tuple]:
-    """Passes whose reflectors are not where the other passes put them relative to each other."""
+def _pooled_medians(rec: Recording, axes_passes: list[dict]) -> dict[tuple[str, str], float]:
+    """The median distance (mm) of every pair of reflectors over the passes of the axes of one side that read both:
+    a label names one nest throughout a file, and the side is rigid, so one axis with two rounds (half its passes
+    wrong when one round has two labels swapped) is judged by the other axes' passes too."""
+    pooled: dict[tuple[str, str], list[float]] = {}
+    for passes in axes_passes:
+        for ab, v in _pair_distances(rec, passes).items():
+            pooled.setdefault(ab, []).extend(v.values())
+    return {ab: float(np.median(v)) for ab, v in pooled.items() if len(v) >= 3}
+
+
+def _rigidity(rec: Recording, axis: str, passes: dict, median: dict, out: Screen) -> set[tuple]:
+    """Passes whose reflectors are not where the passes of every axis (``median``: _pooled_medians) put them
+    relative to each other."""
     dist = _pair_distances(rec, passes)
-    median = {ab: float(np.median(list(v.values()))) for ab, v in dist.items() if len(v) >= 3}
     dev = np.array([d - median[ab] for ab, v in dist.items() if ab in median for d in v.values()])
     if not len(dev):
         return set()
