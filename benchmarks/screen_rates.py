@@ -21,8 +21,15 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from mtcal.errors import InputError  # noqa: E402
+from mtcal.kinematics.machine import load_machine  # noqa: E402
 from mtcal.measurement.recordings import read_recording  # noqa: E402
 from mtcal.measurement.screen import RIGID_FLOOR_MM, screen  # noqa: E402
+
+
+def sides(rec, machine: str = "dmu50") -> dict[str, str]:
+    """axis -> side of the machine, as diagnose and identify screen (the axes of one side judge each other)."""
+    m = load_machine(machine)
+    return {a: m.side(a) for a in rec.axes() if a in m.axes}
 
 
 def _found(g: dict, problems) -> bool:
@@ -44,7 +51,8 @@ def rates(n: int = 200, seed: int = 0, start: int = 0) -> dict:
             truth = json.loads(csv.with_suffix(".truth.json").read_text())
             gross = truth.get("gross_errors", [])
             try:
-                problems = screen(read_recording(csv)).problems
+                rec = read_recording(csv)
+                problems = screen(rec, sides(rec)).problems
             except InputError as exc:  # nothing sound left of an axis: right when it names the slip's axis
                 named = gross and all(f"axis {g['axis']}:" in str(exc) for g in gross)
                 out["gross" if gross else "without_gross"] += len(gross) if gross else 1
@@ -90,7 +98,7 @@ def own_clean(n: int = 50) -> dict:
         tracker = (dist * np.cos(angle), dist * np.sin(angle), rng.uniform(0, 1500))
         plan = replace(as_plan(DEMO_PLAN, m), tracker=tracker, rounds=int(rng.integers(2, 7)))
         rec, _ = simulate(truth, machine=m, plan=plan, seed=seed)
-        problems = screen(rec).problems
+        problems = screen(rec, sides(rec)).problems
         if problems:
             out["false_alarms"].append(f"seed {seed}: {problems[0].text}")
     return out

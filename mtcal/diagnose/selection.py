@@ -51,9 +51,6 @@ SEPARATE_BY = {
                                                 "swap reflectors between nests): a creeping nest moves one point",
     frozenset(("nest_knock", "offset")): "measure a second reflector in the same nest, or re-measure the first "
                                          "axis at the end: a knocked nest moves one point, a knocked tracker all",
-    frozenset(("offset", fx.UNEXPLAINED)): "measure more rounds of the axis and record a temperature channel: a "
-                                           "knock is a step, an error motion growing with the heat goes on growing "
-                                           "with the position and the time",
     frozenset(("nest_knock", "nest_creep")): "re-measure the nest's first positions at the end and log the times: a "
                                              "creep grows with time, a knock is a step",
     frozenset(("tracker_settling", "thermal_drift")): "measure a fixed reference nest off the machine at the start "
@@ -69,8 +66,15 @@ SEPARATE_BY = {
 DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
 
 
+GROWING_SEPARATE = ("measure more rounds of the axis and record a temperature channel: an error motion growing "
+                    "with the heat goes on growing with the position and the time, {} does not")
+
+
 def separate_by(a: str, b: str) -> str:
-    """The measurement that would separate effects ``a`` and ``b`` (names of docs/design.md)."""
+    """The measurement that would separate effects ``a`` and ``b`` (names of docs/design.md; the free form of
+    error motions changing while measured, fx.UNEXPLAINED, from any named effect)."""
+    if fx.UNEXPLAINED in (a, b):
+        return GROWING_SEPARATE.format(f"a {b if a == fx.UNEXPLAINED else a}")
     return SEPARATE_BY.get(frozenset((a, b)), DEFAULT_SEPARATE)
 
 
