@@ -72,12 +72,12 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", prior).W)
         t, _, nll = refine(xyz, r, t, prior)
-    sh = estimate_shape(prep.rec, t, prior, known=False)
+    sh = _estimated_shape(prep, r, t, nll, prior)
     spec = sh.spec if sh.replaces_base else prior
     if sh.replaces_base:  # another instrument's shape: the position again under the data's law
         r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", spec).W)
         t, _, nll = refine(xyz, r, t, spec)
-        sh = estimate_shape(prep.rec, t, prior, known=False)
+        sh = estimate_shape(prep.rec, t, prior, known=sh.known)  # the band that replaced it (_estimated_shape)
         spec = sh.spec
     c = xyz.mean(axis=0)
     lr = 2.0 * (isotropic_nll(r) - nll)
@@ -95,6 +95,24 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
                             "tracker position estimated from the shape of the scatter of the repeated rounds "
                             f"(beam lines of the least spread, then maximum likelihood under the {name} shape)",
                             prior, _law(sh, prior), **details)
+
+
+def _estimated_shape(prep: Prepared, r: np.ndarray, t: np.ndarray, nll: float, prior: TrackerSpec
+                     ) -> ShapeEstimate:
+    """The shape about an estimated position ``t`` (mm; ``nll`` its negative log-likelihood under ``prior`` on the
+    scatter ``r``): the wide band, and the near band only where the data's law, its own position refitted, also
+    fits the scatter better by a likelihood-ratio test (chi^2, 1 dof, p < LR_LEVEL) with that position no farther
+    from the readings.  A position's error raises the radial : transverse ratio with and without the round means
+    alike; a law that is right raises the likelihood and brings the position in (the size of the transverse scatter
+    tells the distance), while a scatter that an effect of the campaign distorts (a knocked nest) runs it away."""
+    sh = estimate_shape(prep.rec, t, prior, known=False)
+    near = estimate_shape(prep.rec, t, prior)
+    if sh.replaces_base or not near.replaces_base:
+        return sh
+    t_data, _, nll_data = refine(prep.rec.xyz, r, t, near.spec)
+    c = prep.rec.xyz.mean(axis=0)
+    closer = np.linalg.norm(t_data - c) <= np.linalg.norm(t - c)
+    return near if closer and stats.chi2.sf(max(2.0 * (nll - nll_data), 0.0), 1) < LR_LEVEL else sh
 
 
 def stations_model(prep: Prepared, max_degree: int, prior: TrackerSpec = AT960) -> NoiseModel:

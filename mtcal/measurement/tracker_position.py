@@ -31,6 +31,7 @@ HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01)  # mm, mm, mm, log c: central differences o
 SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data's radial : transverse ratio over
 # the base's is above SHAPE_HIGH (both with and without each round's mean removed: effects the scatter holds raise
 # it by up to 2-3, never lower it) or below SHAPE_LOW; other trackers differ by 0.4 (1 : 70) to 30 (isotropic) ...
+MIN_LABEL_READINGS = 20  # readings with scatter a reflector needs for its own ratio in shape_ratio
 SHAPE_NEAR, SHAPE_AGREE = 1.4, 1.25  # ... and already beyond 1.4 (below 1 / 1.4) where the ratio with and without
 # the round means agree within 1.25: an effect in the scatter (a drift, a bump, a re-seated nest) moves the two
 # apart (tests/test_noise_shape.py: 1.2-1.8 against 1.9-3.1), the instrument's own shape does not (gen2: an
@@ -175,18 +176,25 @@ def _round_centred(rec: Recording, r: np.ndarray) -> np.ndarray:
     return out
 
 
-def shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpec) -> tuple[float, float]:
+def shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpec,
+                labels: np.ndarray | None = None) -> tuple[float, float]:
     """(rho, transverse variance scale): the scatter along the beam over the base law's radial sigma (normal:
-    1.4826 x median |z|) against the scatter across it over the transverse sigma (chi^2, 2 dof: median / 2 ln 2)."""
+    1.4826 x median |z|) against the scatter across it over the transverse sigma (chi^2, 2 dof: median / 2 ln 2).
+    ``labels`` (n,): each reflector's own, then the median over the reflectors with MIN_LABEL_READINGS (an effect
+    of one nest -- a knock, a creep -- moves one reflector's scatter, not the median's)."""
     live = np.any(r != 0, axis=1)
     d = xyz[live] - np.broadcast_to(np.asarray(t, float), xyz.shape)[live]
     dist = np.linalg.norm(d, axis=1)
     u = d / dist[:, None]
     s_r, s_t = base.sigmas(dist)
-    along = np.einsum("ni,ni->n", r[live], u)
-    across2 = np.maximum(np.sum(r[live] ** 2, axis=1) - along**2, 0.0)
-    sr = 1.4826 * float(np.median(np.abs(along / s_r)))
-    st2 = float(np.median(across2 / s_t**2)) / (2 * math.log(2))
+    z_r = np.abs(np.einsum("ni,ni->n", r[live], u)) / s_r
+    z_t2 = np.maximum(np.sum(r[live] ** 2, axis=1) - (z_r * s_r) ** 2, 0.0) / s_t**2
+    groups = [np.ones(len(z_r), bool)] if labels is None else [
+        m for m in (labels[live] == lab for lab in np.unique(labels[live])) if m.sum() >= MIN_LABEL_READINGS]
+    if not groups:
+        groups = [np.ones(len(z_r), bool)]
+    sr = 1.4826 * float(np.median([np.median(z_r[m]) for m in groups]))
+    st2 = float(np.median([np.median(z_t2[m]) for m in groups])) / (2 * math.log(2))
     return sr / math.sqrt(st2), st2
 
 
@@ -251,13 +259,14 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
                    known: bool = True) -> ShapeEstimate:
     """The tracker's noise law about ``t`` (mm: (3,), or (n, 3) every reading's own station's tracker: several
     stations of one instrument share the law) from the scatter of the repeated rounds of ``rec`` (model-free, so no
-    misfit of a model passes for noise).  Medians make it robust to outliers; the distance law (a : b of each
+    misfit of a model passes for noise).  Medians (per reflector, then over the reflectors: shape_ratio) make it
+    robust to outliers and to an effect of one nest; the distance law (a : b of each
     direction) stays the base's: one machine's readings span too short a range of distances to separate a and b.
     ``r``: (n, 3) mm scatter to use instead (a model's residuals where no reading is repeated at one station);
     ``known``: ``t`` is given (False: estimated from the same scatter; only the wide band applies)."""
     r = round_scatter(rec) if r is None else r
-    rho, scale = shape_ratio(rec.xyz, r, t, base)
-    rho_c, _ = shape_ratio(rec.xyz, _round_centred(rec, r), t, base)
+    rho, scale = shape_ratio(rec.xyz, r, t, base, rec.point)
+    rho_c, _ = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
     c, k = math.sqrt(scale), rho
     spec = TrackerSpec(base.radial_um * c * k, base.radial_um_per_m * c * k, base.transverse_um * c,
                        base.transverse_um_per_m * c, base.k)
