@@ -3,6 +3,7 @@ Type A statistics, degree selection, bad input, CLI."""
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -346,7 +347,9 @@ def test_cli_json_model_and_plots(tmp_path, capsys):
     # the split-half prediction warned (23 um against 42 um corrected); the rounds show the shape (issue 24), the
     # fit weights by it, and nothing warns any more
     assert js["weighted"] and js["reference"] == "minimum-zone"
-    assert len(js["warnings"]) == 1 and js["warnings"][0].startswith("noise law: ") and "32 times" in js["warnings"][0]
+    assert len(js["warnings"]) == 1 and js["warnings"][0].startswith("noise law: ")
+    ratio = float(re.search(r"radial : transverse ([\d.]+) times", js["warnings"][0]).group(1))
+    assert 20 < ratio < 40, ratio  # isotropic noise: the AT960's 1 : 30-odd ratio undone (about 27 here)
     m = load_model(out)
     assert set(m.constants) == {"E_C0Y", "E_B0Z", "E_A0Z"}
     assert len(m.functions) == 30 and m.functions["E_CC"].fit.kind == "harmonic"

@@ -34,7 +34,7 @@ SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data
 MIN_LABEL_READINGS = 20  # readings with scatter a reflector needs for its own ratio in shape_ratio
 SHAPE_NEAR, SHAPE_AGREE = 1.4, 1.25  # ... and already beyond 1.4 (below 1 / 1.4) where the ratio with and without
 # the round means agree within 1.25: an effect in the scatter (a drift, a bump, a re-seated nest) moves the two
-# apart (tests/test_noise_shape.py: 1.2-1.8 against 1.9-3.1), the instrument's own shape does not (gen2: an
+# apart (tests/test_noise_shape.py: 1.3-1.8 against 1.3-2.7), the instrument's own shape does not (gen2: an
 # AT960-like tracker's ratio is 0.66-2.3 times the AT960's, its estimates agree within 1.1)
 
 
