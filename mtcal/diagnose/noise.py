@@ -106,7 +106,7 @@ def _estimated_shape(prep: Prepared, r: np.ndarray, t: np.ndarray, nll: float, p
     alike; a law that is right raises the likelihood and brings the position in (the size of the transverse scatter
     tells the distance), while a scatter that an effect of the campaign distorts (a knocked nest) runs it away."""
     sh = estimate_shape(prep.rec, t, prior, known=False)
-    near = estimate_shape(prep.rec, t, prior)
+    near = replace(sh, known=True)  # the same ratios under the near band
     if sh.replaces_base or not near.replaces_base:
         return sh
     t_data, _, nll_data = refine(prep.rec.xyz, r, t, near.spec)
@@ -164,9 +164,7 @@ def _station_laws(prep: Prepared, r: np.ndarray, t: np.ndarray, spec: TrackerSpe
             continue
         rho, st2 = shape_ratio(prep.rec.xyz[on], v[on], t[on], spec)
         fr, ft = rho * math.sqrt(st2), math.sqrt(st2)
-        specs[label] = replace(spec, radial_um=spec.radial_um * fr, radial_um_per_m=spec.radial_um_per_m * fr,
-                               transverse_um=spec.transverse_um * ft,
-                               transverse_um_per_m=spec.transverse_um_per_m * ft)
+        specs[label] = spec.scaled(fr, ft)
         factors[label] = {"radial": round(fr, 3), "transverse": round(ft, 3)}
     return specs, {"factors": factors, "rule": "each station's sigmas scaled to its own scatter (robust medians "
                                                "along and across the beam) against the law above"}

@@ -231,17 +231,27 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
         if why:
             return why
     if c.name == "outlier":
-        rep, Gc = w(fx.repeated(prep.geometry, c)), w(c)
-        with_it = eng.copy()
-        with_it.add(Gc)  # given the one-off displacement: else the base's share of it shows at those places
-        sc = with_it.score(rep)
-        if sc.separable and sc.logp < math.log(level):
-            A = np.hstack([Gc, rep])
-            theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)
-            if theta[:Gc.shape[1]] @ theta[Gc.shape[1]:] > 0:
-                return (f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
-                        f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
+        # given the one-off displacement: else the base's share of it shows at those places
+        sc = _same_way_beside(eng, w(c), w(fx.repeated(prep.geometry, c)), level)
+        if sc is not None:
+            return (f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
+                    f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
     return None
+
+
+def _same_way_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
+    """The score of the whitened columns ``G`` beside ``Gc`` (both fitted on ``eng``), when significant at
+    ``level`` and moving the readings the same way as ``Gc`` (their joint estimates' dot product > 0); else
+    None."""
+    with_it = eng.copy()
+    with_it.add(Gc)
+    sc = with_it.score(G)
+    if not (sc.separable and sc.logp < math.log(level)):
+        return None
+    A = np.hstack([Gc, G])
+    theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)
+    k = Gc.shape[1]
+    return sc if theta[:k] @ theta[k:] > 0 else None
 
 
 def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
@@ -278,16 +288,9 @@ def _knock_keeps_growing(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
         return None
     ramp = np.zeros(len(rec))
     ramp[block] = (rec.time_s[block] - t0) / np.ptp(t)
-    Gc, Gr = w(c), w(fx.Candidate(c.name, c.axis, "", c.G * ramp[:, None, None], c.params))
-    with_it = eng.copy()
-    with_it.add(Gc)
-    sc = with_it.score(Gr)
-    if not (sc.separable and sc.logp < math.log(level)):
-        return None
-    A = np.hstack([Gc, Gr])
-    theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)
-    k = Gc.shape[1]
-    if theta[:k] @ theta[k:] <= 0:
+    sc = _same_way_beside(eng, w(c), w(fx.Candidate(c.name, c.axis, "", c.G * ramp[:, None, None], c.params)),
+                          level)
+    if sc is None:
         return None
     return (f"the displacement goes on growing after t0 through axis {rec.axis[first]} (a ramp beside the step: "
             f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a gradual change (a drift, or an error motion growing "

@@ -83,10 +83,11 @@ def screen(rec: Recording, sides: Mapping[str, str] | None = None) -> Screen:
     for axis in rec.axes():
         rows = np.flatnonzero((rec.axis == axis) & out.keep)
         by_axis[axis] = group_passes(rec, rows, rec.direction[rows], axis, by_station=True, repeats="first")
+    dist = {a: _pair_distances(rec, p) for a, p in by_axis.items()}
     group = {a: (sides or {}).get(a, f"axis {a}") for a in by_axis}
-    medians = {g: _pooled_medians(rec, [p for a, p in by_axis.items() if group[a] == g]) for g in set(group.values())}
+    medians = {g: _pooled_medians([d for a, d in dist.items() if group[a] == g]) for g in set(group.values())}
     for axis, passes in by_axis.items():
-        rigid = _rigidity(rec, axis, passes, medians[group[axis]], out)
+        rigid = _rigidity(rec, axis, passes, dist[axis], medians[group[axis]], out)
         bad = rigid | _cross_round(rec, axis, passes, rigid, out)
         for key in bad:
             out.keep[list(passes[key].values())] = False
@@ -144,21 +145,21 @@ def _pair_distances(rec: Recording, passes: dict) -> dict[tuple[str, str], dict[
     return out
 
 
-def _pooled_medians(rec: Recording, axes_passes: list[dict]) -> dict[tuple[str, str], float]:
-    """The median distance (mm) of every pair of reflectors over the passes of the axes of one side that read both:
-    a label names one nest throughout a file, and the side is rigid, so one axis with two rounds (half its passes
-    wrong when one round has two labels swapped) is judged by the other axes' passes too."""
+def _pooled_medians(axes_dist: list[dict]) -> dict[tuple[str, str], float]:
+    """The median distance (mm) of every pair of reflectors over the passes of the axes of one side that read both
+    (``axes_dist``: each axis' _pair_distances): a label names one nest throughout a file, and the side is rigid,
+    so one axis with two rounds (half its passes wrong when one round has two labels swapped) is judged by the
+    other axes' passes too."""
     pooled: dict[tuple[str, str], list[float]] = {}
-    for passes in axes_passes:
-        for ab, v in _pair_distances(rec, passes).items():
+    for dist in axes_dist:
+        for ab, v in dist.items():
             pooled.setdefault(ab, []).extend(v.values())
     return {ab: float(np.median(v)) for ab, v in pooled.items() if len(v) >= 3}
 
 
-def _rigidity(rec: Recording, axis: str, passes: dict, median: dict, out: Screen) -> set[tuple]:
-    """Passes whose reflectors are not where the passes of every axis (``median``: _pooled_medians) put them
-    relative to each other."""
-    dist = _pair_distances(rec, passes)
+def _rigidity(rec: Recording, axis: str, passes: dict, dist: dict, median: dict, out: Screen) -> set[tuple]:
+    """Passes whose reflectors are not where the passes of every axis of the side (``median``: _pooled_medians)
+    put them relative to each other; ``dist``: the axis' own _pair_distances."""
     dev = np.array([d - median[ab] for ab, v in dist.items() if ab in median for d in v.values()])
     if not len(dev):
         return set()

@@ -61,6 +61,12 @@ class TrackerSpec:
         s_t = (self.transverse_um + self.transverse_um_per_m * r_m) / self.k * 1e-3
         return s_r, s_t
 
+    def scaled(self, radial: float, transverse: float) -> "TrackerSpec":
+        """This law with its sigmas along and across the beam multiplied by ``radial`` and ``transverse``: numbers
+        estimated from data (unnamed), the distance law a : b of each direction kept."""
+        return TrackerSpec(self.radial_um * radial, self.radial_um_per_m * radial, self.transverse_um * transverse,
+                           self.transverse_um_per_m * transverse, self.k)
+
     def mpe(self) -> dict:
         """The law's MPE terms (um, um/m) and k, as the JSON answers report them."""
         return {"radial_um": self.radial_um, "radial_um_per_m": self.radial_um_per_m,

@@ -267,7 +267,5 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     r = round_scatter(rec) if r is None else r
     rho, scale = shape_ratio(rec.xyz, r, t, base, rec.point)
     rho_c, _ = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
-    c, k = math.sqrt(scale), rho
-    spec = TrackerSpec(base.radial_um * c * k, base.radial_um_per_m * c * k, base.transverse_um * c,
-                       base.transverse_um_per_m * c, base.k)
-    return ShapeEstimate(spec, rho, rho_c, scale, base, known)
+    c = math.sqrt(scale)
+    return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known)
