@@ -6,6 +6,7 @@ unexplained, not named a drift), and a picture per finding."""
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import campaigns as C
 import numpy as np
@@ -156,3 +157,33 @@ def test_a_one_off_reading_is_not_mistaken_for_a_recurring_pattern(axis, size, s
         sig = _significant(diagnose(c.recording, tracker=tracker))
         assert [(f.name, f.axis) for f in sig] == [("outlier", axis)], [(f.name, f.get("where")) for f in sig]
         assert abs(sig[0].estimate - size) < 0.3 * size
+
+
+# ------------------------------------------------------------------------------------------ few positions: no period
+# gen2 seed 7 campaign 185's E_XX (um) at its 10 positions of X (there 29.3-471.9 mm; here the same grid in the
+# spec's X range): two undulations over the travel, tabulated
+E_XX_10 = [-1.321, -4.494, -4.576, 0.837, 8.335, 12.497, 12.066, 10.420, 10.005, 8.566]
+X_10 = [round(29.3 + k * 49.1778 - 250.0, 3) for k in range(10)]
+
+
+def test_a_tabulated_error_function_on_ten_positions_is_no_periodic_error():
+    """On 10 positions the error function of degree 7 leaves 2 shapes free, exactly as many as a periodic error
+    has columns: whatever the polynomial leaves of a tabulated E_XX is "periodic" at some pitch (gen2: a long
+    wave named periodic, 3 of 420 runs wrong at the defaults).  The periodic family is now tested only where the
+    positions leave PERIODIC_SPARE shapes (its two and one to check it against), and it must leave no misfit
+    over the positions beside it; here it is stated out of reach instead, naming the positions."""
+    import json
+
+    from mtcal.campaign.simulate import simulate_campaign
+    from mtcal.data import path
+    from mtcal.model.errormodel import model_from_dict
+
+    truth = json.loads(Path(path("demo_truth.json")).read_text())
+    truth["functions"]["E_XX"] = {"axis": "X", "positions": X_10, "values": [v * 1e-3 for v in E_XX_10]}
+    rec = simulate_campaign(model_from_dict(truth), seed=2, rounds=None,
+                            plan={"axes": {"X": {"positions": X_10}}, "rounds": 8})
+    d = diagnose(rec)
+    named = [(e.name, e.axis) for e in d.effects if e.significant]
+    assert ("periodic", "X") not in named, named
+    notes = [e.get("not_separable") for e in d.effects if (e.name, e.axis) == ("periodic", "X")]
+    assert any("10 positions" in (n or "") for n in notes), notes

@@ -5,11 +5,13 @@ scanned ones (outlier, bumped nest, tracker knock) come from mtcal.diagnose.scan
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mtcal.diagnose import effects as fx
-from mtcal.diagnose.design import ROTARY_HARMONICS
-from mtcal.diagnose.engine import Engine
+from mtcal.diagnose.design import ROTARY_HARMONICS, family_degrees
+from mtcal.diagnose.engine import WEAK_TOL, Engine
 from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
 
@@ -42,12 +44,30 @@ NOT_SEPARABLE = {
     "backlash": BIDIRECTIONAL,
     "thermal_drift": "the recording has no time_s column",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
+    "periodic few": "{n} positions leave {spare} shape(s) beside the fitted error function, fewer than {need}: any "
+                    "misfit of the error function there is as periodic as a periodic error is; measure at more "
+                    "positions",
+    "periodic long": f"a wave this long is a shape of the fitted error function (less than {WEAK_TOL:.0%} of it "
+                     "lies outside the quasi-static family): compare with a reference model (`model`) or measure a "
+                     "longer travel",
     "reversal_angular": BIDIRECTIONAL,
     "reversal_straightness": BIDIRECTIONAL,
     "thermal_temperature": "the recording has no (varying) temperature_c column",
     "nest_creep": "the recording has no time_s column",
     "tracker_settling": "the recording has no time_s column",
 }
+
+
+PERIODIC_SPARE = 3  # shapes over the positions beside the error function a periodic error needs: its own two, and
+#                    one more to check it against (selection.inadequate_because)
+
+
+def _spare_shapes(prep: Prepared, axis: str, max_degree: int) -> int:
+    """The shapes over ``axis``'s positions that its fitted error function leaves free: distinct positions - 1
+    (the reflector's position) - the family's columns (degree on a linear axis, two per harmonic on a rotary)."""
+    deg = family_degrees(prep, max_degree)[axis]
+    n = len(np.unique(prep.rec.position[prep.rec.axis == axis]))
+    return n - 1 - (deg if prep.geometry.linear(axis) else 2 * deg)
 
 
 def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], list[dict]]:
@@ -65,6 +85,11 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
             notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
                       for nm in ("backlash", "reversal_angular", "reversal_straightness")]
         grid, span = fx.pitch_grid(rec.position[on], g.linear(a), min(max_degree, ROTARY_HARMONICS))
+        spare = _spare_shapes(prep, a, max_degree)
+        if len(grid) and spare < PERIODIC_SPARE:
+            notes.append({"name": "periodic", "axis": a, "not_separable": NOT_SEPARABLE["periodic few"].format(
+                n=len(np.unique(rec.position[on])), spare=spare, need=PERIODIC_SPARE)})
+            grid = []
         for pitch in grid:
             out.append(fx.periodic(g, a, pitch, span))
         out.append(fx.scale(g, a))
@@ -191,18 +216,24 @@ def _knock_where(prep: Prepared, scan: dict) -> dict:
 
 def screen(cands: list[fx.Candidate], notes: list[dict], eng: Engine, w) -> list[fx.Candidate]:
     """Drop the quasi-static candidates that the fitted base family explains (not separable from it; the
-    tracker scale also when only weakly separable) and note why (appended to ``notes``)."""
-    from mtcal.diagnose.engine import WEAK_TOL
-    keep, seen = [], set()
+    tracker scale and a periodic error also when only weakly separable, fx.NEEDS_SEPARATION: what little of them
+    lies outside the family fits the family's own misfit) and note why (appended to ``notes``; a periodic error's
+    from the shortest pitch dropped)."""
+    keep, seen = [], {}
     for c in cands:
-        if c.name in fx.QUASI_STATIC or c.name == "tracker_scale":
+        if c.name in fx.QUASI_STATIC or c.name in fx.NEEDS_SEPARATION:
             sc = eng.score(w(c))
-            if not sc.separable or (c.name == "tracker_scale" and sc.sep < WEAK_TOL):
-                if (c.name, c.axis) not in seen:
-                    seen.add((c.name, c.axis))
-                    key = "tracker_scale station" if "station" in c.extra else c.name
-                    notes.append({"name": c.name, "axis": c.axis, "not_separable": NOT_SEPARABLE[key],
-                                  "separability": sc.sep})
+            if not sc.separable or (c.name in fx.NEEDS_SEPARATION and sc.sep < WEAK_TOL):
+                key = ("tracker_scale station" if "station" in c.extra else
+                       "periodic long" if c.name == "periodic" else c.name)
+                note = seen.get((c.name, c.axis))
+                if note is None:
+                    seen[(c.name, c.axis)] = note = {"name": c.name, "axis": c.axis,
+                                                     "not_separable": NOT_SEPARABLE[key], "separability": sc.sep}
+                    notes.append(note)
+                if c.name == "periodic":
+                    note["pitch_from"] = min(note.get("pitch_from", math.inf), c.extra["pitch"])
+                    note["separability"] = max(note["separability"], sc.sep)
                 continue
         keep.append(c)
     return keep

@@ -30,6 +30,7 @@ from mtcal.measurement.passes import reference_position
 # what only the diagnosis names (a straightness that differs by approach direction has no simulator model yet).
 VOCABULARY = (*NAMES, "reversal_straightness")
 QUASI_STATIC = ("scale", "squareness", "rotary_location", "second_order", "cross_axis")
+NEEDS_SEPARATION = ("tracker_scale", "periodic")  # named only beyond engine.WEAK_TOL from the base family
 UNEXPLAINED = "unexplained"  # name of the free-form candidates: selected, they are reported as unexplained
 SIDE = {"spindle": "tool", "table": "table"}  # the side (of the readings) a drift's target moves
 TAUS_S = (300.0, 600.0, 1200.0, 1800.0, 3600.0, 7200.0, 14400.0)  # warm-up time constants tried, s
@@ -378,3 +379,12 @@ def repeated(g: Geometry, c: Candidate) -> Candidate:
     return Candidate("outlier (other rounds)", c.axis, "same places, other rounds",
                      S.outlier_signature(on.astype(float)), [], family="check")
 
+
+def by_position(g: Geometry, c: Candidate) -> Candidate:
+    """The free shape of a periodic error's error motion over its axis' positions: one column per distinct position
+    (the error motion's Jacobian column where the axis stands there): the shapes a periodic error is one of."""
+    on = g.axis == c.axis
+    col = g.col(c.extra["error"])
+    u = np.unique(g.position[on])
+    G = np.stack([col * (on & (g.position == q))[:, None] for q in u], axis=2)
+    return Candidate("periodic (free shape)", c.axis, "every position", G, [], family="check")

@@ -10,13 +10,14 @@ along the beam; each reading's residual is taken about the mean of its cell over
 (tracker_position.round_scatter), so a misfit that repeats every round stays out of the noise model; (1) each
 reflector's residual scatter (3x3, pooled over its readings) gives a beam line through the reflector along its
 least-spread direction, (2) the point closest to all beam lines starts (3) a maximum-likelihood fit of the tracker
-position under the prior's covariance times a scale c near 1 (prior log c ~ N(0, 0.3^2): the distance comes from the
-size of the transverse scatter as well as from the convergence of the beams; Nelder-Mead from that start and from
-1.5 m along the mean beam on either side), (4) twice: the base refitted with the weights of the estimate, and the
-fit of (3) repeated on its residuals (the unweighted fit leaks the large transverse noise into the radial residuals
-of other readings). The estimate is used when it beats the isotropic model by a likelihood-ratio test (chi^2 with 3
-dof, p < 1e-3); else (or with one round) the readings are weighted equally, sigma from the residuals. The estimation
-itself (starts, likelihood, test) is mtcal.measurement.tracker_position, shared with identify. Units: mm."""
+position together with the prior law's radial and transverse scales (the data's shape; the transverse scale near 1,
+prior log c_t ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the
+convergence of the beams; Student-t; Nelder-Mead from that start and from 1.5 m along the mean beam on either side),
+(4) twice: the base refitted with the weights of the estimate, and the fit of (3) repeated on its residuals (the
+unweighted fit leaks the large transverse noise into the radial residuals of other readings). The estimate is used
+when it beats the isotropic model by a likelihood-ratio test (chi^2 with 4 dof, p < 1e-3); else (or with one round)
+the readings are weighted equally, sigma from the residuals. The estimation itself (starts, likelihood, test) is
+mtcal.measurement.tracker_position, shared with identify. Units: mm."""
 from __future__ import annotations
 
 import math
@@ -30,6 +31,7 @@ from mtcal.diagnose.prepared import NoiseModel, Prepared
 from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
+    SHAPE_NEAR_FIT,
     ShapeEstimate,
     beam_starts,
     estimate_shape,
@@ -67,21 +69,16 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
     r = _base_residuals(prep, max_degree, prior)
     groups = list(_groups(prep))
-    t, _, nll = min((refine(xyz, r, s, prior) for s in beam_starts(xyz, r, groups, prior)), key=lambda v: v[2])
+    t, logs, nll = min((refine(xyz, r, s, prior) for s in beam_starts(xyz, r, groups, prior)), key=lambda v: v[2])
     for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
         # large transverse noise into the radial residuals of other readings
-        r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", prior).W)
-        t, _, nll = refine(xyz, r, t, prior)
+        r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", _scaled(prior, logs)).W)
+        t, logs, nll = refine(xyz, r, t, prior)
     sh = _estimated_shape(prep, r, t, nll, prior)
     spec = sh.spec if sh.replaces_base else prior
-    if sh.replaces_base:  # another instrument's shape: the position again under the data's law
-        r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", spec).W)
-        t, _, nll = refine(xyz, r, t, spec)
-        sh = estimate_shape(prep.rec, t, prior, known=sh.known)  # the band that replaced it (_estimated_shape)
-        spec = sh.spec
     c = xyz.mean(axis=0)
     lr = 2.0 * (isotropic_nll(r) - nll)
-    p = float(stats.chi2.sf(max(lr, 0.0), 3))
+    p = float(stats.chi2.sf(max(lr, 0.0), 4))  # position and shape against isotropic noise of the best scale
     details = {"likelihood_ratio": lr, "p_isotropic": p,
                "distance_mm": float(np.linalg.norm(t - c)), "shape": sh.to_dict()}
     if p >= LR_LEVEL:
@@ -99,20 +96,26 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
 
 def _estimated_shape(prep: Prepared, r: np.ndarray, t: np.ndarray, nll: float, prior: TrackerSpec
                      ) -> ShapeEstimate:
-    """The shape about an estimated position ``t`` (mm; ``nll`` its negative log-likelihood under ``prior`` on the
-    scatter ``r``): the wide band, and the near band only where the data's law, its own position refitted, also
-    fits the scatter better by a likelihood-ratio test (chi^2, 1 dof, p < LR_LEVEL) with that position no farther
-    from the readings.  A position's error raises the radial : transverse ratio with and without the round means
-    alike; a law that is right raises the likelihood and brings the position in (the size of the transverse scatter
-    tells the distance), while a scatter that an effect of the campaign distorts (a knocked nest) runs it away."""
+    """The shape about an estimated position ``t`` (mm; ``nll`` its negative log-likelihood with the shape free, on
+    the scatter ``r``): the wide band, and the near band only where the free shape fits the scatter better than the
+    prior's, its own position refitted, by a likelihood-ratio test (chi^2, 1 dof, p < LR_LEVEL), with ``t`` no
+    farther from the readings than that position.  A position's error raises the radial : transverse ratio with and
+    without the round means alike; a law that is right raises the likelihood and brings the position in (the size
+    of the transverse scatter tells the distance), while a scatter that an effect of the campaign distorts (a
+    knocked nest) runs it away."""
     sh = estimate_shape(prep.rec, t, prior, known=False)
-    near = replace(sh, known=True)  # the same ratios under the near band
+    near = replace(sh, known=True, near_band=SHAPE_NEAR_FIT)  # the same ratios under the near band
     if sh.replaces_base or not near.replaces_base:
         return sh
-    t_data, _, nll_data = refine(prep.rec.xyz, r, t, near.spec)
+    t_prior, _, nll_prior = refine(prep.rec.xyz, r, t, prior, shape=False)
     c = prep.rec.xyz.mean(axis=0)
-    closer = np.linalg.norm(t_data - c) <= np.linalg.norm(t - c)
-    return near if closer and stats.chi2.sf(max(2.0 * (nll - nll_data), 0.0), 1) < LR_LEVEL else sh
+    closer = np.linalg.norm(t - c) <= np.linalg.norm(t_prior - c)
+    return near if closer and stats.chi2.sf(max(2.0 * (nll_prior - nll), 0.0), 1) < LR_LEVEL else sh
+
+
+def _scaled(prior: TrackerSpec, logs: np.ndarray) -> TrackerSpec:
+    """``prior``'s law with its radial and transverse variances scaled by exp(logs) (refine's log c_r, log c_t)."""
+    return prior.scaled(math.exp(0.5 * logs[0]), math.exp(0.5 * logs[1]))
 
 
 def stations_model(prep: Prepared, max_degree: int, prior: TrackerSpec = AT960) -> NoiseModel:

@@ -24,7 +24,7 @@ from scipy import optimize
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
-from mtcal.diagnose.engine import Engine, Score
+from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
@@ -107,7 +107,8 @@ class Step:
 
 
 def refine(c: fx.Candidate, s: Score, eng: Engine, w: Columns) -> tuple[fx.Candidate, Score]:
-    """Refine a continuous parameter (pitch, tau) of the family winner by a bounded 1-D search."""
+    """Refine a continuous parameter (pitch, tau) of the family winner by a bounded 1-D search (a periodic error's
+    pitch no nearer the base family than WEAK_TOL: candidates.screen)."""
     if c.refine is None:
         return c, s
     lo, hi = c.refine_range
@@ -119,7 +120,8 @@ def refine(c: fx.Candidate, s: Score, eng: Engine, w: Columns) -> tuple[fx.Candi
                                    bounds=(math.log(a), math.log(b)), method="bounded", options={"xatol": 1e-3})
     cc = c.refine(math.exp(res.x))
     sc = eng.score(w(cc))
-    return (cc, sc) if sc.separable and sc.delta > s.delta else (c, s)
+    apart = sc.sep >= WEAK_TOL or c.name not in fx.NEEDS_SEPARATION
+    return (cc, sc) if sc.separable and apart and sc.delta > s.delta else (c, s)
 
 
 def score_all(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns) -> dict[str, Step]:
@@ -213,7 +215,8 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     """Why the effect ``c`` does not explain the misfit it fits, or None.  A reversal effect (``REVERSALS``) must
     leave no reversal that differs between reflectors beyond what the named reversal effects of its axis explain
     together (free-form check, F test at ``level``); a scanned one-off displacement (outlier reading or bump) must
-    not be found, in the same direction, at the same places in the other rounds; a knocked nest's displacement must
+    not be found, in the same direction, at the same places in the other rounds; a periodic error must leave no
+    misfit of its error motion over the positions (the free shape beside it, F test); a knocked nest's displacement must
     persist beyond the sequence it starts in; a knock (of the tracker or of a nest) must be a step, not a change
     that goes on growing after t0."""
     if c.name in REVERSALS:
@@ -230,6 +233,13 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
         why = _knock_keeps_growing(prep, eng, c, w, level)
         if why:
             return why
+    if c.name == "periodic":
+        e = eng.copy()
+        e.add(w(c))
+        sc = e.score(w(fx.by_position(prep.geometry, c)))
+        if sc.separable and sc.logp < math.log(level):
+            return (f"the error motion's misfit over the positions goes beyond the periodic error (the shapes beside "
+                    f"it: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a shape of the error function, not a period")
     if c.name == "outlier":
         # given the one-off displacement: else the base's share of it shows at those places
         sc = _same_way_beside(eng, w(c), w(fx.repeated(prep.geometry, c)), level)

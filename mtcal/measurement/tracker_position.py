@@ -4,10 +4,12 @@ A laser tracker's reading covariance (mtcal.measurement.tracker) is small along 
 scatter of repeated readings of one reflector is flattest along the line to the tracker. ``estimate_position`` turns
 the scatter ``r`` (n, 3) of readings ``xyz`` (n, 3) into the station: (1) each group's (a reflector's) least-spread
 direction gives a beam line through it, (2) the point closest to all beam lines, and 1.5 m either side along the
-mean beam, start (3) a maximum-likelihood fit of the position under the prior law's covariance (the AT960's unless
-another is named, mtcal.measurement.tracker.tracker_model) times a scale c near 1 (prior log c ~ N(0, 0.3^2): the
-distance comes from the size of the transverse scatter as well as from the convergence of the beams; Nelder-Mead).
-The estimate is accepted when it beats isotropic noise by a likelihood-ratio test (chi^2 with 3 dof, p < 1e-3); its
+mean beam, start (3) a maximum-likelihood fit of the position together with the radial and transverse scales of the
+prior law (the AT960's unless another is named, mtcal.measurement.tracker.tracker_model), the transverse one near 1
+(prior log c_t ~ N(0, 0.3^2): the distance comes from the size of the transverse scatter as well as from the
+convergence of the beams, which converge only under the right shape), under a Student-t law (NU dof: what an effect
+does to a few readings weighs little; Nelder-Mead).  The estimate is accepted when it beats isotropic noise of the
+best scale by a likelihood-ratio test (chi^2 with 4 dof, p < 1e-3); its
 covariance is the inverse of the negative log-likelihood's Hessian. Used by the diagnosis (scatter = residuals of
 its base family) and by identify (scatter = readings about their mean over the rounds, no model needed).
 """
@@ -21,17 +23,23 @@ from scipy import optimize, stats
 
 from mtcal.measurement.passes import position_key
 from mtcal.measurement.recordings import Recording
-from mtcal.measurement.tracker import AT960, TrackerSpec, covariance, law_report
+from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
 
 LR_LEVEL = 1e-3       # likelihood-ratio test level: anisotropic (a tracker) vs isotropic noise
 START_DISTANCE = 1500.0  # mm: the start along the mean beam direction (a usual tracker stand-off)
 MAX_DISTANCE = 30000.0   # mm: the search stays within this distance of every reading
-SCALE_PRIOR = 0.3        # sd of the log of the tracker's noise relative to its specification (the prior law)
-HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01)  # mm, mm, mm, log c: central differences of the log-likelihood
+SCALE_PRIOR = 0.3        # sd of the log of the tracker's transverse noise relative to its specification (the prior)
+HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01, 0.01)  # mm, mm, mm, log c_r, log c_t: central differences of the likelihood
+NU = 4.0                 # Student-t dof of the scatter: the readings an effect moves (an outlier and the other
+# readings of its cell, a bumped nest) weigh less than under a normal law (gen2, 1 : 70 trackers: the station of an
+# outlier's campaign 10.8 m off under a normal law, 21 mm under this one)
+LOG_SHAPE_START = 1.5    # the radial scale starts at the prior's and exp(+-1.5) (variance) times it
 SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data's radial : transverse ratio over
 # the base's is above SHAPE_HIGH (both with and without each round's mean removed: effects the scatter holds raise
 # it by up to 2-3, never lower it) or below SHAPE_LOW; other trackers differ by 0.4 (1 : 70) to 30 (isotropic) ...
 MIN_LABEL_READINGS = 20  # readings with scatter a reflector needs for its own ratio in shape_ratio
+SHAPE_NEAR_FIT = 1.15  # the near band where the station and the shape, estimated together, prefer the data's
+# shape by a likelihood-ratio test (mtcal.diagnose.noise._estimated_shape)
 SHAPE_NEAR, SHAPE_AGREE = 1.4, 1.25  # ... and already beyond 1.4 (below 1 / 1.4) where the ratio with and without
 # the round means agree within 1.25: an effect in the scatter (a drift, a bump, a re-seated nest) moves the two
 # apart (tests/test_noise_shape.py: 1.3-1.8 against 1.3-2.7), the instrument's own shape does not (gen2: an
@@ -41,14 +49,15 @@ SHAPE_NEAR, SHAPE_AGREE = 1.4, 1.25  # ... and already beyond 1.4 (below 1 / 1.4
 @dataclass(frozen=True)
 class PositionEstimate:
     """The estimated station (mm), its covariance (mm^2; None when the Hessian is not positive definite), the
-    noise scale relative to the prior law's specification (AT960 by default), and the likelihood-ratio test against
-    isotropic noise."""
+    transverse noise variance relative to the prior law's specification (AT960 by default), the likelihood-ratio
+    test against isotropic noise, and ``shape``: the radial : transverse sigma ratio over the prior's."""
 
     position: np.ndarray
     covariance: np.ndarray | None
     scale: float
     likelihood_ratio: float
     p_isotropic: float
+    shape: float = 1.0
 
     @property
     def accepted(self) -> bool:
@@ -88,35 +97,53 @@ def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: 
 
 
 def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> float:
-    """Negative log-likelihood (up to a constant) of the scatter under c * ``spec``'s covariance about the tracker
-    t = v[:3] (mm), c = exp(v[3]), with the prior log c ~ N(0, SCALE_PRIOR^2) (a tracker near its specification:
-    it fixes the distance, which the beam directions alone determine poorly when the tracker is far)."""
-    t, logc = v[:3], float(v[3])
-    d = np.linalg.norm(xyz - t, axis=1)
-    if not np.all(np.isfinite(v)) or d.min() < 100.0 or d.max() > MAX_DISTANCE:
+    """Negative log-likelihood (up to a constant) of the scatter about the tracker t = v[:3] (mm): Student-t (NU
+    dof) with the scale matrix c_r * ``spec``'s radial part + c_t * its transverse part, (log c_r, log c_t) = v[3:5]
+    (the data's shape), or c_r = c_t = exp(v[3]) for a 4-vector (``spec``'s shape); prior log c_t ~ N(0,
+    SCALE_PRIOR^2) (a tracker near its specification: with the convergence of the beams it fixes the distance)."""
+    t = v[:3]
+    lr, lt = (float(v[3]), float(v[4])) if len(v) == 5 else (float(v[3]),) * 2
+    d = xyz - t
+    dist = np.linalg.norm(d, axis=1)
+    if not np.all(np.isfinite(v)) or dist.min() < 100.0 or dist.max() > MAX_DISTANCE:
         return math.inf
-    C = covariance(xyz, t, spec)
-    q = np.einsum("ni,ni->n", r, np.linalg.solve(C, r[..., None])[..., 0])
     live = np.any(r != 0, axis=1)
-    return 0.5 * (float(np.sum(q)) * math.exp(-logc) + 3 * int(live.sum()) * logc
-                  + float(np.sum(np.linalg.slogdet(C[live])[1]))
-                  + (logc / SCALE_PRIOR) ** 2)
+    s_r, s_t = spec.sigmas(dist[live])
+    along = np.einsum("ni,ni->n", r[live], d[live]) / dist[live]
+    across = np.maximum(np.sum(r[live] ** 2, axis=1) - along**2, 0.0)
+    q = along**2 / s_r**2 * math.exp(-lr) + across / s_t**2 * math.exp(-lt)
+    logdet = float(np.sum(np.log(s_r**2) + 2 * np.log(s_t**2))) + int(live.sum()) * (lr + 2 * lt)
+    return 0.5 * ((NU + 3) * float(np.sum(np.log1p(q / NU))) + logdet + (lt / SCALE_PRIOR) ** 2)
 
 
-def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec = AT960
-           ) -> tuple[np.ndarray, float, float]:
-    """Maximum likelihood from ``start`` under ``spec``'s law: (position mm, log c, negative log-likelihood)."""
-    x0 = np.append(np.asarray(start, float), 0.0)
-    simplex = x0 + np.vstack([np.zeros(4), np.diag([300.0, 300.0, 300.0, 0.3])])
-    res = optimize.minimize(lambda v: nll(xyz, r, v, spec), x0, method="Nelder-Mead",
-                            options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 1500})
-    return res.x[:3], float(res.x[3]), float(res.fun)
+def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec = AT960, shape: bool = True
+           ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Maximum likelihood from ``start`` (nll): (position mm, log scales (log c_r, log c_t), negative
+    log-likelihood); ``shape``: the radial and transverse scales free (the data's shape; Nelder-Mead from three
+    radial starts, the beams converge only under the right shape), else ``spec``'s shape times one scale."""
+    best = None
+    for lr0 in ((0.0, -LOG_SHAPE_START, LOG_SHAPE_START) if shape else (None,)):
+        x0 = np.append(np.asarray(start, float), [0.0] if lr0 is None else [lr0, 0.0])
+        simplex = x0 + np.vstack([np.zeros(len(x0)), np.diag([300.0, 300.0, 300.0] + [0.3] * (len(x0) - 3))])
+        res = optimize.minimize(lambda v: nll(xyz, r, v, spec), x0, method="Nelder-Mead",
+                                options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 4000})
+        if best is None or res.fun < best.fun:
+            best = res
+    logs = best.x[3:5] if shape else np.repeat(best.x[3], 2)
+    return best.x[:3], logs, float(best.fun)
 
 
 def isotropic_nll(r: np.ndarray) -> float:
-    """The negative log-likelihood of the scatter under isotropic noise of the variance it shows."""
-    live = int(np.any(r != 0, axis=1).sum())
-    return 1.5 * live * (math.log(float(np.sum(r**2)) / (3 * live)) + 1.0)
+    """The negative log-likelihood of the scatter under isotropic noise (Student-t, NU dof, of the best scale)."""
+    live = np.any(r != 0, axis=1)
+    r2 = np.sum(r[live] ** 2, axis=1)
+    m = int(live.sum())
+
+    def f(ls: float) -> float:
+        return 0.5 * ((NU + 3) * float(np.sum(np.log1p(r2 * math.exp(-ls) / NU))) + 3 * m * ls)
+
+    ls0 = math.log(max(float(np.median(r2)), 1e-30) / 3)
+    return float(optimize.minimize_scalar(f, bounds=(ls0 - 10, ls0 + 10), method="bounded").fun)
 
 
 def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> np.ndarray | None:
@@ -126,10 +153,11 @@ def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec
         return nll(xyz, r, x, spec)
 
     f0 = f(v)
-    H = np.zeros((4, 4))
-    for i in range(4):
-        for j in range(i, 4):
-            ei, ej = np.eye(4)[i] * h[i], np.eye(4)[j] * h[j]
+    k = len(v)
+    H = np.zeros((k, k))
+    for i in range(k):
+        for j in range(i, k):
+            ei, ej = np.eye(k)[i] * h[i], np.eye(k)[j] * h[j]
             H[i, j] = H[j, i] = (f(v + ei + ej) - f(v + ei - ej) - f(v - ei + ej) + f(v - ei - ej)) / (
                 4 * h[i] * h[j]) if i != j else (f(v + ei) - 2 * f0 + f(v - ei)) / h[i] ** 2
     if not np.all(np.isfinite(H)) or np.linalg.eigvalsh(H)[0] <= 0:
@@ -141,11 +169,11 @@ def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], 
                       ) -> PositionEstimate:
     """The station (see module docstring) from readings ``xyz`` (n, 3) mm, their scatter ``r`` (n, 3) mm (rows of
     zeros carry none) and the groups (boolean masks) of readings of one reflector, under ``spec``'s law."""
-    best = min((refine(xyz, r, s, spec) for s in beam_starts(xyz, r, groups, spec)), key=lambda v: v[2])
-    t, logc, f = best
+    t, logs, f = min((refine(xyz, r, s, spec) for s in beam_starts(xyz, r, groups, spec)), key=lambda v: v[2])
     lr = 2.0 * (isotropic_nll(r) - f)
-    p = float(stats.chi2.sf(max(lr, 0.0), 3))
-    return PositionEstimate(t, _covariance(xyz, r, np.append(t, logc), spec), math.exp(logc), lr, p)
+    p = float(stats.chi2.sf(max(lr, 0.0), 4))  # position and shape against isotropic noise of the best scale
+    return PositionEstimate(t, _covariance(xyz, r, np.append(t, logs), spec), math.exp(logs[1]), lr, p,
+                            math.exp(0.5 * (logs[0] - logs[1])))
 
 
 def round_scatter(rec: Recording, values: np.ndarray | None = None) -> np.ndarray:
@@ -213,11 +241,13 @@ class ShapeEstimate:
     scale: float
     base: TrackerSpec = AT960
     known: bool = True   # the tracker position given, not estimated (an estimate's error raises both ratios alike)
+    near_band: float = SHAPE_NEAR  # the near band's edge (SHAPE_NEAR_FIT where the likelihood prefers the data's shape)
 
     @property
     def replaces_base(self) -> bool:
         lo, hi = sorted((self.rho, self.rho_centred))
-        near = self.known and hi / lo < SHAPE_AGREE and (lo > SHAPE_NEAR or hi < 1 / SHAPE_NEAR)
+        b = self.near_band
+        near = self.known and hi / lo < SHAPE_AGREE and (lo > b or hi < 1 / b)
         return lo > SHAPE_HIGH or hi < SHAPE_LOW or near
 
     def law(self) -> dict:
@@ -252,7 +282,9 @@ class ShapeEstimate:
     @staticmethod
     def _band() -> str:
         return (f"[{SHAPE_LOW:g}, {SHAPE_HIGH:g}], or (the tracker position given) [{1 / SHAPE_NEAR:.3g}, "
-                f"{SHAPE_NEAR:g}] where the ratios with and without the round means agree within {SHAPE_AGREE:g}")
+                f"{SHAPE_NEAR:g}] where the ratios with and without the round means agree within {SHAPE_AGREE:g} "
+                f"(estimated with it: [{1 / SHAPE_NEAR_FIT:.3g}, {SHAPE_NEAR_FIT:g}] where the likelihood also "
+                "prefers the data's shape)")
 
 
 def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: np.ndarray | None = None,
