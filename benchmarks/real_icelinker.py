@@ -250,7 +250,8 @@ def mtcal_law(rec: Recording, t: np.ndarray, distance_m: float) -> dict:
             "sigma_at_distance_um": {k: round(v, 2) for k, v in at.items()},
             "round_scatter_sd_um": (r.std(axis=0) * 1e3).round(2).tolist(),
             "estimate_position": {"position_mm": pos.position.round(0).tolist(), "accepted": pos.accepted,
-                                  "p_isotropic": round(pos.p_isotropic, 4), "scale_vs_at960": round(pos.scale, 2)}}
+                                  "p_isotropic": round(pos.p_isotropic, 4), "scale_vs_at960": round(pos.scale, 2),
+                                  "shape_vs_at960": round(pos.shape, 2)}}
 
 
 def run(folder: Path, window: int = 51, k: float = 5.0) -> dict:

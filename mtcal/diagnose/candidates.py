@@ -234,6 +234,8 @@ def screen(cands: list[fx.Candidate], notes: list[dict], eng: Engine, w) -> list
                 if c.name == "periodic":
                     note["pitch_from"] = min(note.get("pitch_from", math.inf), c.extra["pitch"])
                     note["separability"] = max(note["separability"], sc.sep)
+                    note["not_separable"] = (f"pitches of {note['pitch_from']:.4g} {c.extra['pitch_unit']} and "
+                                             f"longer: {NOT_SEPARABLE[key]}")
                 continue
         keep.append(c)
     return keep

@@ -18,6 +18,8 @@ from scipy import stats
 
 ALIAS_TOL = 1e-4       # sin of the smallest angle between a candidate and the base below this: not separable
 WEAK_TOL = 0.05        # ... below this: separable only weakly (estimate strongly correlated with the base)
+ZERO_COLUMN = 1e-12   # a column this much smaller (norm) than its block's largest is rounding, not a column (scaled
+#                      to unit norm it is noise, and the SVD of such a block can fail to converge)
 
 
 @dataclass(frozen=True)
@@ -72,7 +74,10 @@ class Engine:
         if G.shape[1] == 0:
             return np.zeros((G.shape[0], 0))
         scale = np.linalg.norm(G, axis=0)
-        G = G[:, scale > 0] / scale[scale > 0]
+        live = scale > ZERO_COLUMN * scale.max()
+        G = G[:, live] / scale[live]
+        if G.shape[1] == 0:
+            return np.zeros((G.shape[0], 0))
         q, rr = np.linalg.qr(G)
         d = np.abs(np.diag(rr))
         keep = d > 1e-9 * max(1.0, float(d.max()) if len(d) else 1.0)
