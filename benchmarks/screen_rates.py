@@ -28,8 +28,7 @@ from mtcal.measurement.screen import RIGID_FLOOR_MM, screen  # noqa: E402
 
 def sides(rec, machine: str = "dmu50") -> dict[str, str]:
     """axis -> side of the machine, as diagnose and identify screen (the axes of one side judge each other)."""
-    m = load_machine(machine)
-    return {a: m.side(a) for a in rec.axes() if a in m.axes}
+    return load_machine(machine).sides
 
 
 def _found(g: dict, problems) -> bool:

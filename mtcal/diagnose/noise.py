@@ -33,9 +33,9 @@ from mtcal.measurement.tracker_position import (
     LR_LEVEL,
     SHAPE_NEAR_FIT,
     ShapeEstimate,
-    beam_starts,
+    against_isotropic,
+    best_start,
     estimate_shape,
-    isotropic_nll,
     refine,
     round_scatter,
     shape_ratio,
@@ -69,7 +69,7 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
         return NoiseModel.isotropic(n, "one round: no repeated readings to estimate the beam directions from")
     r = _base_residuals(prep, max_degree, prior)
     groups = list(_groups(prep))
-    t, logs, nll = min((refine(xyz, r, s, prior) for s in beam_starts(xyz, r, groups, prior)), key=lambda v: v[2])
+    t, logs, nll = best_start(xyz, r, groups, prior)
     for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", _scaled(prior, logs)).W)
@@ -77,8 +77,7 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
     sh = _estimated_shape(prep, r, t, nll, prior)
     spec = sh.spec if sh.replaces_base else prior
     c = xyz.mean(axis=0)
-    lr = 2.0 * (isotropic_nll(r) - nll)
-    p = float(stats.chi2.sf(max(lr, 0.0), 4))  # position and shape against isotropic noise of the best scale
+    lr, p = against_isotropic(r, nll)
     details = {"likelihood_ratio": lr, "p_isotropic": p,
                "distance_mm": float(np.linalg.norm(t - c)), "shape": sh.to_dict()}
     if p >= LR_LEVEL:

@@ -39,7 +39,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     prior = as_tracker_model(tracker_model)
     machine = machine if isinstance(machine, Machine) else load_machine(machine)
     # gross errors of the data (swapped labels, far readings, duplicated rows): left out
-    gross = screen_gross(rec, {a: machine.side(a) for a in rec.axes() if a in machine.axes})
+    gross = screen_gross(rec, machine.sides)
     for p in gross.problems:
         log.warning("warning: data problem: %s", p.text)
     for note in gross.notes:

@@ -234,10 +234,8 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
         if why:
             return why
     if c.name == "periodic":
-        e = eng.copy()
-        e.add(w(c))
-        sc = e.score(w(fx.by_position(prep.geometry, c)))
-        if sc.separable and sc.logp < math.log(level):
+        sc = _significant_beside(eng, w(c), w(fx.by_position(prep.geometry, c)), level)
+        if sc is not None:
             return (f"the error motion's misfit over the positions goes beyond the periodic error (the shapes beside "
                     f"it: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a shape of the error function, not a period")
     if c.name == "outlier":
@@ -249,14 +247,20 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     return None
 
 
-def _same_way_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
-    """The score of the whitened columns ``G`` beside ``Gc`` (both fitted on ``eng``), when significant at
-    ``level`` and moving the readings the same way as ``Gc`` (their joint estimates' dot product > 0); else
-    None."""
+def _significant_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
+    """The score of the whitened columns ``G`` beside ``Gc`` (both fitted on ``eng``) when significant at
+    ``level``; else None."""
     with_it = eng.copy()
     with_it.add(Gc)
     sc = with_it.score(G)
-    if not (sc.separable and sc.logp < math.log(level)):
+    return sc if sc.separable and sc.logp < math.log(level) else None
+
+
+def _same_way_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
+    """_significant_beside, when ``G`` also moves the readings the same way as ``Gc`` (their joint estimates' dot
+    product > 0); else None."""
+    sc = _significant_beside(eng, Gc, G, level)
+    if sc is None:
         return None
     A = np.hstack([Gc, G])
     theta, *_ = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)

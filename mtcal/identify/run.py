@@ -72,7 +72,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         raise InputError(f"`reference` must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     warnings: list[str] = []
     # gross errors of the data (swapped labels, far readings, duplicated rows): left out
-    gross = screen(rec, {a: m.side(a) for a in rec.axes() if a in m.axes})
+    gross = screen(rec, m.sides)
     if gross.problems:
         rec = rec.select(gross.keep)
         warnings += [*(p.text for p in gross.problems), *gross.notes]

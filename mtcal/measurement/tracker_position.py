@@ -165,13 +165,25 @@ def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec
     return np.linalg.inv(H)[:3, :3]
 
 
+def best_start(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: TrackerSpec = AT960
+               ) -> tuple[np.ndarray, np.ndarray, float]:
+    """refine from every beam_starts start; the best: (position mm, log scales, negative log-likelihood)."""
+    return min((refine(xyz, r, s, spec) for s in beam_starts(xyz, r, groups, spec)), key=lambda v: v[2])
+
+
+def against_isotropic(r: np.ndarray, nll_fit: float) -> tuple[float, float]:
+    """(likelihood ratio, p) of a fit (``nll_fit``: position and shape, refine) against isotropic noise of the best
+    scale on the scatter ``r``: chi^2 with 4 dof (the position and the shape)."""
+    lr = 2.0 * (isotropic_nll(r) - nll_fit)
+    return lr, float(stats.chi2.sf(max(lr, 0.0), 4))
+
+
 def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: TrackerSpec = AT960
                       ) -> PositionEstimate:
     """The station (see module docstring) from readings ``xyz`` (n, 3) mm, their scatter ``r`` (n, 3) mm (rows of
     zeros carry none) and the groups (boolean masks) of readings of one reflector, under ``spec``'s law."""
-    t, logs, f = min((refine(xyz, r, s, spec) for s in beam_starts(xyz, r, groups, spec)), key=lambda v: v[2])
-    lr = 2.0 * (isotropic_nll(r) - f)
-    p = float(stats.chi2.sf(max(lr, 0.0), 4))  # position and shape against isotropic noise of the best scale
+    t, logs, f = best_start(xyz, r, groups, spec)
+    lr, p = against_isotropic(r, f)
     return PositionEstimate(t, _covariance(xyz, r, np.append(t, logs), spec), math.exp(logs[1]), lr, p,
                             math.exp(0.5 * (logs[0] - logs[1])))
 
