@@ -58,7 +58,7 @@ def test_another_trackers_shape_is_estimated_and_used(name):
 def test_the_station_is_estimated_with_the_data_shape(name):
     """No tracker position given: the station and the law's radial and transverse scales are estimated together
     (tracker_position.refine).  Under the AT960's shape with only its scale free, a 1 : 4 tracker's station came
-    out 25 m away (gen2 seed 11: 29 of 31 such campaigns farther than 3 m); with the shape free, within 0.3 m, and
+    out 25 m away (gen2 seed 11: 31 of 33 such campaigns farther than 3 m); with the shape free, within 0.3 m, and
     the shape estimated near the truth."""
     spec = OTHERS[name]
     d = diagnose(_campaign(spec, 11), machine=M)
