@@ -1,4 +1,4 @@
-"""False-positive rate of ``mtcal diagnose`` at its defaults (no --tracker, level 0.01) on clean campaigns.
+"""False-positive rate of ``mtcal diagnose`` at its defaults (no --tracker, level 0.005: mtcal.diagnose.run.LEVEL) on clean campaigns.
 
 Campaigns from the physical simulator (mtcal.campaign.simulate, AT960 noise, no planted effect) of varied design: the
 tracker in front (the spec's station), at the side, or far; 3 to 6 rounds; five axes or three; every second
@@ -14,6 +14,7 @@ import numpy as np
 from mtcal.campaign.plans import Plan
 from mtcal.campaign.simulate import simulate_campaign
 from mtcal.diagnose import diagnose
+from mtcal.diagnose.run import LEVEL
 
 STATIONS = {"front": None, "side": (1900.0, 250.0, 350.0), "far": (400.0, -4500.0, 900.0)}
 AXES = ("XYZBC", "XYC", "YZB")
@@ -45,7 +46,7 @@ def main(n: int = 50) -> int:
         hits += bool(fa)
         print(f"{i:3d} {label:<28} noise {d.noise.kind:<26} ratio {d.base_sigma_ratio:.3f}  {'; '.join(fa) or 'clean'}",
               flush=True)
-    print(f"false positives: {hits} of {n} campaigns ({hits / n:.3f}); level 0.01")
+    print(f"false positives: {hits} of {n} campaigns ({hits / n:.3f}); level {LEVEL:g}")
     return hits
 
 

@@ -38,7 +38,7 @@ def significant(d):
 
 def test_clean_two_station_campaigns_flag_nothing():
     """Ten seeds, alignment errors of tens of um / urad in every station: nothing flagged (0 of 10 expected at the
-    family-wise level 0.01), and the per-station weights fit the noise (sigma ratio near 1)."""
+    family-wise level 0.005), and the per-station weights fit the noise (sigma ratio near 1)."""
     flagged, ratios, shifts = [], [], []
     for seed in range(7100, 7110):
         rec, truth = campaign(seed)

@@ -23,7 +23,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                            "data's law is used (and said) where they disagree; noise_model.law reports the law used")
     p.add_argument("--station", metavar="LABEL", help="diagnose the readings of this tracker station only (default: "
                    "every station in one fit, each weighted about its own tracker_x,y,z, with its own alignment)")
-    p.add_argument("--level", type=probability, default=0.01, help="family-wise significance level (default 0.01)")
+    p.add_argument("--level", type=probability, default=None,
+                   help="family-wise significance level (default 0.005: mtcal.diagnose.run.LEVEL)")
     p.add_argument("--per-axis-positions", action="store_true",
                    help="one position per (axis, reflector) instead of sharing a reflector's position between the "
                    "axes measured from the same reference pose (then a reflector creeping between the axes is "
@@ -44,6 +45,7 @@ def _fmt(e: dict) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_findings, plot_residuals
+    from mtcal.diagnose.run import LEVEL
     from mtcal.errors import InputError
     from mtcal.io import dumps, refuse_overwrite
     from mtcal.kinematics.machine import DEFAULT_MACHINE
@@ -60,7 +62,8 @@ def run(args: argparse.Namespace) -> int:
             raise InputError(f"{args.recording}: no readings of station {args.station!r} "
                              f"(stations: {', '.join(sorted(set(rec.stations())))})")
         rec = rec.select(keep)
-    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=args.level,
+    level = LEVEL if args.level is None else args.level
+    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=level,
                  tie_positions=not args.per_axis_positions, tracker_model=args.tracker_model)
     out = d.to_dict()
     if args.plots:
@@ -83,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
           f"({unit}: {d.base_sigma_ratio:.3f} -> {d.sigma_ratio_after:.3f})")
     sig = [e for e in d.effects if e["significant"]]
     if not sig:
-        print("no effect left out: nothing significant at level", args.level)
+        print("no effect left out: nothing significant at level", level)
     for e in sig:
         ev = e["evidence"]
         print(f"  {e['name']:<14} {e['axis'] or '-':<2} {e.get('where', ''):<28} {_fmt(e):<24} "

@@ -38,6 +38,9 @@ class Finding:
     # what the effect adds to the fit beyond the base (whitened, (3 n,)): its picture (mtcal.diagnose.pictures)
     fitted: np.ndarray | None = field(default=None, repr=False, compare=False)
     touched: np.ndarray | None = field(default=None, repr=False, compare=False)  # (n,) the readings it moves
+    # the candidate and its joint estimate (parameters in the candidate's units): the predictive check's input
+    candidate: Any = field(default=None, repr=False, compare=False)
+    theta: np.ndarray | None = field(default=None, repr=False, compare=False)
 
     def to_dict(self) -> dict:
         return {"name": self.name, "axis": self.axis, "direction": self.direction, "significant": self.significant,
@@ -285,7 +288,8 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
         details.update(_profiled(prep, eng, Gs[:i] + Gs[i + 1:], c, w, d, details))
         v = Gs[i] @ theta_all[off - k:off]
         f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details,
-                    fitted=v - base.project(v[:, None])[:, 0], touched=np.any(c.G != 0, axis=(1, 2)))
+                    fitted=v - base.project(v[:, None])[:, 0], touched=np.any(c.G != 0, axis=(1, 2)),
+                    candidate=c, theta=theta_all[off - k:off].copy())
         if s.confounded_with:
             details["confounded_with"] = s.confounded_with
         aliases = possible_aliases(prep, c, eng.copy_base(), w)

@@ -233,6 +233,10 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
         why = _knock_keeps_growing(prep, eng, c, w, level)
         if why:
             return why
+    if c.name == "thermal_drift":
+        why = _drift_grows_with_position(prep, eng, c, w, level)
+        if why:
+            return why
     if c.name == "periodic":
         sc = _significant_beside(eng, w(c), w(fx.by_position(prep.geometry, c)), level)
         if sc is not None:
@@ -288,6 +292,27 @@ def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Col
     return None
 
 
+def _drift_grows_with_position(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
+                               ) -> str | None:
+    """Why a drift of a side (or of the tracker) is not one, or None: with it fitted, no misfit may grow with the
+    position of an axis it moves while that axis is measured (the linear member of the axis' error motions
+    changing with time, fx.growing_free; F test at ``level`` over the axes tested).  A drift moves every reading of
+    its side alike at one time, whatever the position; a scale or straightness growing while the axis is measured
+    (a ball screw warming, no temperature channel) it absorbs only in part (gen2 seed 17: growing scales of X named
+    drifts of the spindle)."""
+    g, rec = prep.geometry, prep.rec
+    moved = np.any(c.G != 0, axis=(1, 2))
+    axes = [a for a in prep.axes if (moved & (g.axis == a)).any() and np.isfinite(g.time_s[g.axis == a]).all()
+            and len(set(rec.round[g.axis == a].tolist())) >= 2]
+    for a in axes:
+        sc = _significant_beside(eng, w(c), w(fx.growing_free(g, a, full=False)), level / len(axes))
+        if sc is not None:
+            return (f"a misfit growing with the position of {a} while it is measured is left beside it (F = "
+                    f"{sc.F:.1f}, p = {math.exp(sc.logp):.2g}): an error motion of {a} changing with time, not a "
+                    "drift of the whole side")
+    return None
+
+
 def _knock_keeps_growing(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
     """Why a knock is no step, or None: with the step fitted, its displacement must not go on growing after t0
     through the axis block it falls in (the same columns times the time since t0, over that block's later
@@ -331,6 +356,29 @@ def _confound(c: fx.Candidate, v: Step, cos: float) -> dict:
     o = v.candidate
     return {"name": o.name, "axis": o.axis, "where": o.label, "overlap_cos": cos,
             "p_adjusted": min(1.0, math.exp(v.logp_adj)), "separate_by": separate_by(c.name, o.name)}
+
+
+GROWING_SHARE = 0.8  # a drift changing this much (whitened, beside the base) within one axis' block
+
+
+def growing_confounds(prep: Prepared, eng: Engine, steps: list[Step], w: Columns) -> None:
+    """A drift (of a side or of the tracker) whose change falls within the block of one axis (GROWING_SHARE of its
+    columns beside the base: the base's per-axis positions take what stays constant after it) cannot be told from
+    that axis' error motions changing with time as seen from its reference position (the base's error functions
+    vanish there, so their growth there moves every reading of the axis alike).  Where such a growing error motion
+    of that axis is also selected, the drift lists it in ``confounded_with`` (gen2 seed 17: a scale of X growing
+    while X is measured, from a reference position away from its zero, came out as the growth and a drift)."""
+    grow = {s.candidate.axis: s for s in steps if s.candidate.extra.get("kind") == "growing"}
+    n = len(prep.rec)
+    for s in (s for s in steps if s.candidate.name == "thermal_drift" and grow):
+        G = w(s.candidate)
+        e = np.sum((G - eng.project(G)).reshape(n, 3, -1) ** 2, axis=(1, 2))
+        for a, g in grow.items():
+            share = float(e[prep.rec.axis == a].sum() / e.sum())
+            if share > GROWING_SHARE and all(c["name"] != fx.UNEXPLAINED or c.get("axis") != a
+                                             for c in s.confounded_with):
+                s.confounded_with.append({**_confound(s.candidate, g, 0.0), "overlap_cos": None,
+                                          "share_in_block": share})
 
 
 def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
