@@ -1,4 +1,5 @@
-"""False-positive rate of ``mtcal diagnose`` at its defaults (no --tracker, level 0.005: mtcal.diagnose.run.LEVEL) on clean campaigns.
+"""False-positive rate of ``mtcal diagnose`` at its defaults (no --tracker, the level mtcal.diagnose.run.LEVEL) on
+clean campaigns.
 
 Campaigns from the physical simulator (mtcal.campaign.simulate, AT960 noise, no planted effect) of varied design: the
 tracker in front (the spec's station), at the side, or far; 3 to 6 rounds; five axes or three; every second

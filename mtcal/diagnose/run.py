@@ -12,8 +12,16 @@ from mtcal.diagnose.predictive import predictive_checks
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import locate
-from mtcal.diagnose.selection import (Columns, backward, cv_gain, folds, forward, growing_confounds, select_degrees,
-                                     with_steps)
+from mtcal.diagnose.selection import (
+    Columns,
+    backward,
+    cv_gain,
+    folds,
+    forward,
+    growing_confounds,
+    select_degrees,
+    with_steps,
+)
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.recordings import Recording

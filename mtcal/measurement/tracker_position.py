@@ -42,9 +42,10 @@ SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data
 # other trackers differ by 0.4 (1 : 70) to 30 (isotropic) ...
 MIN_LABEL_READINGS = 20  # readings with scatter a reflector needs for its own ratio in shape_ratio
 SHAPE_NEAR, SHAPE_AGREE = 1.4, 1.25  # ... and already above 1.4 where the ratio with and without the round means
-# agree within 1.25, or below 1 / 1.4 (the ratio without them, as for SHAPE_LOW): an effect in the scatter (a drift, a bump, a re-seated nest) moves the two
-# apart (tests/test_noise_shape.py: 1.3-1.8 against 1.3-2.7), the instrument's own shape does not (gen2: an
-# AT960-like tracker's ratio is 0.66-2.3 times the AT960's, its estimates agree within 1.1)
+# agree within 1.25, or below 1 / 1.4 (the ratio without them, as for SHAPE_LOW): an effect in the scatter (a
+# drift, a bump, a re-seated nest) moves the two apart (tests/test_noise_shape.py: 1.3-1.8 against 1.3-2.7), the
+# instrument's own shape does not (gen2: an AT960-like tracker's ratio is 0.66-2.3 times the AT960's, its
+# estimates agree within 1.1)
 SHAPE_NEAR_FIT = 1.15  # the near band where the station and the shape, estimated together, prefer the data's
 # shape by a likelihood-ratio test (mtcal.diagnose.noise._estimated_shape)
 
