@@ -58,8 +58,11 @@ NOT_SEPARABLE = {
 }
 
 
-PERIODIC_SPARE = 3  # shapes over the positions beside the error function a periodic error needs: its own two, and
-#                    one more to check it against (selection.inadequate_because)
+PERIODIC_SPARE = 5  # shapes over the positions beside the error function a periodic error needs: its own two, its
+#                    pitch (fitted over a grid) and two more to check it against (selection.inadequate_because).  With
+#                    3 (one to check against), on 11-12 positions a smooth error function's waves beyond degree 7 were
+#                    named periodic errors of pitch 108-184 mm wherever the tracker reads 0.15 um along the beam
+#                    (gen2, five seeds: 7 runs of 1420)
 
 
 def _spare_shapes(prep: Prepared, axis: str, max_degree: int) -> int:
