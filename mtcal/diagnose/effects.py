@@ -388,3 +388,14 @@ def by_position(g: Geometry, c: Candidate) -> Candidate:
     u = np.unique(g.position[on])
     G = np.stack([col * (on & (g.position == q))[:, None] for q in u], axis=2)
     return Candidate("periodic (free shape)", c.axis, "every position", G, [], family="check")
+
+
+def tabulated(g: Geometry, axis: str) -> Candidate:
+    """Every error motion of ``axis`` free at every measured position (its Jacobian column where the axis stands
+    there): any quasi-static error of the axis, however shaped -- what a compensation table at these positions
+    holds."""
+    on = g.axis == axis
+    cols = [g.col(e) * (on & (g.position == q))[:, None] for e in g.machine.error_motions(axis)
+            for q in np.unique(g.position[on])]
+    return Candidate("error function (tabulated)", axis, "every error motion at every position", np.stack(cols, axis=2),
+                     [], family="check")

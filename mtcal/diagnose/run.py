@@ -11,7 +11,7 @@ from mtcal.diagnose.design import base_design, engine_for, family_degrees, raw_s
 from mtcal.diagnose.predictive import predictive_checks
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
-from mtcal.diagnose.scans import locate
+from mtcal.diagnose.scans import beyond_the_family, locate
 from mtcal.diagnose.selection import (
     Columns,
     backward,
@@ -97,8 +97,11 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)
     # located against the tests' null with the effects (a misfit a smooth error function of the family explains
     # is no effect, so not unexplained either), not the BIC-selected base that is reported
-    unexplained = [free_form_located(prep, eng, s, w) for s in free] + locate(prep, with_steps(null_eng, steps, w),
-                                                                                level)
+    # a misfit the error functions tabulated at the measured positions explain is a shape beyond the family's
+    # degree (quasi-static), reported with the base
+    with_effects = with_steps(null_eng, steps, w)
+    left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
+    unexplained = [free_form_located(prep, eng, s, w) for s in free] + left
     base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
                  "parameters": int(after.copy_base().p), "readings": len(rec),
                  "tests_against": null if prep.given_model else
@@ -106,6 +109,8 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
                  "BIC with the selected effects in the fit)", "weighted": prep.weighted,
                  "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
                           + _positions(prep) + _alignments(prep)}
+    if shapes:
+        base_info["shape_beyond_family"] = [u.to_dict() for u in shapes]
     if prep.stations:
         base_info["alignment"] = {"stations": prep.stations, "fixed": prep.stations[0],
                                   "per_station": "tx, ty, tz (mm), wx, wy, wz (rad) about the station's readings' "
