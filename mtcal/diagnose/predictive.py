@@ -175,7 +175,7 @@ def _plain(params: dict) -> dict:
 def predictive_checks(prep: Prepared, base: Engine, findings: list[Finding], r_after: np.ndarray, sigma: float,
                       level: float) -> None:
     """Check every significant named finding (module docstring) and record the check in its details
-    (``predictive_check``); one that fails gets an ``unexplained`` entry in ``confounded_with`` and a note."""
+    (``predictive_check``); one that fails gets an ``unexplained`` entry in ``confounded_with``."""
     named = [f for f in findings if f.significant and f.candidate is not None]
     for f in named:
         res = check(prep, base, f, r_after, sigma, len(named), level)

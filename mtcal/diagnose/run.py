@@ -51,13 +51,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
         raise InputError(f"level must be in (0, 1), got {level}")
     prior = as_tracker_model(tracker_model)
     machine = machine if isinstance(machine, Machine) else load_machine(machine)
-    # gross errors of the data (swapped labels, far readings, duplicated rows): left out
-    gross = screen_gross(rec, machine.sides)
-    for p in gross.problems:
-        log.warning("warning: data problem: %s", p.text)
-    for note in gross.notes:
-        log.warning("warning: %s", note)
-    rec = rec.select(gross.keep) if gross.problems else rec
+    rec, gross = _screened(rec, machine)
     tracker = _station_tracker(rec, tracker)
     prep = prepare(rec, machine, model, tracker, max_degree, tie_positions, prior)
     say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
@@ -96,28 +90,46 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
     effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)
     # located against the tests' null with the effects (a misfit a smooth error function of the family explains
-    # is no effect, so not unexplained either), not the BIC-selected base that is reported
-    # a misfit the error functions tabulated at the measured positions explain is a shape beyond the family's
-    # degree (quasi-static), reported with the base
+    # is no effect, so not unexplained either), not the BIC-selected base that is reported; what the error
+    # functions tabulated at the measured positions explain is a shape beyond the family's degree (quasi-static),
+    # reported with the base
     with_effects = with_steps(null_eng, steps, w)
     left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
     unexplained = [free_form_located(prep, eng, s, w) for s in free] + left
-    base_info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
-                 "parameters": int(after.copy_base().p), "readings": len(rec),
-                 "tests_against": null if prep.given_model else
-                 f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)}; degrees above: "
-                 "BIC with the selected effects in the fit)", "weighted": prep.weighted,
-                 "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
-                          + _positions(prep) + _alignments(prep)}
-    if shapes:
-        base_info["shape_beyond_family"] = [u.to_dict() for u in shapes]
-    if prep.stations:
-        base_info["alignment"] = {"stations": prep.stations, "fixed": prep.stations[0],
-                                  "per_station": "tx, ty, tz (mm), wx, wy, wz (rad) about the station's readings' "
-                                                 "centroid"}
+    base_info = _base_info(prep, degrees, test_degrees, null, int(after.copy_base().p), shapes)
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
                      prep=prep, data_problems=[p.to_dict() for p in gross.problems])
+
+
+def _screened(rec: Recording, machine: Machine):
+    """The recording less its gross errors (swapped labels, far readings, duplicated rows:
+    mtcal.measurement.screen, each said as a warning), and the screen's result."""
+    gross = screen_gross(rec, machine.sides)
+    for p in gross.problems:
+        log.warning("warning: data problem: %s", p.text)
+    for note in gross.notes:
+        log.warning("warning: %s", note)
+    return (rec.select(gross.keep) if gross.problems else rec), gross
+
+
+def _base_info(prep, degrees: dict[str, int], test_degrees: dict[str, int], null: str, parameters: int,
+               shapes: list) -> dict:
+    """The reported base (``base_model`` in the JSON answer): kind, BIC degrees, what the tests are against, the
+    basis in words, shapes beyond the family (``shapes``: located entries), the station alignments."""
+    info = {"kind": "given model" if prep.given_model else "fitted quasi-static", "degrees": degrees,
+            "parameters": parameters, "readings": len(prep.rec),
+            "tests_against": null if prep.given_model else
+            f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)}; degrees above: "
+            "BIC with the selected effects in the fit)", "weighted": prep.weighted,
+            "basis": "polynomials in (q - q_ref) for linear axes; harmonics for rotary axes; "
+                     + _positions(prep) + _alignments(prep)}
+    if shapes:
+        info["shape_beyond_family"] = [u.to_dict() for u in shapes]
+    if prep.stations:
+        info["alignment"] = {"stations": prep.stations, "fixed": prep.stations[0],
+                             "per_station": "tx, ty, tz (mm), wx, wy, wz (rad) about the station's readings' centroid"}
+    return info
 
 
 def _degrees_text(degrees: dict[str, int]) -> str:

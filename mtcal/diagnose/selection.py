@@ -369,10 +369,10 @@ def growing_confounds(prep: Prepared, eng: Engine, steps: list[Step], w: Columns
     of that axis is also selected, the drift lists it in ``confounded_with`` (gen2 seed 17: a scale of X growing
     while X is measured, from a reference position away from its zero, came out as the growth and a drift)."""
     grow = {s.candidate.axis: s for s in steps if s.candidate.extra.get("kind") == "growing"}
-    n = len(prep.rec)
+    n, base = len(prep.rec), eng.copy_base()
     for s in (s for s in steps if s.candidate.name == "thermal_drift" and grow):
         G = w(s.candidate)
-        e = np.sum((G - eng.project(G)).reshape(n, 3, -1) ** 2, axis=(1, 2))
+        e = np.sum((G - base.project(G)).reshape(n, 3, -1) ** 2, axis=(1, 2))
         for a, g in grow.items():
             share = float(e[prep.rec.axis == a].sum() / e.sum())
             if share > GROWING_SHARE and all(c["name"] != fx.UNEXPLAINED or c.get("axis") != a
