@@ -51,8 +51,9 @@ left unexplained; every finding has a picture (pictures).
 Modules: prepare (nominal positions, Jacobians), noise (weights), design (base columns), engine (F tests by
 projection), effects (each candidate effect's columns), candidates (the candidate list), scans (locate by factors
 and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), profile
-(intervals over nuisance parameters), report (typed findings, JSON), pictures (one per finding), plate (plate
-fits), run (``diagnose()``)."""
+(intervals over nuisance parameters), report (typed findings, JSON), predictive (each named finding planted through
+the physical simulator must reproduce its pattern), pictures (one per finding), plate (plate fits), run
+(``diagnose()``)."""
 from mtcal._verb import callable_package
 from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.pictures import plot_findings
