@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 from scipy import stats
@@ -113,20 +113,20 @@ SHAPE_NOTE = ("the error functions tabulated at the measured positions explain i
               "the family's degree, not a left-out effect")
 
 
-def beyond_the_family(prep: Prepared, eng: Engine, located: list[Located], whiten, level: float
-                      ) -> tuple[list[Located], list[Located]]:
+def beyond_the_family(prep: Prepared, eng: Engine, located: list[Located],
+                      w: Callable[[fx.Candidate], np.ndarray], level: float) -> tuple[list[Located], list[Located]]:
     """Split ``located`` (found on ``eng``) into what is still located with every error motion of its axis free at
     every measured position (fx.tabulated: a compensation table's worth of quasi-static error) and what that
     explains: a shape of the error function the family's polynomials (degree 7) do not hold -- repeatable, the same
     in every round -- reported with the base, not as unexplained (gen2 seed 19 campaign 183: a 1 : 70 tracker, 0.15
-    um along the beam, saw 0.7-2.5 um of Y's smooth error function beyond degree 7 at 10 positions).  ``whiten``
-    maps a candidate to its whitened columns."""
+    um along the beam, saw 0.7-2.5 um of Y's smooth error function beyond degree 7 at 10 positions).  ``w``
+    maps a candidate to its whitened columns (selection.Columns)."""
     axes = sorted({u.axis for u in located})
     if not axes:
         return located, []
     tab = eng.copy()
     for a in axes:
-        tab.add(tab.residualized(whiten(fx.tabulated(prep.geometry, a))))
+        tab.add(tab.residualized(w(fx.tabulated(prep.geometry, a))))
     still = {(u.axis, u.by, repr(u.where)) for u in locate(prep, tab, level)}
     keep = [u for u in located if (u.axis, u.by, repr(u.where)) in still]
     return keep, [replace(u, note=SHAPE_NOTE) for u in located if (u.axis, u.by, repr(u.where)) not in still]
