@@ -380,22 +380,24 @@ def repeated(g: Geometry, c: Candidate) -> Candidate:
                      S.outlier_signature(on.astype(float)), [], family="check")
 
 
+def _per_position(g: Geometry, axis: str, errors: list[str]) -> np.ndarray:
+    """(n, 3, len(errors) x positions): each error's Jacobian column where ``axis`` stands at each of its distinct
+    positions, zero elsewhere (error-major)."""
+    on = g.axis == axis
+    return np.stack([g.col(e) * (on & (g.position == q))[:, None] for e in errors
+                     for q in np.unique(g.position[on])], axis=2)
+
+
 def by_position(g: Geometry, c: Candidate) -> Candidate:
     """The free shape of a periodic error's error motion over its axis' positions: one column per distinct position
     (the error motion's Jacobian column where the axis stands there): the shapes a periodic error is one of."""
-    on = g.axis == c.axis
-    col = g.col(c.extra["error"])
-    u = np.unique(g.position[on])
-    G = np.stack([col * (on & (g.position == q))[:, None] for q in u], axis=2)
-    return Candidate("periodic (free shape)", c.axis, "every position", G, [], family="check")
+    return Candidate("periodic (free shape)", c.axis, "every position", _per_position(g, c.axis, [c.extra["error"]]),
+                     [], family="check")
 
 
 def tabulated(g: Geometry, axis: str) -> Candidate:
     """Every error motion of ``axis`` free at every measured position (its Jacobian column where the axis stands
     there): any quasi-static error of the axis, however shaped -- what a compensation table at these positions
     holds."""
-    on = g.axis == axis
-    cols = [g.col(e) * (on & (g.position == q))[:, None] for e in g.machine.error_motions(axis)
-            for q in np.unique(g.position[on])]
-    return Candidate("error function (tabulated)", axis, "every error motion at every position", np.stack(cols, axis=2),
-                     [], family="check")
+    return Candidate("error function (tabulated)", axis, "every error motion at every position",
+                     _per_position(g, axis, list(g.machine.error_motions(axis))), [], family="check")

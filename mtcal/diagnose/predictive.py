@@ -29,6 +29,7 @@ from scipy import stats
 from mtcal.campaign.effects import Effect, Rows
 from mtcal.campaign.simulate import exact_points
 from mtcal.diagnose.engine import Engine
+from mtcal.diagnose.prepare import axis_values
 from mtcal.diagnose.prepared import Prepared
 from mtcal.diagnose.report import Finding
 from mtcal.errors import InputError
@@ -39,13 +40,10 @@ PREDICTIVE_TOL = 0.2  # |reproduced - 1| allowed beyond 3 uncertainties: the sim
 
 def rows_of(prep: Prepared) -> Rows:
     """The recording's schedule as the simulator's rows (the other axes at zero, as the diagnosis' Jacobians)."""
-    rec, m = prep.rec, prep.machine
-    axes = np.zeros((len(rec), len(m.axes)))
-    for a in prep.axes:
-        axes[rec.axis == a, m.index(a)] = rec.position[rec.axis == a]
+    rec = prep.rec
     t = np.where(np.isfinite(rec.time_s), rec.time_s, 0.0)
-    return Rows(rec.axis, rec.round, rec.position, rec.point, rec.direction, t, axes, prep.geometry.side,
-                prep.local, rec.temperature_c)
+    return Rows(rec.axis, rec.round, rec.position, rec.point, rec.direction, t,
+                axis_values(rec, prep.machine, prep.axes), prep.geometry.side, prep.local, rec.temperature_c)
 
 
 def _vector(v: np.ndarray) -> tuple[float, str]:

@@ -101,6 +101,15 @@ def _reference_readings(rec: Recording, sel: np.ndarray, q_ref: float, rank: np.
     return np.array(refs, dtype=int)
 
 
+def axis_values(rec: Recording, m: Machine, axes: list[str]) -> np.ndarray:
+    """(n, machine axes) mm or deg: every reading's measured axis at its position, the other axes at zero (the
+    pose the diagnosis' Jacobians are taken at)."""
+    av = np.zeros((len(rec), len(m.axes)))
+    for a in axes:
+        av[rec.axis == a, m.index(a)] = rec.position[rec.axis == a]
+    return av
+
+
 def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
             max_degree: int = 3, tie_positions: bool = TIE_POSITIONS, tracker_model: TrackerSpec = AT960
             ) -> Prepared:
@@ -121,9 +130,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     order = np.lexsort((rec.line, np.where(np.isfinite(rec.time_s), rec.time_s, 0.0)))
     rank = np.empty(n, int)
     rank[order] = np.arange(n)
-    av = np.zeros((n, len(m.axes)))
-    for a in axes:
-        av[rec.axis == a, m.index(a)] = rec.position[rec.axis == a]
+    av = axis_values(rec, m, axes)
     side = np.array([m.side(a) for a in rec.axis.tolist()])
     errors = model.errors_at(m, av, extrapolate="clamp") if model is not None else np.zeros((n, len(m.error_names)))
 
