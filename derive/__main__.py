@@ -11,7 +11,7 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from . import codegen
-from .provenance import ROOT, derive_hash, sha256
+from .provenance import ROOT, derive_files, derive_hash, sha256
 from .targets import TARGETS
 
 OUT = ROOT / "generated"
@@ -40,7 +40,7 @@ def generate(names: list[str], jobs: int) -> dict[str, str]:
     import sympy
     files: dict[str, str] = {"__init__.py": INIT}
     manifest = {"generator": "python -m derive", "sympy": sympy.__version__, "casadi": casadi.__version__,
-                "derive_sha256": derive_hash(), "targets": {}}
+                "derive_sha256": derive_hash(), "derive_files": derive_files(), "targets": {}}
     with ProcessPoolExecutor(max_workers=jobs) as pool:
         for name, fs, info, secs in pool.map(_build, names):
             print(f"derived {name} in {secs:.1f} s", file=sys.stderr, flush=True)
@@ -49,6 +49,23 @@ def generate(names: list[str], jobs: int) -> dict[str, str]:
             manifest["targets"][name] = info
     files["manifest.json"] = json.dumps(manifest, indent=2, sort_keys=True) + "\n"
     return files
+
+
+def stale(files: dict[str, str], out: Path) -> list[str]:
+    """Lines naming every file of ``out`` that differs from the derivation ``files`` (with the first changed
+    lines), or that the derivation does not produce; empty when ``out`` is current."""
+    lines = []
+    for fname, text in sorted(files.items()):
+        p = out / fname
+        old = p.read_text() if p.exists() else ""
+        if old != text:
+            diff = list(difflib.unified_diff(old.splitlines(), text.splitlines(), f"generated/{fname}",
+                                             f"derived/{fname}", lineterm="", n=0))
+            lines.append(f"STALE {fname}: {sum(1 for d in diff if d[:1] in '+-') - 2} changed lines")
+            lines += ["    " + line[:160] for line in diff[2:14]]
+    for e in sorted(p.name for p in out.glob("*") if p.is_file() and p.name not in files):
+        lines.append(f"STALE {e}: in generated/ but not produced by the derivation")
+    return lines
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -60,22 +77,12 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     files = generate(sorted(TARGETS), max(1, args.jobs))
     if args.check:
-        stale = []
-        for fname, text in sorted(files.items()):
-            p = args.out / fname
-            old = p.read_text() if p.exists() else ""
-            if old != text:
-                diff = list(difflib.unified_diff(old.splitlines(), text.splitlines(), f"generated/{fname}",
-                                                 f"derived/{fname}", lineterm="", n=0))
-                stale.append(fname)
-                print(f"STALE {fname}: {sum(1 for d in diff if d[:1] in '+-') - 2} changed lines", file=sys.stderr)
-                for line in diff[2:14]:
-                    print("    " + line[:160], file=sys.stderr)
-        extra = sorted(p.name for p in args.out.glob("*") if p.is_file() and p.name not in files)
-        for e in extra:
-            print(f"STALE {e}: in generated/ but not produced by the derivation", file=sys.stderr)
-        if stale or extra:
-            print(f"generated/ is stale ({len(stale) + len(extra)} files); run `python -m derive`", file=sys.stderr)
+        problems = stale(files, args.out)
+        for line in problems:
+            print(line, file=sys.stderr)
+        if problems:
+            n = sum(1 for line in problems if line.startswith("STALE"))
+            print(f"generated/ is stale ({n} files); run `python -m derive`", file=sys.stderr)
             return 1
         print(f"generated/ is current ({len(files)} files, {time.perf_counter() - t0:.1f} s)")
         return 0

@@ -9,6 +9,7 @@ mtcal (a short request for a report; the traceback with ``--debug``); 130 interr
 from __future__ import annotations
 
 import argparse
+import ast
 import contextlib
 import errno
 import importlib
@@ -23,7 +24,6 @@ from pathlib import Path
 
 from mtcal.cli._options import add_common_arguments, join_negative_values
 from mtcal.errors import InputError
-from mtcal.io import remove_temporaries
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_INTERRUPT, EXIT_TERMINATED = 0, 1, 2, 130, 143
 REPORT_URL = "the mtcal issue tracker"
@@ -33,10 +33,24 @@ class Terminated(BaseException):
     """SIGTERM as an exception, so that every ``finally``/cleanup (temporary files) runs on the way out."""
 
 
-def _modules():
-    for info in sorted(pkgutil.iter_modules([str(Path(__file__).parent)]), key=lambda m: m.name):
-        if not info.name.startswith("_"):
-            yield importlib.import_module(f"mtcal.cli.{info.name}")
+def _commands() -> dict[str, tuple[str, str]]:
+    """{command: (module, help)} of every subcommand module, read from the modules' NAME and HELP literals without
+    importing them: ``mtcal --help`` and the parser of one command load only what that command needs."""
+    out = {}
+    here = Path(__file__).parent
+    for info in sorted(pkgutil.iter_modules([str(here)]), key=lambda m: m.name):
+        if info.name.startswith("_"):
+            continue
+        tree = ast.parse((here / f"{info.name}.py").read_text(encoding="utf-8"))
+        lit = {t.id: ast.literal_eval(node.value) for node in tree.body if isinstance(node, ast.Assign)
+               for t in node.targets if isinstance(t, ast.Name) and t.id in ("NAME", "HELP")}
+        out[lit["NAME"]] = (info.name, lit["HELP"])
+    return out
+
+
+def _command_in(argv: list[str]) -> str | None:
+    """The subcommand an argument list names (the first word that is not a top-level option), or None."""
+    return next((a for a in argv if not a.startswith("-")), None)
 
 
 def flag_names(parser: argparse.ArgumentParser) -> dict[str, str]:
@@ -103,16 +117,20 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_INPUT, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line; with ``only``, every command is listed but only that one's module is imported and
+    its options added (what ``parse_args`` uses: ``mtcal --help`` imports no command at all)."""
     ap = _Parser(prog="mtcal", description="Machine-tool calibration with a laser tracker or a 2-D plate.")
     debug_help = "on an internal error (exit 1) print the full traceback"
     ap.add_argument("--debug", action="store_true", help=debug_help)
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for mod in _modules():
-        p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
-        add_common_arguments(p, debug_help)
-        mod.add_arguments(p)
-        p.set_defaults(_run=mod.run, _flags=flag_names(p))
+    for name, (module, text) in _commands().items():
+        p = sub.add_parser(name, help=text, description=text)
+        if only is None or name == only:
+            mod = importlib.import_module(f"mtcal.cli.{module}")
+            add_common_arguments(p, debug_help)
+            mod.add_arguments(p)
+            p.set_defaults(_run=mod.run, _flags=flag_names(p))
     return ap
 
 
@@ -141,7 +159,8 @@ def _show_warning(message, category, filename, lineno, file=None, line=None, pro
 def parse_args(argv: list[str]) -> argparse.Namespace:
     """Parsed command line (``args._run(args)`` runs it without the error boundary, e.g. inside ``mtcal demo``);
     a bad option raises SystemExit(2) after printing one line."""
-    return build_parser().parse_args(join_negative_values(list(argv)))
+    argv = join_negative_values(list(argv))
+    return build_parser(_command_in(argv) or "").parse_args(argv)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -166,10 +185,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)
         return EXIT_INPUT
     except KeyboardInterrupt:
+        from mtcal.io import remove_temporaries
         remove_temporaries()
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPT
     except Terminated:
+        from mtcal.io import remove_temporaries
         remove_temporaries()
         print(f"{prog}: terminated", file=sys.stderr)
         return EXIT_TERMINATED

@@ -12,11 +12,12 @@ from __future__ import annotations
 import argparse
 import math
 import re
-from typing import Callable
-
-import numpy as np
+from typing import TYPE_CHECKING, Callable
 
 from mtcal.errors import InputError
+
+if TYPE_CHECKING:  # numpy is not imported for `mtcal --help`
+    import numpy as np
 
 # options whose value may start with '-' (a negative first number): pre-joined as --OPT=VALUE
 NEGATIVE_OK = ("--tracker", "--target-points", "--tracker-model")

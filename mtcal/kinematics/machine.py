@@ -21,14 +21,24 @@ class StaleGeneratedCodeWarning(UserWarning):
     """generated/ was produced from a different derive/ than the one beside it."""
 
 
-def _check_stale() -> None:
+def _check_stale(here: Path | None = None) -> None:
+    """Warn when a source checkout's derive/ no longer has the bytes that ``here``/manifest.json (default: the
+    generated/ in use) records for it: the runtime reads the manifest and never imports derive/."""
+    import hashlib
+
+    here = _generated_dir() if here is None else here
     try:
-        import mtcal.generated as g
-        manifest = json.loads((Path(g.__file__).with_name("manifest.json")).read_text())
-        from derive.provenance import derive_hash  # only present in a source checkout
-    except Exception:  # installed without derive/: nothing to compare against
+        recorded = json.loads((here / "manifest.json").read_text())["derive_files"]
+    except (OSError, ValueError, KeyError):
         return
-    if manifest.get("derive_sha256") != derive_hash():
+    root = here.parent
+    if not (root / "derive").is_dir():  # installed without derive/: nothing to compare against
+        return
+
+    def now(rel: str) -> str | None:
+        p = root / rel
+        return hashlib.sha256(p.read_bytes()).hexdigest() if p.is_file() else None
+    if any(now(rel) != sha for rel, sha in recorded.items()):
         warnings.warn("generated/ is stale relative to derive/: run `python -m derive`",
                       StaleGeneratedCodeWarning, stacklevel=3)
 
