@@ -101,8 +101,9 @@ def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.Path
     ``outputs``: output file paths (one path or several; None entries are skipped); ``inputs``: the run's input
     files; ``dirs``: output directories -> glob patterns of the files the command writes there (e.g.
     ``{"plots": ["*.png"]}``): an input inside such a directory matching a pattern is refused too.
-    Same file = same resolved path or the same inode (symlinks, hard links).  An output that exists and was not
-    written by mtcal is refused too (``refuse_foreign``), before anything is written.
+    Same file = same resolved path or the same inode (symlinks, hard links).  An output (or a file matching a
+    directory's patterns) that exists and was not written by mtcal is refused too (``refuse_foreign``), before
+    anything is written.
     """
     outs = [outputs] if isinstance(outputs, (str, os.PathLike)) else list(outputs)
     ins = [Path(i) for i in inputs if i is not None and Path(i).exists()]
@@ -127,6 +128,10 @@ def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.Path
             if i.resolve().parent == dd and any(fnmatch.fnmatch(i.name, pat) for pat in patterns):
                 raise InputError(f"output directory {d} would overwrite the input {i} (it writes "
                                  f"{', '.join(patterns)} there); choose another directory")
+        if Path(d).is_dir():
+            for f in sorted(Path(d).iterdir()):
+                if any(fnmatch.fnmatch(f.name, pat) for pat in patterns):
+                    refuse_foreign(f)
 
 
 def _check_parents(p: Path) -> None:

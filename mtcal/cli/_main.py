@@ -21,9 +21,9 @@ import traceback
 import warnings
 from pathlib import Path
 
-from mtcal.cli._options import add_common_arguments, join_negative_values
+from mtcal.cli._options import add_common_arguments, force_argument, join_negative_values
 from mtcal.errors import InputError
-from mtcal.io import remove_temporaries
+from mtcal.io import remove_temporaries, replace_allowed
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_INTERRUPT, EXIT_TERMINATED = 0, 1, 2, 130, 143
 REPORT_URL = "the mtcal issue tracker"
@@ -112,6 +112,7 @@ def build_parser() -> argparse.ArgumentParser:
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         add_common_arguments(p, debug_help)
         mod.add_arguments(p)
+        force_argument(p)
         p.set_defaults(_run=mod.run, _flags=flag_names(p))
     return ap
 
@@ -157,7 +158,8 @@ def main(argv: list[str] | None = None) -> int:
     warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog, flags=flags)
     try:
         with _logging(args.command, getattr(args, "quiet", False), flags), \
-                contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)):
+                contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)), \
+                replace_allowed(getattr(args, "force", False)):
             return int(args._run(args) or 0)
     except InputError as exc:
         print(f"{prog}: error: {to_flags(str(exc), flags)}", file=sys.stderr)

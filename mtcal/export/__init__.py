@@ -16,7 +16,7 @@ from pathlib import Path
 from mtcal.errors import InputError
 from mtcal.export import heidenhain, isg, linuxcnc, siemens
 from mtcal.export.sampling import AxisTable, backlash_from, not_held, sample_axis
-from mtcal.io import atomic_write_text, refuse_overwrite
+from mtcal.io import atomic_write_text, record_written, refuse_overwrite, written_by_mtcal
 from mtcal.model.errormodel import ErrorModel
 from mtcal.model.plausibility import check_model
 
@@ -144,7 +144,8 @@ def _write(files: dict[str, str], out: Path, kind: str, protect: tuple, mod) -> 
     """Write every file after checking that none of them is an input (``protect``): one file atomically; a folder
     through a temporary folder beside it, renamed into place when new, else its files moved in one by one (each
     atomic).  Files of an earlier mtcal export in that folder that this one does not rewrite (another axis' table)
-    are removed and returned, so no stale table stays beside the new ones."""
+    are removed and returned, so no stale table stays beside the new ones; only files mtcal wrote and nobody
+    changed since (mtcal.io.written_by_mtcal) are removed or replaced (mtcal.io.refuse_foreign, ``--force``)."""
     paths = [out / name if kind == "dir" else out for name in files]
     for p in paths:
         refuse_overwrite(p, *protect)
@@ -158,12 +159,15 @@ def _write(files: dict[str, str], out: Path, kind: str, protect: tuple, mod) -> 
             (tmp / name).write_text(text, encoding="utf-8", newline="")
         if not out.exists():
             os.replace(tmp, out)
+            for p in paths:
+                record_written(p)
             return [str(p) for p in paths], []
         index = _mtcal_text(out)
         stale = sorted(p for p in out.iterdir() if p.is_file() and p.name not in files
-                       and fnmatch.fnmatch(p.name, mod.FILES) and p.name in index)
+                       and fnmatch.fnmatch(p.name, mod.FILES) and p.name in index and written_by_mtcal(p))
         for name in files:
             os.replace(tmp / name, out / name)
+            record_written(out / name)
         for p in stale:
             p.unlink()
         return [str(p) for p in paths], [str(p) for p in stale]
