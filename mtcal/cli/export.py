@@ -97,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
                          for o, v in t["outputs"].items())
         print(f"  axis {t['axis']}: {t['points']} points, step {t['step']:g} {t['unit']}, "
               f"[{t['from']:g}, {t['to']:g}]: {outs}" + (f"; reversal {t['reversal']:.4g}" if t["reversal"] else ""))
+        if t.get("note"):
+            print(f"    {t['note']}")
     if res.not_held:
         print(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
               f"{', '.join(res.not_held)}", file=sys.stderr)
