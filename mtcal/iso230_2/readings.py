@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -170,6 +171,8 @@ def _layout(header: list[str], directions: dict[str, int], columns: dict[str, st
     table (no target column, or neither run columns nor run and direction columns)."""
     named = {}
     for key, text in (columns or {}).items():
+        if key == "values":
+            continue
         role, _, unit = key.partition("_") if key not in ROLES else (key, "", "")
         if key in ("air_temperature_c", "material_temperature_c"):
             role, unit = key, "C"
@@ -301,7 +304,9 @@ def _parse_directions(directions: str | dict | None) -> dict[str, int]:
 def looks_like_readings(path: str | Path) -> bool:
     """Whether a file is an interferometer export rather than a tracker recording (whose header is its first line
     and names axis, x, y and z): every file that is not such a recording is read (or refused) as readings."""
-    rows = read_csv_table(path, "ISO 230-2 input")[1]
+    with warnings.catch_warnings():  # the separator and encoding are said once, by the reader that reads it
+        warnings.simplefilter("ignore")
+        rows = read_csv_table(path, "ISO 230-2 input")[1]
     names = {f.strip().lower() for f in rows[0][1]}
     return not {"axis", "x", "y", "z"} <= names
 
@@ -334,7 +339,10 @@ def read_readings(path: str | Path, unit: str | None = None, alpha: float | None
     preamble, rows = read_csv_table(path, "ISO 230-2 readings", lambda f: _layout(f, dirs, cols) is not None)
     if not rows:
         line, text = preamble[0]
-        raise InputError(f"no interferometer table found (first line {text.strip()[:80]!r}): {NEEDS}", path, line)
+        named = [t for k, t in (cols or {}).items() if k != "values"]
+        raise InputError(f"no interferometer table found (first line {text.strip()[:80]!r})"
+                         + (f"; no line has every header `columns` names ({', '.join(map(repr, named))})" if named
+                            else "") + f": {NEEDS}", path, line)
     (hline, header), data = rows[0], rows[1:]
     lay = _layout(header, dirs, cols)
     md = _metadata(preamble, path)
