@@ -1,10 +1,21 @@
-"""File helpers: atomic output, never overwriting an input, JSON with numpy values."""
+"""File helpers: atomic output, never overwriting an input nor a file mtcal did not write, JSON with numpy values.
+
+The replace rule (once, here): an output never replaces an existing file that mtcal did not write -- or that was
+changed since mtcal wrote it -- unless replacing is allowed (``replace_allowed``; the CLI's ``--force``).  "mtcal
+wrote it" is known from a ledger outside the output folder, so that no output format's syntax changes (fixed-width
+Heidenhain tables, LinuxCNC comp files, PNG): every file mtcal writes (``atomic_open``, ``record_written``) leaves
+the SHA-256 of its content under ``written_state_dir()`` (``$MTCAL_STATE_DIR``, else ``$XDG_STATE_HOME/mtcal``,
+else ``~/.local/state/mtcal``), one small file per output path named by the hash of the path.  A file whose content
+no longer has that hash (edited, or replaced by another program) is not mtcal's any more.
+"""
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import csv
 import errno
 import fnmatch
+import hashlib
 import json
 import os
 import re
@@ -17,6 +28,70 @@ import numpy as np
 
 from mtcal.errors import InputError, InputWarning
 
+_REPLACE_ALLOWED = contextvars.ContextVar("mtcal_replace_allowed", default=False)
+
+
+@contextlib.contextmanager
+def replace_allowed(allowed: bool = True) -> Iterator[None]:
+    """Within this block outputs may replace files mtcal did not write (the CLI's ``--force``)."""
+    token = _REPLACE_ALLOWED.set(bool(allowed))
+    try:
+        yield
+    finally:
+        _REPLACE_ALLOWED.reset(token)
+
+
+def written_state_dir() -> Path:
+    """The folder of the ledger of files mtcal wrote (module docstring)."""
+    if os.environ.get("MTCAL_STATE_DIR"):
+        return Path(os.environ["MTCAL_STATE_DIR"])
+    base = os.environ.get("XDG_STATE_HOME") or str(Path.home() / ".local" / "state")
+    return Path(base) / "mtcal"
+
+
+def _ledger(path: str | os.PathLike) -> Path:
+    key = hashlib.sha256(str(Path(path).resolve()).encode("utf-8", "surrogateescape")).hexdigest()
+    return written_state_dir() / "written" / key[:2] / key
+
+
+def _digest(path: str | os.PathLike) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def record_written(path: str | os.PathLike) -> None:
+    """Note in the ledger that mtcal wrote ``path`` as it is now (a ledger that cannot be written is skipped:
+    the file is then treated as not mtcal's on the next run, which only asks for ``--force``)."""
+    entry = _ledger(path)
+    try:
+        entry.parent.mkdir(parents=True, exist_ok=True)
+        tmp = entry.with_name(f".{entry.name}.{secrets.token_hex(4)}")
+        tmp.write_text(f"{_digest(path)} {Path(path).resolve()}\n", encoding="utf-8")
+        os.replace(tmp, entry)
+    except OSError:
+        pass
+
+
+def written_by_mtcal(path: str | os.PathLike) -> bool:
+    """Whether mtcal wrote ``path`` and nothing changed it since (its content has the hash the ledger noted)."""
+    try:
+        return _ledger(path).read_text(encoding="utf-8").split(" ", 1)[0] == _digest(path)
+    except OSError:
+        return False
+
+
+def refuse_foreign(path: str | os.PathLike) -> None:
+    """Raise InputError when ``path`` is an existing file that mtcal did not write (or that changed since) and
+    replacing is not allowed (``replace_allowed``, the CLI's ``--force``)."""
+    p = Path(path)
+    if _REPLACE_ALLOWED.get() or not p.is_file() or written_by_mtcal(p):
+        return
+    raise InputError("exists and was not written by mtcal (or was changed since): not replaced, nothing was "
+                     "written; choose another output or give `force` to replace it", p)
+
 
 def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.PathLike,
                      *inputs: str | os.PathLike | None,
@@ -26,7 +101,9 @@ def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.Path
     ``outputs``: output file paths (one path or several; None entries are skipped); ``inputs``: the run's input
     files; ``dirs``: output directories -> glob patterns of the files the command writes there (e.g.
     ``{"plots": ["*.png"]}``): an input inside such a directory matching a pattern is refused too.
-    Same file = same resolved path or the same inode (symlinks, hard links).
+    Same file = same resolved path or the same inode (symlinks, hard links).  An output (or a file matching a
+    directory's patterns) that exists and was not written by mtcal is refused too (``refuse_foreign``), before
+    anything is written.
     """
     outs = [outputs] if isinstance(outputs, (str, os.PathLike)) else list(outputs)
     ins = [Path(i) for i in inputs if i is not None and Path(i).exists()]
@@ -39,6 +116,7 @@ def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.Path
         for i in ins:
             if _same(Path(out), i):
                 raise InputError(f"output {out} is also an input of this run; choose another output path")
+        refuse_foreign(out)
     for d, patterns in (dirs or {}).items():
         if d is None:
             continue
@@ -50,6 +128,10 @@ def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.Path
             if i.resolve().parent == dd and any(fnmatch.fnmatch(i.name, pat) for pat in patterns):
                 raise InputError(f"output directory {d} would overwrite the input {i} (it writes "
                                  f"{', '.join(patterns)} there); choose another directory")
+        if Path(d).is_dir():
+            for f in sorted(Path(d).iterdir()):
+                if any(fnmatch.fnmatch(f.name, pat) for pat in patterns):
+                    refuse_foreign(f)
 
 
 def _check_parents(p: Path) -> None:
@@ -77,10 +159,12 @@ os.umask(_UMASK)
 @contextlib.contextmanager
 def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[IO]:
     """Open a temporary file beside ``path`` for writing (streaming is fine); on success it is renamed onto
-    ``path`` with the permissions open() would give, on failure removed: readers never see half a file."""
+    ``path`` with the permissions open() would give and noted as mtcal's (``record_written``), on failure removed:
+    readers never see half a file.  An existing ``path`` mtcal did not write is refused (``refuse_foreign``)."""
     p = Path(path)
     if p.is_dir():
         raise IsADirectoryError(errno.EISDIR, "is a directory", str(p))
+    refuse_foreign(p)
     p.parent.mkdir(parents=True, exist_ok=True)
     tmp = None
     try:
@@ -88,7 +172,9 @@ def atomic_open(path: str | os.PathLike, mode: str = "w", **kwargs) -> Iterator[
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
         os.chmod(tmp, 0o666 & ~_UMASK)  # created 0600
+        refuse_foreign(p)  # nothing else put a file there meanwhile
         os.replace(tmp, p)
+        record_written(p)
     except BaseException:
         if tmp is not None:
             Path(tmp).unlink(missing_ok=True)
@@ -193,12 +279,33 @@ def read_csv_rows(path: str | os.PathLike, what: str) -> list[tuple[int, list[st
     The separator is ``,``; a header with tabs and no ``,`` is tab-separated (said in a warning); a header with ``;``
     and no ``,`` is a spreadsheet export with ``;`` separators, whose decimal commas (``1,25``) are read as decimal
     points: said in a warning naming the file."""
+    return read_csv_table(path, what)[1]
+
+
+def csv_separator(line: str) -> str:
+    """The separator of a CSV header line: tab (tabs, no ``,``), ``;`` (``;``, no ``,``), else ``,``."""
+    return "\t" if "\t" in line and "," not in line else ";" if ";" in line and "," not in line else ","
+
+
+def read_csv_table(path: str | os.PathLike, what: str, is_header=None) -> tuple[list[tuple[int, str]],
+                                                                               list[tuple[int, list[str]]]]:
+    """(preamble, rows) of a CSV input whose table may follow a block of other lines (an instrument's metadata):
+    ``is_header(fields)`` picks the header line (default: the first line); the lines before it are the preamble
+    as (file line, text), the header and the lines after it the rows, read as ``read_csv_rows`` says.  No line
+    taken as the header: (every line as the preamble, [])."""
     text = read_text(path, what)
     lines = [(i + 1, ln) for i, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError(f"empty {what} file (only comments or blank lines)", path)
+    start = 0
+    if is_header is not None:
+        start = next((k for k, (i, ln) in enumerate(lines)
+                      if is_header(_csv_fields(ln, csv_separator(ln), path, i))), None)
+        if start is None:
+            return lines, []
+    preamble, lines = lines[:start], lines[start:]
     head = lines[0][1]
-    sep = "\t" if "\t" in head and "," not in head else ";" if ";" in head and "," not in head else ","
+    sep = csv_separator(head)
     if sep == "\t":
         warnings.warn(InputWarning(f"{path}: tab-separated"), stacklevel=2)
     rows = [(i, _csv_fields(ln, sep, path, i)) for i, ln in lines]
@@ -212,7 +319,7 @@ def read_csv_rows(path: str | os.PathLike, what: str) -> list[tuple[int, list[st
         warnings.warn(InputWarning(f"{path}: ';'-separated (spreadsheet export)"
                                    + (f"; {commas} decimal comma(s) read as decimal points" if commas else "")),
                       stacklevel=2)
-    return rows
+    return preamble, rows
 
 
 def _csv_fields(line: str, sep: str, path: str | os.PathLike, lno: int) -> list[str]:

@@ -22,7 +22,7 @@ import traceback
 import warnings
 from pathlib import Path
 
-from mtcal.cli._options import add_common_arguments, join_negative_values
+from mtcal.cli._options import add_common_arguments, force_argument, join_negative_values
 from mtcal.errors import InputError
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_INTERRUPT, EXIT_TERMINATED = 0, 1, 2, 130, 143
@@ -130,6 +130,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
             mod = importlib.import_module(f"mtcal.cli.{module}")
             add_common_arguments(p, debug_help)
             mod.add_arguments(p)
+            force_argument(p)
             p.set_defaults(_run=mod.run, _flags=flag_names(p))
     return ap
 
@@ -169,6 +170,7 @@ def main(argv: list[str] | None = None) -> int:
         args = parse_args(sys.argv[1:] if argv is None else argv)
     except SystemExit as exc:  # --help (0) or a bad option (2, message printed)
         return int(exc.code or 0)
+    from mtcal.io import remove_temporaries, replace_allowed  # after parsing: `mtcal --help` stays light
     prog = f"mtcal {args.command}"
     old_term = _install(signal.SIGTERM, _terminate)
     old_show = warnings.showwarning
@@ -176,7 +178,8 @@ def main(argv: list[str] | None = None) -> int:
     warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog, flags=flags)
     try:
         with _logging(args.command, getattr(args, "quiet", False), flags), \
-                contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)):
+                contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)), \
+                replace_allowed(getattr(args, "force", False)):
             return int(args._run(args) or 0)
     except InputError as exc:
         print(f"{prog}: error: {to_flags(str(exc), flags)}", file=sys.stderr)
@@ -185,12 +188,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)
         return EXIT_INPUT
     except KeyboardInterrupt:
-        from mtcal.io import remove_temporaries
         remove_temporaries()
         print(f"{prog}: interrupted", file=sys.stderr)
         return EXIT_INTERRUPT
     except Terminated:
-        from mtcal.io import remove_temporaries
         remove_temporaries()
         print(f"{prog}: terminated", file=sys.stderr)
         return EXIT_TERMINATED

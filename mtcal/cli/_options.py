@@ -129,6 +129,18 @@ def add_common_arguments(p: argparse.ArgumentParser, debug_help: str) -> None:
     p.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=debug_help)
 
 
+OUTPUT_OPTIONS = ("output", "plots", "plot", "store", "out")  # dests of the options naming files a command writes
+REPLACE_HELP = "replace an output file that mtcal did not write (or that was changed since)"
+
+
+def force_argument(p: argparse.ArgumentParser) -> None:
+    """--force on every command that writes a file (one of OUTPUT_OPTIONS): replace outputs mtcal did not write
+    (mtcal.io.refuse_foreign); a command with its own --force (export, compensate) says both meanings in its help."""
+    dests = {a.dest for a in p._actions}
+    if "force" not in dests and dests & set(OUTPUT_OPTIONS):
+        p.add_argument("--force", action="store_true", help=REPLACE_HELP)
+
+
 def machine_argument(p: argparse.ArgumentParser, default: str | None = None) -> None:
     """--machine NAME, the same for every command that takes one (default: DEFAULT_MACHINE, or the model's)."""
     p.add_argument("--machine", default=default, metavar="NAME",

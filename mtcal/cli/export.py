@@ -6,7 +6,7 @@ import logging
 import sys
 from pathlib import Path
 
-from mtcal.cli._options import integer, real
+from mtcal.cli._options import REPLACE_HELP, integer, real
 from mtcal.errors import InputError
 from mtcal.export import FORMATS, export_model
 from mtcal.io import dumps, read_json, refuse_overwrite
@@ -51,7 +51,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the machine the tables are for: refused when the model is of another (default: the model's)")
     p.add_argument("--force", action="store_true",
                    help="write a model that fails the plausibility guard (values beyond a machine's errors, tables "
-                        "outside the travel, a diagnosis of another recording), with a loud warning")
+                        "outside the travel, a diagnosis of another recording), with a loud warning; and "
+                        + REPLACE_HELP)
 
 
 def _options(args: argparse.Namespace) -> dict:
@@ -96,6 +97,8 @@ def run(args: argparse.Namespace) -> int:
                          for o, v in t["outputs"].items())
         print(f"  axis {t['axis']}: {t['points']} points, step {t['step']:g} {t['unit']}, "
               f"[{t['from']:g}, {t['to']:g}]: {outs}" + (f"; reversal {t['reversal']:.4g}" if t["reversal"] else ""))
+        if t.get("note"):
+            print(f"    {t['note']}")
     if res.not_held:
         print(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
               f"{', '.join(res.not_held)}", file=sys.stderr)

@@ -26,7 +26,18 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="a tidy tracker recording (docs/design.md), or an interferometer's readings: target_UNIT, run, "
                         "direction, measured_UNIT or deviation_UNIT[, air_temperature_c, material_temperature_c]")
     p.add_argument("--unit", choices=("mm", "um", "in", "deg", "arcsec"),
-                   help="readings layout: the unit of target / measured / deviation columns without a unit suffix")
+                   help="interferometer export: the unit of target / reading / error columns whose header and "
+                        "metadata give none")
+    p.add_argument("--columns", metavar="ROLE=HEADER,...",
+                   help="interferometer export: the headers it does not recognise, e.g. target_mm=Pos,run=Lauf,"
+                        "direction=Richtung,deviation_um=Abw; values=measured|deviation: what a wide table's run "
+                        "columns hold when their headers do not say")
+    p.add_argument("--directions", metavar="WORD=up,WORD=down",
+                   help="interferometer export: direction words beyond up/down, +/-, Fwd/Rev, forward/reverse, "
+                        "vorwärts/rückwärts, hin/rück, ...")
+    p.add_argument("--target-tolerance", type=real(0.0, 10.0, "mm or deg", lo_open=True), metavar="MM_OR_DEG",
+                   help="targets closer than this are one target (written a few um off in one run); default "
+                        "0.01 mm (linear) / 0.01 deg (rotary)")
     p.add_argument("--result-unit", choices=("um", "mm", "inch", "arcsec", "urad", "deg"),
                    help="unit of the deviations reported (default um for a linear axis, arcsec or --angle-unit for "
                         "a rotary one)")
@@ -79,24 +90,28 @@ def run(args: argparse.Namespace) -> int:
 
 def _evaluate(args: argparse.Namespace):
     """The evaluation of a tracker recording or of an interferometer's readings (by the file's header)."""
-    from mtcal.io import read_csv_rows
     from mtcal.iso230_2.evaluation import Iso230Result, evaluate, evaluate_runs, in_unit, temperature_normalisation
-    from mtcal.iso230_2.readings import is_readings_header, read_readings
+    from mtcal.iso230_2.readings import looks_like_readings, read_readings
     from mtcal.measurement.recordings import read_recording
 
     targets = _targets(args.target_points)
-    if is_readings_header(read_csv_rows(args.recording, "ISO 230-2 input")[0][1]):
-        runs, kind, notes = read_readings(args.recording, args.unit, args.alpha)
+    if looks_like_readings(args.recording):
+        runs, kind, notes, meta = read_readings(args.recording, args.unit, args.alpha, args.columns, args.directions)
         unit = args.result_unit or ("um" if kind == "linear" else args.angle_unit)
-        axis = args.axis or "axis"
-        ev = evaluate_runs(in_unit(runs, unit), axis, kind, targets, notes)
+        if args.axis and meta.get("axis") and args.axis.strip().lower() != meta["axis"].strip().lower():
+            raise InputError(f"{args.recording}: --axis {args.axis} but the export's metadata says axis "
+                             f"{meta['axis']}")
+        axis = args.axis or meta.get("axis") or "axis"
+        ev = evaluate_runs(in_unit(runs, unit), axis, kind, targets, notes, args.target_tolerance, args.recording)
         return Iso230Result(args.recording, {axis: ev}, temperature_normalisation(args.alpha))
-    if args.unit:
-        raise InputError(f"{args.recording}: --unit is for the readings layout (target_UNIT, run, direction, ...); a "
-                         f"tracker recording is in mm and deg (docs/design.md)")
+    for flag in ("unit", "columns", "directions"):
+        if getattr(args, flag):
+            raise InputError(f"{args.recording}: --{flag} is for an interferometer export; a tracker recording "
+                             f"(axis, round, position, point, x, y, z) is in mm and deg (docs/design.md)")
     rec = read_recording(args.recording, args.machine)
     return evaluate(rec, axis=args.axis.upper() if args.axis else None, machine=args.machine, targets=targets,
-                    alpha=args.alpha, angle_unit=args.angle_unit, point=args.point, result_unit=args.result_unit)
+                    alpha=args.alpha, angle_unit=args.angle_unit, point=args.point, result_unit=args.result_unit,
+                    target_tolerance=args.target_tolerance)
 
 
 def _planned(res, folder: Path, source: str) -> dict[str, dict]:

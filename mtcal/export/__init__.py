@@ -16,7 +16,7 @@ from pathlib import Path
 from mtcal.errors import InputError
 from mtcal.export import heidenhain, isg, linuxcnc, siemens
 from mtcal.export.sampling import AxisTable, backlash_from, not_held, sample_axis
-from mtcal.io import atomic_write_text, refuse_overwrite
+from mtcal.io import atomic_write_text, record_written, refuse_overwrite, written_by_mtcal
 from mtcal.model.errormodel import ErrorModel
 from mtcal.model.plausibility import check_model
 
@@ -49,7 +49,8 @@ def _summary(t: AxisTable) -> dict:
     return {"axis": t.axis, "unit": t.unit, "points": len(t.positions), "step": t.step,
             "from": float(t.positions[0]), "to": float(t.positions[-1]), "reversal": t.reversal,
             "outputs": {o: {"unit": t.units[o], "errors": t.sources[o],
-                            "max_abs_correction": float(abs(c).max())} for o, c in t.corrections.items()}}
+                            "max_abs_correction": float(abs(c).max())} for o, c in t.corrections.items()},
+            "note": t.note}
 
 
 def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_path: str = "MODEL.json",
@@ -82,8 +83,8 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
             [f"error names {unknown}"] if unknown else [])
         raise InputError(f"not of machine {machine.name}: " + "; ".join(what))
     try:
-        files, held, tables, sign = _render(model, machine, fmt, step, mp, reversal, model_path, file_type,
-                                            kinematics_comp, options)
+        files, held, tables, sign, notes = _render(model, machine, fmt, step, mp, reversal, model_path, file_type,
+                                                   kinematics_comp, options)
     except InputError as exc:  # what the format cannot hold, said of the model it came from
         raise InputError(f"{model_path}: {exc}") from None
     missing = sorted(set(require or []) - held)
@@ -94,10 +95,11 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         raise InputError(f"{model_path}: the model has nothing format {fmt} can hold (non-zero: "
                          f"{', '.join(not_held(model, set())) or 'none: an empty model'}); nothing was written")
     written = {t.axis for t in tables}
-    warnings = forced + [f"reversal of axis {a} from the diagnosis not written: " +
+    warnings = forced + notes + [f"reversal of axis {a} from the diagnosis not written: " +
                          (f"format {fmt} has no direction-dependent table" if fmt in isg.NAMES else
                           "the model has no error function of that axis to give the table its range")
-                         for a in reversal if fmt in isg.NAMES or a not in written]
+                         for a in reversal if (fmt in isg.NAMES or a not in written)
+                         and not (fmt == "siemens" and options.get("control") == "808d")]
     if any(t.reversal for t in tables):
         warnings.append(f"a direction-dependent (backlash) table is written: {mod.BACKLASH_NOTE}")
     paths, stale = _write(files, Path(out), kind, protect, mod)
@@ -106,21 +108,25 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
 
 
 def _render(model: ErrorModel, machine, fmt: str, step, mp: int, reversal: dict, model_path: str, file_type: int,
-            kinematics_comp: bool, options: dict) -> tuple[dict[str, str], set[str], list[AxisTable], str]:
-    """The format's files, the error names they hold, the sampled tables and the sign statement."""
+            kinematics_comp: bool, options: dict) -> tuple[dict[str, str], set[str], list[AxisTable], str, list[str]]:
+    """The format's files, the error names they hold, the tables as written (what the command prints), the sign
+    statement and the notes on what the tables hold beyond the model or leave out."""
     mod = FORMATS[fmt][0]
     if fmt in isg.NAMES:
         render = isg.render_csv if fmt == "tf5280" else isg.render_etalon
-        return render(model, machine, step, mp, model_path), isg.held(model), [], isg.SIGN
+        return render(model, machine, step, mp, model_path), isg.held(model), [], isg.SIGN, []
     tables = _tables(model, machine, mod, step, mp, reversal)
+    notes: list[str] = []
+    if fmt == "siemens":
+        tables, notes = siemens.as_written(tables, machine, options.get("control", "840d"), mp, step is not None)
     held = {n for t in tables for s in t.sources.values() for n in s}
     if fmt == "linuxcnc":
         return (linuxcnc.render(tables, machine, file_type, model_path, **options), held, tables,
-                linuxcnc.SIGN[file_type])
+                linuxcnc.SIGN[file_type], notes)
     if fmt == "siemens":
-        return siemens.render(tables, machine, model_path, "", **options), held, tables, siemens.SIGN
+        return siemens.render(tables, machine, model_path, "", **options), held, tables, siemens.SIGN, notes
     files = heidenhain.render(tables, machine, model, model_path, kinematics_comp, step, mp)
-    return files, held | (heidenhain.kc_held(model) if kinematics_comp else set()), tables, heidenhain.SIGN
+    return files, held | (heidenhain.kc_held(model) if kinematics_comp else set()), tables, heidenhain.SIGN, notes
 
 
 def _check_diagnosis(diagnosis: dict | None, model: ErrorModel, machine, source: str, model_path: str,
@@ -144,7 +150,8 @@ def _write(files: dict[str, str], out: Path, kind: str, protect: tuple, mod) -> 
     """Write every file after checking that none of them is an input (``protect``): one file atomically; a folder
     through a temporary folder beside it, renamed into place when new, else its files moved in one by one (each
     atomic).  Files of an earlier mtcal export in that folder that this one does not rewrite (another axis' table)
-    are removed and returned, so no stale table stays beside the new ones."""
+    are removed and returned, so no stale table stays beside the new ones; only files mtcal wrote and nobody
+    changed since (mtcal.io.written_by_mtcal) are removed or replaced (mtcal.io.refuse_foreign, ``--force``)."""
     paths = [out / name if kind == "dir" else out for name in files]
     for p in paths:
         refuse_overwrite(p, *protect)
@@ -158,12 +165,15 @@ def _write(files: dict[str, str], out: Path, kind: str, protect: tuple, mod) -> 
             (tmp / name).write_text(text, encoding="utf-8", newline="")
         if not out.exists():
             os.replace(tmp, out)
+            for p in paths:
+                record_written(p)
             return [str(p) for p in paths], []
         index = _mtcal_text(out)
         stale = sorted(p for p in out.iterdir() if p.is_file() and p.name not in files
-                       and fnmatch.fnmatch(p.name, mod.FILES) and p.name in index)
+                       and fnmatch.fnmatch(p.name, mod.FILES) and p.name in index and written_by_mtcal(p))
         for name in files:
             os.replace(tmp / name, out / name)
+            record_written(out / name)
         for p in stale:
             p.unlink()
         return [str(p) for p in paths], [str(p) for p in stale]

@@ -36,6 +36,8 @@ class AxisTable:
     sources: dict[str, list[str]]           # output axis -> error names that make up that correction
     reversal: float = 0.0                   # joint units of ``axis``: correction(-) - correction(+)
     units: dict[str, str] = field(default_factory=dict)  # output axis -> "mm" or "deg"
+    measured_step: float | None = None      # the widest spacing of the model's measured positions (mm or deg)
+    note: str = ""                          # what the table holds beyond the measurement (e.g. a held arc)
 
     def directional(self, sign: int) -> np.ndarray:
         """Own-axis correction when moving in the positive (sign = +1) or negative (-1) direction."""
@@ -191,7 +193,10 @@ def sample_axis(model: ErrorModel, machine, axis: str, step: float | None, max_p
         if not np.isfinite(c).all():
             raise InputError(f"axis {axis}: the correction of {o} is not finite (NaN/inf in the model)")
     units = {o: "mm" if machine.axis_kinds[machine.axes.index(o)] == "linear" else "deg" for o in corr}
-    return AxisTable(axis, "mm" if linear else "deg", q, st, corr, sources, k_own * reversal, units)
+    measured = [np.diff(np.unique(f.positions)).max() for f in model.functions.values()
+                if f.axis == axis and len(np.unique(f.positions)) > 1]
+    return AxisTable(axis, "mm" if linear else "deg", q, st, corr, sources, k_own * reversal, units,
+                     float(max(measured)) if measured else None)
 
 
 def _touches(machine, axis: str, name: str, out: str) -> bool:

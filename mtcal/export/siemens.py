@@ -65,19 +65,86 @@ def _unlimited_rotary(machine, axis: str) -> bool:
     return machine.axis_kinds[k] == "rotary" and machine.limits[k] is None
 
 
-def modulo_table(tab: AxisTable, machine) -> AxisTable:
-    """An unlimited rotary axis' table over one full turn from its first position (K3: a modulo table spans the
-    modulo range and its first and last values agree): the measured values resampled periodically (linear between
-    the last measured position and the first one, a turn later) onto the finest step of whole divisions of 360 deg
-    not coarser than the table's; other tables unchanged."""
+def _divisions(n: float, up: bool = True) -> int:
+    """The number of steps of a full turn: a divisor of 360000 (so that STEP = 360/n has at most three decimals and
+    MIN + n STEP = 360 exactly, as K3 requires of MAX), the smallest not below ``n`` (``up``) or the largest not
+    above it."""
+    k = int(math.ceil(n - 1e-9)) if up else int(math.floor(n + 1e-9))
+    while 360000 % k:
+        k += 1 if up else -1
+    return k
+
+
+def _arc(tab: AxisTable) -> tuple[float, float, float]:
+    lo, hi = float(tab.positions[0]), float(tab.positions[-1])
+    return lo, hi, hi - lo
+
+
+def modulo_table(tab: AxisTable, machine, max_points: int | None = None, step_given: bool = True,
+                 control: str = "840d") -> AxisTable:
+    """An unlimited rotary axis' table as a modulo table over the whole turn 0..360 deg (808D Function Manual
+    01/2017 p. 109: "the compensation table is repeated cyclically ... program 0 deg as the starting position and 360
+    deg as the end position"; K3: the values at MIN and MAX agree), on the finest step of whole divisions of 360 deg
+    not coarser than the table's -- with no ``step_given``, no more than ``max_points`` points; a given step the
+    control cannot hold in a full turn is refused with that reason.  The measured arc [lo, hi] (any start, e.g.
+    300..420 or -60..60) is placed modulo 360; a full turn (the gap to lo + 360 no wider than the measurement's own
+    spacing) is interpolated across that gap, a partial turn holds the unmeasured arc at the value of the nearer
+    measured end and says so in ``note``.  Other tables unchanged."""
     if not _unlimited_rotary(machine, tab.axis):
         return tab
-    n = int(math.ceil(360.0 / tab.step - 1e-9))
-    x = tab.positions[0] + np.arange(n + 1) * (360.0 / n)
-    per = {o: np.interp(x, tab.positions, c, period=360.0) for o, c in tab.corrections.items()}
-    for c in per.values():
-        c[-1] = c[0]
-    return replace(tab, positions=x, step=360.0 / n, corrections=per)
+    lo, hi, span = _arc(tab)
+    if span > 360.0 + 1e-9:
+        raise InputError(f"axis {tab.axis} is measured over {span:g} deg, more than one turn: a modulo table holds "
+                         f"one turn (give the model one turn of {tab.axis})")
+    n = _divisions(360.0 / tab.step)
+    hard = CONTROLS[control][0]
+    if step_given and hard is not None and n + 1 > hard:
+        raise InputError(f"axis {tab.axis} is an unlimited rotary axis, written as a modulo table over the whole "
+                         f"turn: a full turn at step {tab.step:g} deg needs {n + 1} points, SINUMERIK "
+                         f"{control.upper()} holds {hard} per table: give a `step` of at least "
+                         f"{360.0 / _divisions(hard - 1, up=False):g} deg, or none")
+    if not step_given and max_points is not None and n + 1 > max_points:
+        n = _divisions(max_points - 1, up=False)
+    x = np.arange(n + 1) * (360.0 / n)
+    x[-1] = 360.0
+    u = np.mod(x - lo, 360.0)
+    full = 360.0 - span <= (tab.measured_step or tab.step) + 1e-9
+    if full:
+        at, note = lo + u, ""
+    else:
+        at = np.where(u <= span + 1e-9, lo + u, np.where(u - span <= 360.0 - u, hi, lo))
+        a, b = hi % 360.0, lo % 360.0
+        note = (f"{tab.axis} measured over [{lo:g}, {hi:g}] deg, less than a turn: the modulo table spans 0..360 deg; "
+                f"{a:g}..{b:g} deg not measured: held at the value of the nearer measured end ({a:g} or {b:g} deg)")
+    per = {}
+    for o, c in tab.corrections.items():
+        v = np.interp(at, tab.positions, c, period=360.0) if full else np.interp(at, tab.positions, c)
+        v[-1] = v[0]
+        per[o] = v
+    return replace(tab, positions=x, step=360.0 / n, corrections=per, note=note)
+
+
+def as_written(tables: list[AxisTable], machine, control: str, max_points: int | None,
+               step_given: bool) -> tuple[list[AxisTable], list[str]]:
+    """The tables as the file holds them (the command prints these): unlimited rotary axes as full-turn modulo
+    tables (``modulo_table``); on the 808D, whose Function Manual (01/2017) describes LEC ($AA_ENC_COMP) but no
+    CEC ($AN_CEC), the own-axis LEC tables only, the cross and reversal tables left out and said."""
+    if control not in CONTROLS:
+        raise InputError(f"`control` must be one of {', '.join(CONTROLS)}, got {control!r}")
+    notes, out = [], []
+    for t in tables:
+        if control == "808d" and (set(t.corrections) - {t.axis} or t.reversal):
+            dropped = [f"{o} = F({t.axis}) from {', '.join(t.sources[o])}" for o in t.corrections if o != t.axis]
+            dropped += [f"the reversal of {t.axis}"] if t.reversal else []
+            notes.append(f"SINUMERIK 808D: not written (no CEC / sag compensation in the 808D Function Manual "
+                         f"01/2017; compensate these with `mtcal compensate` or another control): {'; '.join(dropped)}")
+            keep = {o: c for o, c in t.corrections.items() if o == t.axis}
+            if not keep:
+                continue
+            t = replace(t, corrections=keep, sources={t.axis: t.sources[t.axis]}, reversal=0.0)
+        out.append(modulo_table(t, machine, max_points, step_given, control))
+    notes += [t.note for t in out if t.note]
+    return out, notes
 
 
 def _cec(lines: list[str], t: int, inp: str, out: str, values, tab: AxisTable, direction: int, modulo: int) -> None:
@@ -88,12 +155,23 @@ def _cec(lines: list[str], t: int, inp: str, out: str, values, tab: AxisTable, d
               f"$AN_CEC_MULT_BY_TABLE[{t}]=0", f"$AN_CEC_IS_MODULO[{t}]={modulo}"]
 
 
-def _machine_data(lec_points: dict[str, int], cec_points: list[int], e: int, backlash: list[str]) -> list[str]:
-    """The comment lines naming every machine datum to set (K3; 808D/828D function manuals)."""
+def _machine_data(lec_points: dict[str, int], cec_points: list[int], e: int, backlash: list[str],
+                  control: str = "840d") -> list[str]:
+    """The comment lines naming every machine datum to set (K3; G2; 808D/828D function manuals)."""
     out = ["; MACHINE DATA TO SET before loading (K3 Compensations; check each against your machine's archive):",
-           "; * sizing, reformats the NC user memory at the next POWER ON: BACK UP FIRST (series start-up archive)"]
+           "; * units: metric basic system, MD10240 $MN_SCALING_SYSTEM_IS_METRIC = 1 (with 0 the table positions are "
+           "read in inches: 808D Function Manual 01/2017 p. 109)"]
+    if cec_points:
+        out += ["; * CEC tables in metric: MD32711 $MA_CEC_SCALING_SYSTEM_METRIC = 1 on each CEC input axis (G2 "
+                "Function Manual 01/2015, 6FC5397-0BP40-5BA2, p. 331: the system of units of sag compensation)"]
+    out += ["; * sizing, reformats the NC user memory at the next POWER ON: BACK UP FIRST (series start-up archive)"]
     out += [f";   MD38000 $MA_MM_ENC_COMP_MAX_POINTS[{e},{a}] >= {n}" for a, n in lec_points.items()]
-    out += [f";   MD18342 $MN_MM_CEC_MAX_POINTS[{t}] >= {n}" for t, n in enumerate(cec_points)]
+    if control == "828d" and cec_points:
+        out += ["; * SINUMERIK 828D: the CEC tables are fixed, 8 tables of 200 interpolation points each once the "
+                "option 'sag compensation, multi-dimensional' is enabled; they cannot be extended and are not sized "
+                "by machine data (K3 Compensations 03/2013, 6FC5397-1BP40-3BA1, sec. 4.4.4.3, note)"]
+    else:
+        out += [f";   MD18342 $MN_MM_CEC_MAX_POINTS[{t}] >= {n}" for t, n in enumerate(cec_points)]
     out += [f"; * while loading: MD32700 $MA_ENC_COMP_ENABLE[{e},AXn] = 0 and MD32710 $MA_CEC_ENABLE[AXn] = 0; "
             f"then 1, NEWCONF, reference the axes"]
     if cec_points:
@@ -105,36 +183,39 @@ def _machine_data(lec_points: dict[str, int], cec_points: list[int], e: int, bac
     return out
 
 
-def _limits(tables: list[AxisTable], cec_count: int, control: str) -> None:
+def _limits(tables: list[AxisTable], cec: list[str], control: str) -> None:
     pts, cec_max = CONTROLS[control]
     for t in tables:
         if pts is not None and len(t.positions) > pts:
             raise InputError(f"SINUMERIK {control.upper()} holds {pts} interpolation points per table; axis {t.axis} "
                              f"needs {len(t.positions)} at step {t.step:g} {t.unit} (`step` or `max_points` {pts})")
-    if cec_max is not None and cec_count > cec_max:
+    if cec_max is not None and len(cec) > cec_max:
         raise InputError(f"SINUMERIK {control.upper()} holds at most {cec_max} CEC (sag / cross) tables; this model "
-                         f"needs {cec_count} (`require` fewer errors, or compensate the rest with `mtcal compensate`)")
+                         f"needs {len(cec)} ({'; '.join(cec)}); the {control.upper()}'s tables are fixed (K3 03/2013 "
+                         f"sec. 4.4.4.3) and this export does not leave tables out: compensate the cross errors with "
+                         f"`mtcal compensate`, or export for a control whose CEC tables are sized by MD18342 (840D sl)")
 
 
 def render(tables: list[AxisTable], machine, model_path: str, name: str, measuring_system: int = 0,
            control: str = "840d") -> dict[str, str]:
     """{name: text}: the LEC tables (`%_N_AX_EEC_INI`) for each axis' own positioning and the CEC tables
     (`%_N_NC_CEC_INI`) for cross terms and reversal, each section CHANDATA(1) ... M17 as K3's examples;
-    ``measuring_system``: the index e of $AA_ENC_COMP[e, N, AXi] (0 = the first measuring system)."""
+    ``measuring_system``: the index e of $AA_ENC_COMP[e, N, AXi] (0 = the first measuring system).  ``tables``
+    as the file holds them (``as_written``)."""
     if control not in CONTROLS:
         raise InputError(f"`control` must be one of {', '.join(CONTROLS)}, got {control!r}")
     if measuring_system not in (0, 1):
         raise InputError(f"`measuring_system` must be 0 or 1 (the axis' first or second encoder), got "
                          f"{measuring_system}")
     e = measuring_system
-    tables = [modulo_table(t, machine) for t in tables]
-    lec, cec, cec_points, lec_points, backlash = [], [], [], {}, []
+    lec, cec, cec_points, lec_points, backlash, cec_names = [], [], [], {}, [], []
     for tab in tables:
         ax = _ax(machine, tab.axis)
         modulo = int(_unlimited_rotary(machine, tab.axis))
         if tab.axis in tab.corrections:
             lec.append(f"; LEC {tab.axis} = F({tab.axis}) from {', '.join(tab.sources[tab.axis])}: "
                        f"{len(tab.positions)} points, step {tab.step:g} {tab.unit}")
+            lec += [f"; {tab.note}"] if tab.note else []
             lec += [f"$AA_ENC_COMP[{e},{i},{ax}]={_fmt(-v)}" for i, v in enumerate(tab.corrections[tab.axis])]
             lec += [f"$AA_ENC_COMP_STEP[{e},{ax}]={_fmt(tab.step)}",
                     f"$AA_ENC_COMP_MIN[{e},{ax}]={_fmt(tab.positions[0])}",
@@ -145,6 +226,7 @@ def render(tables: list[AxisTable], machine, model_path: str, name: str, measuri
             if out == tab.axis:
                 continue
             cec.append(f"; CEC table {len(cec_points)}: {out} = F({tab.axis}) from {', '.join(tab.sources[out])}")
+            cec_names.append(f"{out} = F({tab.axis})")
             _cec(cec, len(cec_points), ax, _ax(machine, out), -c, tab, 0, modulo)
             cec_points.append(len(tab.positions))
         if tab.reversal:
@@ -154,12 +236,13 @@ def render(tables: list[AxisTable], machine, model_path: str, name: str, measuri
                            f"({'positive' if d > 0 else 'negative'} direction)")
                 _cec(cec, len(cec_points), ax, ax, [d * tab.reversal / 2] * len(tab.positions), tab, d, modulo)
                 cec_points.append(len(tab.positions))
-    _limits(tables, len(cec_points), control)
+                cec_names.append(f"reversal of {tab.axis} ({'+' if d > 0 else '-'})")
+    _limits(tables, cec_names, control)
     head = [f"; mtcal export {model_path} --format siemens --control {control} --measuring-system {e}",
             f"; sign: {SIGN}", "; units: mm (linear axes), deg (rotary axes), metric basic system",
             "; axes: " + ", ".join(f"{a} = {_ax(machine, a)}" for a in machine.axes) +
             " (general machine axis names; edit if yours differ)",
-            *_machine_data(lec_points, cec_points, e, backlash)]
+            *_machine_data(lec_points, cec_points, e, backlash, control)]
     sections = []
     if lec:
         sections += ["%_N_AX_EEC_INI", "CHANDATA(1)", *head, *lec, "M17"]

@@ -9,8 +9,7 @@ from mtcal.identify.results import AxisResult
 from mtcal.kinematics.machine import Machine
 from mtcal.model.errormodel import ErrorFunction, ErrorModel
 from mtcal.model.fits import Fit
-
-FIT_LEAVES_K = 4.0  # a fit that misses a table value by more than this many of its standard deviations is said
+from mtcal.model.plausibility import FIT_LEAVES_K  # the same bound refuses such a model on export
 
 
 def build_model(results: dict[str, AxisResult], sq: dict[str, float], m: Machine, max_degree: int,

@@ -41,6 +41,7 @@ from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.passes import first_readings, group_passes, reading_order, reference_position
 from mtcal.measurement.recordings import Recording
 
+TARGET_TOLERANCE = {"linear": 0.01, "rotary": 0.01}  # mm / deg: targets closer than this are one target
 RUNS = 5  # ISO 230-2:2014 standard test cycle: five runs in each direction at every target
 ANGLE_UNITS = {"arcsec": 180.0 / math.pi * 3600.0, "urad": 1e6, "deg": 180.0 / math.pi}  # per rad
 TARGET_FIELDS = ("n_up", "n_down", "mean_up", "mean_down", "mean", "reversal", "s_up", "s_down",
@@ -342,6 +343,47 @@ def _select_targets(runs: Runs, targets, axis: str, notes: list[str]) -> Runs:
     return runs.select(keep)
 
 
+def group_targets(runs: Runs, kind: str, axis: str, notes: list[str], tolerance: float | None = None,
+                  source: str | None = None) -> Runs:
+    """Targets closer than ``tolerance`` (mm or deg; default TARGET_TOLERANCE) are one target: a run's targets
+    written a few um off are the targets of the other runs, not new ones.  Each reading keeps its deviation from its
+    own written target (x_ij = P_ij - P_i); the group takes its most often written value.  Refused, naming them,
+    when a group spans more than the tolerance or holds two readings of one run and direction (``source``: the
+    file named in the refusal)."""
+    tol = TARGET_TOLERANCE[kind] if tolerance is None else tolerance
+    unit = "mm" if kind == "linear" else "deg"
+    values = np.unique(runs.position)
+    groups = [g for g in np.split(values, np.flatnonzero(np.diff(values) > tol) + 1) if len(g) > 1]
+    if not groups:
+        return runs
+    pos, said = runs.position.copy(), []
+    for g in groups:
+        if g[-1] - g[0] > tol:
+            raise InputError(f"axis {axis}: targets {', '.join(f'{v:g}' for v in g)} {unit} are each within "
+                             f"{tol:g} {unit} of the next but span {g[-1] - g[0]:g} {unit}: not one target; give "
+                             f"a `target_tolerance` that separates them or write the targets as they were commanded",
+                             source)
+        members = np.flatnonzero(np.isin(runs.position, g))
+        first: dict[tuple[int, int], int] = {}
+        for i in members:
+            key = (int(runs.round[i]), int(runs.direction[i]))
+            if key in first and runs.position[first[key]] != runs.position[i]:
+                j = first[key]
+                raise InputError(f"axis {axis}: targets {runs.position[j]:g} (line {runs.lines[j][0]}) and "
+                                 f"{runs.position[i]:g} {unit} are within {tol:g} {unit} of each other, one target, "
+                                 f"but both are read in run {key[0]} {'up' if key[1] > 0 else 'down'}: give a "
+                                 f"`target_tolerance` below {abs(runs.position[i] - runs.position[j]):g} {unit} to "
+                                 f"keep them apart", source, runs.lines[i][0])
+            first.setdefault(key, i)
+        vals, counts = np.unique(runs.position[members], return_counts=True)
+        rep = float(vals[int(np.argmax(counts))])
+        pos[members] = rep
+        said.append(f"{', '.join(f'{v:g}' for v in vals if v != rep)} -> {rep:g}")
+    notes.append(f"axis {axis}: targets within {tol:g} {unit} of each other taken as one target (each reading's "
+                 f"deviation from its own written target): " + "; ".join(said[:6]) + (" ..." if len(said) > 6 else ""))
+    return Runs(pos, runs.direction, runs.round, runs.deviation, runs.lines, runs.unit, runs.reference)
+
+
 def _warn_design(t: dict[str, np.ndarray], positions: np.ndarray, axis: str, notes: list[str]) -> None:
     few = [f"{p:g}" for p, nu, nd in zip(positions, t["n_up"], t["n_down"]) if min(nu, nd) < RUNS]
     if few:
@@ -356,10 +398,11 @@ def _warn_design(t: dict[str, np.ndarray], positions: np.ndarray, axis: str, not
 
 def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = DEFAULT_MACHINE, targets=None,
              alpha: float | None = None, angle_unit: str = "arcsec", point: str | None = None,
-             result_unit: str | None = None) -> Iso230Result:
+             result_unit: str | None = None, target_tolerance: float | None = None) -> Iso230Result:
     """ISO 230-2 evaluation of ``axis`` (default: every axis in the recording); ``targets``: evaluate only these
     positions (mm / deg); ``alpha`` (1/K): normalise linear axes to 20 C; ``point``: use one reflector only;
-    ``result_unit``: the deviations' unit (RESULT_UNITS; default um for linear, ``angle_unit`` for rotary axes)."""
+    ``result_unit``: the deviations' unit (RESULT_UNITS; default um for linear, ``angle_unit`` for rotary axes);
+    ``target_tolerance`` (mm / deg): targets closer than this are one (``group_targets``)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     axes = [axis] if axis else rec.axes()
     out: dict[str, AxisEvaluation] = {}
@@ -374,7 +417,7 @@ def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = D
             runs = in_unit(runs, result_unit)
         notes.append(f"one datum for every run (ISO 230-2 x_ij = P_ij - P_i): each reflector's first reading at "
                      f"the position closest to zero ({', '.join(f'{r:g}' for r in sorted(set(runs.reference)))})")
-        out[a] = evaluate_runs(runs, a, m.kind(a), targets, notes)
+        out[a] = evaluate_runs(runs, a, m.kind(a), targets, notes, target_tolerance, rec.source)
     return Iso230Result(rec.source, out, temperature_normalisation(alpha))
 
 
@@ -386,10 +429,13 @@ def temperature_normalisation(alpha: float | None) -> dict | None:
             "material temperature of the run, P_0: the datum position)"}
 
 
-def evaluate_runs(runs: Runs, axis: str, kind: str, targets=None, notes: list[str] | None = None) -> AxisEvaluation:
+def evaluate_runs(runs: Runs, axis: str, kind: str, targets=None, notes: list[str] | None = None,
+                  target_tolerance: float | None = None, source: str | None = None) -> AxisEvaluation:
     """ISO 230-2 evaluation of one axis from its runs' deviations (any input: a tracker recording through
-    ``deviations``, or an interferometer's readings, mtcal.iso230_2.readings); ``kind`` "linear" | "rotary"."""
+    ``deviations``, or an interferometer's readings, mtcal.iso230_2.readings); ``kind`` "linear" | "rotary";
+    targets closer than ``target_tolerance`` (mm / deg, default TARGET_TOLERANCE) are one (``group_targets``)."""
     notes = [] if notes is None else notes
+    runs = group_targets(runs, kind, axis, notes, target_tolerance, source)
     runs = _select_targets(runs, targets, axis, notes)
     positions, t, params = statistics(runs.position, runs.direction, runs.deviation)
     _warn_design(t, positions, axis, notes)

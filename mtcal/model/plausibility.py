@@ -9,7 +9,12 @@ the error, the position and the bound) when
   are tens of um: a model in um read as mm (20 um -> 20 mm) is caught;
   angular errors (angular error motions, squareness, location tilts) beyond ``ANGLE_MAX_RAD`` (2 mrad, 400");
 * a table lies outside its axis' travel (the spec's limits), or a rotary axis without limits spans more than a
-  turn.
+  turn;
+* a fitted function disagrees with its own table (every exporter and compensation evaluate the fit, so the table
+  the model states is not what the machine would get): at some position |fit - table| exceeds ``FIT_LEAVES_K``
+  standard uncertainties of the table value (``std_mean`` of the function's ``extra``, as identify writes it), or,
+  where the model states no uncertainty, ``FIT_UNSTATED_FRACTION`` of the table's largest |value|; never below
+  ``FIT_FLOOR`` (0.1 um, 0.5 urad), what no table is measured to.
 ``force=True`` turns each refusal into a loud warning (returned) for a user who knows better.
 """
 from __future__ import annotations
@@ -24,6 +29,9 @@ TRANSLATION_FRACTION = 2e-3  # of the longest linear travel (mm)
 TRANSLATION_MIN_MM = 0.2
 ANGLE_MAX_RAD = 2e-3
 FIT_SAMPLES = 201  # points at which a fitted function is evaluated over its table's span
+FIT_LEAVES_K = 4.0  # a fit that misses a table value by more than this many of its standard deviations disagrees
+FIT_UNSTATED_FRACTION = 0.1  # no stated uncertainty: a miss beyond this fraction of the table's largest |value|
+FIT_FLOOR = {"translation": 1e-4, "angle": 0.5e-6}  # mm, rad: a miss below this is no disagreement
 
 
 def _travel_mm(machine: Machine) -> float:
@@ -68,7 +76,45 @@ def _problems(model: ErrorModel, machine: Machine) -> list[str]:
                        f"(a model in um or urad read as mm or rad?)")
     for name, f in model.functions.items():
         out += _function_problems(name, f, machine, b.get(name, np.inf))
+        out += _fit_disagrees(name, f, machine)
     return out
+
+
+def _short(name: str, v: float) -> str:
+    return f"{v * 1e6:.3g} urad" if _angular(name) else f"{v * 1e3:.3g} um"
+
+
+def _fit_disagrees(name: str, f, machine: Machine) -> list[str]:
+    """The position where the fitted function misses its own table most beyond the table's uncertainty (module
+    docstring), as one problem; [] when it does not (or has no fit: the table is then what is evaluated)."""
+    if f.fit is None or getattr(f.fit, "kind", "") == "table" or len(f.positions) < 1:
+        return []
+    vals = np.asarray(f.values, dtype=float)
+    with np.errstate(all="ignore"):
+        fitted = np.asarray(f(f.positions, "hold"), dtype=float)
+    if not (np.isfinite(vals).all() and np.isfinite(fitted).all()):
+        return []  # said by _function_problems
+    miss = np.abs(fitted - vals)
+    sm = f.extra.get("std_mean") if isinstance(f.extra, dict) else None
+    u = (np.array([np.nan if v is None else v for v in sm], dtype=float) if sm is not None and len(sm) == len(vals)
+         else np.full(len(vals), np.nan))
+    stated = np.isfinite(u) & (u > 0)
+    floor = FIT_FLOOR["angle" if _angular(name) else "translation"]
+    largest = float(np.abs(vals).max())
+    limit = np.where(stated, np.maximum(FIT_LEAVES_K * np.where(stated, u, 0.0), floor),
+                     max(floor, FIT_UNSTATED_FRACTION * largest))
+    if not (miss > limit).any():
+        return []
+    k = int(np.argmax(miss / limit))
+    unit = machine.unit(f.axis)
+    why = (f"{miss[k] / u[k]:.1f} sigma of the table value (its standard uncertainty {_short(name, u[k])}; the bound "
+           f"is {FIT_LEAVES_K:g} sigma)" if stated[k] else
+           f"{100 * miss[k] / largest:.0f} % of the table's largest value (the model states no uncertainty; the bound "
+           f"is {100 * FIT_UNSTATED_FRACTION:g} %)")
+    return [f"{name}: its fitted function ({f.fit.kind}) gives {_short(name, fitted[k])} at {f.axis} = "
+            f"{f.positions[k]:g} {unit} where its own table says {_short(name, vals[k])}, {_short(name, miss[k])} "
+            f"off: {why}; every export and compensation evaluates the fit (identify again with a higher "
+            f"`max_degree` / `max_harmonics`, or more rounds)"]
 
 
 def _function_problems(name: str, f, machine: Machine, bound: float) -> list[str]:
