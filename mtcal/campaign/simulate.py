@@ -35,7 +35,7 @@ from mtcal.io import atomic_write_text, dumps
 from mtcal.kinematics.machine import Machine, load_machine
 from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import Recording, make_recording, write_recording
-from mtcal.model.errormodel import ErrorModel
+from mtcal.model.errormodel import ErrorEvaluator, ErrorModel
 
 
 @dataclass(frozen=True)
@@ -106,7 +106,7 @@ def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
 # ---------------------------------------------------------------------------------------------- campaign
 def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None = None, tracker=None,
              rounds: int | None = None, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
-             spec: trk.TrackerSpec = trk.AT960, temperature=None) -> tuple[Recording, dict]:
+             spec: trk.TrackerSpec = trk.AT960, temperature=None, extrapolate: str = "error") -> tuple[Recording, dict]:
     """(recording, truth) of one simulated campaign; see ``simulate_campaign``.  ``temperature``: a warm-up
     curve of the temperature channel (WarmUp, mapping or 'rise_c=2,tau_s=1800,t0_s=0'); the default WarmUp()
     when an effect reads the temperature (thermal_temperature), else a constant channel (thermal_drift adds its
@@ -127,8 +127,14 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         e.move_nests(rows, rows.local)
     if model is not None and model.machine != m.name:
         raise InputError(f"error model is for machine {model.machine!r}, simulating {m.name!r}")
-    errors = (model.errors_at(m, rows.axes) if model is not None
-              else np.zeros((len(rows), len(m.error_names))))
+    if extrapolate not in ("error", "hold"):
+        raise InputError(f"extrapolate must be 'error' or 'hold', got {extrapolate!r}")
+    held: dict[str, int] = {}
+    if model is not None:  # "hold": a pose beyond a function's table takes its end value (counted in the truth)
+        ev = ErrorEvaluator(model, m, extrapolate)
+        errors, held = ev(m.check_axes(rows.axes)), ev.outside_counts
+    else:
+        errors = np.zeros((len(rows), len(m.error_names)))
     with np.errstate(over="ignore", invalid="ignore"):  # non-finite readings are refused below, in one line
         for e in eff:
             e.add_errors(rows, errors, m)
@@ -149,6 +155,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
     if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (docs/design.md)
         rec.other_positions = {a: rows.axes[:, m.index(a)].copy() for a in moved}
     rec.truth = _truth(m, pl, spec, noise, seed, model, warm, [e.truth(rows) for e in eff])
+    if held:
+        rec.truth["model_held"] = dict(held)  # error name -> readings whose pose is beyond its table (end value)
     return rec, rec.truth
 
 
