@@ -24,7 +24,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                      r"position, point [, direction], e.g. "
                      r"'(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+)'")
     p.add_argument("--units", choices=("mm", "in", "m"), help="length unit of the export (default: its "
-                   "'// Units:' line (Millimeters, Inches, Meters), else mm; one that contradicts that line is refused)")
+                   "'// Units:' line (Millimeters, Inches, Meters), else mm; one contradicting that line is refused)")
     p.add_argument("--skip-unmatched", action="store_true",
                    help="leave out targets that match no mapping (default: an error listing them)")
     p.add_argument("--name-fields", type=int, choices=(1, 2, 3),

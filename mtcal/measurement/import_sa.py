@@ -81,8 +81,9 @@ class ImportResult:
     units: str = "mm"  # the export's length unit read (its "// Units:" line, or as given)
 
     def to_dict(self) -> dict:
-        return {"units": self.units, "rows": len(self.recording), "axes": self.recording.axes(), "matched": self.matched,
-                "skipped": len(self.skipped), "skipped_targets": [n for n, _ in self.skipped], "notes": self.notes}
+        return {"units": self.units, "rows": len(self.recording), "axes": self.recording.axes(),
+                "matched": self.matched, "skipped": len(self.skipped),
+                "skipped_targets": [n for n, _ in self.skipped], "notes": self.notes}
 
 
 # ----------------------------------------------------------------------------- the export file
