@@ -276,11 +276,12 @@ def test_cli_extrapolate_hold_simulates_a_model_over_a_wider_plan(tmp_path, caps
     value is held: between X = 450 and 500 every reflector then moves exactly the commanded 50 mm."""
     from mtcal.data import path
     out = tmp_path / "r.csv"
-    assert main(["simulate", "--model", str(path("demo_truth.json")), "-o", str(out), "--no-noise", "--rounds", "1"]) == 2
+    model = str(path("demo_truth.json"))
+    assert main(["simulate", "--model", model, "-o", str(out), "--no-noise", "--rounds", "1"]) == 2
     err = capsys.readouterr().err
     assert "X = 300 is outside the measured range [-250, 250] of E_AX (give --extrapolate hold" in err
     assert not out.exists()
-    assert main(["simulate", "--model", str(path("demo_truth.json")), "-o", str(out), "--no-noise", "--rounds", "1",
+    assert main(["simulate", "--model", model, "-o", str(out), "--no-noise", "--rounds", "1",
                  "--extrapolate", "hold", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     # X at 300, 350, 400, 450, 500: 5 positions x 3 reflectors x 2 directions x 1 round for each error of X
