@@ -1,4 +1,7 @@
-"""Three-point identification of the error motions of each axis from laser-tracker recordings (Zhang & Hu).
+"""Identification of the error motions of each axis from laser-tracker recordings: ``identify``.
+
+By default the joint weighted fit (mtcal.identify.joint) with the tracker's station given or estimated from the
+scatter of the rounds; the three-point method below (Zhang & Hu) by name, or when the station cannot be estimated.
 
 For every pass (axis, round, position, direction) the readings of the points P, Q, K (>= 3 non-collinear
 reflectors; on the spindle for X, Y, Z, on the table for B, C) are compared with where the nominal machine
