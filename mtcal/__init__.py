@@ -38,14 +38,31 @@ _API = {  # name -> (module, attribute)
     "diagnose": ("mtcal.diagnose.run", "diagnose"),
     "fit_plate": ("mtcal.plate.reversal", "fit_plate"),
     "evaluate_iso230_2": ("mtcal.iso230_2.evaluation", "evaluate"),
+    "Compensator": ("mtcal.compensate.solver", "Compensator"),
+    "monte_carlo": ("mtcal.uncertainty.run", "monte_carlo"),
+    "CircleSetup": ("mtcal.check.circular", "CircleSetup"),
+    "predict_circular": ("mtcal.check.circular", "predict_circular"),
+    "RTestSetup": ("mtcal.check.rtest", "RTestSetup"),
+    "predict_rtest": ("mtcal.check.rtest", "predict_rtest"),
+    "read_check": ("mtcal.check.files", "read_check"),
+    "evaluate_check": ("mtcal.check.evaluate", "evaluate_check"),
+    "verify": ("mtcal.check.verify", "verify"),
 }
 __all__ = ["__version__", "Machine", "load_machine", "available_machines", "Recording", "read_recording", "ErrorModel",
            "load_model", "save_model", "identify", "IdentifyResult", "plan_uncertainty", "simulate",
-           "compensate_program", "export_model", "diagnose", "fit_plate", "evaluate_iso230_2"]
+           "compensate_program", "export_model", "diagnose", "fit_plate", "evaluate_iso230_2", "Compensator",
+           "monte_carlo", "CircleSetup", "predict_circular", "RTestSetup", "predict_rtest", "read_check",
+           "evaluate_check", "verify"]
 
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on first use (__getattr__)
     from mtcal.campaign.simulate import simulate
+    from mtcal.check.circular import CircleSetup, predict_circular
+    from mtcal.check.evaluate import evaluate_check
+    from mtcal.check.files import read_check
+    from mtcal.check.rtest import RTestSetup, predict_rtest
+    from mtcal.check.verify import verify
     from mtcal.compensate.run import compensate_program
+    from mtcal.compensate.solver import Compensator
     from mtcal.diagnose.run import diagnose
     from mtcal.export import export_model
     from mtcal.identify.results import IdentifyResult
@@ -56,6 +73,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on f
     from mtcal.model.errormodel import ErrorModel, load_model, save_model
     from mtcal.planning.plan import plan_uncertainty
     from mtcal.plate.reversal import fit_plate
+    from mtcal.uncertainty.run import monte_carlo
 
 
 def __getattr__(name: str):

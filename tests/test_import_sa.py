@@ -167,3 +167,41 @@ def test_a_pattern_group_that_takes_no_part_is_named_not_a_key_error():
                                          r"\['axis'\] took no part"):
         import_sa("A B X_r1_0_P_up 70.0 0.0 10.0\n", "e.txt",
                   pattern=r"(?P<axis>Q)?X_r(?P<round>\d+)_(?P<position>[\d.]+)_(?P<point>[A-Z]+)_up")
+
+
+# ----------------------------------------------------------------------------- issue 36: the file's own units
+def _sa_inches(rec, units_line="// Units: Inches"):
+    """An SA export as SA writes one in inches: its comment block states the unit (SA User Manual, "Exporting ASCII
+    Formatted Points": version, frame and units as leading // lines); coordinates in inches."""
+    return _sa_space(rec, scale=25.4).replace("// Units: mm", units_line)
+
+
+def test_the_exports_units_line_is_read(tidy):
+    """`// Units: Inches` converts from inches without being told (main read it as mm: 25.4 times too small)."""
+    res = import_sa(_sa_inches(tidy), "export.txt", pattern=PATTERN)
+    assert res.units == "in"
+    np.testing.assert_allclose(res.recording.xyz, tidy.xyz, rtol=0, atol=1e-8)  # mm, as the tidy campaign's
+    for line in ("// Units: Millimeters", "// units = mm"):
+        assert import_sa(_sa_space(tidy).replace("// Units: mm", line), "e.txt", pattern=PATTERN).units == "mm"
+    assert import_sa(_sa_space(tidy, 1000.0).replace("// Units: mm", "//Units: Meters"), "e.txt",
+                     pattern=PATTERN).units == "m"
+
+
+def test_a_units_option_against_the_files_line_is_refused(tidy):
+    with pytest.raises(InputError, match=r"export\.txt:3: the export says its units are in, `units` says mm"):
+        import_sa(_sa_inches(tidy), "export.txt", pattern=PATTERN, units="mm")
+    assert import_sa(_sa_inches(tidy), "export.txt", pattern=PATTERN, units="in").units == "in"
+    with pytest.raises(InputError, match=r"export\.txt:3: the export's units are 'Feet'; mtcal reads"):
+        import_sa(_sa_inches(tidy, "// Units: Feet"), "export.txt", pattern=PATTERN)
+
+
+def test_cli_reads_an_inch_export_without_units(tidy, tmp_path, capsys):
+    src = tmp_path / "export.txt"
+    src.write_text(_sa_inches(tidy))
+    out = tmp_path / "rec.csv"
+    assert main(["import-sa", str(src), "--pattern", PATTERN, "-o", str(out)]) == 0
+    assert "lengths in -> mm" in capsys.readouterr().out
+    np.testing.assert_allclose(read_recording(out).xyz, tidy.xyz, atol=1e-6)
+    bad = tmp_path / "rec2.csv"
+    assert main(["import-sa", str(src), "--pattern", PATTERN, "--units", "mm", "-o", str(bad)]) == 2
+    assert not bad.exists()

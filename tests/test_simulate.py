@@ -267,3 +267,34 @@ def test_bad_plans_and_effects():
     assert parse_effect("scale:axis=c,ppm=-3").params == {"axis": "C", "ppm": -3.0}
     assert Effect("tracker_scale", {"dt_c": 1, "dp_hpa": 10}).tracker_ppm() == pytest.approx(2.0)
     assert len(schedule(Plan(rounds=1))) == 420
+
+
+# ----------------------------------------------------------------------------- issue 36: --extrapolate hold
+def test_cli_extrapolate_hold_simulates_a_model_over_a_wider_plan(tmp_path, capsys):
+    """The bundled demo truth covers X in [-250, 250] (mtcal/data/make_demo_data.py TRAVEL); the default plan runs X
+    to 500 (dmu50.toml [campaign]).  Refused by default, naming the option; with --extrapolate hold each table's end
+    value is held: between X = 450 and 500 every reflector then moves exactly the commanded 50 mm."""
+    from mtcal.data import path
+    out = tmp_path / "r.csv"
+    model = str(path("demo_truth.json"))
+    assert main(["simulate", "--model", model, "-o", str(out), "--no-noise", "--rounds", "1"]) == 2
+    err = capsys.readouterr().err
+    assert "X = 300 is outside the measured range [-250, 250] of E_AX (give --extrapolate hold" in err
+    assert not out.exists()
+    assert main(["simulate", "--model", model, "-o", str(out), "--no-noise", "--rounds", "1",
+                 "--extrapolate", "hold", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    # X at 300, 350, 400, 450, 500: 5 positions x 3 reflectors x 2 directions x 1 round for each error of X
+    assert summary["model_held"]["E_XX"] == 30 and summary["model_held"]["E_AX"] == 30
+    assert json.loads((tmp_path / "r.truth.json").read_text())["model_held"] == summary["model_held"]
+    rec = read_recording(out)
+    for a, b, held in ((450, 500, True), (150, 200, False)):
+        pa, pb = ((rec.axis == "X") & (rec.position == p) & (rec.direction == 1) for p in (a, b))
+        step = rec.xyz[pb] - rec.xyz[pa]
+        moved = np.abs(step - [50.0, 0.0, 0.0]).max()
+        assert (moved < 1e-9) if held else (moved > 1e-4), (a, b, moved)
+
+
+def test_simulate_extrapolate_is_checked():
+    with pytest.raises(InputError, match="extrapolate must be 'error' or 'hold', got 'clamp'"):
+        simulate(ErrorModel(), extrapolate="clamp")

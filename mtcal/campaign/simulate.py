@@ -35,7 +35,7 @@ from mtcal.io import atomic_write_text, dumps
 from mtcal.kinematics.machine import Machine, load_machine
 from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import Recording, make_recording, write_recording
-from mtcal.model.errormodel import ErrorModel
+from mtcal.model.errormodel import ErrorEvaluator, ErrorModel
 
 
 @dataclass(frozen=True)
@@ -106,11 +106,62 @@ def _check_poses(m: Machine, pl: Plan, rows: Rows) -> None:
 # ---------------------------------------------------------------------------------------------- campaign
 def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None = None, tracker=None,
              rounds: int | None = None, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
-             spec: trk.TrackerSpec = trk.AT960, temperature=None) -> tuple[Recording, dict]:
-    """(recording, truth) of one simulated campaign; see ``simulate_campaign``.  ``temperature``: a warm-up
-    curve of the temperature channel (WarmUp, mapping or 'rise_c=2,tau_s=1800,t0_s=0'); the default WarmUp()
-    when an effect reads the temperature (thermal_temperature), else a constant channel (thermal_drift adds its
-    own rise)."""
+             spec: trk.TrackerSpec = trk.AT960, temperature=None, extrapolate: str = "error") -> tuple[Recording, dict]:
+    """A simulated laser-tracker campaign of a machine with known errors and planted effects (module docstring).
+
+    The machine follows the exact error-inclusive kinematics with the model's errors at every pose; the tracker
+    adds its noise law's noise about where it stands.
+
+    Parameters
+    ----------
+    model : ErrorModel, optional
+        Errors of the simulated machine (None: no errors).
+    machine : str or Machine, optional
+        The machine (default: the plan's, else the model's, else ``dmu50``).
+    tracker : array_like, shape (3,), or str, optional
+        Tracker position, mm, machine frame, or ``"x,y,z"`` (default: the plan's, the spec's first station).
+    rounds : int, optional
+        Rounds (default: the plan's, 4 in the shipped specs).
+    seed : int, optional
+        Seed of the noise (numpy Generator; default 0).
+    effects : iterable, optional
+        Effects to plant: ``"name:key=value,..."`` strings or Effect objects (mtcal.campaign.effects).
+    noise : bool, optional
+        Add the tracker's noise (default True).
+    plan : Plan, dict or str, optional
+        The measurement plan (a Plan, its JSON dict or a PLAN.json path; default: the spec's campaign).
+    spec : TrackerSpec, optional
+        The tracker's noise law (default the AT960's).
+    temperature : WarmUp, dict or str, optional
+        A warm-up curve of the temperature channel (``"rise_c=2,tau_s=1800,t0_s=0"``); default: WarmUp() when an
+        effect reads the temperature (thermal_temperature), else a constant channel.
+    extrapolate : {"error", "hold"}, optional
+        A pose beyond one of the model's error tables: refused (default) or the table's end value held; the
+        evaluations held are counted in ``truth["model_held"]``.
+
+    Returns
+    -------
+    recording : Recording
+        The readings (mm, machine frame), with the truth attached as ``recording.truth``.
+    truth : dict
+        What was planted: tracker, noise law, seed, plan, model, effects and their parameters (``write_campaign``
+        writes it beside the CSV as REC.truth.json).
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A bad plan, effect or option; a pose beyond the machine's limits; a pose beyond the model's range without
+        ``extrapolate="hold"``; a model of another machine.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> rec, truth = mtcal.simulate(rounds=2, seed=1, effects=["backlash:axis=X,amount=0.004"])
+    >>> len(rec), rec.axes()
+    (840, ['X', 'Y', 'Z', 'B', 'C'])
+    >>> truth["effects"][0]["name"], truth["effects"][0]["params"]
+    ('backlash', {'axis': 'X', 'amount': 0.004})
+    """
     if machine is None:
         machine = plan.machine if isinstance(plan, Plan) else (model.machine if model is not None else None)
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
@@ -127,8 +178,14 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
         e.move_nests(rows, rows.local)
     if model is not None and model.machine != m.name:
         raise InputError(f"error model is for machine {model.machine!r}, simulating {m.name!r}")
-    errors = (model.errors_at(m, rows.axes) if model is not None
-              else np.zeros((len(rows), len(m.error_names))))
+    if extrapolate not in ("error", "hold"):
+        raise InputError(f"extrapolate must be 'error' or 'hold', got {extrapolate!r}")
+    held: dict[str, int] = {}
+    if model is not None:  # "hold": a pose beyond a function's table takes its end value (counted in the truth)
+        ev = ErrorEvaluator(model, m, extrapolate)
+        errors, held = ev(m.check_axes(rows.axes)), ev.outside_counts
+    else:
+        errors = np.zeros((len(rows), len(m.error_names)))
     with np.errstate(over="ignore", invalid="ignore"):  # non-finite readings are refused below, in one line
         for e in eff:
             e.add_errors(rows, errors, m)
@@ -149,6 +206,8 @@ def simulate(model: ErrorModel | None = None, *, machine: str | Machine | None =
     if moved:  # other axes away from zero during a measurement: pos_<AXIS> columns (docs/design.md)
         rec.other_positions = {a: rows.axes[:, m.index(a)].copy() for a in moved}
     rec.truth = _truth(m, pl, spec, noise, seed, model, warm, [e.truth(rows) for e in eff])
+    if held:
+        rec.truth["model_held"] = dict(held)  # error name -> readings whose pose is beyond its table (end value)
     return rec, rec.truth
 
 

@@ -34,11 +34,13 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
                       rounds: int = 1, seed: int | None = 0, effects: Iterable = (), noise: bool = True, plan=None,
                       alignment_um: float = ALIGNMENT_UM, alignment_urad: float = ALIGNMENT_URAD,
                       spec: trk.TrackerSpec = trk.AT960, temperature=None,
-                      station_effects: Mapping[str, Iterable] | None = None) -> tuple[Recording, dict]:
+                      station_effects: Mapping[str, Iterable] | None = None,
+                      extrapolate: str = "error") -> tuple[Recording, dict]:
     """(recording, truth) of a campaign measured from each of ``stations`` ((3,) mm positions or
     (label, (3,)) pairs, machine frame) with ``rounds`` rounds each; ``temperature`` as in ``simulate``;
     ``effects`` are planted in every station's campaign (their times from that station's start),
-    ``station_effects`` (label -> effects) in that station's only (e.g. a knock of one tracker)."""
+    ``station_effects`` (label -> effects) in that station's only (e.g. a knock of one tracker); ``extrapolate`` as
+    in ``simulate``."""
     if machine is None:
         machine = model.machine if model is not None else None
     m = machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))
@@ -55,20 +57,22 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
     align = np.column_stack([rng.normal(0, alignment_um * 1e-3, (len(named), 3)),
                              rng.normal(0, alignment_urad * 1e-6, (len(named), 3))])
     align[:, :3] -= align[:, :3].mean(axis=0)  # the gauge of docs/design.md: translations sum to zero (see module doc)
-    parts, st_truth, t0 = [], [], 0.0
+    parts, st_truth, t0, held = [], [], 0.0, {}
     for k, (label, pos) in enumerate(named):
         t = np.asarray(pos, dtype=float).reshape(3)
         if not np.isfinite(t).all():
             raise InputError(f"station {label}: tracker position must be finite, got {pos!r}")
         rec, truth = simulate(model, machine=m, plan=replace(pl, tracker=tuple(t), rounds=int(rounds)),
                               rounds=None, seed=None, effects=[*effects, *(station_effects or {}).get(label, ())],
-                              noise=False, temperature=temperature)
+                              noise=False, temperature=temperature, extrapolate=extrapolate)
         a = align[k]
         xyz = tp.rigid_point(rec.xyz, a)
         if noise:
             xyz = xyz + trk.sample(xyz, t, rng, spec)
         parts.append((label, t, rec, xyz, k * int(rounds), t0))
         t0 += float(rec.time_s.max()) + STATION_CHANGE_S
+        for name, n in truth.pop("model_held", {}).items():
+            held[name] = held.get(name, 0) + n
         st_truth.append({"label": label, "tracker": t.tolist(), "alignment": a.tolist(), "rounds": int(rounds),
                          "effects": truth.get("effects", [])})
     cat = lambda f: np.concatenate([f(p) for p in parts])  # noqa: E731
@@ -84,6 +88,6 @@ def simulate_stations(model: ErrorModel | None, stations: Sequence, *, machine: 
              "stations": st_truth,
              "alignment_convention": "reading = rigid_point(true point, alignment): Trans(tx, ty, tz mm) "
                                      "Rz(c) Ry(b) Rx(a) (rad), derive/threepoint.py",
-             "alignment_sigma": {"um": alignment_um, "urad": alignment_urad}}
+             "alignment_sigma": {"um": alignment_um, "urad": alignment_urad}, **({"model_held": held} if held else {})}
     out.truth = truth
     return out, truth

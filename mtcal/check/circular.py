@@ -29,10 +29,36 @@ DIRECTIONS = {"ccw": (1,), "cw": (-1,), "both": (1, -1)}
 
 @dataclass(frozen=True)
 class CircleSetup:
-    """A circular test: ``plane`` two linear axes (e.g. "XY": theta from X towards Y), ``radius_mm``,
-    ``centre_mm`` the linear axes' positions at the centre (mm, machine axis order; None: the middle of their
-    ranges, or 0), ``fixed`` the rotary axes' positions (deg; missing: 0), ``arc_deg`` (<= 360) from
-    ``start_deg``, ``points`` per path, ``tool_length`` (mm, the ball below the spindle gauge point)."""
+    """An ISO 230-4 circular test (a ballbar circle) to predict: where, how large, which way.
+
+    Parameters
+    ----------
+    plane : str
+        Two linear axes, e.g. ``"XY"``: theta runs from the first towards the second.
+    radius_mm : float
+        The circle's radius, mm.
+    centre_mm : tuple of float, optional
+        The linear axes' positions at the centre, mm, in machine axis order (None: the middle of their ranges, or
+        0).
+    direction : {"both", "ccw", "cw"}, optional
+        The paths (default both).
+    arc_deg : float, optional
+        The arc, deg (<= 360, default 360).
+    start_deg : float, optional
+        Where the arc starts, deg (default 0).
+    points : int, optional
+        Points per path (default 360).
+    fixed : dict of str to float, optional
+        The rotary axes' positions, deg (missing: 0).
+    tool_length : float, optional
+        The ball below the spindle gauge point, mm (default 0).
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> mtcal.CircleSetup("XY", 150.0, fixed={"B": 0.0, "C": 0.0}).radius_mm
+    150.0
+    """
 
     plane: str
     radius_mm: float
@@ -189,8 +215,25 @@ def _hysteresis(theta_deg: np.ndarray, dr: np.ndarray, paths: dict[str, np.ndarr
 # ----------------------------------------------------------------------------------------------- prediction
 @dataclass
 class CircularPrediction:
-    """A predicted circular test: the setup, the trace (theta_deg, deltaR_mm, direction per point), the ISO 230-4
-    figures (mm) and each error's share of G ({ISO name: G of its part alone, mm}, largest first)."""
+    """A predicted circular test: the trace, the ISO 230-4 figures and each error's share.
+
+    Attributes
+    ----------
+    setup : CircleSetup
+        The test.
+    centre_mm : tuple of float
+        The linear axes' positions at the centre, mm.
+    theta_deg : numpy.ndarray, shape (n,)
+        Angle of each point, deg, counter-clockwise from the plane's first axis.
+    dr : numpy.ndarray, shape (n,)
+        Radial deviation at each point, mm, positive outward.
+    direction : numpy.ndarray, shape (n,)
+        +1 counter-clockwise, -1 clockwise path.
+    figures : dict of str to float
+        ISO 230-4's G (per direction and both), H, F (min, max), mm.
+    contributions : dict of str to float
+        Each error's share of G: {ISO name: G of its part alone, mm}, largest first.
+    """
 
     setup: CircleSetup
     centre_mm: tuple[float, ...]
@@ -219,8 +262,36 @@ def _paths(theta_deg: np.ndarray, dr: np.ndarray, direction: str) -> tuple[np.nd
 
 
 def predict_circular(model: ErrorModel, setup: CircleSetup, machine=None) -> CircularPrediction:
-    """The circular test ``setup`` as the model predicts it (first order, exact through the generated kinematics);
-    ``machine`` defaults to the model's."""
+    """The circular test ``setup`` as the model predicts it (first order, exact through the generated kinematics).
+
+    Parameters
+    ----------
+    model : ErrorModel
+        The error model (mm, rad); positions beyond its tables take the end values.
+    setup : CircleSetup
+        The test.
+    machine : Machine, optional
+        Default: the model's.
+
+    Returns
+    -------
+    CircularPrediction
+        The trace, G, H, F (mm) and each error's share of G.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A plane that is not two linear axes of the machine, a circle beyond the travel, a bad direction.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> p = mtcal.predict_circular(model, mtcal.CircleSetup("XY", 150.0))
+    >>> print(f"G {p.figures['G_mm'] * 1e3:.2f} um; largest shares: {', '.join(list(p.contributions)[:3])}")
+    G 6.11 um; largest shares: E_XX, E_YY, E_C0Y
+    """
     m = machine or model.kinematics
     if setup.direction not in DIRECTIONS:
         raise InputError(f"direction must be one of {', '.join(DIRECTIONS)}, got {setup.direction!r}")

@@ -64,8 +64,35 @@ def uncertainty_columns(model: ErrorModel, machine, axes: np.ndarray) -> np.ndar
 
 @dataclass
 class CheckEvaluation:
-    """A measured check against the model: figures (mm) measured, predicted and of the residual, the largest
-    expanded (k = 2) uncertainty of the prediction, agreement, findings, and the trace."""
+    """A measured check test against the model: the figures, whether they agree, what the residual shows.
+
+    Attributes
+    ----------
+    kind : str
+        ``"circular"`` or ``"rtest"``.
+    source : str
+        The test's source.
+    measured : dict
+        Its figures (circular: G, H, F per direction; R-test: ranges per direction), mm.
+    predicted : dict
+        The model's figures, mm.
+    residual : dict
+        The figures of measured - predicted, mm.
+    prediction_u95_mm : float
+        The largest expanded (k = 2) uncertainty of the prediction, from the model's uncertainty, mm.
+    noise_sd_mm : float
+        The test's own noise, estimated from the residual, mm.
+    agrees : bool
+        Every residual within K_AGREE (4) combined sigma and no quasi-static signature found in it.
+    worst_z : float
+        The largest |residual| / combined sigma.
+    findings : list of Signature
+        What the residual shows (backlash, servo lag, a scale or squareness the model lacks, ...), with sizes.
+    trace : list
+        Per point: position, measured, predicted, uncertainty, direction.
+    setup : dict
+        The test as evaluated (plane, radius, centre; or axis, sphere).
+    """
 
     kind: str
     source: str
@@ -89,10 +116,43 @@ class CheckEvaluation:
 
 def evaluate_check(test: MeasuredCheck, model: ErrorModel, machine=None, uncertainty_from: ErrorModel | None = None,
                    **setup) -> CheckEvaluation:
-    """Evaluate a measured circular test or R-test against ``model`` (its prediction's uncertainty from
-    ``uncertainty_from``, default the model itself: after a compensation the zero left carries the compensating
-    model's uncertainty); ``setup`` overrides the file's header (plane, radius_mm, centre_mm, fixed, axis,
-    sphere_mm, tool_length)."""
+    """Evaluate a measured circular test or R-test against an error model: agreement and what the residual shows.
+
+    Parameters
+    ----------
+    test : MeasuredCheck
+        The measured test (``read_check``).
+    model : ErrorModel
+        The model to compare with (mm, rad).
+    machine : Machine, optional
+        Default: the model's.
+    uncertainty_from : ErrorModel, optional
+        The model whose uncertainty the prediction carries (default the model itself; after a compensation the
+        zero left carries the compensating model's).
+    **setup
+        Overrides of the file's header: plane, radius_mm, centre_mm, fixed, axis, sphere_mm, tool_length.
+
+    Returns
+    -------
+    CheckEvaluation
+        Measured, predicted and residual figures, agreement, findings in the residual.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A header key missing (plane, radius_mm; axis) and not given.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.check import simulate_circular
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> test = simulate_circular(model, mtcal.CircleSetup("XY", 150.0), backlash={"X": 0.006}, seed=1)
+    >>> ev = mtcal.evaluate_check(test, model)  # the model lacks the 6 um backlash of X
+    >>> ev.agrees, [(f.name, round(float(f.size) * 1e3, 1)) for f in ev.findings]
+    (False, [('backlash_X', 5.9)])
+    """
     m = machine or model.kinematics
     return (_circular if test.kind == "circular" else _rtest)(test, model, uncertainty_from or model, m, setup)
 

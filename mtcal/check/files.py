@@ -38,8 +38,20 @@ RTEST_COLUMNS = ("position_deg", "dx_mm", "dy_mm", "dz_mm")
 
 @dataclass
 class MeasuredCheck:
-    """A measured check test: ``kind`` "circular" or "rtest", its header (``info``: plane, radius_mm, centre_mm,
-    fixed_deg, axis, sphere_mm as given) and columns (``data``: name -> (n,) array)."""
+    """A measured check test (``read_check``, or a simulated one: mtcal.check.simulate_circular).
+
+    Attributes
+    ----------
+    kind : str
+        ``"circular"`` (ballbar) or ``"rtest"``.
+    source : str
+        Where it came from.
+    info : dict
+        Its header as given: plane, radius_mm, centre_mm, fixed_deg (circular); axis, sphere_mm (R-test).
+    data : dict of str to numpy.ndarray
+        Its columns, name -> (n,): angle_deg, deviation_mm, direction (circular); position_deg, dx_mm, dy_mm,
+        dz_mm (R-test).
+    """
 
     kind: str
     source: str
@@ -96,8 +108,33 @@ def is_check_file(path: str | Path) -> bool:
 
 
 def read_check(path: str | Path) -> MeasuredCheck:
-    """Read a measured circular test or R-test sweep (module docstring); a bad field is an InputError naming the
-    file and line."""
+    r"""Read a measured circular test (ballbar) or R-test sweep from a plain CSV (module docstring).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file: ``# key: value`` header lines, then a header row and the data (angle_deg, deviation_mm,
+        direction for a circular test; position_deg, dx_mm, dy_mm, dz_mm for an R-test; mm and deg).
+
+    Returns
+    -------
+    MeasuredCheck
+        Its kind, header and columns.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A bad header key or value, column or row, named by file and line.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> rows = "".join(f"{a},{0.001 * (a % 90 == 0)},{d}\n" for d in (1, -1) for a in range(0, 360, 10))
+    >>> _ = open("ballbar.csv", "w").write("# plane: XY\n# radius_mm: 150\nangle_deg,deviation_mm,direction\n" + rows)
+    >>> test = mtcal.read_check("ballbar.csv")
+    >>> test.kind, test.info, len(test.data["angle_deg"])
+    ('circular', {'plane': 'XY', 'radius_mm': 150.0}, 72)
+    """
     source = str(path)
     lines = Path(path).read_text(encoding="utf-8-sig").splitlines()
     raw, start = _header(lines, source)

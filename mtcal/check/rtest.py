@@ -24,8 +24,27 @@ COMPONENTS = ("X", "Y", "Z")
 
 @dataclass(frozen=True)
 class RTestSetup:
-    """A sweep of rotary ``axis`` over ``positions_deg`` with the sphere at ``sphere_mm`` (workpiece coordinates,
-    mm), the other rotary axes at ``fixed`` (deg; missing: 0), the ball ``tool_length`` mm below the gauge point."""
+    """An ISO 10791-6 R-test sweep to predict: a rotary axis turned over positions with a sphere on the table.
+
+    Parameters
+    ----------
+    axis : str
+        The rotary axis swept.
+    positions_deg : tuple of float
+        Its positions, deg.
+    sphere_mm : tuple of float, optional
+        The sphere's centre in workpiece coordinates, mm (default the origin).
+    fixed : dict of str to float, optional
+        The other rotary axes' positions, deg (missing: 0).
+    tool_length : float, optional
+        The tool ball below the spindle gauge point, mm (default 0).
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> mtcal.RTestSetup("C", (0.0, 90.0, 180.0, 270.0), (100.0, 50.0, 0.0)).axis
+    'C'
+    """
 
     axis: str
     positions_deg: tuple[float, ...]
@@ -60,8 +79,21 @@ def deviation_sensitivity(machine, q: np.ndarray, s: RTestSetup) -> np.ndarray:
 
 @dataclass
 class RTestPrediction:
-    """A predicted sweep: positions (deg), deviations (n, 3) mm (machine X, Y, Z), the largest difference per
-    direction (mm) and each error's share ({ISO name: its largest difference over X, Y, Z, mm})."""
+    """A predicted R-test sweep: the deviations of the sphere from the tool ball and each error's share.
+
+    Attributes
+    ----------
+    setup : RTestSetup
+        The sweep.
+    positions_deg : numpy.ndarray, shape (n,)
+        The rotary axis' positions, deg.
+    deviation : numpy.ndarray, shape (n, 3)
+        Sphere - tool ball in machine X, Y, Z, mm.
+    ranges : dict of str to float
+        The largest difference per direction (X, Y, Z), mm.
+    contributions : dict of str to float
+        Each error's share: {ISO name: its largest difference over X, Y, Z, mm}, largest first.
+    """
 
     setup: RTestSetup
     positions_deg: np.ndarray
@@ -83,7 +115,36 @@ def ranges(dev: np.ndarray) -> dict[str, float]:
 
 
 def predict_rtest(model: ErrorModel, setup: RTestSetup, machine=None) -> RTestPrediction:
-    """The sweep ``setup`` as the model predicts it (first order); ``machine`` defaults to the model's."""
+    """The R-test sweep ``setup`` as the model predicts it (first order through the generated kinematics).
+
+    Parameters
+    ----------
+    model : ErrorModel
+        The error model (mm, rad); positions beyond its tables take the end values.
+    setup : RTestSetup
+        The sweep.
+    machine : Machine, optional
+        Default: the model's.
+
+    Returns
+    -------
+    RTestPrediction
+        Deviations per position (mm), their ranges per direction, each error's share.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An axis that is not a rotary axis of the machine, a sweep beyond the travel.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> r = mtcal.predict_rtest(model, mtcal.RTestSetup("C", tuple(range(0, 360, 30)), (100.0, 50.0, 0.0)))
+    >>> r.deviation.shape, {k: round(v * 1e3, 1) for k, v in r.ranges.items()}  # um
+    ((12, 3), {'X': 26.8, 'Y': 20.2, 'Z': 20.7})
+    """
     m = machine or model.kinematics
     q = sweep_axes(m, setup)
     J = deviation_sensitivity(m, q, setup)

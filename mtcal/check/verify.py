@@ -44,8 +44,23 @@ class ErrorLeft:
 
 @dataclass
 class Verification:
-    """The verdict: ``passed`` when every error is within; ``errors`` per error (worst first), ``not_covered``
-    the names the compensation did not reach; ``check`` the evaluation of a check test instead of a recording."""
+    """The verdict on a compensation.
+
+    Attributes
+    ----------
+    source : str
+        The measurement made after compensating.
+    passed : bool
+        Every error left is within K_VERIFY (3) combined standard uncertainties of zero (a recording), or the check
+        test agrees with the compensated machine.
+    errors : list of ErrorLeft
+        Per error (worst first): its largest value left and where, z, within, the share of the model's error still
+        there.
+    not_covered : list of str
+        Errors outside the model that are not within: the compensation did not reach them.
+    check : dict or None
+        The evaluation of a check test (CheckEvaluation.to_dict()) instead of a recording.
+    """
 
     source: str
     passed: bool
@@ -60,9 +75,42 @@ class Verification:
 
 
 def verify(data, model: ErrorModel, *, covered: set[str] | None = None, **identify_options) -> Verification:
-    """Verify a compensation with ``model`` from ``data``: a Recording (a tracker campaign on the compensated
-    machine) or a MeasuredCheck (circular test, R-test); ``covered``: the errors the compensation acted on
-    (default: all of the model's)."""
+    """Verify a compensation with ``model`` from a measurement made after it.
+
+    A recording is identified again and every error left is compared with zero within the combined uncertainty of
+    both models; a check test is evaluated against the compensated machine (what is left of the model's errors).
+
+    Parameters
+    ----------
+    data : Recording or MeasuredCheck
+        A tracker campaign on the compensated machine, or a circular test / R-test (``read_check``).
+    model : ErrorModel
+        The model the machine was compensated with.
+    covered : set of str, optional
+        The errors the compensation acted on (default: all of the model's).
+    **identify_options
+        Passed to ``identify`` for a recording (tracker, method, ...).
+
+    Returns
+    -------
+    Verification
+        ``passed``, and per error what is left.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        As ``identify`` or ``evaluate_check`` do.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.check import simulate_circular
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> test = simulate_circular(model, mtcal.CircleSetup("XY", 150.0), seed=1)  # the machine NOT compensated
+    >>> mtcal.verify(test, model).passed
+    False
+    """
     if isinstance(data, MeasuredCheck):
         ev = evaluate_check(data, after_compensation(model, covered), model.kinematics, uncertainty_from=model)
         return Verification(data.source, ev.agrees, check=ev.to_dict())

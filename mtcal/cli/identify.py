@@ -1,4 +1,5 @@
-"""mtcal identify REC.csv -o MODEL.json: three-point identification of every axis in a laser-tracker recording."""
+"""mtcal identify REC.csv -o MODEL.json: identification of every axis in a laser-tracker recording (the joint
+weighted fit, the tracker's station given or estimated; three-point when it cannot be estimated or by --method)."""
 from __future__ import annotations
 
 import argparse

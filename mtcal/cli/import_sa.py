@@ -23,7 +23,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     how.add_argument("--pattern", metavar="REGEX", help="regular expression with named groups axis, round, "
                      r"position, point [, direction], e.g. "
                      r"'(?P<axis>[A-Z])_r(?P<round>\d+)_(?P<position>-?[\d.]+)_(?P<point>\w+)'")
-    p.add_argument("--units", choices=("mm", "in", "m"), default="mm", help="length unit of the export (default mm)")
+    p.add_argument("--units", choices=("mm", "in", "m"), help="length unit of the export (default: its "
+                   "'// Units:' line (Millimeters, Inches, Meters), else mm; one contradicting that line is refused)")
     p.add_argument("--skip-unmatched", action="store_true",
                    help="leave out targets that match no mapping (default: an error listing them)")
     p.add_argument("--name-fields", type=int, choices=(1, 2, 3),
@@ -43,12 +44,12 @@ def run(args: argparse.Namespace) -> int:
     res = import_sa(text, str(path), mapping=mapping, pattern=args.pattern, units=args.units,
                     skip_unmatched=args.skip_unmatched, name_fields=args.name_fields, machine=args.machine)
     write_recording(res.recording, args.output)
-    out = {"output": args.output, "units": args.units} | res.to_dict()
+    out = {"output": args.output} | res.to_dict()
     if args.json:
         print(dumps(out))
         return 0
     print(f"wrote {args.output}: {out['rows']} readings, axes {' '.join(out['axes'])} from {path} "
-          f"({out['matched']} targets matched, {out['skipped']} left out; lengths {args.units} -> mm)")
+          f"({out['matched']} targets matched, {out['skipped']} left out; lengths {res.units} -> mm)")
     for n in res.notes:
         log.warning("note: %s", n)
     return 0

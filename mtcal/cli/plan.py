@@ -31,7 +31,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with --target-um --monte-carlo: an existing Dask cluster (tcp://host:8786)")
     p.add_argument("--estimator", choices=("auto", "joint", "three-point"), default="auto",
                    help="the estimator to predict: auto (default) = the one mtcal identify uses with the same "
-                        "inputs: the joint fit with a tracker position (--weighting tracker), three-point without")
+                        "inputs: the joint fit (a tracker position given or estimated from the rounds), three-point "
+                        "with --weighting none")
     p.add_argument("--seed", type=integer(0), default=0, help="Monte Carlo seed (default 0)")
     tracker_model_argument(p, "the law the prediction weights and draws by")
     p.add_argument("--weighting", choices=("tracker", "none"), default="tracker",

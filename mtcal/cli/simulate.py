@@ -6,6 +6,7 @@ import logging
 
 from mtcal.campaign import effects as fx
 from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
+from mtcal.errors import InputError
 from mtcal.io import dumps, refuse_overwrite
 
 NAME = "simulate"
@@ -34,6 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--temperature", metavar="rise_c=K,tau_s=S,t0_s=S", nargs="?", const="",
                    help="write a warm-up curve to temperature_c: plan temperature + rise_c (1 - exp(-(t - t0_s) / "
                         "tau_s)) (defaults 2 K, 1800 s, 0 s; the default curve is also used by thermal_temperature)")
+    p.add_argument("--extrapolate", choices=("error", "hold"), default="error",
+                   help="a pose beyond the range of one of the model's error tables: refused (error, default) or "
+                        "the table's end value held (hold; counted in the summary and REC.truth.json's model_held)")
     machine_argument(p)
     p.add_argument("-o", "--output", required=True, metavar="REC.csv", help="recording to write (+ REC.truth.json)")
 
@@ -63,17 +67,24 @@ def run(args: argparse.Namespace) -> int:
     trackers = args.tracker or []
     stations = ([(f"S{i + 1}", tuple(t)) for i, t in enumerate(trackers)] if len(trackers) > 1
                 else list(plan.stations.items()) if plan is not None and plan.stations and not trackers else None)
-    if stations:
-        from mtcal.campaign.stations import ALIGNMENT_UM, ALIGNMENT_URAD, simulate_stations
-        rec, truth = simulate_stations(
-            model, stations, machine=machine, rounds=args.rounds or 1, seed=args.seed, effects=effects,
-            noise=not args.no_noise, plan=plan, temperature=args.temperature, spec=spec,
-            alignment_um=ALIGNMENT_UM if args.alignment_um is None else args.alignment_um,
-            alignment_urad=ALIGNMENT_URAD if args.alignment_urad is None else args.alignment_urad)
-    else:
-        rec, truth = simulate(model, machine=machine, tracker=trackers[0] if trackers else None, rounds=args.rounds,
-                              seed=args.seed, effects=effects, noise=not args.no_noise, plan=plan,
-                              temperature=args.temperature, spec=spec)
+    try:
+        if stations:
+            from mtcal.campaign.stations import ALIGNMENT_UM, ALIGNMENT_URAD, simulate_stations
+            rec, truth = simulate_stations(
+                model, stations, machine=machine, rounds=args.rounds or 1, seed=args.seed, effects=effects,
+                noise=not args.no_noise, plan=plan, temperature=args.temperature, spec=spec,
+                alignment_um=ALIGNMENT_UM if args.alignment_um is None else args.alignment_um,
+                alignment_urad=ALIGNMENT_URAD if args.alignment_urad is None else args.alignment_urad,
+                extrapolate=args.extrapolate)
+        else:
+            rec, truth = simulate(model, machine=machine, tracker=trackers[0] if trackers else None, rounds=args.rounds,
+                                  seed=args.seed, effects=effects, noise=not args.no_noise, plan=plan,
+                                  temperature=args.temperature, spec=spec, extrapolate=args.extrapolate)
+    except InputError as exc:  # the library's hint (extrapolate='hold') said as this command's option
+        if "extrapolate='hold'" not in exc.problem or args.extrapolate == "hold":
+            raise
+        raise InputError(exc.problem.replace("use extrapolate='hold'", "give --extrapolate hold"),
+                         exc.file or args.model, exc.line) from None
     truth["model_file"] = args.model
     truth["plan_file"] = args.plan
     tp = write_campaign(rec, truth, args.output)
@@ -81,13 +92,18 @@ def run(args: argparse.Namespace) -> int:
                "rounds": truth["rounds"], "tracker": truth["tracker"], "noise": truth["noise"],
                "tracker_model": {"instrument": spec.label, **spec.mpe()}, "seed": args.seed,
                "duration_s": float(rec.time_s.max()), "effects": truth["effects"],
-               **({"stations": truth["stations"]} if "stations" in truth else {})}
+               **({"stations": truth["stations"]} if "stations" in truth else {}),
+               **({"model_held": truth["model_held"]} if "model_held" in truth else {})}
     if args.json:
         print(dumps(summary))
     else:
         print(f"wrote {args.output}: {len(rec)} readings, axes {' '.join(rec.axes())}, {truth['rounds']} rounds, "
               f"{summary['duration_s'] / 3600:.2f} h simulated; " + _where(truth)
               + f"; noise {spec.label if truth['noise'] else 'off'}")
+        if "model_held" in truth:
+            held = truth["model_held"]
+            print(f"  model's end values held (--extrapolate hold) beyond its tables: {sum(held.values())} error "
+                  f"evaluations ({len(held)} errors, at most {max(held.values())} readings each)")
         for e in truth["effects"]:
             print(f"  planted {e['name']}: " + ", ".join(f"{k}={v}" for k, v in e["params"].items()))
         log.info("truth: %s", tp)

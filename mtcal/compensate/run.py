@@ -29,16 +29,81 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
                        kind: str = "auto", tables: str | os.PathLike | None = None, force: bool = False,
                        uncertainty: str | os.PathLike | None = None,
                        progress: Callable[[int, int], None] | None = None) -> dict:
-    """Write ``output``, the program compensated for ``model`` (a path or an ErrorModel), and return the report.
+    """Write ``output``, the program compensated for ``model``, and return the report.
 
-    scope "position" corrects the tool tip (L-POS ... R-VOL of ISO/TR 16907), "full" also the tool axis (FOR);
-    iterations default to 1 (first order) for "position" and 2 (fixed point on the exact model) for "full";
-    tool_length (mm) below the error reference point; cone (deg) around B = 0 where only the position is
-    corrected; tolerance (mm) the largest predicted mid-segment error before a feed move is subdivided.  A model
-    that fails the plausibility guard (mtcal.model.plausibility) raises InputError unless ``force``.
-    ``uncertainty``: the JSON of `mtcal uncertainty --program` for this program (its tool tip's interval after
-    compensation, a Monte Carlo of the model), reported as "task_uncertainty".  The
-    returned dict is the JSON answer of `mtcal compensate` (lengths in mm unless a key says um, angles urad)."""
+    Every move is corrected so that the machine with the model's errors puts the tool tip (and with scope
+    ``"full"`` the tool axis) where the nominal program puts it, exactly to first order on the generated
+    error-inclusive kinematics (mtcal.compensate.solver.Compensator); feed moves are subdivided where the
+    predicted mid-segment error exceeds ``tolerance``.  The output is written atomically, never onto an input.
+
+    Parameters
+    ----------
+    program : str or os.PathLike
+        The NC program: G-code (G0/G1 with the machine's axis words) or CL data (x y z i j k).
+    output : str or os.PathLike
+        The compensated program to write.
+    model : str, os.PathLike or ErrorModel
+        The error model (or its JSON file).
+    scope : {"position", "full"}, optional
+        ``"position"`` corrects the tool tip (L-POS ... R-VOL of ISO/TR 16907); ``"full"`` also the tool axis (FOR)
+        outside the ``cone``.
+    iterations : int, optional
+        1: first-order correction; more: fixed-point iterations on the exact model (default 1 for "position", 2
+        for "full").
+    tool_length : float, optional
+        Tool length below the error reference point, mm (default 0).
+    cone : float, optional
+        Scope "full": no orientation correction while the tool axis is within this angle of the rotary axis, deg,
+        blended in up to twice it (default 2).
+    outside : {"hold", "error"}, optional
+        An axis position beyond an error table: hold the end value and count it (``report["warnings"]
+        ["outside_range"]``), or refuse (default "hold").
+    tolerance : float, optional
+        Largest predicted mid-segment tool-tip error before a feed move is subdivided, mm (default 0.001).
+    precision : int, optional
+        Least decimals written (mm and deg; inch one more); more if the input has more (default 4).
+    residual_every : int, optional
+        Evaluate the exact residual of what is written on every k-th move and every inserted point (default 20).
+    max_correction : float, optional
+        Refuse a linear-axis correction larger than this, mm: a model in the wrong units (default 1).
+    max_rotary_correction : float, optional
+        The same for rotary axes, deg (default 0.1).
+    allow_subprograms : bool, optional
+        Pass subprogram calls unchanged with a warning (their moves are not compensated); default: refused.
+    kind : {"auto", "gcode", "cl"}, optional
+        Input kind (default: by extension, .cl/.cls/.apt are CL data).
+    tables : str or os.PathLike, optional
+        Also write per-axis compensation tables (CSV) into this folder.
+    force : bool, optional
+        Compensate with a model that fails the plausibility guard (mtcal.model.plausibility), with a loud warning.
+    uncertainty : str or os.PathLike, optional
+        The JSON of `mtcal uncertainty --program` for this program: the tool tip's interval after compensation,
+        reported as ``"task_uncertainty"``.
+    progress : callable, optional
+        ``progress(done, total)`` called as blocks are written.
+
+    Returns
+    -------
+    dict
+        The JSON answer of `mtcal compensate`: ``moves``, ``lines_changed``, ``iso_16907`` (the error types
+        covered), the tool tip's deviation before and the solver's residual after, warnings (``outside_range``:
+        evaluations held per error).  Lengths in mm unless a key says um, angles in urad.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A model that fails the plausibility guard (without ``force``), a bad program line (named), a correction
+        beyond ``max_correction``, an output that is an input.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> report = mtcal.compensate_program(path("sample_5axis.nc"), "part_comp.nc", model)
+    >>> report["moves"], report["warnings"]["outside_range"]
+    (275, {})
+    """
     mdl = model if isinstance(model, ErrorModel) else load_model(model)
     name = str(model) if not isinstance(model, ErrorModel) else "<model>"
     for w in check_model(mdl, mdl.kinematics, force, name):

@@ -59,7 +59,57 @@ class Stats:
 
 
 class Compensator:
-    """Corrected axis commands for nominal ones under an error model (see the module docstring)."""
+    """Corrected axis commands for nominal ones under an error model (the solver under ``compensate_program``).
+
+    ``correct(q_nom)`` returns the commands that put the tool tip of the machine with the model's errors where the
+    nominal machine puts it at ``q_nom`` (scope "position": the linear axes move; "full": the rotary axes also
+    correct the tool axis outside the ``cone``): exactly to first order on the generated error-inclusive
+    kinematics, or by fixed-point iterations on the exact model (see the module docstring).
+
+    Parameters
+    ----------
+    model : ErrorModel
+        The error model (mm, rad).
+    machine : Machine, optional
+        Its kinematics (default: the model's, ``model.kinematics``).
+    scope : {"position", "full"}, optional
+        ``"position"`` corrects the tool tip, ``"full"`` also the tool axis (default "position").
+    tool_length : float, optional
+        Tool length below the error reference point, mm (default 0).
+    iterations : int, optional
+        1: first order; more: fixed-point iterations on the exact model (default 1).
+    cone : float, optional
+        Scope "full": no orientation correction while the tool axis is within this angle of the rotary axis, deg,
+        blended in up to twice it (default 2).
+    outside : {"hold", "error"}, optional
+        A position beyond an error table: its end value held and counted (``outside_counts``), or refused.
+
+    Attributes
+    ----------
+    outside_counts : dict of str to int
+        Evaluations held beyond each error's table so far.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A bad scope, iterations, outside, tool_length or cone.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> m, comp = model.kinematics, mtcal.Compensator(model)
+    >>> q_nom = np.array([[100.0, 20.0, 50.0, 10.0, 30.0]])  # X Y Z mm, B C deg
+    >>> q = comp.correct(q_nom)
+    >>> (q - q_nom).round(5)  # mm: the linear axes move
+    array([[ 0.00831,  0.00183, -0.00202,  0.     ,  0.     ]])
+    >>> before = m.forward(q_nom, model.errors_at(m, q_nom)) - m.forward(q_nom)
+    >>> after = m.forward(q, model.errors_at(m, q)) - m.forward(q_nom)
+    >>> print(f"{abs(before[0, :3]).max() * 1e3:.2f} um -> {abs(after[0, :3]).max() * 1e3:.4f} um")
+    6.67 um -> 0.0003 um
+    """
 
     def __init__(self, model: ErrorModel, machine: Machine | None = None, scope: str = "position",
                  tool_length: float = 0.0, iterations: int = 1, cone: float = 2.0, outside: str = "hold"):

@@ -59,6 +59,42 @@ class Finding:
 
 @dataclass
 class Diagnosis:
+    """The diagnosis of a recording: the noise left by the quasi-static model, the effects found, the mismatches
+    located but not named.  ``to_dict()`` is the JSON answer of `mtcal diagnose` (docs/design.md).
+
+    Attributes
+    ----------
+    base_sigma : float
+        RMS of the whitened residual of the base (quasi-static) model, mm.
+    base_sigma_ratio : float
+        That residual relative to the noise model (1: the tracker's specification).
+    sigma_after : float
+        The same after the effects found are fitted, mm.
+    sigma_ratio_after : float
+        Its ratio to the noise model.
+    effects : list of Finding
+        Every candidate effect tested, ``significant`` or not, with its estimate and evidence (reads like its JSON
+        dict: ``f["name"]``, ``f.get("where")``).
+    located : list of Located
+        Where the residual is larger than the noise (axis, position, reflector, round).
+    base : dict
+        The base model: degrees of the fitted error functions, parameters.
+    noise : NoiseModel
+        The noise model the readings were weighted by (the tracker's law, checked by the rounds).
+    unexplained : list of Located
+        Mismatches no named effect explains.
+    notes : list of str
+        What the data cannot separate, and why (``not separable: ...``).
+    residuals_before : numpy.ndarray or None
+        Residuals of the base model (n, 3), mm.
+    residuals_after : numpy.ndarray or None
+        Residuals with the effects, (n, 3), mm.
+    prep : Prepared or None
+        The prepared problem (machine, recording, design).
+    data_problems : list of dict
+        Gross errors found and left out (mtcal.measurement.screen).
+    """
+
     base_sigma: float
     base_sigma_ratio: float
     sigma_after: float

@@ -39,13 +39,59 @@ MAX_DEGREE = 7  # the quasi-static family: polynomials up to degree 7 on linear 
 def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MACHINE, tracker=None,
              level: float = LEVEL, max_degree: int = MAX_DEGREE, max_effects: int = 8,
              tie_positions: bool = TIE_POSITIONS, tracker_model=None) -> Diagnosis:
-    """Diagnose a recording (see mtcal.diagnose).  ``level``: family-wise significance level; ``tracker`` (3,)
-    mm or None (noise model estimated from the data; a recording of several stations weighs each about its own
-    tracker_x,y,z columns and fits every station's alignment, mtcal.diagnose.design); ``tie_positions``:
-    reflector positions shared by the axes measured from the same reference pose (mtcal.diagnose.prepare), else
-    one per (axis, reflector); ``tracker_model``: the tracker's noise law, the prior of the noise model (an
-    instrument's name, "a_r,b_r,a_t,b_t[,k]" MPE in um and um/m, or a TrackerSpec; None: the AT960's;
-    mtcal.measurement.tracker.tracker_model): the repeated rounds still check its shape (mtcal.diagnose.noise)."""
+    """Diagnose a recording: what the quasi-static error model leaves out (mtcal.diagnose).
+
+    The readings are fitted by the quasi-static model (error functions of each axis, or the given ``model``) and
+    every candidate effect (backlash, drift, a knocked or creeping nest, outliers, periodic errors, tracker
+    settling, ...) is tested against it, forward and backward at a family-wise level; mismatches no effect explains
+    are located; what the data cannot separate is said in ``notes``.
+
+    Parameters
+    ----------
+    rec : Recording
+        The readings (mm, machine frame).
+    model : ErrorModel, optional
+        A reference model to test against (default: the quasi-static family fitted to the readings).
+    machine : Machine or str, optional
+        The machine spec (default ``dmu50``).
+    tracker : array_like, shape (3,), optional
+        Tracker position, mm, machine frame; None: the noise model is estimated from the data (a recording of
+        several stations weighs each about its own tracker_x,y,z columns and fits every station's alignment).
+    level : float, optional
+        Family-wise significance level (default 0.005).
+    max_degree : int, optional
+        Largest polynomial degree of the quasi-static family on linear axes (default 7).
+    max_effects : int, optional
+        Most effects selected (default 8).
+    tie_positions : bool, optional
+        Reflector positions shared by the axes measured from the same reference pose (mtcal.diagnose.prepare),
+        else one per (axis, reflector).
+    tracker_model : str or TrackerSpec, optional
+        The tracker's noise law, the prior of the noise model (an instrument's name, ``"a_r,b_r,a_t,b_t[,k]"`` MPE
+        in um and um/m, or a TrackerSpec; default the AT960's); the repeated rounds still check its shape.
+
+    Returns
+    -------
+    Diagnosis
+        The noise before and after, the effects (significant or not), the located and unexplained mismatches.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A bad level, an axis not of the machine, a model of another machine.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> rec, truth = mtcal.simulate(rounds=3, seed=1, plan={"axes": {"X": {}}},
+    ...                             effects=["backlash:axis=X,amount=0.006"])  # 6 um planted
+    >>> d = mtcal.diagnose(rec, tracker=(250, -1500, 150))
+    >>> found = [f for f in d.effects if f.significant]
+    >>> [(f.name, f.axis) for f in found]
+    [('backlash', 'X')]
+    >>> print(f"{found[0].estimate * 1e3:.1f} um")
+    5.6 um
+    """
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")

@@ -27,6 +27,26 @@ FORMATS = {"linuxcnc": (linuxcnc, "dir"), "siemens": (siemens, "file"), "heidenh
 
 @dataclass
 class ExportResult:
+    """What ``export_model`` wrote and what the format holds of the model.
+
+    Attributes
+    ----------
+    format : str
+        The format written (linuxcnc, siemens, heidenhain, tf5280, etalon).
+    files : list of str
+        The files written.
+    sign : str
+        The format's sign convention, with its source (the controller's manual).
+    held : list of str
+        The model's error names the tables hold.
+    not_held : list of str
+        The model's error names the format cannot hold (left out).
+    tables : list of dict
+        Per axis table: axis, unit, points, step, range, reversal, per output its errors and largest correction.
+    warnings : list of str
+        What the user should know (a forced model, a diagnosis used, ...).
+    """
+
     format: str
     files: list[str]
     sign: str
@@ -58,11 +78,69 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
                  file_type: int = 0, require: list[str] | None = None, kinematics_comp: bool = False,
                  protect: tuple = (), diagnosis_source: str = "diagnosis", force: bool = False,
                  options: dict | None = None) -> ExportResult:
-    """Write ``fmt`` to ``out`` (a folder for "dir" formats, a file otherwise) atomically; refuse before writing
-    anything when the model fails the plausibility guard (mtcal.model.plausibility; ``force`` writes it with a loud
-    warning), the diagnosis is of another machine or recording, a ``require``d error name is not held by the
-    format, or there is nothing to write.  ``options``: the format's own (siemens: measuring_system, control;
-    linuxcnc: linear_units)."""
+    """Write controller compensation tables of ``model`` in format ``fmt`` to ``out``, atomically.
+
+    Refused before anything is written when the model fails the plausibility guard (mtcal.model.plausibility;
+    ``force`` writes it with a loud warning), the diagnosis is of another machine or recording, a ``require``d
+    error name is not held by the format, or there is nothing to write.  Signs, units and table sizes of each
+    controller, with their sources: docs/controllers/.
+
+    Parameters
+    ----------
+    model : ErrorModel
+        The error model (mm, rad).
+    machine : Machine
+        The machine the tables are for (``mtcal.load_machine(model.machine)``); refused when the model is of
+        another.
+    fmt : {"linuxcnc", "siemens", "heidenhain", "tf5280", "etalon"}
+        The format.
+    out : str or pathlib.Path
+        A folder for linuxcnc and heidenhain, a file otherwise.
+    model_path : str, optional
+        The model's name in messages and in the files' headers.
+    step : float, optional
+        Table spacing, mm or deg (default: the finest 1/2/2.5/5 x 10^k that covers each axis' range within the
+        format's point limit).
+    max_points : int, optional
+        Points per table (default: the format's or control's limit).
+    diagnosis : dict, optional
+        The `mtcal diagnose --json` answer: significant backlash findings give direction-dependent tables.
+    file_type : {0, 1}, optional
+        linuxcnc COMP_FILE_TYPE: 0 = nominal, forward, reverse positions; 1 = nominal and trims (default 0).
+    require : list of str, optional
+        Error names that must be held; refused if the format cannot.
+    kinematics_comp : bool, optional
+        heidenhain: also write KinematicsComp tables.
+    protect : tuple, optional
+        Paths that must not be written over (the inputs).
+    diagnosis_source : str, optional
+        The diagnosis' name in messages.
+    force : bool, optional
+        Write a model that fails the plausibility guard, with a loud warning.
+    options : dict, optional
+        The format's own: siemens ``control`` (840d, 828d, 808d) and ``measuring_system``; linuxcnc
+        ``linear_units`` (mm, inch).
+
+    Returns
+    -------
+    ExportResult
+        The files written, the sign convention, the errors held and not held, per-axis table summaries.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An unknown format, a model of another machine, an implausible model (without ``force``), a required
+        error not held, nothing to write, an output that is an input.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> res = mtcal.export_model(model, mtcal.load_machine(model.machine), "linuxcnc", "comp")
+    >>> res.files[:2], res.held[:2]
+    (['comp/joint0_X.comp', 'comp/joint1_Y.comp'], ['E_CB', 'E_CC'])
+    """
     options = dict(options or {})
     if fmt not in FORMATS:
         raise InputError(f"unknown format {fmt!r}; known: {', '.join(FORMATS)}")

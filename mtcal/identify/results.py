@@ -30,8 +30,44 @@ class PositionResult:
 # ----------------------------------------------------------------------------- a recording
 @dataclass
 class AxisResult:
-    """Identified errors of one axis.  ``per_round`` (n_rounds, n_positions, 6), NaN where a round lacks a
-    position; statistics over rounds (Type A): mean, std (experimental, eq. 2.47), std_mean (eq. 2.49)."""
+    """Identified errors of one axis: its six error motions at every measured position, per round.
+
+    Statistics over rounds (Type A, the thesis' eqs. 2.45-2.49) are properties: ``mean``, ``std`` (experimental
+    standard deviation, eq. 2.47), ``std_mean`` (of the mean, eq. 2.49), ``n`` (rounds per position).
+
+    Attributes
+    ----------
+    axis : str
+        The axis (a name of the machine's axes).
+    positions : numpy.ndarray, shape (n_positions,)
+        Measured positions, mm or deg.
+    rounds : numpy.ndarray of int, shape (n_rounds,)
+        The round numbers.
+    points : tuple of str
+        The reflectors used.
+    per_round : numpy.ndarray, shape (n_rounds, n_positions, 6)
+        Each round's estimate of the six error motions (``names``), mm and rad; NaN where a round lacks a position.
+    residual_rms : numpy.ndarray, shape (n_positions,)
+        RMS residual of the readings over all passes, mm.
+    sigma_pred : numpy.ndarray, shape (n_positions, 6)
+        Predicted standard deviation of one round's value (from the noise law or the residuals), mm and rad.
+    names : tuple of str
+        ISO 230-1 names of the six error motions, e.g. ``("E_XX", "E_YX", "E_ZX", "E_AX", "E_BX", "E_CX")``.
+    reference_position : float
+        The position the errors are zero at (closest to zero), mm or deg.
+    weighted : bool
+        Whether the fit weighted the readings by the tracker's noise law.
+    lines : dict
+        Reference straight lines of the straightness errors (mtcal.identify.fitting).
+    reversal : numpy.ndarray, shape (n_positions, 6), or None
+        Mean over rounds of (+ pass) - (- pass) when bidirectional, else None.
+    fits : dict of str to mtcal.model.fits.Fit
+        The fitted function of each error (what compensation evaluates).
+    covariance : numpy.ndarray or None
+        Covariance (n_positions * 6, n_positions * 6) of the joint fit's estimate; None for three-point.
+    fit_variance_factor : float
+        The data's precision relative to ``covariance`` (joint fit: min(1, Birge ratio squared)).
+    """
 
     axis: str
     positions: np.ndarray
@@ -119,6 +155,38 @@ class AxisResult:
 
 @dataclass
 class IdentifyResult:
+    """What ``identify`` found: per axis the error motions with their statistics, the squareness, and the model.
+
+    Units: mm and rad (errors), mm or deg (positions).  ``to_json()`` is the JSON answer of `mtcal identify`.
+
+    Attributes
+    ----------
+    axes : dict of str to AxisResult
+        Per measured axis, its error motions at every position (per round and their statistics).
+    squareness : dict of str to float
+        Squareness errors by ISO 230-1 name (``E_C0Y``, ``E_B0Z``, ``E_A0Z``), rad, right-hand convention of
+        docs/design.md.
+    model : ErrorModel
+        The error model (tables, fitted functions, constants); ``model.meta`` says how it was made (method,
+        ``tracker_estimated``, ``noise_law``, ``worth``, ``warnings``).
+    warnings : list of str
+        What the user should know (gross errors left out, a model that may make the machine worse, ...).
+    reference : str
+        The reference straight-line method (least-squares, end-point, minimum-zone).
+    weighted : bool
+        Whether the readings were weighted by the tracker's noise law.
+    source : str
+        The recording's source.
+    squareness_stats : dict
+        Type A statistics of the squareness over rounds: {name: {rounds, std, std_mean}}.
+    method : str
+        The estimator used: ``"joint"`` or ``"three-point"``.
+    joint : dict or None
+        The joint fit's summary (stations, reflectors, chi2, dof), None for three-point.
+    data_problems : list of dict
+        Gross errors found and left out (mtcal.measurement.screen).
+    """
+
     axes: dict[str, AxisResult]
     squareness: dict[str, float]
     model: ErrorModel

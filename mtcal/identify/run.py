@@ -1,4 +1,7 @@
-"""Three-point identification of the error motions of each axis from laser-tracker recordings (Zhang & Hu).
+"""Identification of the error motions of each axis from laser-tracker recordings: ``identify``.
+
+By default the joint weighted fit (mtcal.identify.joint) with the tracker's station given or estimated from the
+scatter of the rounds; the three-point method below (Zhang & Hu) by name, or when the station cannot be estimated.
 
 For every pass (axis, round, position, direction) the readings of the points P, Q, K (>= 3 non-collinear
 reflectors; on the spindle for X, Y, Z, on the table for B, C) are compared with where the nominal machine
@@ -52,18 +55,82 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
              outlier_k: float = 5.0, max_degree: int = 7, max_harmonics: int = 6,
              max_deviation_mm: float = MAX_DEVIATION_MM, method: str = "auto", worth: bool = True,
              noise_law: trk.TrackerSpec | None = None, tracker_model=None) -> IdentifyResult:
-    """Identify every axis in a recording; see the module docstring.  tracker: (3,) mm or None (unweighted);
-    reference: reference straight line method (mtcal.identify.fitting.REFERENCE_METHODS); outlier_k: a round whose value
-    differs from the mean of the other rounds by more than k predicted sigma is reported in ``warnings``;
-    method: "three-point" (per position, this module), "joint" (one weighted fit of all readings of all
-    stations, mtcal.identify.joint) or "auto" (joint when the tracker position is known or can be estimated from
-    the scatter of the rounds, ``estimate_station``; else three-point, with a warning); worth: also run the
-    estimator on two halves of the rounds to state the model's predicted error against what it corrects
-    (``model.meta["worth"]``, mtcal.identify.compare.split_half_worth) and warn when compensating may make the machine
-    worse; tracker_model: the tracker's noise law, the prior (an instrument's name, "a_r,b_r,a_t,b_t[,k]" MPE in
-    um and um/m, or a TrackerSpec; None: the AT960's; mtcal.measurement.tracker.tracker_model); noise_law: the
-    law the fit weights by, as it is (default: the prior's, or the one the repeated rounds show where they are
-    shaped otherwise, ``_noise_law``)."""
+    """Identify the error motions of every axis in a recording, their squareness and the error model.
+
+    By default (``method="auto"``) every reading is weighted by the tracker's anisotropic noise law and all axes
+    are fitted at once (the joint fit, mtcal.identify.joint).  Without ``tracker`` (and without tracker_x,y,z
+    columns) the tracker's position is estimated from the scatter of the repeated rounds
+    (``estimate_station``, mtcal.measurement.tracker_position; ``model.meta["tracker_estimated"]``) and the
+    joint fit is weighted about it.  Only when it cannot be estimated (one round; rounds that repeat exactly; a
+    scatter with no tracker shape) does identify fall back to the three-point method per position (Zhang & Hu, the
+    module docstring) with the readings weighted equally, and say so in ``warnings``.  Gross errors (swapped
+    labels, far readings, duplicated rows) are screened out first and reported.
+
+    Parameters
+    ----------
+    rec : Recording
+        The readings (mm, machine frame; mtcal.read_recording).
+    tracker : array_like, shape (3,), optional
+        Tracker position, mm, machine frame.  None: the recording's tracker_x,y,z columns, else estimated from
+        the rounds' scatter (above).
+    machine : str or Machine, optional
+        The machine spec (default ``dmu50``).
+    reference : str, optional
+        Reference straight-line method of straightness and squareness (mtcal.identify.fitting.REFERENCE_METHODS:
+        ``"least-squares"`` (default), ``"end-point"``, ``"minimum-zone"``).
+    outlier_k : float, optional
+        A round whose value differs from the mean of the other rounds by more than k predicted sigma is reported
+        in ``warnings`` (default 5).
+    max_degree : int, optional
+        Highest polynomial degree of a linear axis' fitted function (default 7; the degree is selected by the
+        data).
+    max_harmonics : int, optional
+        Most harmonics of a rotary axis' fitted function (default 6).
+    max_deviation_mm : float, optional
+        A reading farther than this from the nominal motion is refused as a unit, frame or axis mix-up (mm,
+        default 1).
+    method : {"auto", "joint", "three-point"}, optional
+        The estimator: ``"joint"`` (one weighted fit of all readings of all stations), ``"three-point"`` (per
+        position, this module) or ``"auto"`` (joint when the tracker position is given or can be estimated, else
+        three-point with a warning).
+    worth : bool, optional
+        Also run the estimator on two halves of the rounds to state the model's predicted error against what it
+        corrects (``model.meta["worth"]``, mtcal.identify.compare.split_half_worth) and warn when compensating may
+        make the machine worse (default True).
+    noise_law : mtcal.measurement.tracker.TrackerSpec, optional
+        The law the fit weights by, as it is.  Default: the prior's, or the one the repeated rounds show where they
+        are shaped otherwise (``model.meta["noise_law"]``).
+    tracker_model : str or TrackerSpec, optional
+        The tracker's noise law, the prior: an instrument's name (``"AT960"``, ``"AT500"``), MPE numbers
+        ``"a_r,b_r,a_t,b_t[,k]"`` in um and um/m, or a TrackerSpec (default: the AT960's).
+
+    Returns
+    -------
+    IdentifyResult
+        Per axis the error motions and their statistics, the squareness, the model (mm, rad), warnings.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        Bad options, an axis not of the machine, too few reflectors, readings far from the nominal motion, several
+        stations without the joint fit.
+
+    See Also
+    --------
+    mtcal.planning.plan.plan_uncertainty : the uncertainty this estimator will have, before measuring.
+    mtcal.uncertainty.run.monte_carlo : the Monte Carlo of this function.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> rec = mtcal.read_recording(path("demo_campaign.csv"))
+    >>> res = mtcal.identify(rec, tracker=(250, -1500, 150))
+    >>> res.method, sorted(res.squareness)
+    ('joint', ['E_A0Z', 'E_B0Z', 'E_C0Y'])
+    >>> print(f"{res.model.functions['E_XX'](100.0) * 1e3:.1f} um")  # E_XX at X = 100 mm
+    1.9 um
+    """
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     prior = trk.as_tracker_model(tracker_model)
     if method not in METHODS:

@@ -118,6 +118,21 @@ class AxisEvaluation:
 
 @dataclass
 class Iso230Result:
+    """The ISO 230-2 evaluation of a recording: per axis the standard's figures.  ``to_dict()`` is the JSON answer
+    of `mtcal iso230-2`.
+
+    Attributes
+    ----------
+    source : str
+        The recording's source.
+    axes : dict of str to AxisEvaluation
+        Per axis: per-target statistics (``targets``: mean, reversal, s, R per direction) and the parameters
+        (``parameters``: A, E, M, R, B and their one-direction forms) in ``unit`` (um for linear axes, arcsec
+        or the ``result_unit`` for rotary ones), the runs' deviations and notes.
+    temperature : dict or None
+        The temperature normalisation applied (``alpha_per_K``, the formula), None when not normalised.
+    """
+
     source: str
     axes: dict[str, AxisEvaluation]
     temperature: dict | None  # {"alpha_per_K", "formula"} when normalised
@@ -399,10 +414,51 @@ def _warn_design(t: dict[str, np.ndarray], positions: np.ndarray, axis: str, not
 def evaluate(rec: Recording, axis: str | None = None, machine: str | Machine = DEFAULT_MACHINE, targets=None,
              alpha: float | None = None, angle_unit: str = "arcsec", point: str | None = None,
              result_unit: str | None = None, target_tolerance: float | None = None) -> Iso230Result:
-    """ISO 230-2 evaluation of ``axis`` (default: every axis in the recording); ``targets``: evaluate only these
-    positions (mm / deg); ``alpha`` (1/K): normalise linear axes to 20 C; ``point``: use one reflector only;
-    ``result_unit``: the deviations' unit (RESULT_UNITS; default um for linear, ``angle_unit`` for rotary axes);
-    ``target_tolerance`` (mm / deg): targets closer than this are one (``group_targets``)."""
+    """ISO 230-2:2014 evaluation of the positioning of one axis, or of every axis in a recording.
+
+    Deviations (actual - target) are taken from one datum for all runs; a missing reading is missing (never filled);
+    approach directions come from the ``direction`` column or, without it, from the order of the readings.
+
+    Parameters
+    ----------
+    rec : Recording
+        The readings (mm, machine frame): each target approached in + and - direction in every run (round).
+    axis : str, optional
+        The axis (default: every axis in the recording).
+    machine : str or Machine, optional
+        The machine spec (default ``dmu50``).
+    targets : array_like, optional
+        Evaluate only these target positions (mm or deg).
+    alpha : float, optional
+        Expansion coefficient, 1/K: normalise linear axes to 20 degC from ``temperature_c``.
+    angle_unit : str, optional
+        Unit of rotary axes' deviations (default ``"arcsec"``).
+    point : str, optional
+        Use this reflector only (default: all, averaged per reading).
+    result_unit : str, optional
+        The deviations' unit (RESULT_UNITS; default um for linear, ``angle_unit`` for rotary axes).
+    target_tolerance : float, optional
+        Targets closer than this (mm or deg) are one target (``group_targets``; default: the stated tolerance).
+
+    Returns
+    -------
+    Iso230Result
+        Per axis the standard's figures A, E, M, R, B (and per direction), per-target statistics, notes.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An axis not in the recording or of the machine, too few runs, a bad unit.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> ev = mtcal.evaluate_iso230_2(mtcal.read_recording(path("demo_campaign.csv")), "X")
+    >>> x = ev.axes["X"]
+    >>> x.unit, {k: round(x.parameters[k], 1) for k in ("A", "E", "M", "R", "B")}
+    ('um', {'A': 63.0, 'E': 26.2, 'M': 20.3, 'R': 45.1, 'B': 18.1})
+    """
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     axes = [axis] if axis else rec.axes()
     out: dict[str, AxisEvaluation] = {}

@@ -44,7 +44,51 @@ def _check_stale(here: Path | None = None) -> None:
 
 
 class Machine:
-    """Kinematics of one machine (see ``load_machine``)."""
+    """Kinematics of one machine, on the code derive/ generated from its spec (derive/machines/<name>.toml).
+
+    Use ``load_machine(name)`` (one instance per process).  Axis vectors are (..., n_axes) in the spec's axis order,
+    mm (linear) and deg (rotary); error vectors (..., n_errors) in the order of ``error_names``, mm and rad; a pose
+    is (..., 6) = [x, y, z (mm), i, j, k] of the tool tip in the workpiece frame.  ``forward``,
+    ``forward_with_jacobian``, ``jacobian_axes``, ``jacobian_errors`` and ``inverse`` evaluate the kinematics.
+
+    Parameters
+    ----------
+    name : str
+        The spec's name (``available_machines()``: ``dmu50``, ``headbc``, ``xyzac``).
+
+    Attributes
+    ----------
+    name : str
+        The spec's name.
+    title : str
+        What the machine is.
+    axes : tuple of str
+        Axis names in axis-vector order.
+    axis_kinds : tuple of str
+        ``"linear"`` or ``"rotary"`` per axis.
+    limits : tuple
+        Per axis (low, high) in mm or deg, or None (unlimited).
+    error_names : tuple of str
+        ISO 230-1 names of the error vector, in order.
+    sides : dict of str to str
+        Per axis ``"tool"`` (it moves the spindle) or ``"table"`` (the workpiece).
+    campaign : dict
+        The spec's default measurement campaign (positions, reflectors, rounds, tracker stations).
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An unknown machine name.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> m = mtcal.load_machine("dmu50")
+    >>> m.axes, len(m.error_names)
+    (('X', 'Y', 'Z', 'B', 'C'), 41)
+    >>> m.forward([[100.0, 20.0, 50.0, 0.0, 0.0]]).round(3)
+    array([[100.,  20.,  50.,   0.,   0.,   1.]])
+    """
 
     def __init__(self, name: str):
         if name not in available_machines():  # also the generated modules that are no machine (plate, ...)
@@ -241,7 +285,40 @@ class Machine:
 
     def forward_with_jacobian(self, axes, errors=None, tool_length: float = 0.0,
                               check: bool = True) -> tuple[np.ndarray, np.ndarray]:
-        """(pose (..., 6), d pose / d axes (..., 6, n_axes)) of the exact error-inclusive model in one pass."""
+        """The pose and its derivative by the axes, of the exact error-inclusive model, in one generated pass.
+
+        Parameters
+        ----------
+        axes : array_like, shape (..., n_axes)
+            Axis positions, mm (linear) and deg (rotary), in ``axes`` order.
+        errors : array_like, shape (..., n_errors), optional
+            Error vector in ``error_names`` order, mm and rad (e.g. ``model.errors_at(machine, axes)``); None: zero
+            (the nominal machine).
+        tool_length : float, optional
+            Tool length below the spindle gauge point, mm (default 0).
+        check : bool, optional
+            Check shapes and finiteness (default True).
+
+        Returns
+        -------
+        pose : numpy.ndarray, shape (..., 6)
+            [x, y, z (mm), i, j, k] of the tool tip in the workpiece frame.
+        jacobian : numpy.ndarray, shape (..., 6, n_axes)
+            d pose / d axes, per mm and per deg, at the given errors (held fixed).
+
+        Raises
+        ------
+        mtcal.errors.InputError
+            Wrong shapes, NaN or inf.
+
+        Examples
+        --------
+        >>> import mtcal
+        >>> m = mtcal.load_machine("dmu50")
+        >>> pose, J = m.forward_with_jacobian([[100.0, 20.0, 50.0, 10.0, 30.0]])
+        >>> pose.shape, J.shape
+        ((1, 6), (1, 6, 5))
+        """
         a, e = self._in(axes, errors, check)
         out = self._np.forward_errors_with_jacobian(a, e, tool_length)
         return out[..., 0], out[..., 1:]
@@ -330,7 +407,29 @@ DEFAULT_MACHINE = "dmu50"  # the thesis' machine: what every command uses unless
 
 
 def load_machine(name: str = DEFAULT_MACHINE) -> Machine:
-    """The kinematic model of a machine generated from derive/machines/<name>.toml (default: DEFAULT_MACHINE)."""
+    """The kinematic model of a machine generated from derive/machines/<name>.toml (one instance per process).
+
+    Parameters
+    ----------
+    name : str, optional
+        The spec's name (default ``"dmu50"``; ``available_machines()`` lists them).
+
+    Returns
+    -------
+    Machine
+        Its kinematics (axes, error names, forward and inverse kinematics, Jacobians).
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An unknown machine name (the message lists the available ones).
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> mtcal.load_machine("xyzac").axes
+    ('X', 'Y', 'Z', 'A', 'C')
+    """
     if name not in _CACHE:
         _check_stale()
         _CACHE[name] = Machine(name)

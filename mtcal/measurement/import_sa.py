@@ -15,7 +15,9 @@ Layout read here (the manual gives no column grammar beyond that, so this is the
   split at ``::``; how many: ``name_fields`` or, by default, the leading fields of the first data line that are
   not numbers), then x y z, then optionally the three coordinate uncertainties, then a time stamp (seconds, or
   a date and time ``YYYY-MM-DD HH:MM:SS[.f]`` / ``YYYY/MM/DD ...``, one field or two).
-Lengths in ``units`` (SA's default export unit is mm; in, m accepted) are converted to mm; time stamps become
+Lengths are converted to mm from the export's own ``// Units: ...`` comment line when it has one (``Millimeters``,
+``Inches``, ``Meters`` or mm, in, m), else from ``units`` (SA's default export unit is mm); a ``units`` given that
+contradicts the file's line is refused, naming both.  Time stamps become
 time_s (a date-time: seconds since the earliest in the file).  Uncertainties are read and checked but the tidy
 recording has no column for them: the summary says so.
 
@@ -41,6 +43,10 @@ from mtcal.io import read_text
 from mtcal.measurement.recordings import Recording, make_recording
 
 UNITS_MM = {"mm": 1.0, "in": 25.4, "m": 1000.0}
+UNIT_WORDS = {"mm": "mm", "millimeter": "mm", "millimeters": "mm", "millimetre": "mm", "millimetres": "mm",
+              "in": "in", "inch": "in", "inches": "in", "m": "m", "meter": "m", "meters": "m", "metre": "m",
+              "metres": "m"}  # the words of SA's "// Units:" comment line, read as UNITS_MM's keys
+_UNITS_LINE = re.compile(r"^//\s*units?\s*[:=]\s*(.*?)\s*$", re.I)
 GROUPS = ("axis", "round", "position", "point")  # required names of a mapping
 DIRECTIONS = {"+": 1, "+1": 1, "1": 1, "up": 1, "pos": 1, "-": -1, "-1": -1, "down": -1, "dn": -1, "neg": -1}
 HEADER_NAMES = {"collection": "collection", "group": "group", "target": "target", "point": "target",
@@ -72,10 +78,12 @@ class ImportResult:
     matched: int
     skipped: list[tuple[str, int]]  # (full name, line) of unmatched targets left out
     notes: list[str] = field(default_factory=list)
+    units: str = "mm"  # the export's length unit read (its "// Units:" line, or as given)
 
     def to_dict(self) -> dict:
-        return {"rows": len(self.recording), "axes": self.recording.axes(), "matched": self.matched,
-                "skipped": len(self.skipped), "skipped_targets": [n for n, _ in self.skipped], "notes": self.notes}
+        return {"units": self.units, "rows": len(self.recording), "axes": self.recording.axes(),
+                "matched": self.matched, "skipped": len(self.skipped),
+                "skipped_targets": [n for n, _ in self.skipped], "notes": self.notes}
 
 
 # ----------------------------------------------------------------------------- the export file
@@ -306,17 +314,41 @@ def _times(points: list[SAPoint], source: str) -> np.ndarray:
     return np.array([p.time for p in points], dtype=float)
 
 
+def file_units(text: str, source: str = "<memory>") -> tuple[str | None, int]:
+    """The length unit an export states in its ``// Units: ...`` comment line (a key of UNITS_MM) and that line's
+    number, or (None, 0) without one; a unit mtcal does not read, or two lines that disagree, are refused."""
+    found: tuple[str | None, int] = (None, 0)
+    for n, raw in enumerate(text.splitlines(), start=1):
+        m = _UNITS_LINE.match(raw.strip().lstrip("\ufeff"))
+        if m is None:
+            continue
+        unit = UNIT_WORDS.get(m.group(1).lower().rstrip("."))
+        if unit is None:
+            raise InputError(f"{source}:{n}: the export's units are {m.group(1)!r}; mtcal reads Millimeters, Inches "
+                             f"or Meters (export again in one of them)")
+        if found[0] is not None and found[0] != unit:
+            raise InputError(f"{source}:{n}: units {m.group(1)!r} contradict line {found[1]} ({found[0]})")
+        found = (unit, n) if found[0] is None else found
+    return found
+
+
 def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = None, pattern: str | None = None,
-              units: str = "mm", skip_unmatched: bool = False, name_fields: int | None = None,
+              units: str | None = None, skip_unmatched: bool = False, name_fields: int | None = None,
               machine=None) -> ImportResult:
     """SpatialAnalyzer export text -> tidy Recording (xyz in mm); exactly one of ``mapping`` / ``pattern``;
-    the axes must be axes of ``machine`` (mtcal.Machine or name; default: the default machine)."""
+    the axes must be axes of ``machine`` (mtcal.Machine or name; default: the default machine).  ``units``: the
+    export's length unit (mm, in, m); default: its ``// Units:`` line, else mm (``ImportResult.units``)."""
     from mtcal.kinematics.machine import Machine, load_machine
     axes = (machine if isinstance(machine, Machine) else load_machine(*([machine] if machine else []))).axes
     if (mapping is None) == (pattern is None):
         raise InputError("give exactly one of a mapping file (`mapping`) or a naming pattern (`pattern`)")
-    if units not in UNITS_MM:
+    if units is not None and units not in UNITS_MM:
         raise InputError(f"`units` must be one of {', '.join(UNITS_MM)}, got {units!r}")
+    stated, at = file_units(text, source)
+    if units is not None and stated is not None and units != stated:
+        raise InputError(f"{source}:{at}: the export says its units are {stated}, `units` says {units}: "
+                         f"leave `units` out to read the file's")
+    units = units or stated or "mm"
     rx = compile_pattern(pattern) if pattern is not None else None
     notes: list[str] = []
     points = read_sa_points(text, source, name_fields, notes)
@@ -345,7 +377,7 @@ def import_sa(text: str, source: str = "<memory>", mapping: TargetMap | None = N
     ax, rnd, pos, pt, d = (list(c) for c in zip(*keys))
     rec = make_recording(ax, rnd, pos, pt, xyz, _times(keep, source), d, source=source)
     rec.line = np.array([p.line for p in keep])
-    return ImportResult(rec, len(keep), skipped, notes)
+    return ImportResult(rec, len(keep), skipped, notes, units)
 
 
 def _in_mm(xyz: np.ndarray, units: str, points: list[SAPoint], source: str) -> np.ndarray:

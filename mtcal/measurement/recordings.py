@@ -28,7 +28,44 @@ STATION_COLUMNS = ("station", "tracker_x", "tracker_y", "tracker_z")
 
 @dataclass
 class Recording:
-    """Columns as arrays (one entry per measured point); ``line`` is the file line of each row."""
+    """A laser-tracker recording: its columns as arrays, one entry per reading (docs/design.md, "Files").
+
+    Attributes
+    ----------
+    axis : numpy.ndarray of str, shape (n,)
+        The axis moved (a name of the machine spec's axes).
+    round : numpy.ndarray of int, shape (n,)
+        Round number (1, 2, ...).
+    position : numpy.ndarray of float, shape (n,)
+        Commanded position of that axis, mm (linear) or deg (rotary).
+    point : numpy.ndarray of str, shape (n,)
+        Reflector nest label.
+    xyz : numpy.ndarray of float, shape (n, 3)
+        The reading, mm, machine frame.
+    time_s : numpy.ndarray of float, shape (n,)
+        Time of the reading, s; NaN where the column is absent.
+    direction : numpy.ndarray of int, shape (n,)
+        Approach direction +1 / -1; 0 where the column is absent.
+    temperature_c : numpy.ndarray of float, shape (n,)
+        A temperature channel, degC; NaN where absent.
+    line : numpy.ndarray of int, shape (n,)
+        The file line of each row (for messages).
+    source : str
+        Where the readings came from (a path, or ``"<memory>"``).
+    truth : dict or None
+        The planted truth of a simulated campaign (mtcal.campaign.simulate), else None.
+    station : numpy.ndarray of str or None
+        Tracker station label per row; None: one station (column absent).
+    tracker_xyz : numpy.ndarray of float, shape (n, 3), or None
+        Where each row's tracker stood, mm, machine frame; None: column absent.
+    other_positions : dict of str to numpy.ndarray, or None
+        The other axes' positions during each reading (``pos_<AXIS>`` columns; mm or deg); None: all at zero.
+
+    See Also
+    --------
+    read_recording : read and check a recording CSV.
+    mtcal.campaign.simulate.simulate : a simulated recording.
+    """
 
     axis: np.ndarray  # str
     round: np.ndarray  # int
@@ -81,9 +118,36 @@ def _float(text: str, col: str, where: str) -> float:
 
 
 def read_recording(path: str | Path, machine=None) -> Recording:
-    """Read and check a recording CSV (header required; units mm and degrees; see mtcal.io.read_csv_rows for
-    encodings and ';' exports).  ``machine`` (mtcal.Machine or name; default: the default machine): the axes
-    must be its axes (the commands pass their --machine)."""
+    """Read and check a recording CSV (the tidy layout of docs/design.md, "Files").
+
+    Header required; units mm and degrees; encodings and ``;`` exports as mtcal.io.read_csv_rows reads them.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV file: ``axis,round,position,point,x,y,z`` and optional ``time_s,direction,temperature_c``,
+        ``station,tracker_x,tracker_y,tracker_z``, ``pos_<AXIS>``.
+    machine : mtcal.Machine or str, optional
+        The machine whose axes the recording's must be (default: the default machine, ``dmu50``).
+
+    Returns
+    -------
+    Recording
+        The readings, mm in the machine frame, positions in mm or deg.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A bad file, header, row or value, named by file and line.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> rec = mtcal.read_recording(path("demo_campaign.csv"))
+    >>> rec.axes(), len(rec)
+    (['X', 'Y', 'Z', 'B', 'C'], 1680)
+    """
     return _parse_rows(read_csv_rows(path, "recording"), str(path), _machine(machine))
 
 

@@ -60,8 +60,33 @@ class ErrorFunction:
 
 @dataclass
 class ErrorModel:
-    """Errors of one machine by ISO 230-1 name: ``constants`` (mm, rad) and ``functions`` of their axis' position;
-    ``machine`` names the spec (its kinematics: ``kinematics``), ``meta`` what made the model."""
+    """Errors of one machine by ISO 230-1 name: constants and functions of their axis' position.
+
+    The JSON layout is docs/design.md's, "Files" (``load_model`` / ``save_model``).  ``errors_at(machine, axes)``
+    evaluates the error vector at axis positions (a position beyond a function's table is an InputError unless
+    ``extrapolate="hold"``); ``kinematics`` is the model's Machine.
+
+    Attributes
+    ----------
+    machine : str
+        The machine spec's name (derive/machines/<name>.toml).
+    constants : dict of str to float
+        Position-independent errors (squareness, location errors of rotary axes), mm and rad.
+    functions : dict of str to ErrorFunction
+        Errors as functions of their axis' position (mm or deg): a table and, when identified, the fitted function
+        that is evaluated (mtcal.model.fits); values mm and rad.
+    meta : dict
+        What made the model (method, source, tracker, noise law, worth, warnings).
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> e = model.errors_at(model.kinematics, [[100, 0, 0, 0, 0]])  # X Y Z mm, B C deg
+    >>> e.shape, f"{e[0, model.kinematics.error_names.index('E_XX')] * 1e3:.3f} um"
+    ((1, 41), '0.274 um')
+    """
 
     machine: str = DEFAULT_MACHINE
     constants: dict[str, float] = field(default_factory=dict)
@@ -233,7 +258,31 @@ def _not_an_answer(raw: dict, source: str) -> None:
 
 
 def load_model(path: str | Path) -> ErrorModel:
-    """Read an error model JSON; values are converted to mm and rad from its "units"."""
+    """Read an error model JSON (docs/design.md, "Files").
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The model file, as ``save_model`` or `mtcal identify -o` write it.
+
+    Returns
+    -------
+    ErrorModel
+        The model, values converted to mm and rad from the file's ``"units"``.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        A file that is no error model (another command's JSON answer is named), a bad name, unit or value.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> model = mtcal.load_model(path("demo_truth.json"))
+    >>> model.machine, len(model.functions)
+    ('dmu50', 30)
+    """
     return model_from_dict(read_json(path, "model"), str(path))
 
 
@@ -331,4 +380,25 @@ def _check_fit(fit: Any, source: str, where: str) -> None:
 
 
 def save_model(model: ErrorModel, path: str | Path) -> None:
+    """Write an error model JSON (mm and rad, ISO 230-1 names; docs/design.md, "Files") atomically.
+
+    Parameters
+    ----------
+    model : ErrorModel
+        The model to write.
+    path : str or pathlib.Path
+        The file (replaced atomically: a reader never sees half a file).
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> mtcal.save_model(mtcal.load_model(path("demo_truth.json")), "model.json")
+    >>> mtcal.load_model("model.json").machine
+    'dmu50'
+    """
     atomic_write_text(path, dumps(model.to_dict()) + "\n")

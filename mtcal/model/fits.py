@@ -26,9 +26,24 @@ def _nonzero(*arrays) -> bool:
 
 
 def uncertainty_columns(fit, x, domain=None) -> np.ndarray | None:
-    """The fitted value's uncertainty at ``x`` as independent columns (..., k): basis(x) times a square root of the
+    """The fitted value's uncertainty at ``x`` as independent columns: basis(x) times a square root of the
     coefficients' covariance (``info["covariance"]``, the identification's), so that their outer product is the
-    values' covariance with its correlations across positions (a slope's error keeps its sign); None without."""
+    values' covariance with its correlations across positions (a slope's error keeps its sign).
+
+    Parameters
+    ----------
+    fit : Polynomial, Harmonic or Table
+        The fitted function.
+    x : array_like
+        Axis positions, mm or deg.
+    domain : sequence of float, optional
+        A polynomial's domain when it has none of its own (the table's range).
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., k), or None
+        The columns (mm or rad); None without a covariance (a table, or a fit made elsewhere).
+    """
     c = fit.info.get("covariance") if isinstance(fit, (Polynomial, Harmonic)) else None
     if c is None:
         return None
@@ -42,7 +57,17 @@ def uncertainty_columns(fit, x, domain=None) -> np.ndarray | None:
 
 @dataclass
 class Polynomial:
-    """c0 + c1 u + ... with u the position mapped from ``domain`` (mm or deg) to [-1, 1]; None: the table's range."""
+    """A polynomial c0 + c1 u + ... with u the position mapped from ``domain`` (mm or deg) to [-1, 1].
+
+    Attributes
+    ----------
+    coefficients : list of float
+        c0, c1, ... (mm or rad).
+    domain : list of float or None
+        [lo, hi] mm or deg; None: the table's range.
+    info : dict
+        How the size was chosen (degree, criterion, scores, rms, covariance of the coefficients), kept as it came.
+    """
 
     coefficients: list[float]
     domain: list[float] | None = None
@@ -75,7 +100,21 @@ class Polynomial:
 
 @dataclass
 class Harmonic:
-    """a0 + sum_h a_h cos(h w) + b_h sin(h w), w = 2 pi x / period (x and period in deg, or mm)."""
+    """A harmonic series a0 + sum_h a_h cos(h w) + b_h sin(h w), w = 2 pi x / period (x and period in deg, or mm).
+
+    Attributes
+    ----------
+    period : float
+        The period, deg (or mm).
+    a0 : float
+        The constant term (mm or rad).
+    cos : list of float
+        a_1, a_2, ...
+    sin : list of float
+        b_1, b_2, ...
+    info : dict
+        How the size was chosen (harmonics, criterion, scores, covariance), kept as it came.
+    """
 
     period: float
     a0: float
@@ -113,7 +152,13 @@ class Harmonic:
 
 @dataclass
 class Table:
-    """The function's own table, piecewise linear between its positions (evaluated by the function)."""
+    """The function's own table, piecewise linear between its positions (evaluated by the function).
+
+    Attributes
+    ----------
+    info : dict
+        Anything else the JSON's "fit" object held, kept as it came.
+    """
 
     info: dict[str, Any] = field(default_factory=dict)
     kind: ClassVar[str] = "table"
@@ -131,7 +176,29 @@ FIT_KEYS = {"polynomial": ("coefficients", "domain"), "harmonic": ("period", "a0
 
 
 def fit_from_dict(d: dict | Fit | None) -> Fit | None:
-    """A fit from the model JSON's "fit" object (checked by mtcal.model.errormodel when read from a file)."""
+    """A fit from the model JSON's "fit" object (checked by mtcal.model.errormodel when read from a file).
+
+    Parameters
+    ----------
+    d : dict, Polynomial, Harmonic, Table or None
+        The "fit" object (``{"kind": "polynomial" | "harmonic" | "table", ...}``), or a fit (returned as it is).
+
+    Returns
+    -------
+    Polynomial, Harmonic, Table or None
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An unknown kind.
+
+    Examples
+    --------
+    >>> from mtcal.model.fits import fit_from_dict
+    >>> f = fit_from_dict({"kind": "harmonic", "period": 360, "a0": 0.0, "cos": [0.001], "sin": [0.0]})
+    >>> float(f(0.0)), f.to_dict()["kind"]
+    (0.001, 'harmonic')
+    """
     if d is None or isinstance(d, (Polynomial, Harmonic, Table)):
         return d
     kind = d.get("kind")

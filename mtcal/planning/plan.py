@@ -142,8 +142,35 @@ def _machine_and_plan(machine, plan) -> tuple[Machine, Plan]:
 
 @dataclass
 class PlanResult:
-    """The answer of `mtcal plan` (mm and rad): per axis the predicted standard uncertainty of one round of each
-    error motion at mid-travel (``axes``), of the mean of ``rounds`` rounds, and at every planned position."""
+    """The answer of `mtcal plan` (mm and rad): predicted standard uncertainties of the identified errors.
+
+    Attributes
+    ----------
+    tracker : list of float
+        The tracker position, mm, machine frame.
+    machine : str
+        The machine spec.
+    weighting : str
+        ``"tracker"`` (the noise law's covariance) or ``"none"``.
+    rounds : int
+        Rounds of the plan.
+    approaches_per_round : int
+        2 when each position is approached out and back, else 1.
+    estimator : str
+        What was predicted (the joint fit or the three-point method) and how.
+    mid_travel : dict of str to float
+        Per axis the position the ``axes`` figures are at, mm or deg.
+    axes : dict of str to dict
+        Per axis, per error name: the standard uncertainty of one round's value at mid-travel, mm or rad.
+    mean_of_rounds : dict of str to dict
+        The same for the mean of ``rounds`` rounds.
+    by_position : dict of str to dict
+        Per axis the figures at every planned position.
+    monte_carlo : dict or None
+        The Monte Carlo check of the linear prediction, when asked (``monte_carlo_n``).
+    stations : dict of str to list of float, or None
+        The plan's tracker stations, when several.
+    """
 
     tracker: list[float]
     machine: str
@@ -169,13 +196,56 @@ class PlanResult:
 def plan_uncertainty(tracker=None, plan=None, *, machine: str | Machine | None = None, monte_carlo_n: int = 0,
                      seed: int = 0, weighting: str = "tracker", axes: Iterable[str] | None = None,
                      estimator: str = "auto", tracker_model=None) -> PlanResult:
-    """The answer of `mtcal plan` (see PlanResult) for a tracker position (3,) mm (default: the plan's).
+    """Predict, before measuring, how well a plan identifies every error: the answer of `mtcal plan`.
 
-    ``estimator``: the one ``identify`` will use with the same inputs ("auto": the joint fit when the tracker is
-    known, weighting "tracker"; the three-point method without), or "joint" / "three-point" by name; the joint
-    fit's prediction is mtcal.planning.joint (linear propagation; ``monte_carlo_n`` campaigns for the Monte
-    Carlo), the three-point method's ``linear_covariance`` / ``monte_carlo`` below.  ``tracker_model``: the
-    tracker's noise law (an instrument's name, "a_r,b_r,a_t,b_t[,k]" or a TrackerSpec; None: the AT960's)."""
+    The prediction is of the estimator ``identify`` will use with the same inputs: the joint weighted fit
+    (mtcal.planning.joint, linear propagation at the plan's nominal readings; ``monte_carlo_n`` noisy campaigns
+    through the same fit to check it), or the three-point method (``linear_covariance`` / ``monte_carlo`` of this
+    module).  ``identify`` uses the joint fit when it has a tracker position, given or estimated from the rounds'
+    scatter; the three-point method only by name, or when the station cannot be estimated.
+
+    Parameters
+    ----------
+    tracker : array_like, shape (3,), optional
+        Tracker position, mm, machine frame (default: the plan's).
+    plan : Plan, dict or str, optional
+        The measurement plan (a Plan, its JSON dict or a PLAN.json path; default: the machine spec's campaign).
+    machine : str or Machine, optional
+        The machine spec (default: the plan's, else ``dmu50``).
+    monte_carlo_n : int, optional
+        Also run this many simulated draws (GUM Supplement 1) to check the linear prediction (default 0).
+    seed : int, optional
+        Seed of the draws.
+    weighting : {"tracker", "none"}, optional
+        Weight by the tracker law's covariance (as identify does with a tracker position; default) or not
+        (three-point only).
+    axes : iterable of str, optional
+        Predict only these axes (default: every axis of the plan).
+    estimator : {"auto", "joint", "three-point"}, optional
+        ``"auto"``: the joint fit with weighting "tracker", three-point with weighting "none".
+    tracker_model : str or TrackerSpec, optional
+        The tracker's noise law (an instrument's name, ``"a_r,b_r,a_t,b_t[,k]"`` or a TrackerSpec; default the
+        AT960's).
+
+    Returns
+    -------
+    PlanResult
+        Per axis and error the standard uncertainty of one round and of the mean of the rounds (mm, rad).
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An unknown estimator, the joint fit without weighting, an axis not in the plan, a bad plan.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> res = mtcal.plan_uncertainty((250, -1500, 150), axes=["X"])  # the DMU 50's default plan
+    >>> res.mid_travel
+    {'X': 250.0}
+    >>> {k: round(v * 1e3, 2) for k, v in res.mean_of_rounds["X"].items() if k in ("E_XX", "E_ZX")}  # um
+    {'E_XX': 3.91, 'E_ZX': 3.22}
+    """
     spec = trk.as_tracker_model(tracker_model)
     if estimator not in ESTIMATORS:
         raise InputError(f"`estimator` must be one of {', '.join(ESTIMATORS)}, got {estimator!r}")

@@ -37,7 +37,24 @@ DATA_DIR = Path(__file__).resolve().parent.parent / "data"
 # ----------------------------------------------------------------------------- input
 @dataclass
 class PlateData:
-    """Measured plate: ``positions[k]`` is (N, 2) in position k+1 (k = 0: aligned, 1: ~90 deg clockwise...)."""
+    """A measured 2-D ball or hole plate: the N points' coordinates in each of 2-4 positions of the plate.
+
+    Made by ``read_plate_csv(path)``, ``plate_from_arrays(ids, pos1, pos2, ...)`` or ``plate_from_pairs``.
+
+    Attributes
+    ----------
+    ids : list of str
+        Point labels, in order.
+    positions : list of numpy.ndarray
+        ``positions[k]`` is (N, 2) x, y in position k + 1 (k = 0: aligned, 1: turned ~90 deg clockwise, ...), in
+        the input's length unit.
+    source : str
+        Where the data came from (for messages).
+    rows : list of int
+        The file line of each point (for messages).
+    resolution : float
+        The last printed digit of the file's coordinates (0: arrays, full precision).
+    """
 
     ids: list[str]
     positions: list[np.ndarray]
@@ -260,8 +277,49 @@ def _unit_hint(q: float) -> str:
 class PlateFit:
     """Result of :func:`fit_plate`.  Lengths in the input unit, angles in rad.
 
-    ``design`` (N, m, p) and ``residuals`` (N, m) keep, for every point, the m = 2 (K - 1) observation rows
-    (x, y of position 1 predicted from each turned position); ``names`` label the p columns.
+    ``value(name)`` and ``stderr(name)`` read one parameter; ``to_dict()`` is the JSON answer of `mtcal plate`.
+
+    Attributes
+    ----------
+    data : PlateData
+        The data fitted.
+    metric : str
+        Where gamma goes in the corrected coordinates (x, y, split, none).
+    offsets : bool
+        Whether the plate's offsets ex, ey were fitted (False: ALBE2).
+    method : str
+        ``"first_order"`` (closed form / linear least squares) or ``"exact"`` (Gauss-Newton).
+    names : list of str
+        The fitted parameters: ``alpha``, ``beta`` (rad), ``gamma`` (1), ``ex``, ``ey`` (length), in order.
+    values : numpy.ndarray
+        Their values.
+    covariance : numpy.ndarray
+        Their covariance.
+    sigma : float
+        Residual standard deviation of one coordinate, input unit.
+    dof : int
+        Degrees of freedom of the fit.
+    residuals : numpy.ndarray, shape (N, m)
+        Per point the m = 2 (K - 1) observation rows' residuals (x, y of position 1 predicted from each turned
+        position).
+    design : numpy.ndarray, shape (N, m, p)
+        The design rows of those observations; ``names`` label the p columns.
+    turn_deg : list of float
+        Measured clockwise turn of positions 2.. relative to position 1, deg (Procrustes).
+    corrected : numpy.ndarray, shape (N, 2)
+        The plate's corrected coordinates in the gage frame.
+    origin : str
+        The point at (0, 0) of the gage frame.
+    align : str
+        The point on the ``align_axis`` axis.
+    align_axis : str
+        ``"x"`` or ``"y"``.
+    flagged : list of dict
+        Points whose residuals are too large at the family-wise level.
+    flag_rule : str
+        How they were flagged.
+    notes : list of str
+        What the user should know (a scale left out, the exact model used, ...).
     """
 
     data: PlateData
@@ -528,15 +586,57 @@ def _check_turns(data: PlateData, turns: list[float], exact: bool | None, nom: t
 def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exact: bool | None = None,
               origin: str | None = None, align: str | None = None, align_axis: str = "x",
               level: float = 0.01, translate: bool = True, scale: bool = True) -> PlateFit:
-    """Fit alpha, beta, gamma (+ ex, ey) to a plate measured in 2..4 positions.
+    """Fit the machine's alpha, beta, gamma (and the plate's ex, ey) to a plate measured in 2-4 positions.
 
-    metric: where gamma goes in the corrected coordinates (paper options: x = 1, y = 2, split = 3, none = 4;
-    the fit itself does not depend on it to first order, Appendix B).  offsets=False is ALBE2.
-    exact: None = first order unless its neglected terms (beta^2 R / 2) exceed half of sigma, then exact;
-    True = exact model (any turn); False = first order always.  level: family-wise flagging level.
-    Gage frame: ``origin`` (default: the first point) goes to (0, 0) unless translate=False, and ``align``
-    (default: the point farthest along +x) goes onto the ``align_axis`` axis.  scale=False holds gamma at 0
-    (the metric of eq. 2, Reeve's): it reproduces Reeve's alpha and beta of Tables 1 and 2.
+    The Hocken-Borchardt reversal (NBSIR 79-1752): the plate's own errors cancel between positions; what is left is
+    the machine's squareness (beta), scale difference (gamma) and the plate's set-up (alpha, ex, ey).
+
+    Parameters
+    ----------
+    data : PlateData
+        The measured plate (``read_plate_csv``, ``plate_from_arrays``).
+    metric : {"split", "x", "y", "none"}, optional
+        Where gamma goes in the corrected coordinates (paper options x = 1, y = 2, split = 3, none = 4; the fit
+        does not depend on it to first order, Appendix B).  Default ``"split"``.
+    offsets : bool, optional
+        Fit the offsets ex, ey (False: ALBE2).  Default True.
+    exact : bool, optional
+        None: first order unless its neglected terms (beta^2 R / 2) exceed half of sigma, then exact; True: the
+        exact model (any turn); False: first order always.
+    origin : str, optional
+        The point that goes to (0, 0) of the gage frame (default: the first point), unless ``translate=False``.
+    align : str, optional
+        The point that goes onto the ``align_axis`` axis (default: the point farthest along +x).
+    align_axis : {"x", "y"}, optional
+        Default ``"x"``.
+    level : float, optional
+        Family-wise level at which points are flagged (default 0.01).
+    translate : bool, optional
+        Move ``origin`` to (0, 0) (default True).
+    scale : bool, optional
+        False holds gamma at 0 (the metric of eq. 2, Reeve's): it reproduces Reeve's alpha and beta of Tables 1
+        and 2.  Default True.
+
+    Returns
+    -------
+    PlateFit
+        The parameters with their covariance, residuals, corrected coordinates, flagged points, notes.
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        Fewer than 2 positions, turns that are not about 90/180/270 deg, too few points, a bad option.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> from mtcal.data import path
+    >>> from mtcal.plate.reversal import read_plate_csv
+    >>> fit = mtcal.fit_plate(read_plate_csv(path("nbs_table1.csv")))  # NBSIR 79-1752, Table 1
+    >>> fit.names
+    ['alpha', 'beta', 'gamma', 'ex', 'ey']
+    >>> print(", ".join(f"{n} {fit.value(n) * 1e6:.2f}" for n in ("alpha", "beta", "gamma")), "(x1e-6)")
+    alpha 4.53, beta -131.01, gamma 13.48 (x1e-6)
     """
     if metric not in METRICS:
         raise InputError(f"unknown metric {metric!r}; choose one of {', '.join(METRICS)}")

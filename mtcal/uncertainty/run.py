@@ -167,9 +167,33 @@ def zero_fits(stats: dict[str, np.ndarray], outputs: Outputs, model) -> dict[str
 
 @dataclass
 class UncertaintyResult:
-    """The Monte Carlo's answer: trials, seed, p, the inputs, and per error / constant / pose the estimate and
-    intervals (mm and rad); ``budget`` {term: u of each output} when asked; ``convergence`` the interval limits
-    after each stage."""
+    """The Monte Carlo's answer: per error, constant and pose the estimate and its intervals (mm and rad).
+
+    ``to_dict()`` is the JSON of `mtcal uncertainty`: ``errors`` {name: axis, positions, mean, u, lo95, hi95,
+    shortest interval}, ``constants``, ``volumetric`` (the tool tip's deviation at the poses).
+
+    Attributes
+    ----------
+    trials : int
+        Trials run.
+    seed : int
+        The seed of the draws.
+    p : float
+        Coverage probability of the intervals (0.95).
+    inputs : dict
+        The input quantities' laws (tracker noise, length scale, centring, ...) and the estimator.
+    outputs : Outputs
+        What each column of ``stats`` is (error functions at positions, constants, poses).
+    stats : dict of str to numpy.ndarray
+        Per output column: ``mean``, ``u`` (standard uncertainty), ``lo``/``hi`` (probabilistically symmetric
+        interval), ``lo_short``/``hi_short`` (shortest interval), mm and rad.
+    budget : dict of str to dict
+        {input term: u of each output} when asked (``budget=True``).
+    convergence : list of dict
+        The interval limits' spread after each stage (adaptive runs).
+    seconds : float
+        Wall time.
+    """
 
     trials: int
     seed: int
@@ -273,11 +297,61 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
                 workers: int | None = None, scheduler: str | None = None, store: str | Path | None = None,
                 poses: np.ndarray | None = None, budget: bool = False, tolerance_mm: float | None = None,
                 stage: int = 100, progress=None, tables: bool = False, **identify_options) -> UncertaintyResult:
-    """The Monte Carlo of ``identify(rec, **identify_options)`` (module docstring): ``trials`` (the most with
-    ``tolerance_mm``: adaptive), ``workers`` local processes (default the cores; 0: in this process) or the
-    cluster at ``scheduler``; ``store`` keeps and extends the trials; ``budget``: one-at-a-time runs of each input
-    term (a quarter of the trials each, at least 50); ``tables``: the errors' table values instead of the fitted
-    functions (linear in the readings: what linear propagation predicts)."""
+    """GUM Supplement 1 Monte Carlo through the whole estimator: ``identify(rec, **identify_options)`` re-run on
+    readings drawn from the input quantities' laws (module docstring), on Dask or in this process.
+
+    Parameters
+    ----------
+    rec : Recording
+        The readings (mm, machine frame).
+    trials : int, optional
+        Trials (the most with ``tolerance_mm``: adaptive); default 1000.
+    seed : int, optional
+        Seed of the draws (default 0).
+    p : float, optional
+        Coverage probability of the intervals (default 0.95).
+    inputs : Inputs, optional
+        The input quantities and their laws (default ``Inputs()``: tracker noise, length scale from air temperature
+        and pressure, reflector centring; mtcal.uncertainty.inputs).
+    workers : int, optional
+        Local processes (default: the cores; 0: in this process).
+    scheduler : str, optional
+        The address of an existing Dask cluster (``tcp://HOST:8786``).
+    store : str or pathlib.Path, optional
+        A file that keeps the trials and extends them on the next run.
+    poses : numpy.ndarray, optional
+        Axis positions (n, n_axes) at which the tool tip's deviation is evaluated (default: over the work volume).
+    budget : bool, optional
+        Also run each input term alone (a quarter of the trials each, at least 50).
+    tolerance_mm : float, optional
+        Stop when twice the standard deviation of the interval limits is below this, mm (adaptive, in stages).
+    stage : int, optional
+        Trials per stage of the adaptive run (default 100).
+    progress : callable, optional
+        Called as trials complete.
+    tables : bool, optional
+        The errors' table values instead of the fitted functions (linear in the readings).
+    **identify_options
+        Passed to ``identify`` (tracker, method, ...).
+
+    Returns
+    -------
+    UncertaintyResult
+        Per error, constant and pose the mean, u and 95 % intervals (mm, rad).
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        As ``identify`` does; a bad option or store.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> rec, _ = mtcal.simulate(rounds=3, seed=1, plan={"axes": {"X": {}}})
+    >>> mc = mtcal.monte_carlo(rec, trials=20, workers=0, tracker=(250, -1500, 150))  # 20: a demonstration
+    >>> mc.trials, mc.p, sorted(mc.stats)
+    (20, 0.95, ['hi', 'hi_short', 'lo', 'lo_short', 'mean', 'u'])
+    """
     from mtcal.identify.run import identify
 
     t0 = time.perf_counter()
