@@ -41,6 +41,6 @@ def test_every_command_is_listed_with_its_help():
     names = _commands()
     assert {"identify", "diagnose", "iso230-2", "import-sa", "uncertainty", "plate"} <= set(names)
     r = subprocess.run([sys.executable, "-m", "mtcal.cli", "--help"], capture_output=True, text=True, timeout=120)
-    for name, (_, text) in names.items():
+    for name in names:
         assert name in r.stdout
     assert "ISO 230-2:2014 evaluation" in r.stdout

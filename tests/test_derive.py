@@ -106,7 +106,8 @@ def test_the_runtime_warns_on_a_stale_derive_without_importing_it(tmp_path):
     src.write_text("x = 2\n")
     with pytest.warns(StaleGeneratedCodeWarning):
         _check_stale(tmp_path / "generated")
-    code = "import sys, mtcal; mtcal.load_machine('dmu50'); print(sorted(m for m in sys.modules if m.startswith('derive')))"
+    code = ("import sys, mtcal; mtcal.load_machine('dmu50'); "
+            "print(sorted(m for m in sys.modules if m.startswith('derive')))")
     r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "[]"
