@@ -125,6 +125,7 @@ class Layout:
     columns: dict[str, Column] = field(default_factory=dict)  # long: role -> column; wide: "target", temps
     runs: list[Column] = field(default_factory=list)  # wide: one per run and direction
     value: str | None = None  # wide: "measured" | "deviation"
+    inferred: bool = False  # wide: the value kind taken from the units (errors in a finer unit than the target)
     twice: list[tuple[str, int, int]] = field(default_factory=list)  # (role, first column, second column), 0-based
 
 
@@ -398,7 +399,7 @@ def _units(lay: Layout, md: Metadata, unit: str | None, cols: dict | None, path,
             raise InputError(f"the run columns ({lay.runs[0].header!r} ...) do not say whether they hold errors or "
                              f"laser readings: write 'error' or 'reading' in their headers, or give --columns "
                              f"values=deviation (errors) or --columns values=measured (readings)", path, line)
-        lay.value = "deviation"
+        lay.value, lay.inferred = "deviation", True
     return {"target": tunit, "value": vunit}
 
 
@@ -483,7 +484,9 @@ def _said(path, lay: Layout, units: dict, md: Metadata, words: dict[str, int]) -
     if lay.kind == "wide":
         runs = sorted({c.run for c in lay.runs})
         cols = (f"{len(lay.runs)} run columns {lay.runs[0].header!r} ... {lay.runs[-1].header!r} (runs "
-                f"{runs[0]}-{runs[-1]}; {senses}) as {kind} in {units['value']}")
+                f"{runs[0]}-{runs[-1]}; {senses}) as {kind} in {units['value']}"
+                + (" (the headers do not say: errors, their unit being finer than the target's)" if lay.inferred
+                   else ""))
         text = f"read as a wide export (a column per run and direction): target {lay.columns['target'].header!r} " \
                f"in {units['target']}; {cols}"
     else:
