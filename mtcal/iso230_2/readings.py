@@ -230,7 +230,7 @@ def _metadata(preamble: list[tuple[int, str]], path) -> Metadata:
         elif what in ("air", "material"):
             setattr(md, f"{what}_c", _metadata_temperature(value, key, path, line))
         elif what in ("units", "target", "deviation", "measured"):
-            unit = {**UNIT_WORDS, "metric": "mm", "imperial": "in"}.get(value.lower().strip("() []"))
+            unit = UNIT_WORDS.get(value.lower().strip("() []"))
             if unit is None:
                 raise InputError(f"metadata {m.group(1).strip()!r}: {value!r} is not a unit of an interferometer "
                                  f"export ({', '.join(sorted(set(UNIT_WORDS.values())))})", path, line)
