@@ -201,3 +201,15 @@ def test_an_empty_wide_cell_is_a_missing_reading_and_the_metadata_axis_is_kept(t
     _same_figures(ev["parameters"], _oracle_um({k: v for k, v in r.items() if k != gone}))
     code, err = _run(capsys, f, "--axis", "Y")
     assert code == 2 and "gap.csv" in err and "metadata says axis X" in err, err
+
+
+def test_readings_in_um_under_unsaid_headers_are_not_taken_as_errors(tmp_path, capsys):
+    """Run columns in um with no word: errors by their unit -- unless they are the size of the travel."""
+    r = _readings()
+    f = _wide(tmp_path / "um.csv", [], "Target (mm)", lambda j, d: f"Run {j} {'Fwd' if d == 'up' else 'Rev'} (µm)",
+              value=lambda t, j, d: repr(r[(t, j, d)] * 1e3))
+    code, err = _run(capsys, f)
+    assert code == 2 and "um.csv:1:" in err and "laser readings rather than errors" in err, err
+    code, out = _run(capsys, f, "--columns", "values=measured")
+    assert code == 0, out
+    _same_figures(out["axes"]["axis"]["parameters"])

@@ -357,6 +357,8 @@ def read_readings(path: str | Path, unit: str | None = None, alpha: float | None
     if not data:
         raise InputError("no readings after the header", path, hline)
     out = (_read_wide if lay.kind == "wide" else _read_long)(lay, data, header, units, kind, dirs, path)
+    if lay.inferred:
+        _check_inferred(out, path, hline, lay)
     if "material_temperature_c" not in lay.columns and md.material_c is not None:
         out["temp"] = [md.material_c] * len(out["temp"])
     runs, notes = _runs(out, kind, alpha, path)
@@ -401,6 +403,18 @@ def _units(lay: Layout, md: Metadata, unit: str | None, cols: dict | None, path,
                              f"values=deviation (errors) or --columns values=measured (readings)", path, line)
         lay.value, lay.inferred = "deviation", True
     return {"target": tunit, "value": vunit}
+
+
+def _check_inferred(out: dict, path, line: int, lay: Layout) -> None:
+    """Run columns taken as errors from their unit alone must look like errors: not beyond a tenth of the travel
+    (laser readings written in um would be errors of the size of the travel)."""
+    dev = np.abs(np.array(out["dev"])) / (1e3 if out["kind"] == "linear" else 3600.0)  # mm or deg
+    span = float(np.ptp(out["target"]))
+    if span > 0 and dev.max() > 0.1 * span:
+        raise InputError(f"the run columns ({lay.runs[0].header!r} ...) are taken as errors, their unit being finer "
+                         f"than the target's, but reach {dev.max():g} {'mm' if out['kind'] == 'linear' else 'deg'}, "
+                         f"{100 * dev.max() / span:.0f} % of the travel: laser readings rather than errors? Say which "
+                         f"with --columns values=measured or --columns values=deviation", path, line)
 
 
 def _kind(units: dict[str, str], path, line: int) -> str:
