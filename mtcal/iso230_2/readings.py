@@ -526,8 +526,8 @@ def _runs(out: dict, kind: str, alpha: float | None, path) -> tuple[Runs, list]:
         if kind != "linear":
             raise InputError("temperature normalisation applies to a linear axis", path)
         if np.isnan(temp).any():
-            raise InputError("no material temperature (a column, or 'Material temperature: T °C' in the metadata): "
-                             "temperature normalisation needs it on every reading", path,
+            raise InputError("no material temperature (a material_temperature_c column, or 'Material temperature: "
+                             "T °C' in the metadata): temperature normalisation needs it on every reading", path,
                              out["line"][int(np.flatnonzero(np.isnan(temp))[0])])
         dev = normalise_20c(dev, temp, pos, p0, alpha)
     runs = Runs(pos, np.array(out["direction"]), np.array(out["run"]), dev, [[ln] for ln in out["line"]],
