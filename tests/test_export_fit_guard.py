@@ -52,3 +52,15 @@ def test_without_a_stated_uncertainty_a_large_miss_is_still_refused(tmp_path):
         export_model(c_model(flat, extra={}), M, "siemens", tmp_path / "c.mpf")
     near = Harmonic(360.0, 0.0, [0.0], [20e-6 * 1.02])  # 2 % of the table's largest value: no stated uncertainty
     export_model(c_model(near, extra={}), M, "siemens", tmp_path / "d.mpf")
+
+
+def test_a_few_rounds_widen_the_bound_by_students_t(tmp_path):
+    """Three rounds: u95 = t_0.975(2) s_mean = 4.30 s_mean (identify's u95); the bound is 4 / 1.96 u95 = 8.8
+    s_mean, so a 6 sigma miss of a three-round mean is no disagreement and a 12 sigma one is.  (The bundled demo
+    campaign's three-point model misses one E_AZ value by 4.3 s_mean of its 4 rounds: not refused.)"""
+    extra = {"std_mean": [STD_MEAN] * len(C), "u95": [4.30 * STD_MEAN] * len(C)}
+    six = Harmonic(360.0, 0.0, [0.0], [20e-6 + 6 * STD_MEAN])
+    export_model(c_model(six, extra), M, "siemens", tmp_path / "c.mpf")
+    twelve = Harmonic(360.0, 0.0, [0.0], [20e-6 + 12 * STD_MEAN])
+    with pytest.raises(InputError, match=r"E_CC.*95 % expanded uncertainty"):
+        export_model(c_model(twelve, extra), M, "siemens", tmp_path / "d.mpf")

@@ -186,3 +186,30 @@ def test_targets_that_cannot_be_grouped_are_refused_naming_them(tmp_path, capsys
     assert code == 2 and "twice.csv" in err and "10.004" in err and "run 3" in err, err
     code, out = _run(capsys, f, "--target-tolerance", "0.001")
     assert code == 0 and len(out["axes"]["axis"]["positions"]) == 10
+
+
+def test_an_empty_wide_cell_is_a_missing_reading_and_the_metadata_axis_is_kept(tmp_path, capsys):
+    r = _readings()
+    gone = (10.0, 3, "down")
+    f = _wide(tmp_path / "gap.csv", METADATA, "Target (mm)",
+              lambda j, d: f"Run {j} {'Fwd' if d == 'up' else 'Rev'} (µm)",
+              value=lambda t, j, d: "" if (t, j, d) == gone else f"{(r[(t, j, d)] - t) * 1e3:.6f}")
+    code, out = _run(capsys, f)
+    assert code == 0, out
+    ev = out["axes"]["X"]
+    assert ev["targets"]["n_down"][ev["positions"].index(10.0)] == 4
+    _same_figures(ev["parameters"], _oracle_um({k: v for k, v in r.items() if k != gone}))
+    code, err = _run(capsys, f, "--axis", "Y")
+    assert code == 2 and "gap.csv" in err and "metadata says axis X" in err, err
+
+
+def test_readings_in_um_under_unsaid_headers_are_not_taken_as_errors(tmp_path, capsys):
+    """Run columns in um with no word: errors by their unit -- unless they are the size of the travel."""
+    r = _readings()
+    f = _wide(tmp_path / "um.csv", [], "Target (mm)", lambda j, d: f"Run {j} {'Fwd' if d == 'up' else 'Rev'} (µm)",
+              value=lambda t, j, d: repr(r[(t, j, d)] * 1e3))
+    code, err = _run(capsys, f)
+    assert code == 2 and "um.csv:1:" in err and "laser readings rather than errors" in err, err
+    code, out = _run(capsys, f, "--columns", "values=measured")
+    assert code == 0, out
+    _same_figures(out["axes"]["axis"]["parameters"])

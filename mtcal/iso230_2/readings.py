@@ -125,6 +125,7 @@ class Layout:
     columns: dict[str, Column] = field(default_factory=dict)  # long: role -> column; wide: "target", temps
     runs: list[Column] = field(default_factory=list)  # wide: one per run and direction
     value: str | None = None  # wide: "measured" | "deviation"
+    inferred: bool = False  # wide: the value kind taken from the units (errors in a finer unit than the target)
     twice: list[tuple[str, int, int]] = field(default_factory=list)  # (role, first column, second column), 0-based
 
 
@@ -356,6 +357,8 @@ def read_readings(path: str | Path, unit: str | None = None, alpha: float | None
     if not data:
         raise InputError("no readings after the header", path, hline)
     out = (_read_wide if lay.kind == "wide" else _read_long)(lay, data, header, units, kind, dirs, path)
+    if lay.inferred:
+        _check_inferred(out, path, hline, lay)
     if "material_temperature_c" not in lay.columns and md.material_c is not None:
         out["temp"] = [md.material_c] * len(out["temp"])
     runs, notes = _runs(out, kind, alpha, path)
@@ -398,8 +401,20 @@ def _units(lay: Layout, md: Metadata, unit: str | None, cols: dict | None, path,
             raise InputError(f"the run columns ({lay.runs[0].header!r} ...) do not say whether they hold errors or "
                              f"laser readings: write 'error' or 'reading' in their headers, or give --columns "
                              f"values=deviation (errors) or --columns values=measured (readings)", path, line)
-        lay.value = "deviation"
+        lay.value, lay.inferred = "deviation", True
     return {"target": tunit, "value": vunit}
+
+
+def _check_inferred(out: dict, path, line: int, lay: Layout) -> None:
+    """Run columns taken as errors from their unit alone must look like errors: not beyond a tenth of the travel
+    (laser readings written in um would be errors of the size of the travel)."""
+    dev = np.abs(np.array(out["dev"])) / (1e3 if out["kind"] == "linear" else 3600.0)  # mm or deg
+    span = float(np.ptp(out["target"]))
+    if span > 0 and dev.max() > 0.1 * span:
+        raise InputError(f"the run columns ({lay.runs[0].header!r} ...) are taken as errors, their unit being finer "
+                         f"than the target's, but reach {dev.max():g} {'mm' if out['kind'] == 'linear' else 'deg'}, "
+                         f"{100 * dev.max() / span:.0f} % of the travel: laser readings rather than errors? Say which "
+                         f"with --columns values=measured or --columns values=deviation", path, line)
 
 
 def _kind(units: dict[str, str], path, line: int) -> str:
@@ -483,7 +498,9 @@ def _said(path, lay: Layout, units: dict, md: Metadata, words: dict[str, int]) -
     if lay.kind == "wide":
         runs = sorted({c.run for c in lay.runs})
         cols = (f"{len(lay.runs)} run columns {lay.runs[0].header!r} ... {lay.runs[-1].header!r} (runs "
-                f"{runs[0]}-{runs[-1]}; {senses}) as {kind} in {units['value']}")
+                f"{runs[0]}-{runs[-1]}; {senses}) as {kind} in {units['value']}"
+                + (" (the headers do not say: errors, their unit being finer than the target's)" if lay.inferred
+                   else ""))
         text = f"read as a wide export (a column per run and direction): target {lay.columns['target'].header!r} " \
                f"in {units['target']}; {cols}"
     else:
@@ -509,8 +526,8 @@ def _runs(out: dict, kind: str, alpha: float | None, path) -> tuple[Runs, list]:
         if kind != "linear":
             raise InputError("temperature normalisation applies to a linear axis", path)
         if np.isnan(temp).any():
-            raise InputError("no material temperature (a column, or 'Material temperature: T °C' in the metadata): "
-                             "temperature normalisation needs it on every reading", path,
+            raise InputError("no material temperature (a material_temperature_c column, or 'Material temperature: "
+                             "T °C' in the metadata): temperature normalisation needs it on every reading", path,
                              out["line"][int(np.flatnonzero(np.isnan(temp))[0])])
         dev = normalise_20c(dev, temp, pos, p0, alpha)
     runs = Runs(pos, np.array(out["direction"]), np.array(out["run"]), dev, [[ln] for ln in out["line"]],

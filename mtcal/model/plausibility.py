@@ -11,10 +11,11 @@ the error, the position and the bound) when
 * a table lies outside its axis' travel (the spec's limits), or a rotary axis without limits spans more than a
   turn;
 * a fitted function disagrees with its own table (every exporter and compensation evaluate the fit, so the table
-  the model states is not what the machine would get): at some position |fit - table| exceeds ``FIT_LEAVES_K``
-  standard uncertainties of the table value (``std_mean`` of the function's ``extra``, as identify writes it), or,
-  where the model states no uncertainty, ``FIT_UNSTATED_FRACTION`` of the table's largest |value|; never below
-  ``FIT_FLOOR`` (0.1 um, 0.5 urad), what no table is measured to.
+  the model states is not what the machine would get): at some position |fit - table| exceeds ``FIT_LEAVES_K`` /
+  1.96 times the table value's 95 % expanded uncertainty (``u95`` of the function's ``extra``, as identify writes
+  it: Student's t for a few rounds, 1.96 sigma for the joint fit, so 4 sigma there), else ``FIT_LEAVES_K`` times
+  its standard uncertainty (``std_mean``), or, where the model states no uncertainty, ``FIT_UNSTATED_FRACTION`` of
+  the table's largest |value|; never below ``FIT_FLOOR`` (0.1 um, 0.5 urad), what no table is measured to.
 ``force=True`` turns each refusal into a loud warning (returned) for a user who knows better.
 """
 from __future__ import annotations
@@ -84,6 +85,14 @@ def _short(name: str, v: float) -> str:
     return f"{v * 1e6:.3g} urad" if _angular(name) else f"{v * 1e3:.3g} um"
 
 
+def _per_position(f, key: str, n: int) -> np.ndarray:
+    """A per-position uncertainty list of the function's ``extra`` (None entries: NaN); all NaN when absent."""
+    v = f.extra.get(key) if isinstance(f.extra, dict) else None
+    if v is None or len(v) != n:
+        return np.full(n, np.nan)
+    return np.array([np.nan if x is None else x for x in v], dtype=float)
+
+
 def _fit_disagrees(name: str, f, machine: Machine) -> list[str]:
     """The position where the fitted function misses its own table most beyond the table's uncertainty (module
     docstring), as one problem; [] when it does not (or has no fit: the table is then what is evaluated)."""
@@ -95,22 +104,26 @@ def _fit_disagrees(name: str, f, machine: Machine) -> list[str]:
     if not (np.isfinite(vals).all() and np.isfinite(fitted).all()):
         return []  # said by _function_problems
     miss = np.abs(fitted - vals)
-    sm = f.extra.get("std_mean") if isinstance(f.extra, dict) else None
-    u = (np.array([np.nan if v is None else v for v in sm], dtype=float) if sm is not None and len(sm) == len(vals)
-         else np.full(len(vals), np.nan))
-    stated = np.isfinite(u) & (u > 0)
+    u95, sm = (_per_position(f, key, len(vals)) for key in ("u95", "std_mean"))
+    use95 = np.isfinite(u95) & (u95 > 0)
+    stated = use95 | (np.isfinite(sm) & (sm > 0))
+    unc = np.where(use95, u95 * FIT_LEAVES_K / 1.96, np.where(stated, FIT_LEAVES_K * np.nan_to_num(sm), 0.0))
     floor = FIT_FLOOR["angle" if _angular(name) else "translation"]
     largest = float(np.abs(vals).max())
-    limit = np.where(stated, np.maximum(FIT_LEAVES_K * np.where(stated, u, 0.0), floor),
-                     max(floor, FIT_UNSTATED_FRACTION * largest))
+    limit = np.where(stated, np.maximum(unc, floor), max(floor, FIT_UNSTATED_FRACTION * largest))
     if not (miss > limit).any():
         return []
     k = int(np.argmax(miss / limit))
     unit = machine.unit(f.axis)
-    why = (f"{miss[k] / u[k]:.1f} sigma of the table value (its standard uncertainty {_short(name, u[k])}; the bound "
-           f"is {FIT_LEAVES_K:g} sigma)" if stated[k] else
-           f"{100 * miss[k] / largest:.0f} % of the table's largest value (the model states no uncertainty; the bound "
-           f"is {100 * FIT_UNSTATED_FRACTION:g} %)")
+    if use95[k]:
+        why = (f"{miss[k] / u95[k]:.2f} times the table value's 95 % expanded uncertainty {_short(name, u95[k])} (the "
+               f"bound is {FIT_LEAVES_K / 1.96:.2f} times, 4 sigma for a normal distribution)")
+    elif stated[k]:
+        why = (f"{miss[k] / sm[k]:.1f} sigma of the table value (its standard uncertainty {_short(name, sm[k])}; the "
+               f"bound is {FIT_LEAVES_K:g} sigma)")
+    else:
+        why = (f"{100 * miss[k] / largest:.0f} % of the table's largest value (the model states no uncertainty; the "
+               f"bound is {100 * FIT_UNSTATED_FRACTION:g} %)")
     return [f"{name}: its fitted function ({f.fit.kind}) gives {_short(name, fitted[k])} at {f.axis} = "
             f"{f.positions[k]:g} {unit} where its own table says {_short(name, vals[k])}, {_short(name, miss[k])} "
             f"off: {why}; every export and compensation evaluates the fit (identify again with a higher "
