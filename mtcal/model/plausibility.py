@@ -33,9 +33,15 @@ def _travel_mm(machine: Machine) -> float:
     return max(spans or [500.0])
 
 
+def translation_bound(machine: Machine) -> float:
+    """The bound of a translational error of the machine (mm): what a geometric error can be at most (also a
+    measured check's deviation, mtcal.check.evaluate)."""
+    return max(TRANSLATION_MIN_MM, TRANSLATION_FRACTION * _travel_mm(machine))
+
+
 def bounds(machine: Machine) -> dict[str, float]:
     """The bound of every error name of the machine (mm for translational, rad for angular)."""
-    t = max(TRANSLATION_MIN_MM, TRANSLATION_FRACTION * _travel_mm(machine))
+    t = translation_bound(machine)
     return {n: (ANGLE_MAX_RAD if _angular(n) else t) for n in machine.error_names}
 
 
