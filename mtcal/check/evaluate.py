@@ -148,7 +148,8 @@ def _set_up(test: MeasuredCheck, th: np.ndarray, raw: np.ndarray, d: np.ndarray,
             m) -> tuple[np.ndarray, np.ndarray]:
     """(the ballbar's set-up offset (2,) mm, the trace about its set-up centre mm): the exact centre
     (circ.setup_centre); refused when the offset is no set-up slip or the trace about it is no machine's (the
-    plausibility guard's translational bound, mtcal.model.plausibility: deviations in um under a mm column)."""
+    plausibility guard's translational bound over the circle's diameter, mtcal.model.plausibility: deviations in um
+    under a mm column)."""
     from mtcal.model.plausibility import translation_bound
 
     c, r0 = circ.setup_centre(th, raw, radius)
@@ -157,7 +158,7 @@ def _set_up(test: MeasuredCheck, th: np.ndarray, raw: np.ndarray, d: np.ndarray,
                          f"circle's centre (radius {radius:g} mm): no set-up slip; the radius, plane or "
                          f"deviation_mm (measured minus nominal radius, mm) are wrong")
     meas = circ.about_setup_centre(th, raw, radius, c)
-    bound = translation_bound(m)
+    bound = translation_bound(m, 2 * radius)  # the guard's fraction of the span the circle covers
     left = circ.about_lsq_centre(th, meas) - circ.lsq_centre(th, meas)[0]
     k = int(np.argmax(np.abs(left)))
     worst = float(np.abs(left[k]))
@@ -165,9 +166,9 @@ def _set_up(test: MeasuredCheck, th: np.ndarray, raw: np.ndarray, d: np.ndarray,
         line = "" if test.lines is None else f", line {int(test.lines[k])}"
         what = (f"a reading {worst:.3g} mm off the fitted circle" if worst > bound or not np.isfinite(worst) else
                 f"every reading {r0:+.3g} mm off the radius {radius:g} mm")
-        raise InputError(f"{test.source}{line}: {what}, beyond what a machine's error can be ({bound:g} mm, the "
-                         f"plausibility guard's bound for machine {m.name}): deviations in um under deviation_mm, or "
-                         f"the radius wrong?")
+        raise InputError(f"{test.source}{line}: {what}, beyond what a machine's error can be over a {2 * radius:g} "
+                         f"mm circle ({bound:g} mm, the plausibility guard's bound): deviations in um under "
+                         f"deviation_mm, or the radius wrong?")
     return c, meas
 
 
