@@ -4,7 +4,11 @@ minus predicted with the prediction's uncertainty, and what the residual shows (
 The prediction's uncertainty is propagated from the identification's (each fitted function's coefficient
 covariance, correlated across positions; else its table's ``std_mean``; the squareness sigmas in the model's meta)
 through the same first-order sensitivities, errors of different names taken as independent (their correlations
-are not in the model file).  Agreement: every reading's residual, after the set-up terms (centre,
+are not in the model file).  A circular test is first checked for ISO 230-4's minimum data (a full circle per
+direction, mtcal.check.circular.check_minimum_data), its ballbar set-up fitted exactly and taken out
+(circ.setup_centre: the offset stated, the measured trace and figures about that centre, the prediction read the
+same way with its first-order centre term removed) and refused when what is left is no machine's (_set_up).
+Agreement: every reading's residual, after the set-up terms (centre,
 radius; an R-test's zero) and the dynamic signatures are taken out, within ``K_AGREE`` combined standard
 uncertainties (prediction and the residual's own noise), and no quasi-static signature beyond the model's
 uncertainty (mtcal.check.signatures: a backlash, a squareness the model does not hold)."""
@@ -65,8 +69,11 @@ def uncertainty_columns(model: ErrorModel, machine, axes: np.ndarray) -> np.ndar
 
 @dataclass
 class CheckEvaluation:
-    """A measured check against the model: figures (mm) measured, predicted and of the residual, the largest
-    expanded (k = 2) uncertainty of the prediction, agreement, findings, and the trace."""
+    """A measured check against the model: figures (mm) measured, predicted and of the residual (a circular
+    test: about the ballbar's set-up centre; ``H_mm`` None with one direction), the largest expanded (k = 2)
+    uncertainty of the prediction, agreement, findings, the trace, the set-up (a circular test's fitted offset in
+    ``setup_offset_mm``) and the error evaluations outside the model's measured range (``outside``: name ->
+    count, end values held)."""
 
     kind: str
     source: str
