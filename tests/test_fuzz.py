@@ -141,6 +141,8 @@ def _check_output(case_dir: Path, chk: dict, stdout: str) -> list[str]:
         return [f"stdout JSON lacks {k!r}" for k in chk["keys"] if k not in js]
     if kind == "iso_mean":
         return oracle.check_iso_mean(js, chk)
+    if kind == "check_json":
+        return oracle.check_check_json(js, chk)
     if kind == "plan_sigma":
         got = js["axes"][chk["axis"]][chk["name"]]
         ok = abs(got - chk["value"]) <= chk["rtol"] * chk["value"]

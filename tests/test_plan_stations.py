@@ -73,3 +73,16 @@ def test_monte_carlo_of_identify_decides_the_design(tmp_path, capsys):
                  "--floor=-1500,0", "--heights", "150", "--monte-carlo", "4", "--workers", "0", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["decided_by"].startswith("Monte Carlo") and out["recommended"]["monte_carlo_um"] > 0
+
+
+def test_a_floor_position_inside_the_work_volume_is_refused():
+    """Issue 35: `--floor` inside the machine's enclosure (the plan's reflector positions plus 400 mm,
+    mtcal.planning.plan.enclosure) is no place for a tracker: refused, naming the position and the box."""
+    import pytest
+
+    from mtcal.errors import InputError
+    from mtcal.planning.plan import enclosure
+    x0, x1, y0, y1 = enclosure(PLAN)
+    assert x0 < 0 < x1 and y0 < 0 < y1  # the table's centre is inside
+    with pytest.raises(InputError, match=r"floor position 0,0 mm is inside the machine's enclosure"):
+        design(PLAN, [(250, -1500), (0, 0)], [150], target_um=1.0, max_stations=2)

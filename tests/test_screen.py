@@ -180,3 +180,24 @@ def test_a_reading_where_the_tracker_found_no_target_is_named_so():
     (p,) = s.problems
     assert p.kind == "far_reading" and p.points == ("Q",) and "no target (the tracker wrote 0, 0, 0)" in p.text
     assert str(i + 1) in p.text
+
+
+def test_a_far_reading_is_said_at_its_distance_from_its_own_nest():
+    """Issue 36 item 5: the message stated the worst pair-distance error (89.5 mm for a reading 301.5 mm from its
+    nest, understated 2.6-3.3 times).  A reading moved by a known vector (here 301.5 mm: (201, 150.75, -166.66) has
+    that length) is said at that distance, to the machine's errors (tens of um)."""
+    _, lines = _campaign(7)
+    bad = list(lines)
+    i = _rows(lines, "X", 3, "K")[5]
+    move = np.array([201.0, 150.75, -166.66])
+    f = bad[i].split(",")
+    for k in range(3):
+        f[4 + k] = f"{float(f[4 + k]) + move[k]:.6f}"
+    bad[i] = ",".join(f)
+    rec = parse_recording("\n".join(bad), "rec.csv")
+    (far,) = [p for p in screen(rec, M.sides, M).problems if p.kind == "far_reading"]
+    assert far.points == ("K",) and far.lines == (i + 1,)
+    assert far.size_mm == pytest.approx(np.linalg.norm(move), abs=0.1)
+    assert f"{np.linalg.norm(move):.4g} mm from where its nest is" in far.text
+    res = identify(rec, tracker=TRACKER, worth=False)  # identify says the same distance
+    assert any("301.5 mm from where its nest is" in w for w in res.warnings), res.warnings

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.model.errormodel import ErrorModel
+from mtcal.model.errormodel import ErrorEvaluator, ErrorModel
 
 DIRECTIONS = {"ccw": (1,), "cw": (-1,), "both": (1, -1)}
 
@@ -147,16 +147,81 @@ def radial_sensitivity(machine, g: CircleGeometry, tool_length: float = 0.0) -> 
     return np.einsum("nk,nke->ne", g.u, J)
 
 
-def radial_deviation(machine, model: ErrorModel, g: CircleGeometry,
-                     tool_length: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def radial_deviation(machine, model: ErrorModel, g: CircleGeometry, tool_length: float = 0.0,
+                     outside: dict[str, int] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """(deltaR (n,) mm, contributions (n, n_errors) mm): the model's first-order radial deviation and each
-    error's share (they sum to deltaR)."""
-    e = model.errors_at(machine, g.axes, extrapolate="hold")
-    e0 = model.errors_at(machine, g.centre_axes[None], extrapolate="hold")
+    error's share (they sum to deltaR).  Positions outside an error function's measured range hold its end
+    values (as ``compensate`` does by default); ``outside`` (a dict) is given the count per function."""
+    ev = ErrorEvaluator(model, machine, "hold")
+    e = ev(g.axes)
+    e0 = ev(g.centre_axes[None])
+    if outside is not None:
+        outside.update(ev.outside_counts)
     J = machine.jacobian_errors(g.axes, tool_length)[:, :3, :]
     J0 = machine.jacobian_errors(g.centre_axes[None], tool_length)[:, :3, :]
     contrib = np.einsum("nk,nke,ne->ne", g.u, J, e) - np.einsum("nk,ke,e->ne", g.u, J0[0], e0[0])
     return contrib.sum(axis=1), contrib
+
+
+# ----------------------------------------------------------------------------------------------- set-up
+def setup_centre(theta_deg: np.ndarray, dr: np.ndarray, radius_mm: float,
+                 iterations: int = 30) -> tuple[np.ndarray, float]:
+    """The ballbar's set-up fitted exactly: (c (2,) mm, r0 mm), the table ball's offset from the circle's centre
+    along the plane's two axes and the length beyond ``radius_mm``, such that the readings' lengths
+    L = R + deltaR are |R u(theta) - c| + r0 in the least-squares sense (Gauss-Newton from the linearised
+    centre).  A set-up offset e leaves, after its first-order term -e . u is removed, the oval e^2 sin^2 / 2R
+    (ISO 230-4): only the exact centre takes it out."""
+    th = np.radians(np.asarray(theta_deg, dtype=float))
+    u = np.column_stack([np.cos(th), np.sin(th)])
+    L = radius_mm + np.asarray(dr, dtype=float)
+    r0, a, b = lsq_centre(theta_deg, dr)
+    x = np.array([-a, -b, r0])
+    for _ in range(iterations):
+        v = radius_mm * u - x[:2]
+        n = np.linalg.norm(v, axis=1)
+        f = n + x[2] - L
+        J = np.column_stack([-v / n[:, None], np.ones_like(n)])
+        step = np.linalg.lstsq(J, -f, rcond=None)[0]
+        x += step
+        if np.abs(step).max() < 1e-13 * max(radius_mm, 1.0):
+            break
+    return x[:2], float(x[2])
+
+
+def about_setup_centre(theta_deg: np.ndarray, dr: np.ndarray, radius_mm: float, c: np.ndarray) -> np.ndarray:
+    """deltaR about the set-up centre ``c`` (mm along the plane's axes): the length read minus the distance of
+    the nominal path from the table ball, L - |R u - c| (mm; the length r0 left in)."""
+    th = np.radians(np.asarray(theta_deg, dtype=float))
+    u = np.column_stack([np.cos(th), np.sin(th)])
+    return radius_mm + np.asarray(dr, dtype=float) - np.linalg.norm(radius_mm * u - np.asarray(c)[None], axis=1)
+
+
+MAX_GAP_DEG = 15.0  # a path covers the full circle with no gap wider (>= 24 readings): 20 signature columns
+
+
+def check_minimum_data(theta_deg: np.ndarray, direction: np.ndarray, source: str,
+                       lines: np.ndarray | None = None) -> None:
+    """ISO 230-4's minimum data before any verdict: every path (direction) a full circle, no gap between
+    neighbouring readings wider than MAX_GAP_DEG (an arc cannot tell the set-up centre from the ovals);
+    InputError naming the file, the gap and its lines."""
+    theta_deg, direction = np.asarray(theta_deg, dtype=float), np.asarray(direction)
+    for d, key in ((1, "counter-clockwise"), (-1, "clockwise")):
+        on = np.flatnonzero(direction == d)
+        if not len(on):
+            continue
+        t = np.mod(theta_deg[on], 360.0)
+        order = np.argsort(t, kind="stable")
+        ts = t[order]
+        gaps = np.diff(np.concatenate([ts, ts[:1] + 360.0]))
+        k = int(np.argmax(gaps))
+        if len(on) < 360.0 / MAX_GAP_DEG or gaps[k] > MAX_GAP_DEG + 1e-9:
+            i, j = on[order[k]], on[order[(k + 1) % len(on)]]
+            where = "" if lines is None else f" (lines {int(lines[i])} and {int(lines[j])})"
+            raise InputError(f"{source}: the {key} path has {len(on)} readings and no reading between "
+                             f"{ts[k]:g} and {np.mod(ts[k] + gaps[k], 360.0):g} deg{where}: ISO 230-4's circular "
+                             f"test is a full circle (readings at most {MAX_GAP_DEG:g} deg apart, >= "
+                             f"{int(360 / MAX_GAP_DEG)} a path); an arc cannot tell the ballbar's set-up from the "
+                             f"machine's ovals")
 
 
 # ----------------------------------------------------------------------------------------------- ISO 230-4
@@ -242,6 +307,7 @@ class CircularPrediction:
     direction: np.ndarray
     figures: dict[str, float]
     contributions: dict[str, float]
+    outside: dict[str, int] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         s = self.setup
@@ -249,7 +315,7 @@ class CircularPrediction:
                 "direction": s.direction, "arc_deg": s.arc_deg, "fixed_deg": dict(s.fixed), **self.figures,
                 "trace": [[round(float(t), 6), float(r), int(d)] for t, r, d in
                           zip(self.theta_deg, self.dr, self.direction)],
-                "contributions": self.contributions}
+                "contributions": self.contributions, "outside_range": dict(self.outside)}
 
 
 def _paths(theta_deg: np.ndarray, dr: np.ndarray, direction: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -296,7 +362,8 @@ def predict_circular(model: ErrorModel, setup: CircleSetup, machine=None) -> Cir
     if setup.direction not in DIRECTIONS:
         raise InputError(f"direction must be one of {', '.join(DIRECTIONS)}, got {setup.direction!r}")
     g = geometry(m, setup)
-    dr, contrib = radial_deviation(m, model, g, setup.tool_length)
+    outside: dict[str, int] = {}
+    dr, contrib = radial_deviation(m, model, g, setup.tool_length, outside)
     theta, trace, direction = _paths(g.theta_deg, dr, setup.direction)
     parts = {}
     for k, name in enumerate(m.error_names):
@@ -304,7 +371,7 @@ def predict_circular(model: ErrorModel, setup: CircleSetup, machine=None) -> Cir
             parts[name] = float(np.ptp(about_lsq_centre(g.theta_deg, contrib[:, k])))
     parts = dict(sorted(((n, v) for n, v in parts.items() if v > 0), key=lambda kv: -kv[1]))
     return CircularPrediction(setup, tuple(float(g.centre_axes[m.index(a)]) for a in m.linear_axes), theta, trace,
-                              direction, figures(theta, trace, direction), parts)
+                              direction, figures(theta, trace, direction), parts, outside)
 
 
 def predict_circular_compensated(model: ErrorModel, setup: CircleSetup, machine=None, iterations: int = 2,

@@ -4,7 +4,11 @@ minus predicted with the prediction's uncertainty, and what the residual shows (
 The prediction's uncertainty is propagated from the identification's (each fitted function's coefficient
 covariance, correlated across positions; else its table's ``std_mean``; the squareness sigmas in the model's meta)
 through the same first-order sensitivities, errors of different names taken as independent (their correlations
-are not in the model file).  Agreement: every reading's residual, after the set-up terms (centre,
+are not in the model file).  A circular test is first checked for ISO 230-4's minimum data (a full circle per
+direction, mtcal.check.circular.check_minimum_data), its ballbar set-up fitted exactly and taken out
+(circ.setup_centre: the offset stated, the measured trace and figures about that centre, the prediction read the
+same way with its first-order centre term removed) and refused when what is left is no machine's (_set_up).
+Agreement: every reading's residual, after the set-up terms (centre,
 radius; an R-test's zero) and the dynamic signatures are taken out, within ``K_AGREE`` combined standard
 uncertainties (prediction and the residual's own noise), and no quasi-static signature beyond the model's
 uncertainty (mtcal.check.signatures: a backlash, a squareness the model does not hold)."""
@@ -22,6 +26,7 @@ from mtcal.errors import InputError
 from mtcal.model.errormodel import ErrorModel
 from mtcal.model.fits import uncertainty_columns as fit_columns
 
+RESOLUTION_SD_MM = 1e-4 / np.sqrt(12)  # a ballbar's 0.1 um resolution as a standard uncertainty (noise-free data)
 K_AGREE = 4.0  # max |residual| / combined sigma over hundreds of readings: beyond it the model and the test differ
 
 
@@ -73,7 +78,8 @@ class CheckEvaluation:
     source : str
         The test's source.
     measured : dict
-        Its figures (circular: G, H, F per direction; R-test: ranges per direction), mm.
+        Its figures (circular: G, H, F per direction, about the ballbar's fitted set-up centre; ``H_mm`` None with
+        one direction; R-test: ranges per direction), mm.
     predicted : dict
         The model's figures, mm.
     residual : dict
@@ -91,7 +97,10 @@ class CheckEvaluation:
     trace : list
         Per point: position, measured, predicted, uncertainty, direction.
     setup : dict
-        The test as evaluated (plane, radius, centre; or axis, sphere).
+        The test as evaluated (plane, radius, centre, the circular test's fitted set-up offset
+        ``setup_offset_mm``; or axis, sphere).
+    outside : dict
+        Error evaluations outside the model's measured range: name -> count (end values held).
     """
 
     kind: str
@@ -106,12 +115,14 @@ class CheckEvaluation:
     findings: list[Signature] = field(default_factory=list)
     trace: list = field(default_factory=list)
     setup: dict = field(default_factory=dict)
+    outside: dict[str, int] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "source": self.source, **self.setup, "measured": self.measured,
                 "predicted": self.predicted, "residual": self.residual, "prediction_u95_mm": self.prediction_u95_mm,
                 "noise_sd_mm": self.noise_sd_mm, "agrees": self.agrees, "worst_z": self.worst_z, "k_agree": K_AGREE,
-                "findings": [f.to_dict() for f in self.findings], "trace": self.trace}
+                "findings": [f.to_dict() for f in self.findings], "trace": self.trace,
+                "outside_range": dict(self.outside)}
 
 
 def evaluate_check(test: MeasuredCheck, model: ErrorModel, machine=None, uncertainty_from: ErrorModel | None = None,
@@ -164,9 +175,13 @@ def _circular(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, ove
             raise InputError(f"{test.source}: the circular test's {key} is not given (header '# {key}: ...' or option)")
     s = circ.CircleSetup(info["plane"], float(info["radius_mm"]), info.get("centre_mm"),
                          fixed=info.get("fixed") or info.get("fixed_deg", {}), tool_length=info.get("tool_length", 0.0))
-    th, meas, d = test.data["angle_deg"], test.data["deviation_mm"], test.data["direction"]
+    th, raw, d = test.data["angle_deg"], test.data["deviation_mm"], test.data["direction"]
     g = circ.geometry(m, s, th)
-    pred, _ = circ.radial_deviation(m, model, g, s.tool_length)
+    circ.check_minimum_data(th, d, test.source, test.lines)
+    offset, meas = _set_up(test, th, raw, d, s.radius_mm, m)
+    outside: dict[str, int] = {}
+    pred, _ = circ.radial_deviation(m, model, g, s.tool_length, outside)
+    pred = circ.about_lsq_centre(th, pred)  # read as the measurement is: about the ballbar's set-up centre
     L = np.einsum("ne,nek->nk", circ.radial_sensitivity(m, g, s.tool_length),
                   uncertainty_columns(umodel, m, g.axes))  # (n, k) mm
     u = np.sqrt((L**2).sum(axis=1))
@@ -175,15 +190,54 @@ def _circular(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, ove
     coef = circ.lsq_centre(th, resid)
     centred = circ.about_lsq_centre(th, resid, coef) - coef[0]  # the set-up terms (centre, radius) taken out
     dynamic = sum((f.size * d * np.sin(2 * np.radians(th)) for f in found if not f.quasi_static), np.zeros_like(th))
-    z = (centred - dynamic) / np.sqrt(u**2 + noise**2)
+    z = (centred - dynamic) / np.sqrt(u**2 + noise**2 + RESOLUTION_SD_MM**2)
     worst = float(np.abs(z).max())
     agrees = worst <= K_AGREE and not any(f.quasi_static for f in found)
     centre = tuple(float(g.centre_axes[m.index(a)]) for a in m.linear_axes)
-    return CheckEvaluation("circular", test.source, circ.figures(th, meas, d), circ.figures(th, pred, d),
-                           circ.figures(th, resid, d), float(2 * u.max()), noise, agrees, worst, found,
+    both = len(set(d.tolist())) == 2
+    figs = [_one_way(circ.figures(th, v, d), both) for v in (meas, pred, resid)]
+    return CheckEvaluation("circular", test.source, *figs, float(2 * u.max()), noise, agrees, worst, found,
                            [[float(a), float(b), float(c), float(e), int(f)] for a, b, c, e, f in
                             zip(th, meas, pred, u, d)],
-                           {"plane": s.plane, "radius_mm": s.radius_mm, "centre_mm": list(centre)})
+                           {"plane": s.plane, "radius_mm": s.radius_mm, "centre_mm": list(centre),
+                            "directions": 2 if both else 1, "setup_offset_mm": [float(v) for v in offset],
+                            "setup_offset_size_mm": float(np.hypot(*offset))}, outside)
+
+
+def _one_way(f: dict, both: bool) -> dict:
+    """The figures of one direction: no hysteresis H was measured (None), not H = 0."""
+    return f if both else {**f, "H_mm": None}
+
+
+MAX_SETUP_FRACTION = 0.25  # a table ball farther than this share of the radius off the centre is no set-up slip
+
+
+def _set_up(test: MeasuredCheck, th: np.ndarray, raw: np.ndarray, d: np.ndarray, radius: float,
+            m) -> tuple[np.ndarray, np.ndarray]:
+    """(the ballbar's set-up offset (2,) mm, the trace about its set-up centre mm): the exact centre
+    (circ.setup_centre); refused when the offset is no set-up slip or the trace about it is no machine's (the
+    plausibility guard's translational bound over the circle's diameter, mtcal.model.plausibility: deviations in um
+    under a mm column)."""
+    from mtcal.model.plausibility import translation_bound
+
+    c, r0 = circ.setup_centre(th, raw, radius)
+    if not np.hypot(*c) <= MAX_SETUP_FRACTION * radius:
+        raise InputError(f"{test.source}: the readings put the ballbar's centre {np.hypot(*c):.3g} mm off the "
+                         f"circle's centre (radius {radius:g} mm): no set-up slip; the radius, plane or "
+                         f"deviation_mm (measured minus nominal radius, mm) are wrong")
+    meas = circ.about_setup_centre(th, raw, radius, c)
+    bound = translation_bound(m, 2 * radius)  # the guard's fraction of the span the circle covers
+    left = circ.about_lsq_centre(th, meas) - circ.lsq_centre(th, meas)[0]
+    k = int(np.argmax(np.abs(left)))
+    worst = float(np.abs(left[k]))
+    if not (worst <= bound and abs(r0) <= bound):
+        line = "" if test.lines is None else f", line {int(test.lines[k])}"
+        what = (f"a reading {worst:.3g} mm off the fitted circle" if worst > bound or not np.isfinite(worst) else
+                f"every reading {r0:+.3g} mm off the radius {radius:g} mm")
+        raise InputError(f"{test.source}{line}: {what}, beyond what a machine's error can be over a {2 * radius:g} "
+                         f"mm circle ({bound:g} mm, the plausibility guard's bound): deviations in um under "
+                         f"deviation_mm, or the radius wrong?")
+    return c, meas
 
 
 def _rtest(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, over: dict) -> CheckEvaluation:

@@ -57,6 +57,7 @@ class MeasuredCheck:
     source: str
     info: dict = field(default_factory=dict)
     data: dict[str, np.ndarray] = field(default_factory=dict)
+    lines: np.ndarray | None = None  # each reading's line in the file (1-based), None when not from a file
 
 
 def _header(lines: list[str], source: str) -> tuple[dict, int]:
@@ -70,7 +71,11 @@ def _header(lines: list[str], source: str) -> tuple[dict, int]:
         body = s[1:].split("(")[0].strip()
         if ":" in body:
             key, val = (x.strip() for x in body.split(":", 1))
-            info[key.lower()] = (val, k + 1)
+            key = key.lower()
+            if key in info and info[key][0] != val:
+                raise InputError(f"{source}, line {k + 1}: {key} given twice ({info[key][0]!r} at line "
+                                 f"{info[key][1]}, {val!r} here): which one was measured? (two tests in one file?)")
+            info[key] = (val, k + 1)
     raise InputError(f"{source}: no data (a header line of column names, then one row per reading)")
 
 
@@ -145,7 +150,10 @@ def read_check(path: str | Path) -> MeasuredCheck:
     if kind is None:
         raise InputError(f"{source}, line {start + 1}: columns must be {','.join(CIRCULAR_COLUMNS)} (circular test) or "
                          f"{','.join(RTEST_COLUMNS)} (R-test), got {','.join(head)}")
-    data = _columns(rows[1:], head, CIRCULAR_COLUMNS if kind == "circular" else RTEST_COLUMNS, source, start + 2)
+    data, lines = _columns(rows[1:], head, CIRCULAR_COLUMNS if kind == "circular" else RTEST_COLUMNS, source,
+                           start + 2)
+    if kind == "circular":
+        _paths(data, lines, "direction" in head, source)
     info: dict = {}
     for key, (val, line) in raw.items():
         if key in ("centre_mm", "sphere_mm"):
@@ -156,13 +164,15 @@ def read_check(path: str | Path) -> MeasuredCheck:
             info[key] = parse_fixed(val, f"{source}, line {line}: fixed_deg")
         elif key in ("plane", "axis"):
             info[key] = val.upper()
-    return MeasuredCheck(kind, source, info, data)
+    return MeasuredCheck(kind, source, info, data, lines)
 
 
 def _columns(rows: list[list[str]], head: list[str], need: tuple[str, ...], source: str,
-             first: int) -> dict[str, np.ndarray]:
+             first: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """(columns {name: (n,)}, each reading's line (n,)); a cell that is not a finite number is refused."""
     idx = {c: head.index(c) for c in need if c in head}
-    out = {c: [] for c in idx}
+    out: dict[str, list[float]] = {c: [] for c in idx}
+    lines = []
     for k, row in enumerate(rows):
         if not row or not "".join(row).strip():
             continue
@@ -175,11 +185,55 @@ def _columns(rows: list[list[str]], head: list[str], need: tuple[str, ...], sour
             if not np.isfinite(v):
                 raise InputError(f"{source}, line {first + k}: {c} must be finite, got {row[i]!r}")
             out[c].append(v)
+        lines.append(first + k)
     arr = {c: np.array(v) for c, v in out.items()}
     if "direction" in need and "direction" not in arr:
         arr["direction"] = np.ones(len(next(iter(arr.values()))))
-    if "direction" in arr and not np.isin(arr["direction"], (-1, 1)).all():
-        raise InputError(f"{source}: direction must be +1 (counter-clockwise) or -1 (clockwise)")
+    bad = np.flatnonzero(~np.isin(arr["direction"], (-1, 1))) if "direction" in arr else []
+    if len(bad):
+        raise InputError(f"{source}, line {lines[bad[0]]}: direction must be +1 (counter-clockwise) or -1 "
+                         f"(clockwise), got {arr['direction'][bad[0]]:g}")
     if len(next(iter(arr.values()))) < 3:
         raise InputError(f"{source}: a check test needs at least 3 readings")
-    return arr
+    return arr, np.array(lines, dtype=int)
+
+
+OVERRUN_DEG = 30.0  # a path may run past its start by this much (ISO 230-4's overrun arcs), not a second turn
+
+
+def _paths(data: dict[str, np.ndarray], lines: np.ndarray, has_direction: bool, source: str) -> None:
+    """A circular test's file holds one path per direction, each in its order of travel: refused (naming the
+    line) when the readings of a direction come in two blocks or turn more than once (two tests concatenated), or,
+    without a direction column, when the angle runs back (both directions in the file: say which is which)."""
+    th, d = data["angle_deg"], data["direction"]
+    runs = np.flatnonzero(np.diff(d) != 0) + 1
+    starts = np.concatenate([[0], runs])
+    seen: dict[float, int] = {}
+    for a, b in zip(starts, np.concatenate([runs, [len(d)]])):
+        key = float(d[a])
+        if key in seen:
+            raise InputError(f"{source}, line {lines[a]}: the {'counter-clockwise' if key > 0 else 'clockwise'} "
+                             f"readings start again (they began at line {lines[seen[key]]}): two tests in one "
+                             f"file? One test a file, each direction's readings in their order of travel")
+        seen[key] = a
+        step = np.diff(th[a:b])
+        step = (step + 180.0) % 360.0 - 180.0  # the wrap at 360 is one step on
+        moving = np.sign(step[step != 0])
+        back = np.flatnonzero(np.sign(step) == -moving[0]) if len(moving) else []  # against the first move
+        if len(back):
+            i = a + int(back[0]) + 1
+            if not has_direction:
+                raise InputError(f"{source}, line {lines[i]}: angle_deg runs back ({th[i - 1]:g} then {th[i]:g} "
+                                 f"deg) and there is no direction column: both directions in one file? Give "
+                                 f"direction (+1 counter-clockwise, -1 clockwise) on every row")
+            raise InputError(f"{source}, line {lines[i]}: angle_deg runs back ({th[i - 1]:g} then {th[i]:g} deg) "
+                             f"within the {'counter-clockwise' if key > 0 else 'clockwise'} path: each direction's "
+                             f"readings in their order of travel, one test a file")
+        turn = float(np.abs(step).sum())
+        if turn > 360.0 + OVERRUN_DEG:
+            i = a + int(np.searchsorted(np.cumsum(np.abs(step)), 360.0 + OVERRUN_DEG)) + 1
+            path = f"the {'counter-clockwise' if key > 0 else 'clockwise'} path" if has_direction else \
+                "the readings (no direction column)"
+            raise InputError(f"{source}, line {lines[min(i, b - 1)]}: {path} turn {turn:.0f} deg, more than once "
+                             f"round: two tests or both directions in one file? One test a file, direction (+1 "
+                             f"counter-clockwise, -1 clockwise) on every row")

@@ -9,7 +9,8 @@ the axes: R (s_a - s_b)/2 cos 2theta), backlash of either axis (a step of b at t
 reverses: the lost motion is +b/2 in the direction of travel), cyclic errors (harmonics 3..8).  Dynamic, outside
 the quasi-static model: servo mismatch (the two axes' following errors differ: an oval along 45 deg whose sign
 flips with the direction of travel) - a quasi-static model cannot hold it, so it is named as dynamic, never as a
-squareness or a model error.  The centre and radius terms (set-up, ballbar length) are fitted and not reported."""
+squareness or a model error; a test of one direction cannot tell it from a squareness (it is not fitted then).
+The centre and radius terms (set-up, ballbar length) are fitted and not reported."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -49,6 +50,8 @@ def _columns(theta_deg: np.ndarray, direction: np.ndarray, plane: str) -> tuple[
             f"backlash_{b}": 0.5 * np.sin(th) * np.sign(d * np.cos(th))}
     for k in HARMONICS:
         cols[f"cos{k}"], cols[f"sin{k}"] = np.cos(k * th), np.sin(k * th)
+    if len(np.unique(d)) < 2:  # one direction: a servo mismatch is the squareness column; it cannot be told apart
+        del cols["servo"]
     return list(cols), np.column_stack(list(cols.values()))
 
 
@@ -99,7 +102,7 @@ def _named(names: list[str], coef: np.ndarray, t: np.ndarray, plane: str, r: flo
         amp, k = max(cyc)
         out.append(Signature("cyclic", amp, "mm", amp, max(abs(tv[f"cos{k}"]), abs(tv[f"sin{k}"])), True,
                              f"cyclic error: {amp * 1e3:.2f} um at {k} waves per revolution"))
-    if abs(tv["servo"]) > T_SIGNIFICANT:
+    if abs(tv.get("servo", 0.0)) > T_SIGNIFICANT:
         out.append(Signature("servo_mismatch", c["servo"], "mm", abs(c["servo"]) * 2, tv["servo"], False,
                              f"servo mismatch: an oval along 45 deg that flips with the direction of travel "
                              f"({abs(c['servo']) * 2e3:.2f} um): the axes' following errors differ; dynamic, outside "

@@ -17,6 +17,7 @@ import numpy as np
 
 from mtcal.check.evaluate import after_compensation, constant_sigmas, evaluate_check, uncertainty_columns
 from mtcal.check.files import MeasuredCheck
+from mtcal.errors import InputError
 from mtcal.model.errormodel import ErrorModel
 
 K_VERIFY = 3.0  # coverage factor of "within": a few positions per error, normal to within the t of >= 4 rounds
@@ -74,7 +75,8 @@ class Verification:
                 **({"check": self.check} if self.check is not None else {})}
 
 
-def verify(data, model: ErrorModel, *, covered: set[str] | None = None, **identify_options) -> Verification:
+def verify(data, model: ErrorModel, *, covered: set[str] | None = None, machine=None,
+           **identify_options) -> Verification:
     """Verify a compensation with ``model`` from a measurement made after it.
 
     A recording is identified again and every error left is compared with zero within the combined uncertainty of
@@ -87,7 +89,10 @@ def verify(data, model: ErrorModel, *, covered: set[str] | None = None, **identi
     model : ErrorModel
         The model the machine was compensated with.
     covered : set of str, optional
-        The errors the compensation acted on (default: all of the model's).
+        The errors the compensation acted on (default: all of the model's; a name the model does not hold is
+        refused: the compensation cannot have acted on it).
+    machine : str or Machine, optional
+        The machine measured (default the model's): refused when it is not the model's machine.
     **identify_options
         Passed to ``identify`` for a recording (tracker, method, ...).
 
@@ -99,7 +104,7 @@ def verify(data, model: ErrorModel, *, covered: set[str] | None = None, **identi
     Raises
     ------
     mtcal.errors.InputError
-        As ``identify`` or ``evaluate_check`` do.
+        As ``identify`` or ``evaluate_check`` do; an unknown ``covered`` name, another machine than the model's.
 
     Examples
     --------
@@ -111,6 +116,18 @@ def verify(data, model: ErrorModel, *, covered: set[str] | None = None, **identi
     >>> mtcal.verify(test, model).passed
     False
     """
+    name = getattr(machine, "name", machine)
+    if name is not None and name != model.machine:
+        raise InputError(f"the model is of machine {model.machine}, not {name} (`machine`): verify a compensation "
+                         f"with the model of the machine measured")
+    if covered is not None:
+        unknown = sorted(set(covered) - set(model.names()))
+        if unknown or not covered:
+            known = set(model.kinematics.error_names)
+            what = ("is not an error of machine " + model.machine if unknown and unknown[0] not in known else
+                    "is not held by the model: the compensation cannot have acted on it") if unknown else ""
+            raise InputError(f"`covered`: {unknown[0] + ' ' + what if unknown else 'names no error'}; the model "
+                             f"holds {', '.join(sorted(model.names())) or 'nothing'}")
     if isinstance(data, MeasuredCheck):
         ev = evaluate_check(data, after_compensation(model, covered), model.kinematics, uncertainty_from=model)
         return Verification(data.source, ev.agrees, check=ev.to_dict())

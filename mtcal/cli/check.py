@@ -54,12 +54,15 @@ def run(args: argparse.Namespace) -> int:
         if not args.test:
             raise InputError("check evaluate needs TEST.csv")
         ev = evaluate_check(read_check(args.test), model, fixed=fixed or None, tool_length=args.tool_length or None)
+        _warn_outside(ev.outside)
         out = ev.to_dict()
         if args.plot and ev.kind == "circular":
             _plot_evaluation(ev, args.plot)
         print(dumps(out) if args.json else _evaluation_text(ev))
         return 0
     tests = _predict(args, model, fixed)
+    for t in tests:
+        _warn_outside(t.get("outside_range") or {})
     if args.plot:
         _plot_predictions(tests, args.plot)
     print(dumps({"model": args.model, "tests": tests}) if args.json else "\n".join(_text(t) for t in tests))
@@ -93,6 +96,15 @@ def _predict(args, model, fixed: dict[str, float]) -> list[dict]:
         tests.append(predict_rtest(model, RTestSetup(axis, _positions(args.positions, m, axis), sphere, fixed,
                                                      args.tool_length)).to_dict())
     return tests
+
+
+def _warn_outside(outside: dict[str, int]) -> None:
+    """The same warning as ``mtcal compensate``'s: evaluations outside an error function's measured range hold
+    its end values (the test reaches beyond what the model was measured over)."""
+    if outside:
+        import sys
+        print(f"mtcal check: warning: {sum(outside.values())} error evaluations outside the measured range (end "
+              f"values held): {outside}", file=sys.stderr)
 
 
 def _positions(text: str | None, m, axis: str) -> tuple[float, ...]:
@@ -133,10 +145,18 @@ def _text(t: dict) -> str:
 def _evaluation_text(ev) -> str:
     if ev.kind == "circular":
         f = ("G_mm", "H_mm", "F_mm")
-        row = lambda d: ", ".join(f"{k[0]} = {d[k] * 1e3:.2f}" for k in f)  # noqa: E731
+        row = lambda d: ", ".join(f"{k[0]} = {d[k] * 1e3:.2f}" for k in f if d[k] is not None)  # noqa: E731
     else:
         row = lambda d: ", ".join(f"{k} {v * 1e3:.2f}" for k, v in d["range_mm"].items())  # noqa: E731
-    lines = [f"{ev.source}: {ev.kind} test against the model (um)", f"  measured : {row(ev.measured)}",
+    lines = [f"{ev.source}: {ev.kind} test against the model (um)"]
+    if ev.kind == "circular":
+        off = ev.setup["setup_offset_mm"]
+        lines.append(f"  set-up: the ballbar's centre {ev.setup['setup_offset_size_mm']:.3f} mm off the circle's "
+                     f"({ev.setup['plane'][0]} {off[0]:+.3f}, {ev.setup['plane'][1]} {off[1]:+.3f} mm), fitted "
+                     f"exactly and taken out (ISO 230-4; F about that centre)")
+        if ev.setup["directions"] == 1:
+            lines.append("  one direction: no hysteresis H measured (a test both ways gives it)")
+    lines += [f"  measured : {row(ev.measured)}",
              f"  predicted: {row(ev.predicted)}  (U95 {ev.prediction_u95_mm * 1e3:.2f})",
              f"  residual : {row(ev.residual)}  noise sd {ev.noise_sd_mm * 1e3:.2f}",
              f"  {'agrees with the model' if ev.agrees else 'DIFFERS from the model'} (worst reading "

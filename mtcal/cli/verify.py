@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from mtcal.cli._options import machine_argument, xyz
+from mtcal.errors import InputError
 from mtcal.io import dumps
 
 NAME = "verify"
@@ -33,12 +34,14 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.model.errormodel import load_model
 
     model = load_model(args.model)
-    covered = {n.strip() for n in args.covered.split(",")} if args.covered else None
+    covered = {n.strip() for n in args.covered.split(",") if n.strip()} if args.covered is not None else None
+    if args.machine and args.machine != model.machine:
+        raise InputError(f"{args.model}: the model is of machine {model.machine}, not {args.machine} (--machine): "
+                         f"verify a compensation with the model of the machine measured")
     if is_check_file(args.data):
         v = verify(read_check(args.data), model, covered=covered)
     else:
-        v = verify(read_recording(args.data, args.machine or model.machine), model, covered=covered,
-                   tracker=args.tracker)
+        v = verify(read_recording(args.data, model.machine), model, covered=covered, tracker=args.tracker)
     if args.json:
         print(dumps(v.to_dict()))
         return 0

@@ -26,6 +26,7 @@ from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen as screen_gross
+from mtcal.measurement.slips import check_units_and_frame
 from mtcal.measurement.tracker import as_tracker_model
 
 log = logging.getLogger("mtcal.diagnose")
@@ -150,13 +151,16 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
 
 def _screened(rec: Recording, machine: Machine):
     """The recording less its gross errors (swapped labels, far readings, duplicated rows:
-    mtcal.measurement.screen, each said as a warning), and the screen's result."""
-    gross = screen_gross(rec, machine.sides)
+    mtcal.measurement.screen, each said as a warning), and the screen's result; unit and frame slips refused
+    (mtcal.measurement.slips)."""
+    gross = screen_gross(rec, machine.sides, machine)
     for p in gross.problems:
         log.warning("warning: data problem: %s", p.text)
     for note in gross.notes:
         log.warning("warning: %s", note)
-    return (rec.select(gross.keep) if gross.problems else rec), gross
+    kept = rec.select(gross.keep) if gross.problems else rec
+    check_units_and_frame(kept, machine)  # inch, radians, swapped columns: refused before any fit (as identify)
+    return kept, gross
 
 
 def _base_info(prep, degrees: dict[str, int], test_degrees: dict[str, int], null: str, parameters: int,

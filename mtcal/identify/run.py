@@ -30,11 +30,12 @@ from mtcal.identify.build import build_model
 from mtcal.identify.compare import split_half_worth
 from mtcal.identify.frame import _in_iso_frame, _squareness_type_a, reference_lines, squareness_sigma
 from mtcal.identify.results import IdentifyResult
-from mtcal.identify.threepoint import MAX_DEVIATION_MM, _check_shape, _identify_axis, _passes
+from mtcal.identify.threepoint import _check_shape, _identify_axis, _passes
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement import tracker as trk
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.screen import screen
+from mtcal.measurement.slips import MAX_DEVIATION_MM, check_units_and_frame
 from mtcal.measurement.tracker_position import (
     LR_LEVEL,
     PositionEstimate,
@@ -139,10 +140,12 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         raise InputError(f"`reference` must be one of {fitting.REFERENCE_METHODS}, got {reference!r}")
     warnings: list[str] = []
     # gross errors of the data (swapped labels, far readings, duplicated rows): left out
-    gross = screen(rec, m.sides)
+    gross = screen(rec, m.sides, m)
     if gross.problems:
         rec = rec.select(gross.keep)
         warnings += [*(p.text for p in gross.problems), *gross.notes]
+    # unit and frame slips (inch, radians, swapped columns, one point read throughout): refused before any estimator
+    check_units_and_frame(rec, m, max_deviation_mm)
     estimated = None
     if method == "auto":
         method, tracker, estimated = _auto_method(rec, tracker, warnings, prior)
@@ -151,7 +154,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
         if axis not in m.axes:
             raise InputError(f"{rec.source}: axis {axis} is not an axis of machine {m.name} ({', '.join(m.axes)})")
     results, slopes, joint, spec, law = _fit_axes(rec, m, t, method, reference, noise_law, warnings,
-                                                  (outlier_k, max_deviation_mm), prior, known=estimated is None)
+                                                  outlier_k, prior, known=estimated is None)
     sq = fitting.squareness(slopes)
     sq_stats = _squareness_type_a(results, m, reference, sq)
     if set(m.linear_axes) <= set(results) and len(sq) < 3:
@@ -184,7 +187,7 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
 
 
 def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, reference: str,
-              noise_law: trk.TrackerSpec | None, warnings: list[str], limits: tuple[float, float],
+              noise_law: trk.TrackerSpec | None, warnings: list[str], outlier_k: float,
               prior: trk.TrackerSpec = trk.AT960, known: bool = True):
     """(results {axis: AxisResult with its reference lines}, straightness slopes {E_IJ: mm/mm}, the joint fit or
     None, the noise law the fit weighted by, its report (trk.law_report) or None): the joint fit of all axes, or
@@ -207,7 +210,7 @@ def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, ref
         results = {}
         for axis in (a for a in rec.axes() if m.kind(a) == "linear"):
             log.info("identifying axis %s", axis)
-            results[axis] = _identify_axis(rec, axis, m, t, warnings, *limits, spec=spec or prior)
+            results[axis] = _identify_axis(rec, axis, m, t, warnings, outlier_k, spec=spec or prior)
     lines = reference_lines(results, m, reference)
     results = {a: replace(r, lines=lines.get(a, {})) for a, r in results.items()}
     slopes = {nm: line["slope"] for ls in lines.values() for nm, line in ls.items()}
@@ -216,7 +219,7 @@ def _fit_axes(rec: Recording, m: Machine, t: np.ndarray | None, method: str, ref
         for axis in rec.axes():
             if axis not in results:
                 log.info("identifying axis %s (readings turned into the ISO frame of the linear axes)", axis)
-                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, *limits, spec=spec or prior)
+                results[axis] = _identify_axis(iso, axis, m, t_iso, warnings, outlier_k, spec=spec or prior)
         results = {a: results[a] for a in rec.axes()}
     return results, slopes, joint, spec, law
 

@@ -18,6 +18,7 @@ from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement import tracker as trk
 from mtcal.measurement.passes import first_readings, group_passes, position_key, reading_order, reference_position
 from mtcal.measurement.recordings import Recording
+from mtcal.measurement.slips import MAX_DEVIATION_MM  # noqa: F401 (re-exported: the slip screen's one bound)
 
 PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
 
@@ -25,7 +26,6 @@ PARTS = ("X", "Y", "Z", "A", "B", "C")  # E_<part><axis>
 MIN_SHAPE = 1e-3  # point_shape below this: points (nearly) collinear, rotation about their line unobservable
 
 
-MAX_DEVIATION_MM = 1.0  # a reading this far from the nominal motion is a unit / frame / axis mix-up, not an error
 
 
 def error_names(axis: str) -> tuple[str, ...]:
@@ -187,7 +187,7 @@ def _passes(rec: Recording, axis: str):
 
 
 def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str], outlier_k: float,
-                   max_dev: float, spec: trk.TrackerSpec = trk.AT960) -> AxisResult:
+                   spec: trk.TrackerSpec = trk.AT960) -> AxisResult:
     """One axis by the three-point method: every pass solved (weighted by the tracker law ``spec`` when ``t`` is
     given, else isotropic from the residuals), passes of one round at one position averaged, Type A over rounds."""
     ps = _passes(rec, axis)
@@ -195,7 +195,6 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
     readings, refs = rec.xyz[rows], rec.xyz[ref_rows]
     pts, dls, rf, d_m, rrel = frame_data(m, axis, _axes_vector(m, axis, ps["position"]),
                                          _axes_vector(m, axis, ps["q0"]), readings, refs)
-    _check_deviation(rec, axis, m, ps, d_m, max_dev)
     _check_shape(rec, axis, ps)
     cov = c_ref = None
     if t is not None:
@@ -221,22 +220,6 @@ def _identify_axis(rec: Recording, axis: str, m: Machine, t, warnings: list[str]
     return AxisResult(axis, positions, rounds, ps["points"], per_round, np.sqrt(rss / np.maximum(cnt, 1)),
                       np.sqrt(np.nanmean(var_round, axis=0)), names, float(q0s[0]), t is not None,
                       reversal=reversal)
-
-
-def _check_deviation(rec: Recording, axis: str, m: Machine, ps: dict, d_m: np.ndarray, max_dev: float) -> None:
-    """Refuse a reading farther than ``max_dev`` mm from where the commanded motion takes its reference reading
-    (units or frame wrong: geometric errors are far smaller)."""
-    rows, ref_rows = ps["rows"], ps["ref_rows"]
-    worst = np.unravel_index(int(np.argmax(np.linalg.norm(d_m, axis=-1))), rows.shape)
-    dev = float(np.linalg.norm(d_m[worst]))
-    if dev <= max_dev:
-        return
-    i, j = rows[worst], ref_rows[worst]
-    unit = m.unit(axis)
-    raise InputError(f"{rec.where(i)}: point {rec.point[i]} at {axis} = {rec.position[i]:g} {unit} is {dev:.3g} mm "
-                     f"from where the commanded motion takes its reference reading (line {int(rec.line[j])}); "
-                     f"geometric errors are far smaller: positions must be in {unit} and readings in mm in the "
-                     f"machine frame (positions in metres or radians? another axis moving?)")
 
 
 def _pass_variances(pts, resid, ce, cov, c_ref, at_ref) -> tuple[np.ndarray, np.ndarray | None]:

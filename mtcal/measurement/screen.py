@@ -72,11 +72,12 @@ class Screen:
 
 
 
-def screen(rec: Recording, sides: Mapping[str, str] | None = None) -> Screen:
+def screen(rec: Recording, sides: Mapping[str, str] | None = None, machine=None) -> Screen:
     """Find gross errors in ``rec`` (see module docstring); the recording itself is not changed: apply
     ``rec.select(result.keep)``.  ``sides``: axis -> the side its reflectors sit on (the machine's, e.g. "tool",
     "table"): the axes of one side judge each other's reflector distances (_pooled_medians); None: each axis
-    alone."""
+    alone.  ``machine`` (a mtcal.Machine): a far reading's distance from its own nest is stated (_nest_distance);
+    None: how far its distances to the other reflectors are off."""
     out = Screen(keep=np.ones(len(rec), bool))
     _duplicates(rec, out)
     by_axis = {}
@@ -87,7 +88,7 @@ def screen(rec: Recording, sides: Mapping[str, str] | None = None) -> Screen:
     group = {a: (sides or {}).get(a, f"axis {a}") for a in by_axis}
     medians = {g: _pooled_medians([d for a, d in dist.items() if group[a] == g]) for g in set(group.values())}
     for axis, passes in by_axis.items():
-        rigid = _rigidity(rec, axis, passes, dist[axis], medians[group[axis]], out)
+        rigid = _rigidity(rec, axis, passes, dist[axis], medians[group[axis]], out, machine)
         bad = rigid | _cross_round(rec, axis, passes, rigid, out)
         for key in bad:
             out.keep[list(passes[key].values())] = False
@@ -157,7 +158,8 @@ def _pooled_medians(axes_dist: list[dict]) -> dict[tuple[str, str], float]:
     return {ab: float(np.median(v)) for ab, v in pooled.items() if len(v) >= 3}
 
 
-def _rigidity(rec: Recording, axis: str, passes: dict, dist: dict, median: dict, out: Screen) -> set[tuple]:
+def _rigidity(rec: Recording, axis: str, passes: dict, dist: dict, median: dict, out: Screen,
+              machine=None) -> set[tuple]:
     """Passes whose reflectors are not where the passes of every axis of the side (``median``: _pooled_medians)
     put them relative to each other; ``dist``: the axis' own _pair_distances."""
     dev = np.array([d - median[ab] for ab, v in dist.items() if ab in median for d in v.values()])
@@ -171,7 +173,7 @@ def _rigidity(rec: Recording, axis: str, passes: dict, dist: dict, median: dict,
         if not pairs:
             continue
         bad.add(key)
-        out.problems.append(_explain(rec, axis, key, g, median, limit, pairs))
+        out.problems.append(_explain(rec, axis, key, g, median, limit, pairs, (passes, machine)))
     return bad
 
 
@@ -186,8 +188,9 @@ def _bad_pairs(rec: Recording, g: dict[str, int], median: dict, limit: float) ->
 
 
 def _explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], median: dict, limit: float,
-             pairs: list) -> DataProblem:
-    """A swap when exchanging two labels makes the pass rigid, else the reading(s) in the most bad pairs."""
+             pairs: list, context: tuple = ({}, None)) -> DataProblem:
+    """A swap when exchanging two labels makes the pass rigid, else the reading(s) in the most bad pairs, with
+    their distance from their own nest (``context``: the axis' passes and the machine, _nest_distance)."""
     _, rnd, q, _ = key
     where = f"{axis} round {rnd} at {q:g}"
     for a, b in itertools.combinations(sorted(g), 2):
@@ -204,12 +207,34 @@ def _explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], median: d
         count[b] = count.get(b, 0) + 1
     worst = max(count.values())
     pts = tuple(sorted(p for p, c in count.items() if c == worst))
-    size = max(abs(p[2]) for p in pairs)
     lines = tuple(int(rec.line[g[p]]) for p in pts)
+    off = [_nest_distance(rec, axis, key, g[p], p, *context) for p in pts]
+    if all(d is not None for d in off):
+        size = max(off)
+        how = (f"{' and '.join(f'{d:.4g}' for d in off)} mm from where its nest is (the commanded motion from the "
+               f"other passes' readings of it)")
+    else:
+        size = max(abs(p[2]) for p in pairs)
+        how = f"off by up to {size:.3g} mm in its distances to the other reflectors"
     return DataProblem("far_reading", axis, rnd, q, pts, lines, size,
-                       f"reading of {' or '.join(pts)} in {where} (line(s) {', '.join(map(str, lines))}) is "
-                       f"{size:.3g} mm from where its nest is relative to the others: "
+                       f"reading of {' or '.join(pts)} in {where} (line(s) {', '.join(map(str, lines))}) is {how}: "
                        f"{_cause(rec, [g[p] for p in pts])}: pass left out")
+
+
+def _nest_distance(rec: Recording, axis: str, key: tuple, row: int, point: str, passes: dict,
+                   machine) -> float | None:
+    """Distance (mm) of reading ``row`` from where its nest is in its pass ``key``: the median of the point's
+    readings in the axis' other passes of the same station, each carried to this pass' position by the nominal
+    motion (machine errors, tens of um, are far below a far reading); None without a machine or another pass."""
+    other = [(g[point], k[2]) for k, g in passes.items() if k != key and k[0] == key[0] and point in g]
+    if machine is None or not other:
+        return None
+    rows = np.array([j for j, _ in other])
+    t1, r1 = machine.rigid_motion(axis, machine.axis_vector({axis: np.array([q for _, q in other])}))
+    t, r = machine.rigid_motion(axis, machine.axis_vector({axis: key[2]}))
+    local = np.einsum("nji,nj->ni", r1, rec.xyz[rows] - t1)
+    nest = np.median(local @ r.T + t, axis=0)
+    return float(np.linalg.norm(rec.xyz[row] - nest))
 
 
 def _cause(rec: Recording, rows: list[int]) -> str:

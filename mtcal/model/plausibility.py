@@ -42,9 +42,16 @@ def _travel_mm(machine: Machine) -> float:
     return max(spans or [500.0])
 
 
+def translation_bound(machine: Machine, span_mm: float | None = None) -> float:
+    """The bound of a translational error of the machine (mm): what a geometric error can be at most over its
+    longest linear travel, or over ``span_mm`` (a measured check's span, e.g. a ballbar circle's diameter:
+    mtcal.check.evaluate)."""
+    return max(TRANSLATION_MIN_MM, TRANSLATION_FRACTION * (_travel_mm(machine) if span_mm is None else span_mm))
+
+
 def bounds(machine: Machine) -> dict[str, float]:
     """The bound of every error name of the machine (mm for translational, rad for angular)."""
-    t = max(TRANSLATION_MIN_MM, TRANSLATION_FRACTION * _travel_mm(machine))
+    t = translation_bound(machine)
     return {n: (ANGLE_MAX_RAD if _angular(n) else t) for n in machine.error_names}
 
 

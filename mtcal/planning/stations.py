@@ -160,10 +160,23 @@ def default_floor(plan: Plan, distance: float = 1000.0) -> list[tuple[float, flo
     return [(x, y) for x in xs for y in ys if (x, y) != (xs[1], ys[1])]
 
 
+def _outside_the_enclosure(plan: Plan, floor) -> None:
+    from mtcal.planning.plan import enclosure
+    x0, x1, y0, y1 = enclosure(plan)
+    for x, y in floor:
+        if x0 < x < x1 and y0 < y < y1:
+            raise InputError(f"floor position {x:g},{y:g} mm is inside the machine's enclosure (x {x0:g} .. {x1:g}, "
+                             f"y {y0:g} .. {y1:g} mm: the work volume's reflector positions and a margin): no place "
+                             f"for a tracker (`floor`, machine frame)")
+
+
 def design(plan: Plan, floor, heights, target_um: float = 3.0, max_hours: float | None = None,
            max_scale: float = 1.0, max_stations: int = 4, progress=None) -> Design:
     """Greedy station choice (module docstring) with 1 round per station and the widest allowed reflector
-    layout, then the same measuring time spent as more rounds on fewer stations for comparison."""
+    layout, then the same measuring time spent as more rounds on fewer stations for comparison.  A floor position
+    inside the machine's enclosure (mtcal.planning.plan.enclosure: the work volume's reflector positions plus its
+    margin) is refused: no tracker stands in the work volume."""
+    _outside_the_enclosure(plan, floor)
     cands = candidate_stations(floor, heights)
     grid = poses(plan)
     chosen: list = []

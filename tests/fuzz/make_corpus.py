@@ -1436,6 +1436,173 @@ def cases_uncertainty(C: Corpus):
           expect=[err("rec.csv", None, "no such file", "not found", "missing")])
 
 
+
+# ------------------------------------------------------------------- issue 35: inputs as the standard means them
+
+PERFECT_MODEL = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {}, "functions": {}}
+
+
+def ballbar_setup(c=(0.0, 0.0), radius=100.0, step=2.0, dirs=(1, -1), squareness=0.0, scale=1.0, header=None,
+                  head="angle_deg,deviation_mm,direction", extra=0.0, plane="XY"):
+    """A double ballbar on a perfect machine (plus a squareness oval -R E sin cos, design contract's sign) with the
+    table ball at ``c`` (mm along the plane's two axes) off the circle's centre: deltaR = |R u - c| - R exactly
+    (plain geometry; ISO 230-4's set-up offset leaves e^2 sin^2 / 2R beyond its first-order term).  ``scale``
+    multiplies the written deviations (1000: um written under deviation_mm); each direction in its order of
+    travel."""
+    rows = []
+    n = int(round(360 / step))
+    for d in dirs:
+        ks = range(n) if d > 0 else range(n - 1, -1, -1)
+        for k in ks:
+            a = k * step
+            t = math.radians(a)
+            L = math.hypot(radius * math.cos(t) - c[0], radius * math.sin(t) - c[1])
+            dr = L - radius - radius * squareness * math.sin(t) * math.cos(t) + extra
+            rows.append([f"{a:g}", f"{dr * scale:.8f}", str(d)])
+    if "direction" not in head:
+        rows = [r[:2] for r in rows]
+    hdr = header if header is not None else (f"plane: {plane}", f"radius_mm: {radius:g}")
+    return "".join(f"# {h}\n" for h in hdr) + rows_to_csv(head.split(","), rows)
+
+
+def slipped_recording(slip):
+    """Rounds 1-2 of X and C of the demo campaign with one unit or frame slip (issue 35)."""
+    header, rows = base_recording()
+    ix, iy, iz, ip, ia = (header.index(c) for c in ("x", "y", "z", "position", "axis"))
+    out = []
+    for r in rows:
+        r = r[:]
+        if slip == "readings_inch":
+            for i in (ix, iy, iz):
+                r[i] = f"{float(r[i]) / 25.4:.6f}"
+        elif slip == "readings_metres":
+            for i in (ix, iy, iz):
+                r[i] = f"{float(r[i]) / 1000:.9f}"
+        elif slip == "positions_inch" and r[ia] == "X":
+            r[ip] = f"{float(r[ip]) / 25.4:.6f}"
+        elif slip == "radians" and r[ia] == "C":
+            r[ip] = f"{math.radians(float(r[ip])):.8f}"
+        elif slip == "xy_swapped":
+            r[ix], r[iy] = r[iy], r[ix]
+        elif slip == "xz_swapped":
+            r[ix], r[iz] = r[iz], r[ix]
+        elif slip == "identical":
+            r[ix], r[iy], r[iz] = rows[0][ix], rows[0][iy], rows[0][iz]
+        elif slip == "identical_c" and r[ia] == "C":
+            first = next(x for x in rows if x[ia] == "C")
+            r[ix], r[iy], r[iz] = first[ix], first[iy], first[iz]
+        out.append(r)
+    return rows_to_csv(header, out)
+
+
+SLIP_WORDS = {"readings_inch": ["inch"], "readings_metres": ["metres"], "positions_inch": ["inch"],
+              "radians": ["radians"], "xy_swapped": ["x and y columns are swapped"],
+              "xz_swapped": ["x and z columns are swapped"], "identical": ["same point"],
+              "identical_c": ["same point"]}
+
+
+def cases_issue35(C: Corpus):
+    """Issue 35: ballbar set-up offsets read as set-up, malformed check files refused, verify's options checked,
+    plan --floor outside the work volume, unit and frame slips refused before every estimator path."""
+    perfect = jdump(PERFECT_MODEL)
+    chk = lambda **kw: {"kind": "check_json", **kw}  # noqa: E731
+    # A. set-up offsets of 0.1 to 5 mm on a perfect machine: set-up, stated with its size, no machine error
+    for k, (c, radius, plane) in enumerate([((0.1, 0.0), 100.0, "XY"), ((0.0, -0.3), 100.0, "XY"),
+                                            ((0.5, 0.5), 150.0, "XY"), ((1.0, 0.0), 150.0, "XY"),
+                                            ((-1.5, 2.0), 150.0, "YZ"), ((3.0, -4.0), 100.0, "ZX"),
+                                            ((0.0, 5.0), 150.0, "XY"), ((-5.0, 0.0), 100.0, "YZ"),
+                                            ((2.0, 2.0), 50.0, "XY"), ((0.2, -0.1), 150.0, "ZX")]):
+        C.add(f"check35_setup_offset_{k:02d}", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json",
+                                                                      "--json"],
+              {"t.csv": ballbar_setup(c, radius, plane=plane), "m.json": perfect},
+              [ok(chk(agrees=True, findings=[], offset=math.hypot(*c), G_max_mm=2e-7))])
+    for k, c in enumerate([(1.0, 0.0), (-2.5, 3.0)]):  # a squareness of 20 urad read through the offset
+        C.add(f"check35_setup_offset_squareness_{k}", "check", "check CSV",
+              ["evaluate", "t.csv", "--model", "m.json", "--json"],
+              {"t.csv": ballbar_setup(c, 150.0, squareness=2e-5), "m.json": perfect},
+              [ok(chk(findings=["squareness"], squareness=2e-5, offset=math.hypot(*c)))])
+    C.add("check35_one_direction", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json", "--json"],
+          {"t.csv": ballbar_setup((0.4, 0.0), dirs=(1,)), "m.json": perfect},
+          [ok(chk(agrees=True, findings=[], H_null=True, offset=0.4))])
+    C.add("check35_one_direction_no_column", "check", "check CSV",
+          ["evaluate", "t.csv", "--model", "m.json", "--json"],
+          {"t.csv": ballbar_setup(dirs=(1,), head="angle_deg,deviation_mm"), "m.json": perfect},
+          [ok(chk(agrees=True, findings=[], H_null=True))])
+    C.add("check35_header_twice_same", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json", "--json"],
+          {"t.csv": ballbar_setup(header=("plane: XY", "radius_mm: 100", "radius_mm: 100")), "m.json": perfect},
+          [ok(chk(agrees=True, findings=[]))])
+    # B. malformed measured files: refused with file, line and problem
+    bad = [
+        ("radius_twice", ballbar_setup(header=("plane: XY", "radius_mm: 100", "radius_mm: 150")), 3, ["radius"]),
+        ("plane_twice", ballbar_setup(header=("plane: XY", "radius_mm: 100", "plane: YZ")), 3, ["plane"]),
+        ("no_direction_both", ballbar_setup(head="angle_deg,deviation_mm"), None, ["direction"]),
+        ("concatenated", ballbar_setup()[:-1] + "\n" + ballbar_setup().split("direction\n", 1)[1], 364,
+         ["two tests"]),
+        ("concatenated_no_direction", ballbar_setup(dirs=(1,), head="angle_deg,deviation_mm") +
+         ballbar_setup(dirs=(1,), head="angle_deg,deviation_mm").split("deviation_mm\n", 1)[1], None,
+         ["two tests", "direction"]),
+        ("three_readings", "# plane: XY\n# radius_mm: 100\nangle_deg,deviation_mm,direction\n0,0.001,1\n"
+                           "120,0,1\n240,0,1\n", None, ["full circle"]),
+        ("twelve_readings", ballbar_setup(step=30.0), None, ["full circle"]),
+        ("um_under_mm", ballbar_setup(squareness=3.4e-5, scale=1000.0), None, ["um"]),
+        ("um_with_offset", ballbar_setup((0.002, 0.001), squareness=2e-5, scale=1000.0), None, ["um"]),
+        ("all_off_radius", ballbar_setup(extra=3.0), None, ["radius"]),
+        ("offset_too_large", ballbar_setup((40.0, 0.0)), None, ["set-up", "centre"]),
+        ("direction_zero", ballbar_setup().replace(",-1\n", ",0\n", 1), 184,
+         ["direction"]),
+    ]
+    arc = "# plane: XY\n# radius_mm: 100\nangle_deg,deviation_mm,direction\n" + "".join(
+        f"{a},0.0001,{d}\n" for d in (1, -1) for a in (range(0, 181, 2) if d > 0 else range(180, -1, -2)))
+    bad.append(("half_circle", arc, None, ["full circle"]))
+    shuffled = ballbar_setup().splitlines()
+    shuffled[10], shuffled[40] = shuffled[40], shuffled[10]
+    bad.append(("angles_shuffled", "\n".join(shuffled) + "\n", 12, ["runs back"]))
+    for cid, text, line, words in bad:
+        C.add(f"check35_bad_{cid}", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json", "--plot",
+                                                           "p.png"],
+              {"t.csv": text, "m.json": perfect}, [err("t.csv", line, *words)])
+    # C. a circle beyond the model's measured range: end values held and said, as compensate does
+    narrow = jdump({"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+                    "functions": {"E_XX": {"axis": "X", "positions": [-50.0, 50.0], "values": [-0.001, 0.001]}}})
+    C.add("check35_predict_outside_range", "check", "model JSON",
+          ["predict", "--model", "m.json", "--circular", "XY,150,0,0,0"], {"m.json": narrow},
+          [ok(say=["outside the measured range"])])
+    C.add("check35_evaluate_outside_range", "check", "model JSON", ["evaluate", "t.csv", "--model", "m.json"],
+          {"t.csv": ballbar_setup(radius=150.0), "m.json": narrow}, [ok(say=["outside the measured range"])])
+    # D. verify
+    model = jdump(HAND_MODEL)
+    vj = {"kind": "stdout_json", "keys": ["passed", "check"]}
+    C.add("verify35_covered_subset", "verify", "check CSV", ["t.csv", "--model", "m.json", "--covered", "E_XX",
+                                                             "--json"],
+          {"t.csv": ballbar_setup(), "m.json": model}, [ok(vj)])
+    for cid, argv, words in [("covered_unknown", ["--covered", "E_XX,E_QQ"], ["E_QQ"]),
+                             ("covered_not_held", ["--covered", "E_ZZ"], ["E_ZZ"]),
+                             ("covered_empty", ["--covered", ""], ["covered"]),
+                             ("machine_other", ["--machine", "xyzac"], ["xyzac"])]:
+        C.add(f"verify35_{cid}", "verify", "option", ["t.csv", "--model", "m.json", *argv],
+              {"t.csv": ballbar_setup(), "m.json": model}, [err(None, None, *words)])
+    C.add("verify35_ballbar_um", "verify", "check CSV", ["t.csv", "--model", "m.json"],
+          {"t.csv": ballbar_setup(squareness=3e-5, scale=1000.0), "m.json": model}, [err("t.csv", None, "um")])
+    C.add("verify35_ballbar_arc", "verify", "check CSV", ["t.csv", "--model", "m.json"],
+          {"t.csv": arc, "m.json": model}, [err("t.csv", None, "full circle")])
+    C.add("verify35_recording_inch", "verify", "recording CSV", ["rec.csv", "--model", "m.json"],
+          {"rec.csv": slipped_recording("readings_inch"), "m.json": model}, [err("rec.csv", None, "inch")])
+    # E. plan --floor inside the work volume
+    for cid, floors in [("centre", ["--floor=0,0"]), ("one_of_two", ["--floor=250,-1500", "--floor=100,50"])]:
+        C.add(f"plan35_floor_inside_{cid}", "plan", "option", ["--target-um", "3", *floors],
+              expect=[err(None, None, "floor", "enclosure")])
+    # F. unit and frame slips before every estimator path
+    for slip, words in SLIP_WORDS.items():
+        rec = slipped_recording(slip)
+        C.add(f"identify35_{slip}", "identify", "recording CSV", ["rec.csv", "-o", "model.json"], {"rec.csv": rec},
+              [err("rec.csv", None, *words)])
+        C.add(f"identify35_three_point_{slip}", "identify", "recording CSV",
+              ["rec.csv", "--method", "three-point", "-o", "model.json"], {"rec.csv": rec},
+              [err("rec.csv", None, *words)])
+        C.add(f"diagnose35_{slip}", "diagnose", "recording CSV", ["rec.csv"], {"rec.csv": rec},
+              [err("rec.csv", None, *words)])
+
+
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
     C = Corpus(root)
@@ -1458,6 +1625,7 @@ def build(root: Path) -> list[dict]:
     cases_signals(C)
     cases_checks(C)
     cases_uncertainty(C)
+    cases_issue35(C)
     C.write()
     return C.cases
 

@@ -435,3 +435,26 @@ def check_finite_text(case_dir: Path, chk: dict) -> list[str]:
     bad = [f.name for f in files if not f.stat().st_size
            or re.search(r"(?<![A-Za-z])(nan|inf)(?![A-Za-z])", f.read_text(errors="replace"), re.I)]
     return [f"empty or non-finite: {bad}"] if bad else []
+
+
+def check_check_json(js: dict, chk: dict) -> list[str]:
+    """``mtcal check evaluate --json`` of a ballbar test written from plain geometry (tests/fuzz/make_corpus.py,
+    ballbar_setup): the verdict, the findings' names, the set-up offset's size (mm, to 1e-4), a squareness's size
+    (rad, to 5 %), G (mm) at most, H null for one direction."""
+    probs = []
+    names = [f["signature"] for f in js.get("findings", [])]
+    if "agrees" in chk and js.get("agrees") is not chk["agrees"]:
+        probs.append(f"agrees {js.get('agrees')}, want {chk['agrees']} (findings {names})")
+    if "findings" in chk and names != chk["findings"]:
+        probs.append(f"findings {names}, want {chk['findings']}")
+    if "offset" in chk and not abs(js.get("setup_offset_size_mm", math.inf) - chk["offset"]) <= 1e-4:
+        probs.append(f"set-up offset {js.get('setup_offset_size_mm')} mm, want {chk['offset']}")
+    if "squareness" in chk:
+        sq = [f["size"] for f in js.get("findings", []) if f["signature"] == "squareness"]
+        if not sq or abs(abs(sq[0]) - chk["squareness"]) > 0.05 * chk["squareness"]:
+            probs.append(f"squareness {sq}, want {chk['squareness']} rad")
+    if "G_max_mm" in chk and not js["measured"]["G_mm"] <= chk["G_max_mm"]:
+        probs.append(f"measured G {js['measured']['G_mm']} mm on a perfect machine, want <= {chk['G_max_mm']}")
+    if chk.get("H_null") and js["measured"].get("H_mm") is not None:
+        probs.append(f"H {js['measured'].get('H_mm')} stated for one direction")
+    return probs
