@@ -21,10 +21,12 @@ selected degree and its fitted values A_d R_d^-1 z_<p_d> (at the table positions
 first-order deviation is linear in the errors).
 
 What is not batched runs the full path, trial by trial, counted by reason (``Batched.counts``): a trial whose
-screen finds a gross error (the campaign's found none), whose noise law's shape test decides otherwise than the
-campaign's, or whose degree selection is a tie (two candidates' scores within ``TIE``).  A recording that cannot
-be batched at all (the three-point method, a screen that removed readings, a minimum-zone reference line) runs
-the full path with the reason said.  ``self_check`` runs a few trials both ways before the rest: when any output
+degree selection is a tie (two candidates' scores within ``TIE``), and a trial whose screen finds a gross error
+(the campaign's found none) or whose noise law's shape test gives way to the data's law - these two checks cost a
+hundred batched trials each, so they run on every ``SAMPLE``-th trial, and the counts say how many of those
+differed.  A recording that cannot be batched at all (the three-point method, a screen that removed readings, a
+minimum-zone reference line, the data's noise law, which every trial re-estimates) runs the full path with the
+reason said.  ``self_check`` runs a few trials both ways before the rest: when any output
 differs by more than ``CHECK_TOLERANCE`` of its interval's half-width the Monte Carlo says so and runs the full path.
 """
 from __future__ import annotations
@@ -92,8 +94,8 @@ class Batched:
     constants: dict[str, tuple[int, np.ndarray]]  # name -> (output index, (3 n_poses,) deviation per unit)
     volumetric: slice
     tables: bool
-    machine: Machine
-    law_replaced: bool  # the campaign's shape test gave way to the data's law
+    sides: dict  # axis -> the side its reflectors sit on (the screen's; the Machine itself is not shipped to workers)
+    law_replaced: bool  # the campaign's shape test gave way to the data's law (not batched: always False)
     prior: object
     tracker: np.ndarray | None
     block: int = BLOCK
@@ -128,13 +130,15 @@ def prepare(rec: Recording, options: dict, outputs: Outputs) -> tuple[Batched | 
     t = None if t is None else np.asarray(t, dtype=float).reshape(3)
     prior = trk.as_tracker_model(options.get("tracker_model"))
     spec, law = _noise_law(rec, t, [], prior, known=True)
+    if law is not None and law.get("source") != "prior":
+        return None, "the fit weights by the data's noise law, which each trial re-estimates from its own scatter"
     res, (jw, whiten, rw0, kkt_inv, scale) = jt.linearised(rec, m, t, spec)
     n = res.layout.n
     js = jw @ _diag(scale)
     means, keys_of = _means(res, rec, m)
     b = Batched(res.x.copy(), jw, js.T.tocsr(), kkt_inv[:n, :n] * scale[:, None], whiten, rw0, rec.xyz.copy(),
-                res.dof, means, {}, [], {}, outputs.volumetric, outputs.tables, m,
-                law is not None and law.get("source") != "prior", prior, t)
+                res.dof, means, {}, [], {}, outputs.volumetric, outputs.tables, dict(m.sides), False,
+                prior, t)
     why = _functions(b, res, m, options, outputs, keys_of)
     return (None, why) if why else (b, "")
 
@@ -196,7 +200,7 @@ def _functions(b: Batched, res, m: Machine, options: dict, outputs: Outputs, key
         for i, nm in enumerate(m.error_motions(axis)):
             if nm not in outputs.functions or not np.array_equal(outputs.functions[nm][1], positions):
                 return f"the outputs' positions of {nm} are not identify's table"
-            b.functions.append(_function(b, nm, axis, i, positions, row, c_all, periodic,
+            b.functions.append(_function(b, m, nm, axis, i, positions, row, c_all, periodic,
                                          res.layout.reference[axis][0], max_degree, max_harmonics, reference,
                                          outputs, dev))
     names = set(b.slopes)
@@ -225,7 +229,7 @@ def _table_covariance(res, axis: str, positions: np.ndarray) -> np.ndarray:
     return big @ cov.reshape(6 * len(keys), 6 * len(keys)) @ big.T
 
 
-def _function(b: Batched, nm: str, axis: str, i: int, positions: np.ndarray, row: int, c_all: np.ndarray,
+def _function(b: Batched, m: Machine, nm: str, axis: str, i: int, positions: np.ndarray, row: int, c_all: np.ndarray,
               periodic: bool, x_ref: float, max_degree: int, max_harmonics: int, reference: str, outputs: Outputs,
               dev: np.ndarray) -> _Function:
     """One function's selection as fitting.fit_polynomial / fit_harmonic with the joint covariance (``_gls``)."""
@@ -257,10 +261,10 @@ def _function(b: Batched, nm: str, axis: str, i: int, positions: np.ndarray, row
     q, r = np.linalg.qr(np.linalg.solve(chol, a_top[keep]))
     lo, hi = float(positions.min()), float(positions.max())
     col = outputs.functions[nm][2]
-    pose_x = outputs.poses[:, b.machine.index(axis)] if len(outputs.poses) else np.zeros(0)
+    pose_x = outputs.poses[:, m.index(axis)] if len(outputs.poses) else np.zeros(0)
     pose_x = pose_x if periodic else np.clip(pose_x, lo, hi)
     a_poses = design(pose_x, top)
-    d = dev[:, b.machine.error_names.index(nm)]  # (3 P,) deviation per unit of this error at each pose
+    d = dev[:, m.error_names.index(nm)]  # (3 P,) deviation per unit of this error at each pose
     at_table, at_poses = [], []
     for p in sizes:
         rinv = np.linalg.inv(r[:p, :p]) if p else np.zeros((0, 0))
@@ -318,7 +322,7 @@ def _differs(b: Batched, rec: Recording, xyz: np.ndarray) -> str:
     from mtcal.measurement.screen import screen
 
     trial = replace(rec, xyz=xyz)
-    if screen(trial, b.machine.sides).problems:
+    if screen(trial, b.sides).problems:
         return "screen"
     _, law = _noise_law(trial, b.tracker, [], b.prior, known=True)
     if (law is not None and law.get("source") != "prior") != b.law_replaced:
