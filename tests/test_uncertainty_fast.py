@@ -190,11 +190,17 @@ def test_ctrl_c_with_dask_workers_is_one_line(rec_x, tmp_path):
 
     f = tmp_path / "rec.csv"
     write_recording(rec_x, f)
-    for delay in (3.0, 12.0):
-        p = subprocess.Popen([sys.executable, "-m", "mtcal", "uncertainty", str(f), "--tracker", "250,-1500,150",
+    def children(pid):  # the cluster's processes (Dask's nannies) once it starts
+        return subprocess.run(["pgrep", "-P", str(pid)], capture_output=True, text=True).stdout.split()
+
+    for delay in (0.0, 20.0):  # as the cluster starts; with trials running
+        p = subprocess.Popen([sys.executable, "-m", "mtcal.cli", "uncertainty", str(f), "--tracker", "250,-1500,150",
                               "--workers", "2", "--exact", "--trials", "400", "--store", str(tmp_path / "s.npz"),
                               "-q"], stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
                              env={**os.environ, "MPLBACKEND": "Agg"}, start_new_session=True)
+        t0 = time.monotonic()
+        while not children(p.pid) and time.monotonic() - t0 < 120:
+            time.sleep(0.2)
         time.sleep(delay)
         os.killpg(p.pid, signal.SIGINT)  # as a terminal's Ctrl-C: the whole process group
         _, err = p.communicate(timeout=120)

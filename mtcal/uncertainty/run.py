@@ -145,6 +145,9 @@ def _client(workers: int | None, scheduler: str | None):
     if scheduler:
         return Client(scheduler), None
     n = local_workers(workers)
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()  # now: starting it unblocks SIGINT in the thread that does (CPython 3.11)
     old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     cluster = client = None
     try:
