@@ -58,15 +58,30 @@ def _trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: 
     return ks, out
 
 
-@dataclass
 class Store:
-    """The trials done: their indices and output vectors, with what they were drawn under (``key``)."""
+    """The trials done: their indices and output vectors, with what they were drawn under (``key``) and the
+    readings they were drawn about (``recording_sha256``, ``readings_sha256``).  Blocks added are joined when read
+    (10^5 trials arrive in 500 blocks)."""
 
-    key: str
-    index: np.ndarray
-    values: np.ndarray
+    def __init__(self, key: str, index: np.ndarray, values: np.ndarray, recording_sha256: str = ""):
+        self.key, self.recording_sha256 = key, recording_sha256
+        self._parts = [(np.asarray(index, dtype=np.int64), np.asarray(values, dtype=float))]
 
-    recording_sha256: str = ""  # the readings the trials were drawn about (``readings_sha256``)
+    def _joined(self) -> tuple[np.ndarray, np.ndarray]:
+        if len(self._parts) > 1:
+            self._parts = [(np.concatenate([i for i, _ in self._parts]), np.vstack([v for _, v in self._parts]))]
+        return self._parts[0]
+
+    @property
+    def index(self) -> np.ndarray:
+        return self._joined()[0]
+
+    @property
+    def values(self) -> np.ndarray:
+        return self._joined()[1]
+
+    def __len__(self) -> int:
+        return sum(len(i) for i, _ in self._parts)
 
     @classmethod
     def load(cls, path: Path | None, key: str, size: int, recording_sha256: str = "") -> "Store":
@@ -105,8 +120,7 @@ class Store:
                      recording_sha256=np.array(self.recording_sha256))
 
     def add(self, ks: list[int], v: np.ndarray) -> None:
-        self.index = np.concatenate([self.index, np.asarray(ks, dtype=np.int64)])
-        self.values = np.vstack([self.values, v])
+        self._parts.append((np.asarray(ks, dtype=np.int64), np.asarray(v, dtype=float)))
 
 
 def cores() -> int:
@@ -192,7 +206,7 @@ def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, 
     trackers = trackers_of(rec, options.get("tracker"))
     size = BATCH if fast is None else fast.block
     blocks = [ks[i:i + size] for i in range(0, len(ks), size)]
-    before = len(store.index)
+    before = len(store)
     try:
         if workers == 0:  # in this process (tests, debugging)
             last = time.monotonic()
@@ -211,8 +225,8 @@ def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, 
                  progress, fast)
     except KeyboardInterrupt:
         store.save(store_path)
-        done = len(store.index) - before
-        raise Interrupted(f"{done} trials of this run done" + (f", {len(store.index)} kept in {store_path} (a "
+        done = len(store) - before
+        raise Interrupted(f"{done} trials of this run done" + (f", {len(store)} kept in {store_path} (a "
                                                                f"later run with the same inputs extends them)"
                                                                if store_path else " (give `store` to keep trials)")
                           ) from None
