@@ -12,6 +12,8 @@ def run(trials: int = 8, fast_trials: int = 2000) -> dict:
             "mc_speedup_2_workers": r["full_speedup_2_over_1"],
             "mc_full_trials_per_s_in_process": r["in_process"]["full_trials_per_s"],
             "mc_batched_trials_per_s_in_process": r["in_process"]["batched_trials_per_s"],
+            "mc_batched_trials_per_cpu_s_in_process": r["in_process"]["batched_trials_per_cpu_s"],
+            "mc_full_trials_per_cpu_s_in_process": r["in_process"]["full_trials_per_cpu_s"],
             "mc_batched_over_full_in_process": r["in_process"]["ratio"],
             "mc_batched_trials_per_s_1_worker": r["batched_workers_1"]["trials_per_s"],
             "mc_batched_trials_per_s_2_workers": r["batched_workers_2"]["trials_per_s"],

@@ -451,7 +451,11 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
         done = set(st.index.tolist())
         pending = [k for k in range(target) if k not in done]
         if path_report is None and pending:
-            fast, path_report = _batched_path(rec, options, outputs, inputs, seed, pending, st, progress)
+            try:
+                fast, path_report = _batched_path(rec, options, outputs, inputs, seed, pending, st, progress)
+            except KeyboardInterrupt:
+                raise Interrupted("0 trials of this run done" + (f", {len(st)} kept in {path}" if path else "")
+                                  ) from None
             pending = [k for k in pending if k not in set(st.index.tolist())]
         run_trials(rec, pending, inputs=inputs, options=options, outputs=outputs, seed=seed, store=st,
                    store_path=path, workers=workers, scheduler=scheduler, progress=progress, fast=fast)
