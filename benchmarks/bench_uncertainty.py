@@ -1,12 +1,25 @@
-"""Speed of the Monte Carlo of `mtcal uncertainty` against workers (benchmarks/uncertainty_mc.py speed)."""
+"""Speed of the Monte Carlo of `mtcal uncertainty`: the full path (identify per trial, `--exact`) and the batched
+path (mtcal.uncertainty.fast) in one run, in this process and on 1 and 2 workers (benchmarks/uncertainty_mc.py
+speed)."""
 from __future__ import annotations
 
 import uncertainty_mc
 
 
-def run(trials: int = 24) -> dict:
-    r = uncertainty_mc.speed(trials)
-    return {"mc_trials_per_s_1_worker": r["workers_1"]["trials_per_s"],
-            "mc_speedup_2_workers": r["speedup_2_over_1"],
-            "mc_projected_hours_1e6_on_64_workers": r["projected_hours_1e6_trials"]["64"],
-            "mc_projected_hours_1e6_on_2_workers": r["projected_hours_1e6_trials"]["2"]}
+def run(trials: int = 8, fast_trials: int = 2000) -> dict:
+    r = uncertainty_mc.speed(trials, fast_trials)
+    return {"mc_trials_per_s_1_worker": r["full_workers_1"]["trials_per_s"],
+            "mc_speedup_2_workers": r["full_speedup_2_over_1"],
+            "mc_full_trials_per_s_in_process": r["in_process"]["full_trials_per_s"],
+            "mc_batched_trials_per_s_in_process": r["in_process"]["batched_trials_per_s"],
+            "mc_batched_trials_per_cpu_s_in_process": r["in_process"]["batched_trials_per_cpu_s"],
+            "mc_full_trials_per_cpu_s_in_process": r["in_process"]["full_trials_per_cpu_s"],
+            "mc_batched_over_full_in_process": r["in_process"]["ratio"],
+            "mc_batched_trials_per_s_1_worker": r["batched_workers_1"]["trials_per_s"],
+            "mc_batched_trials_per_s_2_workers": r["batched_workers_2"]["trials_per_s"],
+            "mc_batched_speedup_2_workers": r["batched_speedup_2_over_1"],
+            "mc_projected_hours_1e5_batched_2_workers": r["projected_hours"]["batched_2_workers_1e5"],
+            "mc_projected_hours_1e6_batched_2_workers": r["projected_hours"]["batched_2_workers_1e6"],
+            "mc_projected_hours_1e5_full_2_workers": r["projected_hours"]["full_2_workers_1e5"],
+            "mc_projected_hours_1e6_full_2_workers": r["projected_hours"]["full_2_workers_1e6"],
+            "mc_load_average": r["load_average_1min_before"]}

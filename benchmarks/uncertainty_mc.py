@@ -1,7 +1,9 @@
 """The Monte Carlo of `mtcal uncertainty` (mtcal.uncertainty): speed against workers and coverage of its intervals.
 
-`python benchmarks/uncertainty_mc.py speed [--trials 40]`: trials per second with 1 and 2 local Dask workers on
-the bundled campaign (all five axes, the joint fit), and the projected wall time of 10^6 trials on N workers.
+`python benchmarks/uncertainty_mc.py speed [--trials 8] [--fast-trials 2000]`: trials per second of the full path
+(identify per trial, `--exact`) and of the batched path (mtcal.uncertainty.fast) on the bundled campaign (all five
+axes, the joint fit), in this process and with 1 and 2 local Dask workers, and the projected hours of 10^5 and
+10^6 trials on two workers.
 
 `python benchmarks/uncertainty_mc.py coverage [--n 240] [--trials 200] [--refs 6] [--direct 6] [--stations 1|4]`:
 how often the 95 % intervals hold the truth, over n simulated campaigns of the demo's true machine (all five
@@ -40,18 +42,58 @@ from mtcal.uncertainty.run import default_poses, program_poses  # noqa: E402
 from mtcal.uncertainty.trials import Outputs  # noqa: E402
 
 
-def speed(trials: int) -> dict:
+def speed(trials: int, fast_trials: int = 2000) -> dict:
+    """Trials per second of the full path (`--exact`: identify per trial) and of the batched path
+    (mtcal.uncertainty.fast), in this process (one core, the batched trials' steady state: one block after the
+    set-up) and end to end with 1 and 2 local Dask workers (set-up included), and the projected hours of 10^5 and
+    10^6 trials (set-up plus trials at the 2-worker rate)."""
+    from mtcal.uncertainty import fast as fp
+    from mtcal.uncertainty import run as mc
+    from mtcal.uncertainty.trials import noise_factor, trackers_of
+
     rec = mtcal.read_recording(path("demo_campaign.csv"))
-    out = {"trials": trials, "cores": os.cpu_count(), "readings": len(rec)}
+    opt = {"tracker": DEMO_PLAN["tracker"]}
+    out = {"trials_full": trials, "trials_batched": fast_trials, "cores": os.cpu_count(), "readings": len(rec),
+           "load_average_1min_before": os.getloadavg()[0]}
+    base = mtcal.identify(rec, worth=False, **opt)
+    options = {**opt, "method": base.method}
+    inputs = mc.drawn_law(Inputs(), base)
+    outputs = Outputs.of(base.model, default_poses(base.model.kinematics, base.model), False)
+    t = time.perf_counter()
+    b, why = fp.prepare(rec, options, outputs)
+    out["batched_setup_s"] = time.perf_counter() - t
+    trk = trackers_of(rec, opt["tracker"])
+    noise_factor(rec, trk, inputs)
+    t, c = time.perf_counter(), time.process_time()
+    n = 5 * fp.BLOCK
+    for i in range(5):  # k % SAMPLE: the screen and shape test on 4 of every 200
+        fp.fast_block(b, rec, trk, inputs, options, outputs, 0, list(range(1 + i * fp.BLOCK, 1 + (i + 1) * fp.BLOCK)))
+    dt, dc = time.perf_counter() - t, time.process_time() - c
+    out["in_process"] = {"batched_trials_per_s": n / dt, "batched_trials_per_cpu_s": n / dc}
+    t, c = time.perf_counter(), time.process_time()
+    mc._trial_block(rec, trk, inputs, options, outputs, 0, list(range(4)))
+    out["in_process"].update(full_trials_per_s=4 / (time.perf_counter() - t),
+                             full_trials_per_cpu_s=4 / (time.process_time() - c))
+    out["in_process"]["ratio"] = (out["in_process"]["batched_trials_per_cpu_s"]
+                                  / out["in_process"]["full_trials_per_cpu_s"])
     for w in (1, 2):
-        t = time.perf_counter()
-        monte_carlo(rec, trials=trials, seed=0, workers=w, tracker=DEMO_PLAN["tracker"])
-        dt = time.perf_counter() - t
-        out[f"workers_{w}"] = {"seconds": dt, "trials_per_s": trials / dt}
-    per_worker = out["workers_1"]["trials_per_s"]
-    out["speedup_2_over_1"] = out["workers_2"]["trials_per_s"] / per_worker
-    out["projected_hours_1e6_trials"] = {str(n): 1e6 / (per_worker * n * min(1.0, out["speedup_2_over_1"] / 2)) / 3600
-                                         for n in (2, 16, 64, 256)}
+        for name, n, exact in (("full", trials, True), ("batched", fast_trials, False)):
+            t = time.perf_counter()
+            r = monte_carlo(rec, trials=n, seed=0, workers=w, exact=exact, **opt)
+            dt = time.perf_counter() - t
+            out[f"{name}_workers_{w}"] = {"seconds": dt, "trials_per_s": n / dt, "path": r.path}
+    for name in ("full", "batched"):
+        one, two = out[f"{name}_workers_1"]["trials_per_s"], out[f"{name}_workers_2"]["trials_per_s"]
+        out[f"{name}_speedup_2_over_1"] = two / one
+    # projected: the set-up (base identify, linearisation, check, cluster start) plus the trials at the steady
+    # 2-worker rate (the in-process batched rate times the 2-worker speed-up measured end to end)
+    setup = out["batched_workers_2"]["seconds"] - fast_trials / (2 * out["in_process"]["batched_trials_per_s"])
+    rate2 = out["in_process"]["batched_trials_per_s"] * min(2.0, max(1.0, out["batched_speedup_2_over_1"]))
+    full2 = out["full_workers_2"]["trials_per_s"]
+    out["projected_hours"] = {f"{p}_{n:.0e}".replace("+0", ""): h for n in (1e5, 1e6) for p, h in
+                              (("batched_2_workers", (max(setup, 0.0) + n / rate2) / 3600),
+                               ("full_2_workers", n / full2 / 3600))}
+    out["load_average_1min_after"] = os.getloadavg()[0]
     return out
 
 
@@ -135,12 +177,13 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("what", choices=("speed", "coverage"))
     ap.add_argument("--trials", type=int, default=None)
+    ap.add_argument("--fast-trials", type=int, default=2000, help="speed: trials of the batched path")
     ap.add_argument("--n", type=int, default=40)
     ap.add_argument("--stations", type=int, choices=(1, 4), default=1)
     ap.add_argument("--refs", type=int, default=6)
     ap.add_argument("--direct", type=int, default=6)
     a = ap.parse_args()
-    res = (speed(a.trials or 40) if a.what == "speed"
+    res = (speed(a.trials or 8, a.fast_trials) if a.what == "speed"
            else coverage(a.n, a.trials or 200, a.stations, a.refs, min(a.direct, a.refs)))
     print(json.dumps(res, indent=1))
 

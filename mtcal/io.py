@@ -331,6 +331,17 @@ def _csv_fields(line: str, sep: str, path: str | os.PathLike, lno: int) -> list[
         raise InputError(f"unreadable CSV line: {exc}", path, lno) from None
 
 
+def file_sha256(path: str | os.PathLike) -> str:
+    """sha256 of a file's bytes (what a result derived from the file records of it)."""
+    import hashlib
+
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for chunk in iter(lambda: fh.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
 def read_json(path: str | os.PathLike, what: str) -> Any:
     """Parsed JSON of an input file; a missing file or bad JSON is an error naming the file (``what``: e.g. "model")."""
     p = Path(path)

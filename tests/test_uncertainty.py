@@ -100,7 +100,7 @@ def test_compensate_reports_the_task_uncertainty_of_its_program(rec_x, tmp_path,
     f, prog = tmp_path / "rec.csv", tmp_path / "part.nc"
     write_recording(rec_x, f)
     shutil.copy(path("sample_5axis.nc"), prog)
-    mtcal.save_model(mtcal.identify(rec_x, tracker=T, worth=False).model, tmp_path / "m.json")
+    assert main(["identify", str(f), "--tracker", "250,-1500,150", "-o", str(tmp_path / "m.json"), "-q"]) == 0
     assert main(["uncertainty", str(f), "--trials", "4", "--workers", "0", "--tracker", "250,-1500,150",
                  "--program", str(prog), "-o", str(tmp_path / "mc.json"), "-q"]) == 0
     capsys.readouterr()

@@ -187,9 +187,9 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)
         return EXIT_INPUT
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:  # its message, where it has one, says what was kept (mtcal uncertainty)
         remove_temporaries()
-        print(f"{prog}: interrupted", file=sys.stderr)
+        print(f"{prog}: interrupted" + (f": {to_flags(str(exc), flags)}" if str(exc) else ""), file=sys.stderr)
         return EXIT_INTERRUPT
     except Terminated:
         remove_temporaries()

@@ -29,6 +29,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="with --target-um --monte-carlo: local Dask worker processes (default: the cores)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="with --target-um --monte-carlo: an existing Dask cluster (tcp://host:8786)")
+    p.add_argument("--exact", action="store_true",
+                   help="with --target-um --monte-carlo: every trial runs identify (default: batched trials, as "
+                        "mtcal uncertainty)")
     p.add_argument("--estimator", choices=("auto", "joint", "three-point"), default="auto",
                    help="the estimator to predict: auto (default) = the one mtcal identify uses with the same "
                         "inputs: the joint fit (a tracker position given or estimated from the rounds), three-point "
@@ -105,7 +108,7 @@ def _design_monte_carlo(d, plan, args: argparse.Namespace):
         bar = tqdm(total=args.monte_carlo * len(d.steps), unit="trial", file=sys.stderr, desc="mtcal plan")
     try:
         return design_monte_carlo(d, plan, args.monte_carlo, args.seed, args.workers, args.scheduler,
-                                  progress=bar.update if bar else None)
+                                  progress=bar.update if bar else None, exact=args.exact)
     finally:
         if bar:
             bar.close()

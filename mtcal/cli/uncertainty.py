@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
-from mtcal.io import atomic_write_text, dumps, refuse_overwrite
+from mtcal.io import atomic_write_text, dumps, file_sha256, refuse_overwrite
 
 NAME = "uncertainty"
 HELP = ("GUM Supplement 1 Monte Carlo of the identification: readings drawn from the tracker's law and its "
@@ -44,6 +44,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--program", metavar="P.nc",
                    help="the tool tip's interval at this program's moves (up to 500; the task-specific uncertainty "
                         "that `mtcal compensate --uncertainty` reports) instead of 100 poses of the work volume")
+    p.add_argument("--exact", action="store_true",
+                   help="every trial runs identify (default: batched trials, the joint fit linearised at the "
+                        "campaign's estimate, checked against identify on a few trials; docs/guide/uncertainty.md)")
     p.add_argument("--budget", action="store_true", help="also the uncertainty budget (one-at-a-time Monte Carlo)")
     p.add_argument("--plots", metavar="DIR", help="write uncertainty_AXIS.png (bands) and, adaptive, convergence.png "
                                                   "into DIR")
@@ -72,12 +75,15 @@ def run(args: argparse.Namespace) -> int:
                           scheduler=args.scheduler, store=args.store, budget=args.budget, poses=poses,
                           tolerance_mm=None if args.tolerance_um is None else args.tolerance_um * 1e-3,
                           progress=bar.update if bar else None, tracker=args.tracker, method=args.method,
-                          tracker_model=args.tracker_model,
+                          tracker_model=args.tracker_model, exact=args.exact,
                           **({"machine": args.machine} if args.machine else {}))
     finally:
         if bar:
             bar.close()
     out = res.to_dict()
+    out["provenance"].update(recording={"file": Path(args.recording).name, "sha256": file_sha256(args.recording)},
+                             program=None if not args.program else {"file": Path(args.program).name,
+                                                                    "sha256": file_sha256(args.program)})
     if args.program:
         out["volumetric"]["program"] = Path(args.program).name
     if args.plots:
@@ -112,6 +118,15 @@ def _text(d: dict) -> str:
         lines.append(f"  {n:6s} axis {e['axis']}: largest half-width {half:8.2f}")
     for n, c in d["constants"].items():
         lines.append(f"  {n:6s} {c['mean'] * 1e6:8.2f} urad, [{c['lo95'] * 1e6:.2f}, {c['hi95'] * 1e6:.2f}]")
+    pth = d.get("path", {})
+    if pth.get("batched"):
+        tr = pth.get("trials", {})
+        full = {k: v for k, v in tr.items() if k != "batched" and v}
+        lines.append(f"  batched trials: {tr.get('batched', 0)}; by identify: " + (", ".join(
+            f"{v} ({k})" for k, v in full.items()) or "none") + f"; check on {pth['check']['trials']} trials: "
+            f"largest difference {pth['check']['largest_difference_of_half_width']:.2%} of a half-width")
+    elif pth:
+        lines.append(f"  every trial ran identify ({pth.get('why')})")
     v = d["volumetric"]
     where = f"moves of {v['program']}" if v.get("program") else "poses of the work volume"
     lines.append(f"  tool tip over {len(v['poses'])} {where}: largest half-width {v['u95_max_mm'] * 1e3:.2f} um")

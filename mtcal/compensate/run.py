@@ -111,7 +111,7 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
     if iterations is None:
         iterations = 2 if scope == "full" else 1
     comp = Compensator(mdl, scope=scope, tool_length=tool_length, iterations=iterations, cone=cone, outside=outside)
-    task = task_uncertainty(uncertainty, program) if uncertainty else None  # refused before anything is written
+    task = task_uncertainty(uncertainty, program, mdl) if uncertainty else None  # refused before anything is written
     t0 = time.perf_counter()
     pc = ProgramCompensator(comp, tolerance=tolerance, precision=precision, progress=progress,
                             residual_every=residual_every, max_correction=max_correction,
@@ -145,20 +145,45 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
     }
 
 
-def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike) -> dict:
+def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike, model: ErrorModel | None = None) -> dict:
     """The tool tip's uncertainty after compensation from `mtcal uncertainty --program` (its JSON at ``path``): the
-    largest and RMS half-width of the 95 % intervals over the program's moves (um); refused when it was computed
-    for another program or over the work volume."""
+    largest and RMS half-width of the 95 % intervals over the program's moves (um); refused (InputError) when it
+    was computed for another program (name or contents: ``provenance``'s sha256) or over the work volume, for
+    another model than ``model`` (``ErrorModel.digest``: another recording or identify's options), from fewer than
+    two trials, with a non-finite interval, or carries no provenance (an older mtcal)."""
     from pathlib import Path
 
-    from mtcal.io import read_json
+    from mtcal.io import file_sha256, read_json
 
     d = read_json(path, "uncertainty result")
     vol = d.get("volumetric", {}) if isinstance(d, dict) else {}
     if vol.get("program") != Path(program).name:
         raise InputError(f"{path}: not the Monte Carlo of this program's tool tip (run `mtcal uncertainty REC.csv "
                          f"--program {Path(program).name}`); it holds {vol.get('program') or 'the work volume'}")
-    lo, hi = (np.asarray(vol["deviation_xyz_mm"][k], dtype=float) for k in ("lo95", "hi95"))
+    prov = d.get("provenance") if isinstance(d.get("provenance"), dict) else {}
+    rerun = (f"run `mtcal uncertainty REC.csv --program {Path(program).name}` on the recording the model was "
+             f"identified from, with identify's options")
+    if not prov.get("model_sha256") or not isinstance(prov.get("program"), dict):
+        raise InputError(f"{path}: carries no provenance (the hashes of its model and program; an older mtcal): "
+                         f"{rerun}")
+    if model is not None and prov["model_sha256"] != model.digest():
+        raise InputError(f"{path}: the Monte Carlo of another model (another recording, or identify run with "
+                         f"other options): {rerun}")
+    if prov["program"].get("sha256") != file_sha256(program):
+        raise InputError(f"{path}: the Monte Carlo of another version of {Path(program).name} (its contents "
+                         f"differ): {rerun}")
+    trials = d.get("trials")
+    if not isinstance(trials, int) or trials < 2:
+        raise InputError(f"{path}: {trials} trials: an interval needs at least 2 (run more `trials`)")
+    try:
+        arrs = [np.asarray(vol["deviation_xyz_mm"][k], dtype=float) for k in ("lo95", "hi95")]
+    except (KeyError, TypeError, ValueError):
+        raise InputError(f"{path}: no intervals of the tool tip (volumetric.deviation_xyz_mm lo95, hi95)") from None
+    if arrs[0].shape != arrs[1].shape or arrs[0].ndim != 2 or not len(arrs[0]) or not all(
+            np.isfinite(a).all() for a in arrs):
+        raise InputError(f"{path}: the tool tip's intervals hold a non-finite value or none at all: not a usable "
+                         f"Monte Carlo; {rerun}")
+    lo, hi = arrs
     half = np.linalg.norm(hi - lo, axis=1) / 2
     return {"trials": d.get("trials"), "p": d.get("p"), "moves": len(half), "u95_max_um": float(half.max() * 1e3),
             "u95_rms_um": float(np.sqrt(np.mean(half**2)) * 1e3),

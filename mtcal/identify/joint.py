@@ -289,6 +289,27 @@ def joint_fit(rec: Recording, m: Machine, tracker=None, spec: trk.TrackerSpec = 
     return res
 
 
+def linearised(rec: Recording, m: Machine, tracker=None, spec: trk.TrackerSpec = trk.AT960):
+    """The joint estimate (``joint_fit`` without the per-round values) and the linear system at it, for trials that
+    differ from ``rec`` by micrometres (mtcal.uncertainty.fast): (result, (the whitened Jacobian the Gauss-Newton
+    steps use at the estimate, the whitening (n, 3, 3), the whitened residual (3 n,), the inverse of the scaled
+    KKT matrix, the column scale)).  A trial's change is dx = S K S J^T dr: one more step from the estimate."""
+    res = joint_fit(rec, m, tracker, spec, per_round=False)
+    sides = np.array([m.side(str(a)) for a in rec.axis])
+    keys = _direction_keys(rec)
+    q = _axes_matrix(m, rec)
+    st = rec.stations()
+    cov = np.empty((len(rec), 3, 3))
+    for s, t in res.trackers.items():
+        cov[st == s] = trk.covariance(rec.xyz[st == s], t, spec)
+    whiten = np.linalg.inv(np.linalg.cholesky(cov))
+    model, *blocks = _state(m, rec, res.layout, q, keys, sides, res.x)
+    jw = _jacobian(rec, res.layout, sides, blocks, whiten)
+    rw = np.einsum("nij,nj->ni", whiten, rec.xyz - model).ravel()
+    _, kkt_inv, scale = _solve(jw, rw, _gauge(m, rec, res.layout, []))
+    return res, (jw, whiten, rw, kkt_inv, scale)
+
+
 def _solve(jw: sps.csr_matrix, rw: np.ndarray, c_rows: np.ndarray):
     """Gauge-constrained least squares by the column-scaled normal equations (KKT).  Returns (dx, KKT^-1 of the
     scaled system, column scale)."""

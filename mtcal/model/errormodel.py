@@ -110,6 +110,21 @@ class ErrorModel:
         flat = a.reshape(-1, a.shape[-1])
         return ev(flat).reshape(a.shape[:-1] + (len(machine.error_names),))
 
+    def digest(self) -> str:
+        """sha256 of what the model evaluates: machine, constants, each function's table and fit (without the
+        fit's statistics, ``info``); the same for a model and its file as saved and loaded (JSON floats round-trip
+        exactly).  A result derived from a model (a Monte Carlo of it, `mtcal uncertainty`) carries it."""
+        import hashlib
+        import json
+
+        funcs = {n: {"axis": f.axis, "positions": np.asarray(f.positions, dtype=float).tolist(),
+                     "values": np.asarray(f.values, dtype=float).tolist(),
+                     "fit": None if f.fit is None else {k: v for k, v in f.fit.to_dict().items() if k != "info"}}
+                 for n, f in sorted(self.functions.items())}
+        text = json.dumps({"machine": self.machine, "constants": {k: float(v) for k, v in sorted(
+            self.constants.items())}, "functions": funcs}, sort_keys=True, default=float)
+        return hashlib.sha256(text.encode()).hexdigest()
+
     def is_zero(self) -> bool:
         return all(v == 0 for v in self.constants.values()) and all(
             not np.any(f.values) and (f.fit is None or f.fit.is_zero()) for f in self.functions.values())

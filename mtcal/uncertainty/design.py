@@ -27,13 +27,15 @@ from mtcal.uncertainty.run import monte_carlo
 
 
 def volumetric_um(plan: Plan, p: Prediction, trials: int, seed: int = 0, workers: int | None = None,
-                  scheduler: str | None = None, grid: np.ndarray | None = None, progress=None) -> float:
-    """The Monte Carlo figure of one candidate campaign ``p`` (module docstring), um."""
+                  scheduler: str | None = None, grid: np.ndarray | None = None, progress=None,
+                  exact: bool = False) -> float:
+    """The Monte Carlo figure of one candidate campaign ``p`` (module docstring), um; ``exact``: identify in every
+    trial (else batched trials, mtcal.uncertainty.fast)."""
     rec = nominal_campaign(plan, [(s, tuple(x)) for s, x in p.stations], p.rounds_per_station, p.reflector_scale,
                            _machine_with_errors(plan))
     g = poses(plan) if grid is None else grid
     r = monte_carlo(rec, trials=trials, seed=seed, inputs=Inputs().only("noise"), workers=workers,
-                    scheduler=scheduler, poses=g, progress=progress, machine=plan.machine)
+                    scheduler=scheduler, poses=g, progress=progress, machine=plan.machine, exact=exact)
     u = r.stats["u"][r.outputs.volumetric].reshape(len(g), 3)
     return float(np.sqrt(np.mean(np.sum(u**2, axis=1))) * 1e3)
 
@@ -50,14 +52,14 @@ def _machine_with_errors(plan: Plan) -> ErrorModel:
 
 
 def design_monte_carlo(d: Design, plan: Plan, trials: int, seed: int = 0, workers: int | None = None,
-                       scheduler: str | None = None, progress=None) -> Design:
+                       scheduler: str | None = None, progress=None, exact: bool = False) -> Design:
     """``d`` with each step's ``monte_carlo_um`` (in order, up to the first that meets the target) and the
     recommendation decided by them (module docstring)."""
     grid = poses(plan)
     steps = []
     for p in d.steps:
         steps.append(replace(p, monte_carlo_um=volumetric_um(plan, p, trials, seed, workers, scheduler, grid,
-                                                             progress)))
+                                                             progress, exact)))
         if steps[-1].monte_carlo_um <= d.target_um:
             break
     best = steps[-1]

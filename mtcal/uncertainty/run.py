@@ -17,7 +17,11 @@ numerical tolerance (``tolerance_mm``; angles scaled by 1/1000 mm, i.e. 1 urad a
 from __future__ import annotations
 
 import logging
+import os
+import signal
 import time
+import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -27,7 +31,7 @@ from mtcal.errors import InputError
 from mtcal.io import atomic_open
 from mtcal.measurement.recordings import Recording
 from mtcal.uncertainty.inputs import TERMS, Inputs
-from mtcal.uncertainty.trials import Outputs, draw, trackers_of
+from mtcal.uncertainty.trials import Outputs, draw, noise_factor, trackers_of
 
 log = logging.getLogger(__name__)
 BATCH = 4  # trials per Dask task: a task runs ~1-4 s
@@ -44,91 +48,223 @@ def _trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: 
     quiet = logging.getLogger("mtcal")
     level = quiet.level
     quiet.setLevel(logging.ERROR)  # a trial's progress is not the user's (restored: --workers 0 runs in-process)
+    factor = noise_factor(rec, trackers, inputs)
     try:
         for i, k in enumerate(ks):
-            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]))
+            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), factor)
             out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
     finally:
         quiet.setLevel(level)
     return ks, out
 
 
-@dataclass
 class Store:
-    """The trials done: their indices and output vectors, with what they were drawn under (``key``)."""
+    """The trials done: their indices and output vectors, with what they were drawn under (``key``) and the
+    readings they were drawn about (``recording_sha256``, ``readings_sha256``).  Blocks added are joined when read
+    (10^5 trials arrive in 500 blocks)."""
 
-    key: str
-    index: np.ndarray
-    values: np.ndarray
+    def __init__(self, key: str, index: np.ndarray, values: np.ndarray, recording_sha256: str = ""):
+        self.key, self.recording_sha256 = key, recording_sha256
+        self._parts = [(np.asarray(index, dtype=np.int64), np.asarray(values, dtype=float))]
+
+    def _joined(self) -> tuple[np.ndarray, np.ndarray]:
+        if len(self._parts) > 1:
+            self._parts = [(np.concatenate([i for i, _ in self._parts]), np.vstack([v for _, v in self._parts]))]
+        return self._parts[0]
+
+    @property
+    def index(self) -> np.ndarray:
+        return self._joined()[0]
+
+    @property
+    def values(self) -> np.ndarray:
+        return self._joined()[1]
+
+    def __len__(self) -> int:
+        return sum(len(i) for i, _ in self._parts)
 
     @classmethod
-    def load(cls, path: Path | None, key: str, size: int) -> "Store":
+    def load(cls, path: Path | None, key: str, size: int, recording_sha256: str = "") -> "Store":
+        """The store at ``path`` (empty when there is none); refused (InputError, one line) when it is not a
+        readable trial store, or was drawn from another recording, seed, options or output layout."""
         if path is None or not Path(path).exists():
-            return cls(key, np.zeros(0, dtype=np.int64), np.zeros((0, size)))
-        with np.load(path, allow_pickle=False) as z:
-            if str(z["key"]) != key:
-                raise InputError(f"{path}: its trials were drawn from another recording, seed or options, or kept "
-                                 f"another layout of outputs (an older mtcal); give a new store (or the same inputs) "
-                                 f"to extend it")
-            return cls(key, z["index"], z["values"])
+            return cls(key, np.zeros(0, dtype=np.int64), np.zeros((0, size)), recording_sha256)
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                stored = {k: z[k] for k in z.files}
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as e:  # truncated, not an npz
+            raise InputError(f"{path}: not a readable trial store of `mtcal uncertainty` ({type(e).__name__}: {e}); "
+                             f"remove it or give another `store`") from None
+        index, values = stored.get("index"), stored.get("values")
+        if ("key" not in stored or index is None or values is None or index.ndim != 1 or values.ndim != 2
+                or len(index) != len(values) or not np.issubdtype(index.dtype, np.integer)):
+            raise InputError(f"{path}: not a trial store of `mtcal uncertainty` (its arrays key, index, values are "
+                             f"missing or of the wrong shape); remove it or give another `store`")
+        theirs = str(stored["recording_sha256"]) if "recording_sha256" in stored else ""
+        if str(stored["key"]) != key:
+            what = ("another recording (readings sha256 " + theirs[:12] + ", this one " + recording_sha256[:12] + ")"
+                    if theirs and recording_sha256 and theirs != recording_sha256 else
+                    "another seed, options or noise law, or kept another layout of outputs (an older mtcal)")
+            raise InputError(f"{path}: its trials were drawn from {what}; give a new store (or the same inputs) "
+                             f"to extend it")
+        if values.shape[1] != size or not np.all(np.isfinite(values)):
+            raise InputError(f"{path}: a trial store with {values.shape[1]} outputs per trial where {size} are "
+                             f"expected, or with a non-finite value: corrupt; remove it or give another `store`")
+        return cls(key, index.astype(np.int64), values, recording_sha256)
 
     def save(self, path: Path | None) -> None:
         if path is None:
             return
         with atomic_open(path, "wb") as fh:
-            np.savez(fh, key=np.array(self.key), index=self.index, values=self.values)
+            np.savez(fh, key=np.array(self.key), index=self.index, values=self.values,
+                     recording_sha256=np.array(self.recording_sha256))
 
     def add(self, ks: list[int], v: np.ndarray) -> None:
-        self.index = np.concatenate([self.index, np.asarray(ks, dtype=np.int64)])
-        self.values = np.vstack([self.values, v])
+        self._parts.append((np.asarray(ks, dtype=np.int64), np.asarray(v, dtype=float)))
+
+
+def cores() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def local_workers(workers: int | None) -> int:
+    """The local worker processes to start: ``workers`` (default: the cores), capped at the cores with a warning
+    (each worker is a process and its nanny: more than the cores only share them, and hundreds exhaust the
+    process limit)."""
+    n = cores()
+    if workers is None:
+        return n
+    if workers > n:
+        log.warning("warning: `workers` %d is more than this machine's %d cores: running %d worker processes (more "
+                    "would only share the cores; a cluster: `scheduler`)", workers, n, n)
+        return n
+    return workers
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C during the trials: what was kept (its message is the CLI's one line)."""
 
 
 def _client(workers: int | None, scheduler: str | None):
     """A Dask client: the cluster at ``scheduler``, else a local cluster of ``workers`` processes (default: the
-    machine's cores)."""
+    machine's cores, capped there: ``local_workers``).  The worker processes are started with SIGINT blocked
+    (the mask is inherited): Ctrl-C reaches this process only, which stops them; a Ctrl-C during the start-up is
+    raised here once the cluster is up."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
         return Client(scheduler), None
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                           silence_logs=logging.ERROR)
-    return Client(cluster), cluster
+    n = local_workers(workers)
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()  # now: starting it unblocks SIGINT in the thread that does (CPython 3.11)
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    cluster = client = None
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
+        client = Client(cluster)
+    finally:
+        try:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)  # a pending Ctrl-C is raised here
+        except KeyboardInterrupt:
+            _close(client, cluster)
+            raise
+    return client, cluster
+
+
+def _close(client, cluster) -> None:
+    """Close a Dask client and its local cluster quietly (after Ctrl-C Dask logs the cancelled tasks)."""
+    quiet = [logging.getLogger(n) for n in ("distributed", "tornado", "asyncio")]
+    levels = [q.level for q in quiet]
+    for q in quiet:
+        q.setLevel(logging.CRITICAL + 1)
+    try:
+        for c in (client, cluster):
+            if c is not None:
+                try:
+                    c.close()
+                except Exception:  # noqa: BLE001 - shutting down after an interrupt: nothing left to save
+                    pass
+    finally:
+        for q, lv in zip(quiet, levels):
+            q.setLevel(lv)
 
 
 def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, outputs: Outputs, seed: int,
                store: Store, store_path: Path | None, workers: int | None = None, scheduler: str | None = None,
-               progress=None) -> None:
-    """Run trials ``ks`` into ``store`` (saved as blocks arrive; Ctrl-C keeps what is done)."""
+               progress=None, fast=None) -> None:
+    """Run trials ``ks`` into ``store`` (saved as blocks arrive and on the way out; Ctrl-C keeps what is done and
+    raises ``Interrupted`` saying so).  ``fast``: the batched path (mtcal.uncertainty.fast.Batched), else each
+    trial runs ``identify``."""
     if not ks:
         return
     trackers = trackers_of(rec, options.get("tracker"))
-    blocks = [ks[i:i + BATCH] for i in range(0, len(ks), BATCH)]
-    if workers == 0:  # in this process (tests, debugging)
-        for b in blocks:
-            store.add(*_trial_block(rec, trackers, inputs, options, outputs, seed, b))
-            if progress:
-                progress(len(b))
+    size = BATCH if fast is None else fast.block
+    blocks = [ks[i:i + size] for i in range(0, len(ks), size)]
+    before = len(store)
+    try:
+        if workers == 0:  # in this process (tests, debugging)
+            last = time.monotonic()
+            for b in blocks:
+                res = _block(rec, trackers, inputs, options, outputs, seed, b, fast)
+                store.add(*res[:2])
+                if fast is not None:
+                    fast.merge(res[2])
+                if progress:
+                    progress(len(b))
+                if time.monotonic() - last > 30:
+                    store.save(store_path)
+                    last = time.monotonic()
+            return
+        _on_dask(rec, trackers, inputs, options, outputs, seed, blocks, store, store_path, workers, scheduler,
+                 progress, fast)
+    except KeyboardInterrupt:
         store.save(store_path)
-        return
+        done = len(store) - before
+        raise Interrupted(f"{done} trials of this run done" + (f", {len(store)} kept in {store_path} (a "
+                                                               f"later run with the same inputs extends them)"
+                                                               if store_path else " (give `store` to keep trials)")
+                          ) from None
+    finally:
+        store.save(store_path)
+
+
+def _block(rec, trackers, inputs, options, outputs, seed, ks, fast):
+    """Trials ``ks`` on a worker: (ks, their output vectors, the batched path's counts or None)."""
+    if fast is None:
+        return (*_trial_block(rec, trackers, inputs, options, outputs, seed, ks), None)
+    from mtcal.uncertainty.fast import fast_block
+
+    return fast_block(fast, rec, trackers, inputs, options, outputs, seed, ks)
+
+
+def _on_dask(rec, trackers, inputs, options, outputs, seed, blocks, store, store_path, workers, scheduler,
+             progress, fast) -> None:
     from dask.distributed import as_completed
 
     client, cluster = _client(workers, scheduler)
     try:
         args = [client.scatter(x, broadcast=True) for x in (rec, trackers, inputs, options, outputs)]
-        futures = [client.submit(_trial_block, *args, seed, b, pure=False) for b in blocks]
+        fa = None if fast is None else client.scatter(fast, broadcast=True)
+        futures = [client.submit(_block, *args, seed, b, fa, pure=False) for b in blocks]
         last = time.monotonic()
         for fut in as_completed(futures):
-            store.add(*fut.result())
+            res = fut.result()
+            store.add(*res[:2])
+            if fast is not None:
+                fast.merge(res[2])
             if progress:
-                progress(BATCH)
+                progress(len(res[0]))
             if time.monotonic() - last > 30:
                 store.save(store_path)
                 last = time.monotonic()
     finally:
-        store.save(store_path)
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        _close(client, cluster)
 
 
 # ---------------------------------------------------------------------------------------------- reduction
@@ -204,6 +340,8 @@ class UncertaintyResult:
     budget: dict[str, dict] = field(default_factory=dict)
     convergence: list[dict] = field(default_factory=list)
     seconds: float = 0.0
+    model_sha256: str = ""  # the identified model the trials vary (ErrorModel.digest)
+    path: dict = field(default_factory=dict)  # batched or full path, and the trials of each (mtcal.uncertainty.fast)
 
     def to_dict(self) -> dict:
         s, o = self.stats, self.outputs
@@ -224,7 +362,8 @@ class UncertaintyResult:
                                                                               for k, v in vol.items()},
                               "u95_max_mm": float(np.max(np.reshape(np.array(vol["hi95"]) - np.array(vol["lo95"]),
                                                                     (n, 3))) / 2) if n else 0.0},
-               "seconds": self.seconds}
+               "seconds": self.seconds, "path": self.path,
+               "provenance": {"model_sha256": self.model_sha256}}
         if self.budget:
             out["budget"] = self.budget
         if self.convergence:
@@ -253,6 +392,18 @@ def default_poses(machine, model, n: int = 100, seed: int = 0) -> np.ndarray:
             lo, hi = max(p.min() for p in pos), min(p.max() for p in pos)
             q[:, i] = rng.uniform(lo, hi, n)
     return q
+
+
+def readings_sha256(rec: Recording) -> str:
+    """sha256 of what a trial draws about: the readings, their positions, axes, points, rounds and trackers."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for a in (rec.xyz, rec.position, rec.round, rec.tracker_xyz):
+        h.update(b"-" if a is None else np.ascontiguousarray(a).tobytes())
+    for a in (rec.axis, rec.point):
+        h.update("\x1f".join(map(str, a)).encode())
+    return h.hexdigest()
 
 
 def _key(rec: Recording, seed: int, options: dict, inputs: Inputs, outputs: Outputs) -> str:
@@ -296,7 +447,8 @@ def _stage_spread(values: np.ndarray, stage: int, p: float, scale: np.ndarray) -
 def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float = 0.95, inputs: Inputs | None = None,
                 workers: int | None = None, scheduler: str | None = None, store: str | Path | None = None,
                 poses: np.ndarray | None = None, budget: bool = False, tolerance_mm: float | None = None,
-                stage: int = 100, progress=None, tables: bool = False, **identify_options) -> UncertaintyResult:
+                stage: int = 100, progress=None, tables: bool = False, exact: bool = False,
+                **identify_options) -> UncertaintyResult:
     """GUM Supplement 1 Monte Carlo through the whole estimator: ``identify(rec, **identify_options)`` re-run on
     readings drawn from the input quantities' laws (module docstring), on Dask or in this process.
 
@@ -331,6 +483,9 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
         Called as trials complete.
     tables : bool, optional
         The errors' table values instead of the fitted functions (linear in the readings).
+    exact : bool, optional
+        Every trial runs ``identify`` (default False: the batched path, mtcal.uncertainty.fast, where the recording
+        allows it and its check trials agree with identify; else identify, said in the notes).
     **identify_options
         Passed to ``identify`` (tracker, method, ...).
 
@@ -363,14 +518,23 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
     m = base.model.kinematics
     outputs = Outputs.of(base.model, default_poses(m, base.model) if poses is None else poses, tables)
     path = None if store is None else Path(store)
-    st = Store.load(path, _key(rec, seed, options, inputs, outputs), outputs.size)
+    st = Store.load(path, _key(rec, seed, options, inputs, outputs), outputs.size, readings_sha256(rec))
     scale = np.where(_angular(outputs), 1e3, 1.0)
     history = []
     target = trials if tolerance_mm is None else min(trials, stage)
+    fast, path_report = None, {"batched": False, "why": "`exact` asked for"} if exact else None
     while True:
         done = set(st.index.tolist())
-        run_trials(rec, [k for k in range(target) if k not in done], inputs=inputs, options=options, outputs=outputs,
-                   seed=seed, store=st, store_path=path, workers=workers, scheduler=scheduler, progress=progress)
+        pending = [k for k in range(target) if k not in done]
+        if path_report is None and pending:
+            try:
+                fast, path_report = _batched_path(rec, options, outputs, inputs, seed, pending, st, progress)
+            except KeyboardInterrupt:
+                raise Interrupted("0 trials of this run done" + (f", {len(st)} kept in {path}" if path else "")
+                                  ) from None
+            pending = [k for k in pending if k not in set(st.index.tolist())]
+        run_trials(rec, pending, inputs=inputs, options=options, outputs=outputs, seed=seed, store=st,
+                   store_path=path, workers=workers, scheduler=scheduler, progress=progress, fast=fast)
         vals = _ordered(st, target)
         if tolerance_mm is None or target >= trials:
             break
@@ -380,7 +544,8 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
             break
         target = min(trials, target + stage)
     res = UncertaintyResult(len(vals), seed, p, {**inputs.to_dict(), "estimator": options["method"]}, outputs,
-                            zero_fits(intervals(vals, p), outputs, base.model), convergence=history)
+                            zero_fits(intervals(vals, p), outputs, base.model), convergence=history,
+                            model_sha256=base.model.digest())
     if budget:
         n = max(50, trials // 4)
         for term in TERMS:
@@ -389,10 +554,42 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
                 continue
             bs = Store(term, np.zeros(0, dtype=np.int64), np.zeros((0, outputs.size)))
             run_trials(rec, list(range(n)), inputs=sub, options=options, outputs=outputs, seed=seed + 1, store=bs,
-                       store_path=None, workers=workers, scheduler=scheduler, progress=progress)
+                       store_path=None, workers=workers, scheduler=scheduler, progress=progress, fast=fast)
             res.budget[term] = _budget_line(_ordered(bs, n), outputs, base.model)
+    res.path = {**(path_report or {"batched": False, "why": "no trial to run (the store held them all)"}),
+                **({"trials": dict(fast.counts)} if fast is not None else {})}
     res.seconds = time.perf_counter() - t0
     return res
+
+
+MIN_BATCHED = 12  # fewer pending trials run the full path (the batched path's check alone runs 3 of them)
+
+
+def _batched_path(rec: Recording, options: dict, outputs: Outputs, inputs: Inputs, seed: int, pending: list[int],
+                  st: Store, progress) -> tuple[object, dict]:
+    """The batched estimator (mtcal.uncertainty.fast) and its report, after its check on the first trials (whose
+    batched values go to ``st``), or (None, why the full path runs)."""
+    from mtcal.uncertainty import fast as fp
+
+    if len(pending) < MIN_BATCHED:
+        return None, {"batched": False, "why": f"fewer than {MIN_BATCHED} trials to run"}
+    b, why = fp.prepare(rec, options, outputs)
+    if b is None:
+        log.info("each trial runs identify (%s)", why)
+        return None, {"batched": False, "why": why}
+    trackers = trackers_of(rec, options.get("tracker"))
+    first = pending[:min(len(pending), b.block)]
+    ok, check, block = fp.self_check(b, rec, trackers, inputs, options, outputs, seed, first)
+    if not ok:
+        log.warning("warning: the batched trials do not reproduce identify on this recording (an output differs by "
+                    "%.3g of its 95 %% half-width on %d check trials, more than %g): every trial runs identify",
+                    check["largest_difference_of_half_width"], check["trials"], fp.CHECK_TOLERANCE)
+        return None, {"batched": False, "why": "its check trials disagree with identify", "check": check}
+    st.add(*block[:2])
+    b.merge(block[2])
+    if progress:
+        progress(len(first))
+    return b, {"batched": True, "check": check}
 
 
 def drawn_law(inputs: Inputs, base) -> Inputs:

@@ -62,15 +62,26 @@ class Outputs:
         return out
 
 
-def draw(rec: Recording, trackers: np.ndarray, inputs: Inputs, rng: np.random.Generator) -> np.ndarray:
+def noise_factor(rec: Recording, trackers: np.ndarray, inputs: Inputs) -> np.ndarray | None:
+    """The Cholesky factors (n, 3, 3) of the readings' noise covariance (the law ``inputs.noise`` about each row's
+    tracker), or None when the law is off: shared by every trial's ``draw``."""
+    spec = inputs.noise
+    if not (spec.radial_um or spec.radial_um_per_m or spec.transverse_um or spec.transverse_um_per_m):
+        return None
+    return np.linalg.cholesky(trk.covariance(rec.xyz, trackers, spec))
+
+
+def draw(rec: Recording, trackers: np.ndarray, inputs: Inputs, rng: np.random.Generator,
+         factor: np.ndarray | None | str = "compute") -> np.ndarray:
     """One draw of the readings (n, 3) mm: the recorded values plus the tracker noise (about each row's tracker
-    ``trackers`` (n, 3)), each station's scale error about its tracker, each reflector's centring offset and the
-    structure's thermal expansion about the machine origin."""
+    ``trackers`` (n, 3); ``factor``: ``noise_factor`` computed once for many trials), each station's scale error
+    about its tracker, each reflector's centring offset and the structure's thermal expansion about the machine
+    origin."""
     xyz = rec.xyz.copy()
     st = rec.stations()
-    spec = inputs.noise
-    if spec.radial_um or spec.radial_um_per_m or spec.transverse_um or spec.transverse_um_per_m:
-        xyz += trk.sample(rec.xyz, trackers, rng, spec)
+    factor = noise_factor(rec, trackers, inputs) if isinstance(factor, str) else factor
+    if factor is not None:  # as mtcal.measurement.tracker.sample
+        xyz += np.einsum("...ij,...j->...i", factor, rng.standard_normal(rec.xyz.shape))
     if inputs.scale_u:
         for s in np.unique(st):
             on = st == s
