@@ -139,7 +139,7 @@ def compare_pair(a: Record, b: Record, spec: str | None, level: float = LEVEL) -
     for t, r in zip(tests, rejected):
         if r and (t[0][0] not in best or abs(t[1]) / t[2] > abs(best[t[0][0]][1]) / best[t[0][0]][2]):
             best[t[0][0]] = t
-    for name, (_key_, d, s, nu, p, y) in sorted(best.items(), key=lambda kv: kv[1][4]):
+    for name, (_, d, s, nu, p, y) in sorted(best.items(), key=lambda kv: kv[1][4]):
         unit, f = SHOWN.get(y.unit, (y.unit, 1.0))
         half = (stats.t.ppf(0.975, nu) if math.isfinite(nu) else Z95) * s
         step.changed.append(Change(name, d * f, half * f, unit, y.axis, y.position, p,

@@ -120,8 +120,8 @@ def instrument_section(d: ReportData) -> str:
     if law:
         extra = (f"<p>The model's readings were weighted by the {_e(law.get('instrument', ''))} law: ±("
                  f"{law['radial_um']:g} µm + {law['radial_um_per_m']:g} µm/m) along the beam, "
-                 f"±({law['transverse_um']:g} µm + {law['transverse_um_per_m']:g} µm/m) across (MPE, k = {law['k']:g}; {_e(law.get('source'))})."
-                 "</p>")
+                 f"±({law['transverse_um']:g} µm + {law['transverse_um_per_m']:g} µm/m) across (MPE, "
+                 f"k = {law['k']:g}; {_e(law.get('source'))}).</p>")
     return _section("Instrument and environment", _table(["date", "result", "instrument", "environment"], rows, 4)
                     + extra)
 
