@@ -12,15 +12,14 @@ import sys
 from pathlib import Path
 
 import pytest
+from history_data import check_doc, diagnose_doc, iso_doc, model_doc, uncertainty_doc, verify_doc, write
+from pg_server import fresh_database, private_server
 from scipy import stats
 
-from history_data import (K3, check_doc, diagnose_doc, iso_doc, model_doc, uncertainty_doc, verify_doc,
-                          write)
 from mtcal.cli import main
 from mtcal.errors import InputError
 from mtcal.history import add, compare_history, read_result, show, trend_of
 from mtcal.history.compare import _holm, _welch
-from pg_server import fresh_database, private_server
 
 
 def run(capsys, *argv):
