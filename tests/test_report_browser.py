@@ -13,8 +13,8 @@ import shutil
 from pathlib import Path
 
 import pytest
-
 from history_data import check_doc, diagnose_doc, iso_doc, model_doc, uncertainty_doc, write
+
 from mtcal.cli import main
 from mtcal.history import add
 
