@@ -18,14 +18,16 @@ from history_data import check_doc, diagnose_doc, iso_doc, model_doc, uncertaint
 from mtcal.cli import main
 from mtcal.history import add
 
-CHROMIUM, DRIVER = shutil.which("chromium") or "/usr/bin/chromium", shutil.which("chromedriver") or "/usr/bin/chromedriver"
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+DRIVER = shutil.which("chromedriver") or "/usr/bin/chromedriver"
 
 
 @pytest.fixture(scope="module")
 def browser():
     webdriver = pytest.importorskip("selenium.webdriver", reason="selenium is not installed (pip install mtcal[test])")
     if not (Path(CHROMIUM).exists() and Path(DRIVER).exists()):
-        pytest.skip("Debian's chromium and chromium-driver are not installed (apt-get install chromium chromium-driver)")
+        pytest.skip("Debian's chromium and chromium-driver are not installed "
+                    "(apt-get install chromium chromium-driver)")
     os.environ["SE_OFFLINE"] = "true"  # Selenium Manager must not fetch anything
     opts = webdriver.ChromeOptions()
     opts.binary_location = CHROMIUM
