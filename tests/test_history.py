@@ -166,6 +166,23 @@ def test_unreachable_database(tmp_path, capsys):
     assert "is not a directory" in err
 
 
+def test_the_store_knows_its_head_and_migrates_an_empty_database(tmp_path):
+    from alembic.config import Config
+    from alembic.script import ScriptDirectory
+
+    from mtcal.history import store
+    cfg = Config()
+    cfg.set_main_option("script_location", str(store.MIGRATIONS))
+    assert store.HEAD == ScriptDirectory.from_config(cfg).get_current_head()
+    sqlite3.connect(tmp_path / "empty.db").close()  # an existing, empty file: migrated to HEAD on open
+    with store.Store(str(tmp_path / "empty.db")) as s:
+        assert s.revision == store.HEAD
+    with sqlite3.connect(tmp_path / "empty.db") as c:
+        assert c.execute("SELECT version_num FROM alembic_version").fetchone() == (store.HEAD,)
+        assert {r[0] for r in c.execute("SELECT name FROM sqlite_master WHERE type = 'table'")} >= {
+            "machines", "results", "quantities"}
+
+
 def test_a_newer_schema_is_refused(hist, capsys):
     db, files = hist
     with sqlite3.connect(db) as c:

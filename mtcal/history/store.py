@@ -31,6 +31,7 @@ ENV_VAR = "MTCAL_HISTORY_DB"
 MACHINE_ID = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$")
 LOCK_KEY = 230_038  # PostgreSQL advisory lock of the store's writers
 MIGRATIONS = Path(__file__).parent / "migrations"
+HEAD = "0001"  # the newest revision in MIGRATIONS (tests/test_history.py checks it against Alembic's head)
 
 meta = sa.MetaData()
 machines = sa.Table("machines", meta, sa.Column("id", sa.String(64), primary_key=True),
@@ -134,7 +135,10 @@ class Store:
     # ------------------------------------------------------------------ schema
     def _migrate(self) -> str:
         """Bring the schema to this mtcal's head inside one writer's transaction; a revision this mtcal does not
-        know (a newer mtcal's) is an InputError."""
+        know (a newer mtcal's) is an InputError.  Alembic is loaded only when the revision is not HEAD."""
+        with self.engine.connect() as conn:
+            if _revision(conn) == HEAD:
+                return HEAD
         from alembic import command
         from alembic.config import Config
         from alembic.runtime.migration import MigrationContext
@@ -144,10 +148,6 @@ class Store:
         cfg.set_main_option("script_location", str(MIGRATIONS))
         script = ScriptDirectory.from_config(cfg)
         head = script.get_current_head()
-        with self.engine.connect() as conn:
-            current = MigrationContext.configure(conn).get_current_revision()
-        if current == head:
-            return head
         with self._writer() as conn:
             current = MigrationContext.configure(conn).get_current_revision()
             if current != head:
@@ -257,6 +257,13 @@ class _Writer:
 
     def __exit__(self, *exc) -> bool | None:
         return self.cm.__exit__(*exc)
+
+
+def _revision(conn: sa.Connection) -> str | None:
+    """The schema revision Alembic stamped (None: an empty database)."""
+    if not sa.inspect(conn).has_table("alembic_version"):
+        return None
+    return conn.execute(sa.text("SELECT version_num FROM alembic_version")).scalar()
 
 
 def _as_date(v: Any) -> dt.date | None:
