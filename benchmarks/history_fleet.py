@@ -27,11 +27,13 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "tests"))
 
-# machine ID -> (spec, calibrations, {calibration index k: {error: change}} planted between k-1 and k), rad
+# machine ID -> (spec, calibrations, {calibration index k: {error: change}} planted between k-1 and k): a constant's
+# change in rad, or ("ramp", mm) for an error function: a change growing linearly from 0 at the reference position
+# to mm at the far end of the axis' table (a scale change of a positioning error, a straightness tilting)
 FLEET = {
     "dmu50-A": ("dmu50", 4, {2: {"E_C0Y": 90e-6}, 3: {"E_B0Z": -100e-6, "E_A0Z": 80e-6}}),
-    "dmu50-B": ("dmu50", 4, {3: {"E_C0Y": -70e-6}}),
-    "headbc-A": ("headbc", 4, {2: {"E_B0Z": 100e-6}}),
+    "dmu50-B": ("dmu50", 4, {2: {"E_XX": ("ramp", 0.015)}, 3: {"E_C0Y": -70e-6}}),
+    "headbc-A": ("headbc", 4, {2: {"E_B0Z": 100e-6}, 3: {"E_YY": ("ramp", -0.012)}}),
     "xyzac-A": ("xyzac", 4, {3: {"E_A0Z": -100e-6, "E_C0Y": 60e-6}}),
     "dmu50-steady": ("dmu50", 8, {}),
     "xyzac-steady": ("xyzac", 6, {}),
@@ -60,24 +62,46 @@ def calibrate(truth, spec: str, seed: int, folder: Path, name: str) -> Path:
 def build(fleet: dict, folder: Path, dbs: list[str]) -> dict:
     """Every calibration of every machine, added to every database; the planted changes per step."""
     from mtcal.history import add
-    from mtcal.model.errormodel import ErrorModel
     planted = {}
     for i, (mid, (spec, n, changes)) in enumerate(fleet.items()):
         truth = truth_of(spec, 1000 + i)
         day = dt.date(2024, 1, 15)
         for k in range(n):
             if k in changes:
-                consts = dict(truth.constants)
-                for e, d in changes[k].items():
-                    consts[e] = consts.get(e, 0.0) + d
-                truth = ErrorModel(truth.machine, consts, truth.functions, truth.meta)
-                planted[(mid, k)] = changes[k]
+                truth = changed(truth, changes[k])
+                planted[(mid, k)] = {e: ramp_of(truth, d) if isinstance(d, tuple) else d
+                                     for e, d in changes[k].items()}
             f = calibrate(truth, spec, 10_000 * i + k, folder, f"{mid}_{k}.json")
             for db in dbs:
                 add(f, mid, day, db)
             day += dt.timedelta(days=120)
         print(f"  {mid}: {n} calibrations", file=sys.stderr)
     return planted
+
+
+def ramp_of(truth, change: tuple) -> dict:
+    """{position: change (mm)} of a ("ramp", mm) change over the positions of ``truth``'s table (filled in by
+    ``changed``)."""
+    return change[2]
+
+
+def changed(truth, changes: dict):
+    """``truth`` with ``changes`` (FLEET) applied: constants shifted, error functions' tables ramped."""
+    from dataclasses import replace
+
+    from mtcal.model.errormodel import ErrorModel
+    consts, funcs = dict(truth.constants), dict(truth.functions)
+    for e, d in list(changes.items()):
+        if isinstance(d, tuple):
+            f = funcs[e]
+            ref = f.positions[np.argmin(np.abs(f.positions))]
+            far = f.positions[np.argmax(np.abs(f.positions - ref))]
+            ramp = d[1] * (f.positions - ref) / (far - ref)
+            funcs[e] = replace(f, values=f.values + ramp)
+            changes[e] = (*d[:2], dict(zip(f.positions.tolist(), ramp.tolist())))
+        else:
+            consts[e] = consts.get(e, 0.0) + d
+    return ErrorModel(truth.machine, consts, funcs, truth.meta)
 
 
 def judge(fleet: dict, planted: dict, db: str) -> dict:
@@ -87,7 +111,7 @@ def judge(fleet: dict, planted: dict, db: str) -> dict:
     out = {"planted": [], "unchanged_steps": 0, "false_steps": 0, "changed_steps_errors_compared": 0,
            "false_errors_in_changed_steps": 0, "tests_unchanged": 0, "beyond_own_u95_unchanged": 0}
     answers = {}
-    for mid, (_, n, _) in fleet.items():
+    for mid in fleet:
         comp = compare_history(mid, db=db)
         answers[mid] = comp.to_dict()
         recs = [r for r in show(mid, db) if r.kind == "model"]
@@ -104,10 +128,15 @@ def judge(fleet: dict, planted: dict, db: str) -> dict:
                 out["changed_steps_errors_compared"] += step.unchanged + len(named)
                 out["false_errors_in_changed_steps"] += len(set(named) - set(want))
             for e, d in want.items():
-                u95 = _u95_of(recs[k - 1], recs[k], e)
-                out["planted"].append({"machine": mid, "step": k, "error": e, "planted_urad": d * 1e6,
-                                       "u95_urad": u95 * 1e6, "ratio": abs(d) / u95, "named": e in named,
-                                       "estimate_urad": named[e].change if e in named else None})
+                if isinstance(d, dict):  # a ramp: its largest change over the u95 at that position, in um
+                    pos, size, u95 = max(((x, v, _u95_of(recs[k - 1], recs[k], e, x)) for x, v in d.items()
+                                          if _u95_of(recs[k - 1], recs[k], e, x)), key=lambda t: abs(t[1]) / t[2])
+                    size, u95, unit = size * 1e3, u95 * 1e3, "um"
+                else:
+                    pos, size, u95, unit = None, d * 1e6, _u95_of(recs[k - 1], recs[k], e) * 1e6, "urad"
+                out["planted"].append({"machine": mid, "step": k, "error": e, "position": pos, "planted": size,
+                                       "u95": u95, "unit": unit, "ratio": abs(size) / u95, "named": e in named,
+                                       "estimate": named[e].change if e in named else None})
     must = [p for p in out["planted"] if p["ratio"] >= 3]
     out.update({"level": LEVEL, "planted_ge_3u95": len(must), "planted_ge_3u95_named": sum(p["named"] for p in must),
                 "false_step_rate": out["false_steps"] / max(out["unchanged_steps"], 1),
@@ -115,10 +144,16 @@ def judge(fleet: dict, planted: dict, db: str) -> dict:
     return out, answers
 
 
-def _u95_of(a, b, name: str) -> float:
-    """The 95 % half-width of the difference of a constant between two records (normal: joint fit)."""
-    qa = next(q for q in a.quantities if q.name == name and q.position is None)
-    qb = next(q for q in b.quantities if q.name == name and q.position is None)
+def _u95_of(a, b, name: str, position: float | None = None) -> float | None:
+    """The 95 % half-width of the difference of an error (at ``position``) between two records (normal: the
+    joint fit); None where one has no interval (the reference position)."""
+    def one(r):
+        return next((q for q in r.quantities if q.name == name and (q.position is None if position is None else
+                                                                  q.position is not None and
+                                                                  abs(q.position - position) < 1e-6)), None)
+    qa, qb = one(a), one(b)
+    if qa is None or qb is None or not qa.u95 or not qb.u95:
+        return None
     return 1.959964 * math.hypot(qa.u95 / 1.959964, qb.u95 / 1.959964)
 
 
@@ -152,9 +187,10 @@ def main() -> int:
             result["postgresql_same_answers"] = f"not run: {why}"
     result["seconds"] = time.perf_counter() - t0
     for p in result["planted"]:
-        print(f"  {p['machine']} step {p['step']}: {p['error']} {p['planted_urad']:+.0f} urad = "
-              f"{p['ratio']:.1f} x u95 {p['u95_urad']:.1f}: {'named' if p['named'] else 'NOT named'}"
-              + (f" ({p['estimate_urad']:+.1f})" if p["named"] else ""))
+        where = "" if p["position"] is None else f" at {p['position']:g}"
+        print(f"  {p['machine']} step {p['step']}: {p['error']}{where} {p['planted']:+.1f} {p['unit']} = "
+              f"{p['ratio']:.1f} x u95 {p['u95']:.1f}: {'named' if p['named'] else 'NOT named'}"
+              + (f" ({p['estimate']:+.1f})" if p["named"] else ""))
     print(json.dumps(result))
     return 0
 
