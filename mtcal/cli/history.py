@@ -30,8 +30,17 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("-q", "--quiet", action="store_true", default=argparse.SUPPRESS, help="warnings and errors only")
 
 
+def _parser_class(p: argparse.ArgumentParser) -> type:
+    """The actions' parsers: a bad option is one line under the command's name, ``mtcal history: error: ...``, as
+    every refusal of the command (mtcal.cli._main)."""
+    class ActionParser(type(p)):
+        def error(self, message: str):
+            self.exit(2, f"{p.prog}: error: {message} (see {self.prog} --help)\n")
+    return ActionParser
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    sub = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    sub = p.add_subparsers(dest="action", required=True, metavar="ACTION", parser_class=_parser_class(p))
     a = sub.add_parser("add", help="add a result file to a machine's history")
     a.add_argument("result", metavar="RESULT.json", help="an error model (identify -o) or the --json answer of "
                                                           "uncertainty, iso230-2, check evaluate, verify, diagnose")

@@ -66,7 +66,7 @@ def kind_of(doc: Any, source: str) -> str:
     if not isinstance(doc, dict):
         raise InputError(f"not an mtcal result: the file holds a JSON {type(doc).__name__}, not an object", source)
     keys = set(doc)
-    if "machine" in keys and ({"functions", "constants"} & keys):
+    if ({"machine", "units"} & keys) and ({"functions", "constants"} & keys):
         return "model"
     if {"trials", "seed", "errors", "constants", "volumetric"} <= keys:
         return "uncertainty"
