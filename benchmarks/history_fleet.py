@@ -32,8 +32,8 @@ sys.path.insert(0, str(HERE.parent / "tests"))
 # to mm at the far end of the axis' table (a scale change of a positioning error, a straightness tilting)
 FLEET = {
     "dmu50-A": ("dmu50", 4, {2: {"E_C0Y": 90e-6}, 3: {"E_B0Z": -100e-6, "E_A0Z": 80e-6}}),
-    "dmu50-B": ("dmu50", 4, {2: {"E_XX": ("ramp", 0.015)}, 3: {"E_C0Y": -70e-6}}),
-    "headbc-A": ("headbc", 4, {2: {"E_B0Z": 100e-6}, 3: {"E_YY": ("ramp", -0.012)}}),
+    "dmu50-B": ("dmu50", 4, {2: {"E_XX": ("ramp", 0.045)}, 3: {"E_C0Y": -70e-6}}),
+    "headbc-A": ("headbc", 4, {2: {"E_B0Z": 100e-6}, 3: {"E_YY": ("ramp", -0.025)}}),
     "xyzac-A": ("xyzac", 4, {3: {"E_A0Z": -100e-6, "E_C0Y": 60e-6}}),
     "dmu50-steady": ("dmu50", 8, {}),
     "xyzac-steady": ("xyzac", 6, {}),

@@ -235,36 +235,40 @@ def test_a_failed_write_leaves_nothing(hist, monkeypatch):
 
 
 ADDER = """
-import datetime as dt, sys, time
+import datetime as dt, pathlib, sys, time
 from mtcal.history import add
-db, start, *files = sys.argv[1:]
-while time.time() < float(start):
+from mtcal.history.store import Store
+db, sync, who, *files = sys.argv[1:]
+pathlib.Path(sync, who).touch()  # imported and ready
+t0 = time.time()
+while len(list(pathlib.Path(sync).iterdir())) < 2 and time.time() - t0 < 300:
     time.sleep(0.001)
 for i, f in enumerate(files):
-    add(f, "M" + f.split("_")[-2], dt.date(2026, 1, 1 + i), db)
+    add(f, "M" + who, dt.date(2026, 1, 1 + i), db)
 """
 
 
-def _two_processes_add(tmp_path: Path, db: str, n: int = 6) -> None:
-    """Two processes each add n results (machines MA and MB) starting at the same instant."""
-    import time
+def _two_processes_add(tmp_path: Path, db: str, n: int = 5) -> None:
+    """Two processes each add n results (machines MA and MB), starting together once both have imported mtcal."""
     procs = []
-    start = time.time() + 6.0  # both interpreters are up and importing by then
+    sync = tmp_path / "sync"
+    sync.mkdir()
     for who in ("A", "B"):
         fs = [str(write(tmp_path / f"r_{who}_{i}.json", model_doc(noise=1, seed=100 * ord(who) + i)))
               for i in range(n)]
-        procs.append(subprocess.Popen([sys.executable, "-c", ADDER, db, str(start), *fs], stderr=subprocess.PIPE,
+        procs.append(subprocess.Popen([sys.executable, "-c", ADDER, db, str(sync), who, *fs], stderr=subprocess.PIPE,
                                       text=True))
     for p in procs:
-        _, err = p.communicate(timeout=180)
+        _, err = p.communicate(timeout=300)
         assert p.returncode == 0, err
 
 
+@pytest.mark.slow
 def test_two_processes_adding_at_once_both_land_sqlite(tmp_path):
     db = tmp_path / "h.db"
     _two_processes_add(tmp_path, str(db))
-    assert [len(show(m, str(db))) for m in ("MA", "MB")] == [6, 6]
-    assert _db_state(db) == (12, 12 * 12)
+    assert [len(show(m, str(db))) for m in ("MA", "MB")] == [5, 5]
+    assert _db_state(db) == (10, 10 * 12)
 
 
 # ----------------------------------------------------------------------------- PostgreSQL (Debian's package)
@@ -287,10 +291,11 @@ def test_postgresql_gives_the_same_answers_as_sqlite(pg, hist):
         add(write(files[0].parent / "late.json", model_doc(noise=1, seed=7)), "M1", dt.date(2026, 2, 1), url)
 
 
+@pytest.mark.slow
 def test_two_processes_adding_at_once_both_land_postgresql(pg, tmp_path):
     url = fresh_database(pg, "mtcal_concurrent")
     _two_processes_add(tmp_path, url)
-    assert [len(show(m, url)) for m in ("MA", "MB")] == [6, 6]
+    assert [len(show(m, url)) for m in ("MA", "MB")] == [5, 5]
 
 
 def test_postgresql_newer_schema_refused(pg, tmp_path):

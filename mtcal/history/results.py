@@ -66,10 +66,10 @@ def kind_of(doc: Any, source: str) -> str:
     if not isinstance(doc, dict):
         raise InputError(f"not an mtcal result: the file holds a JSON {type(doc).__name__}, not an object", source)
     keys = set(doc)
-    if ({"machine", "units"} & keys) and ({"functions", "constants"} & keys):
-        return "model"
     if {"trials", "seed", "errors", "constants", "volumetric"} <= keys:
         return "uncertainty"
+    if ({"machine", "units"} & keys) and ({"functions", "constants"} & keys):
+        return "model"
     if doc.get("standard") == "ISO 230-2:2014" and "axes" in keys:
         return "iso230-2"
     if {"kind", "measured", "predicted", "agrees", "worst_z"} <= keys:
