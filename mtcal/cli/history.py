@@ -53,7 +53,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     c.add_argument("machine", metavar="ID")
     c.add_argument("--from", dest="date_from", type=date, metavar="YYYY-MM-DD")
     c.add_argument("--to", dest="date_to", type=date, metavar="YYYY-MM-DD")
-    t = sub.add_parser("trend", help="an error's values over time with their 95 % intervals")
+    t = sub.add_parser("trend", help="an error's values over time with their 95 %% intervals")
     t.add_argument("machine", metavar="ID")
     t.add_argument("--error", required=True, metavar="NAME", help="an ISO 230-1 error name, e.g. E_C0Y")
     t.add_argument("--position", type=finite, metavar="P", help="an error function's position (mm or deg; default: "
