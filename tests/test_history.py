@@ -44,7 +44,7 @@ def hist(tmp_path):
     files = [write(tmp_path / "m1.json", model_doc(noise=1, seed=1)),
              write(tmp_path / "m2.json", model_doc(noise=1, seed=2)),
              write(tmp_path / "m3.json", model_doc({"E_C0Y": 6e-5, "E_XX": (4, 0.010)}, noise=1, seed=3))]
-    for f, d in zip(files, ("2026-01-15", "2026-06-15", "2026-11-20")):
+    for f, d in zip(files, ("2024-01-15", "2024-06-15", "2024-11-20")):
         add(f, "M1", dt.date.fromisoformat(d), str(db))
     return db, files
 
@@ -54,11 +54,11 @@ def test_add_show_keeps_kind_hashes_and_quantities(tmp_path, capsys):
                                       "X,1,0,Q,0,0,0,21.5\n")
     m = write(tmp_path / "m.json", model_doc())
     db = tmp_path / "h.db"
-    code, out, err = run(capsys, "history", "add", str(m), "--machine", "DMU50-7", "--date", "2026-03-01",
+    code, out, err = run(capsys, "history", "add", str(m), "--machine", "DMU50-7", "--date", "2024-03-01",
                          "--db", str(db), "--json")
     assert code == 0, err
     r = json.loads(out)
-    assert r["kind"] == "model" and r["spec"] == "dmu50" and r["date"] == "2026-03-01"
+    assert r["kind"] == "model" and r["spec"] == "dmu50" and r["date"] == "2024-03-01"
     assert r["quantities"] == 2 * 5 + 2  # two functions on five positions, two constants
     import hashlib
     assert r["file_sha256"] == hashlib.sha256(m.read_bytes()).hexdigest() == r["model_sha256"]
@@ -99,7 +99,7 @@ def test_compare_names_what_changed_with_its_interval(hist, capsys):
     c = json.loads(out)
     assert c["machine"] == "M1" and c["level"] == 0.01
     first, second = c["steps"]
-    assert (first["from"], first["to"], first["changed"]) == ("2026-01-15", "2026-06-15", [])
+    assert (first["from"], first["to"], first["changed"]) == ("2024-01-15", "2024-06-15", [])
     assert first["unchanged"] == 4
     named = {ch["name"]: ch for ch in second["changed"]}
     assert set(named) == {"E_C0Y", "E_XX"} and second["unchanged"] == 2
@@ -107,19 +107,19 @@ def test_compare_names_what_changed_with_its_interval(hist, capsys):
     # U95 of the difference of two joint-fit values of sigma 5 urad: 1.96 * sqrt(2) * 5 = 13.86 urad
     assert sq["u95"] == pytest.approx(1.959964 * math.sqrt(2) * 5, rel=1e-6) and sq["unit"] == "µrad"
     assert 40 < sq["change"] < 80
-    assert "squareness of Y to X" in sq["text"] and "between 2026-06-15 and 2026-11-20" in sq["text"]
+    assert "squareness of Y to X" in sq["text"] and "between 2024-06-15 and 2024-11-20" in sq["text"]
     xx = named["E_XX"]  # three-point rounds: Welch dof 6, t_0.975(6) * sqrt(2) * 0.5 um
     assert xx["u95"] == pytest.approx(stats.t.ppf(0.975, 6) * math.sqrt(2) * 0.5, rel=1e-6) and xx["unit"] == "µm"
     assert xx["position"] == 200.0 and "positioning error of X" in xx["text"]
-    code, out, _ = run(capsys, "history", "compare", "M1", "--from", "2026-01-15", "--to", "2026-11-20",
+    code, out, _ = run(capsys, "history", "compare", "M1", "--from", "2024-01-15", "--to", "2024-11-20",
                        "--db", str(db), "--json")
-    assert [s["from"] for s in json.loads(out)["steps"]] == ["2026-01-15"]
+    assert [s["from"] for s in json.loads(out)["steps"]] == ["2024-01-15"]
 
 
 def test_trend_in_order_with_intervals(hist, tmp_path, capsys):
     db, _ = hist
     t = trend_of("M1", "E_C0Y", db=str(db))
-    assert [p["date"] for p in t.points] == ["2026-01-15", "2026-06-15", "2026-11-20"]
+    assert [p["date"] for p in t.points] == ["2024-01-15", "2024-06-15", "2024-11-20"]
     assert t.points[2]["value"] - t.points[1]["value"] > 40 and t.unit == "µrad"
     code, out, err = run(capsys, "history", "trend", "M1", "--error", "E_XX", "--plot", str(tmp_path / "t.png"),
                          "--db", str(db), "--json")
@@ -199,9 +199,9 @@ def test_dates_in_the_future_or_before_the_previous_calibration(hist, capsys):
     tomorrow = (dt.date.today() + dt.timedelta(days=1)).isoformat()
     err = _refused(capsys, db, "history", "add", str(m), "--machine", "M1", "--date", tomorrow, "--db", str(db))
     assert f"date {tomorrow} is in the future" in err
-    err = _refused(capsys, db, "history", "add", str(m), "--machine", "M1", "--date", "2026-07-01", "--db", str(db))
-    assert "before the previous calibration of M1 (2026-11-20)" in err
-    err = _refused(capsys, db, "history", "add", str(m), "--machine", "M1", "--date", "2026-13-01", "--db", str(db))
+    err = _refused(capsys, db, "history", "add", str(m), "--machine", "M1", "--date", "2024-07-01", "--db", str(db))
+    assert "before the previous calibration of M1 (2024-11-20)" in err
+    err = _refused(capsys, db, "history", "add", str(m), "--machine", "M1", "--date", "2024-13-01", "--db", str(db))
     assert "expected a date YYYY-MM-DD" in err
 
 
@@ -234,6 +234,34 @@ def test_a_failed_write_leaves_nothing(hist, monkeypatch):
     assert _db_state(db) == before
 
 
+KILLED = """
+import datetime as dt, sys, time
+from mtcal.history import add, store
+def stall():  # the result row is written, its quantities not yet: say so and wait for the kill
+    print("inside", flush=True)
+    time.sleep(600)
+store.quantities.insert = stall
+add(sys.argv[2], "M1", dt.date(2024, 11, 25), sys.argv[1])
+"""
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
+def test_a_killed_write_leaves_nothing(hist):
+    """A process killed (SIGKILL) inside its transaction, after the result row and before its quantities: the
+    history is as before, and the next add lands."""
+    import signal
+    db, files = hist
+    before = _db_state(db)
+    new = write(files[0].parent / "new.json", model_doc(noise=1, seed=9))
+    p = subprocess.Popen([sys.executable, "-c", KILLED, str(db), str(new)], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "inside"
+    p.send_signal(signal.SIGKILL)
+    p.wait(timeout=60)
+    assert _db_state(db) == before
+    add(new, "M1", dt.date(2024, 11, 25), str(db))
+    assert _db_state(db)[0] == before[0] + 1
+
+
 ADDER = """
 import datetime as dt, pathlib, sys, time
 from mtcal.history import add
@@ -244,7 +272,7 @@ t0 = time.time()
 while len(list(pathlib.Path(sync).iterdir())) < 2 and time.time() - t0 < 300:
     time.sleep(0.001)
 for i, f in enumerate(files):
-    add(f, "M" + who, dt.date(2026, 1, 1 + i), db)
+    add(f, "M" + who, dt.date(2024, 1, 1 + i), db)
 """
 
 
@@ -283,12 +311,12 @@ def pg():
 def test_postgresql_gives_the_same_answers_as_sqlite(pg, hist):
     db, files = hist
     url = fresh_database(pg, "mtcal_same")
-    for f, d in zip(files, ("2026-01-15", "2026-06-15", "2026-11-20")):
+    for f, d in zip(files, ("2024-01-15", "2024-06-15", "2024-11-20")):
         add(f, "M1", dt.date.fromisoformat(d), url)
     assert compare_history("M1", db=url).to_dict() == compare_history("M1", db=str(db)).to_dict()
     assert trend_of("M1", "E_XX", db=url).to_dict() == trend_of("M1", "E_XX", db=str(db)).to_dict()
     with pytest.raises(InputError, match="before the previous calibration"):
-        add(write(files[0].parent / "late.json", model_doc(noise=1, seed=7)), "M1", dt.date(2026, 2, 1), url)
+        add(write(files[0].parent / "late.json", model_doc(noise=1, seed=7)), "M1", dt.date(2024, 2, 1), url)
 
 
 @pytest.mark.slow
@@ -303,7 +331,7 @@ def test_postgresql_newer_schema_refused(pg, tmp_path):
 
     from mtcal.history.store import database_url
     url = fresh_database(pg, "mtcal_newer")
-    add(write(tmp_path / "m.json", model_doc()), "M1", dt.date(2026, 1, 1), url)
+    add(write(tmp_path / "m.json", model_doc()), "M1", dt.date(2024, 1, 1), url)
     eng = sa.create_engine(database_url(url))
     with eng.begin() as c:
         c.exec_driver_sql("UPDATE alembic_version SET version_num = '0042'")

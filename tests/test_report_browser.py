@@ -81,12 +81,12 @@ def test_one_result_report_prints_one_page_per_section(browser, tmp_path, capsys
 
 def test_history_report_in_the_browser(browser, tmp_path, capsys):
     db = str(tmp_path / "h.db")
-    docs = [("m1.json", model_doc(noise=1, seed=1), "2026-01-15"), ("m2.json", model_doc(noise=1, seed=2),
-                                                                    "2026-06-15"),
-            ("iso.json", iso_doc(), "2026-06-15"), ("diag.json", diagnose_doc(), "2026-06-15"),
-            ("unc.json", uncertainty_doc(), "2026-06-15"),
-            ("m3.json", model_doc({"E_C0Y": 6e-5}, noise=1, seed=3), "2026-11-20"),
-            ("ballbar.json", check_doc(), "2026-11-20")]
+    docs = [("m1.json", model_doc(noise=1, seed=1), "2024-01-15"), ("m2.json", model_doc(noise=1, seed=2),
+                                                                    "2024-06-15"),
+            ("iso.json", iso_doc(), "2024-06-15"), ("diag.json", diagnose_doc(), "2024-06-15"),
+            ("unc.json", uncertainty_doc(), "2024-06-15"),
+            ("m3.json", model_doc({"E_C0Y": 6e-5}, noise=1, seed=3), "2024-11-20"),
+            ("ballbar.json", check_doc(), "2024-11-20")]
     for name, doc, d in docs:
         add(write(tmp_path / name, doc), "DMU50-7", dt.date.fromisoformat(d), db)
     assert main(["report", "DMU50-7", "-o", str(tmp_path / "r.html"), "--db", db, "--json"]) == 0

@@ -1441,7 +1441,7 @@ def cases_history_and_report(C: Corpus):
     filesystem or URL would mangle, dates in the future, an unreachable database, a report of a missing machine."""
     model = jdump(HAND_MODEL)
     hj = {"kind": "stdout_json", "keys": ["machine", "kind", "date", "file_sha256"]}
-    C.add("history_add_valid", "history", "model JSON", ["add", "m.json", "--machine", "M-1", "--date", "2026-01-15",
+    C.add("history_add_valid", "history", "model JSON", ["add", "m.json", "--machine", "M-1", "--date", "2024-01-15",
                                                          "--db", "h.db", "--json"], {"m.json": model}, [ok(hj)])
     C.add("history_add_not_mtcal", "history", "model JSON", ["add", "x.json", "--machine", "M-1", "--db", "h.db"],
           {"x.json": jdump({"rows": [1, 2, 3]})}, [err("x.json", None, "not an mtcal result")])
