@@ -20,8 +20,31 @@ def tool_version() -> str:
 
 
 def add(path: str | Path, machine: str, date: dt.date | None = None, db: str | None = None) -> Record:
-    """Add the result file ``path`` to ``machine``'s history at ``date`` (default today; never in the future, never
-    before the machine's previous calibration).  Everything is checked before anything is written."""
+    """Add a result file to a machine's history (one transaction; everything is checked before anything is written).
+
+    Parameters
+    ----------
+    path : str or Path
+        An error model (`mtcal identify -o`) or the JSON answer of uncertainty, iso230-2, check evaluate, verify or
+        diagnose (mtcal.history.results.KINDS).
+    machine : str
+        The machine's ID: letters, digits, '.', '_', '-' (at most 64).
+    date : datetime.date, optional
+        The calibration's date (default today); never in the future, never before the machine's previous one.
+    db : str, optional
+        The database (mtcal.history.store.database_url: a SQLite path or postgresql://...).
+
+    Returns
+    -------
+    Record
+        What was stored: kind, date, spec, hashes, tool version, instrument, environment, quantities (mm, rad).
+
+    Raises
+    ------
+    InputError
+        A file that is not an mtcal result, a bad machine ID, an unreachable or newer database, a date in the
+        future or before the previous calibration, another machine spec, a file already in the history.
+    """
     check_machine_id(machine)
     today = dt.date.today()
     date = date or today
@@ -40,12 +63,46 @@ def show(machine: str, db: str | None = None) -> list[Record]:
 
 def compare_history(machine: str, date_from: dt.date | None = None, date_to: dt.date | None = None,
                     db: str | None = None, level: float = LEVEL) -> Comparison:
-    """Changes between ``machine``'s calibrations (mtcal.history.compare)."""
+    """Changes between a machine's calibrations against their uncertainty (mtcal.history.compare).
+
+    Parameters
+    ----------
+    machine : str
+        The machine's ID.
+    date_from, date_to : datetime.date, optional
+        Compare the identified models of these two dates (default: every consecutive pair).
+    db : str, optional
+        The database, as for ``add``.
+    level : float
+        The family-wise level of each step (Holm over every error and position), default 0.01.
+
+    Returns
+    -------
+    Comparison
+        ``steps`` with the named changes (µm, µrad, the 95 % interval of each difference) and the unchanged count.
+    """
     with Store(db) as store:
         return compare(store.records(machine, "model"), machine, store.spec_of(machine), date_from, date_to, level)
 
 
 def trend_of(machine: str, name: str, position: float | None = None, db: str | None = None) -> Trend:
-    """``name``'s values over ``machine``'s calibrations (mtcal.history.compare.trend)."""
+    """An error's values over a machine's calibrations.
+
+    Parameters
+    ----------
+    machine : str
+        The machine's ID.
+    name : str
+        An ISO 230-1 error name (E_C0Y, E_XX, ...).
+    position : float, optional
+        An error function's position (mm or deg of its axis); default where its latest value is largest in size.
+    db : str, optional
+        The database, as for ``add``.
+
+    Returns
+    -------
+    Trend
+        ``points``: date, value and 95 % half-width (µm or µrad) per identified model, oldest first.
+    """
     with Store(db) as store:
         return trend(store.records(machine, "model"), machine, name, position)

@@ -9,8 +9,22 @@ from mtcal.report.html import from_file, from_history, render
 
 
 def write_report(target: str, out: str | Path, db: str | None = None) -> dict:
-    """Write the report of ``target`` (a machine ID in the history ``db``, or a result file: a path that exists
-    or ends in .json) to ``out`` (HTML); returns {"report", "sections", "pictures", "bytes"}."""
+    """Write the self-contained HTML report of a machine's history or of one result file (atomically).
+
+    Parameters
+    ----------
+    target : str
+        A machine ID in the history ``db``, or a result file (a path that exists or ends in .json).
+    out : str or Path
+        The HTML file to write (never one of the inputs).
+    db : str, optional
+        The history database (mtcal.history.store.database_url).
+
+    Returns
+    -------
+    dict
+        {"report": path, "sections": printed sections, "pictures": inline pictures, "bytes": size}.
+    """
     is_file = Path(target).is_file() or target.endswith(".json")
     refuse_overwrite(out, target if is_file else None)
     if is_file:
