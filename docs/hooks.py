@@ -20,6 +20,9 @@ def cli_reference() -> str:
     parts = ["```text", ap.format_help().rstrip(), "```"]
     for name, p in sub.choices.items():
         parts += ["", f"## mtcal {name}", "", "```text", p.format_help().rstrip(), "```"]
+        nested = next((a for a in p._actions if a.__class__.__name__ == "_SubParsersAction"), None)
+        for action, q in (nested.choices.items() if nested else ()):  # e.g. mtcal history add|show|compare|trend
+            parts += ["", f"### mtcal {name} {action}", "", "```text", q.format_help().rstrip(), "```"]
     return "\n".join(parts)
 
 

@@ -47,12 +47,13 @@ _API = {  # name -> (module, attribute)
     "read_check": ("mtcal.check.files", "read_check"),
     "evaluate_check": ("mtcal.check.evaluate", "evaluate_check"),
     "verify": ("mtcal.check.verify", "verify"),
+    "write_report": ("mtcal.report.run", "write_report"),
 }
 __all__ = ["__version__", "Machine", "load_machine", "available_machines", "Recording", "read_recording", "ErrorModel",
            "load_model", "save_model", "identify", "IdentifyResult", "plan_uncertainty", "simulate",
            "compensate_program", "export_model", "diagnose", "fit_plate", "evaluate_iso230_2", "Compensator",
            "monte_carlo", "CircleSetup", "predict_circular", "RTestSetup", "predict_rtest", "read_check",
-           "evaluate_check", "verify"]
+           "evaluate_check", "verify", "write_report"]
 
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on first use (__getattr__)
     from mtcal.campaign.simulate import simulate
@@ -73,6 +74,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on f
     from mtcal.model.errormodel import ErrorModel, load_model, save_model
     from mtcal.planning.plan import plan_uncertainty
     from mtcal.plate.reversal import fit_plate
+    from mtcal.report.run import write_report
     from mtcal.uncertainty.run import monte_carlo
 
 

@@ -78,3 +78,20 @@ def test_demo_runs_on_another_machine(tmp_path):
     found = [(e["name"], e["axis"]) for e in s["diagnose"]["effects"]]
     assert found == [("backlash", "X")], found
     assert abs(s["diagnose"]["effects"][0]["estimate"] - 0.006) < 3 * s["diagnose"]["effects"][0]["uncertainty"]
+
+
+def test_demo_history_names_exactly_the_crash(demo):
+    """Three calibrations of the simulated machine, a crash (two squareness errors +-80 urad) before the third:
+    `history compare` names nothing between the first two and exactly the two planted errors after the crash,
+    each change within its 95 % interval of the planted size; the HTML report is beside the others."""
+    out, s = demo
+    h = s["history"]
+    first, second = h["steps"]
+    assert first["changed"] == []
+    named = {c["name"]: c for c in second["changed"]}
+    assert sorted(named) == sorted(h["planted"]) == h["named"]
+    for n, planted in h["planted"].items():
+        assert abs(named[n]["change"] - planted) < named[n]["u95"] and named[n]["unit"] == "µrad"
+    html = (out / "report.html").read_text()
+    assert html.count("data:image/png;base64,") == h["report_pictures"] >= 5 and "http" not in html
+    assert (out / "history.db").exists() and not list(out.glob(".history.*"))

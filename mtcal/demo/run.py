@@ -9,11 +9,12 @@ says how close identification and compensation came to it.
 """
 from __future__ import annotations
 
+import datetime as dt
 import json
 import logging
 import shutil
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -39,7 +40,7 @@ from mtcal.nc.gcode import read_moves
 from mtcal.planning.plan import plan_uncertainty, plot_placement_map
 from mtcal.plate.reversal import fit_plate, plot_plate, read_plate_csv
 
-STEPS = 8
+STEPS = 9
 log = logging.getLogger(__name__)
 
 
@@ -99,17 +100,27 @@ def _sample_grid(m, n: int, rng: np.random.Generator) -> np.ndarray:
 SEEDS = 8  # other campaigns of the demo's design: the spread of its headline figure (one campaign is one draw)
 
 
-def _over_seeds(m, truth, planted: dict, volumetric) -> dict:
+def _over_seeds(m, truth, planted: dict, volumetric, keep: list | None = None) -> dict:
     """model - truth RMS (um, as ``volumetric``) of SEEDS more campaigns of the same design, truth and planted
-    effect, identified as the demo does (default estimator, tracker given): {"n", "median", "min", "max"}."""
-    plan = DEMO_PLAN if m.name == BUNDLED else None
-    effects = [(e["name"], e["params"]) for e in planted.get("effects", [])]
+    effect, identified as the demo does (default estimator, tracker given): {"n", "median", "min", "max"}; the
+    models are appended to ``keep`` (the history step reuses the first)."""
     v = []
     for seed in range(1, SEEDS + 1):
-        rec, _ = simulate(truth, machine=m, plan=plan, seed=seed, effects=effects, rounds=planted["rounds"],
-                          tracker=planted["tracker"])
-        v.append(volumetric(identify(rec, tracker=planted["tracker"], machine=m, worth=False).model))
+        model = _campaign_model(m, truth, planted, seed)
+        v.append(volumetric(model))
+        if keep is not None:
+            keep.append(model)
     return {"n": SEEDS, "median": float(np.median(v)), "min": float(np.min(v)), "max": float(np.max(v))}
+
+
+def _campaign_model(m, truth, planted: dict, seed: int) -> ErrorModel:
+    """The model identified (default estimator, tracker given) from another campaign of the demo's design, truth
+    and planted effect, drawn with ``seed``."""
+    plan = DEMO_PLAN if m.name == BUNDLED else None
+    effects = [(e["name"], e["params"]) for e in planted.get("effects", [])]
+    rec, _ = simulate(truth, machine=m, plan=plan, seed=seed, effects=effects, rounds=planted["rounds"],
+                      tracker=planted["tracker"])
+    return identify(rec, tracker=planted["tracker"], machine=m, worth=False).model
 
 
 @dataclass
@@ -127,6 +138,7 @@ class _Story:
     rng: np.random.Generator
     grid: np.ndarray
     dev_true: np.ndarray
+    seed_models: list = field(default_factory=list)  # the models of _over_seeds (the history step reuses one)
 
     @property
     def model_path(self) -> Path:
@@ -181,6 +193,9 @@ def run_demo(out: Path, machine: str | None = None) -> dict:
     prog.step("diagnose: what the quasi-static model leaves out, where, and how much")
     summary["plate"] = _plate_step(s.plots)
     prog.step("plate: Hocken-Borchardt reversal of NBS Table 1 (ALBE3), and the model without the scale term")
+    summary["history"] = h = history_step(s)
+    prog.step(f"history: three calibrations, a crash planted before the third; compare named "
+              f"{', '.join(h['named']) or 'nothing'} (planted: {', '.join(h['planted'])}); {h['report']}")
     summary["seconds"] = time.perf_counter() - prog.t0
     atomic_write_text(out / "summary.json", dumps(summary) + "\n")
     atomic_write_text(out / "report.md", report(summary, out))
@@ -204,7 +219,7 @@ def _identify_step(s: _Story) -> tuple[dict, dict]:
         "squareness_true_urad": {k: v * 1e6 for k, v in true_squareness(s.truth, ident).items()},
         "volumetric_true_max_um": float(np.linalg.norm(s.dev_true, axis=1).max() * 1e3),
         "volumetric_model_minus_true_rms_um": s.volumetric(model),
-        "over_seeds": _over_seeds(s.m, s.truth, s.planted, s.volumetric),
+        "over_seeds": _over_seeds(s.m, s.truth, s.planted, s.volumetric, s.seed_models),
         "worth": model.meta.get("worth"),
         "warnings": ident.get("warnings", []),
     }, ident
@@ -313,6 +328,61 @@ def _diagnose_step(s: _Story) -> dict:
             "not_significant": len([e for e in diag["effects"] if not e.get("significant")]),
             "located": diag.get("located", [])[:5],
             "planted": [{"name": e["name"], **e.get("params", {})} for e in s.planted.get("effects", [])]}
+
+
+CRASH_URAD = (80.0, -80.0)  # the demo's crash: the first two squareness errors of the spec change by these
+CALIBRATIONS = ("2024-01-15", "2024-06-15", "2024-11-20")
+
+
+def history_step(s: _Story) -> dict:
+    """Three calibrations of the same simulated machine into a history (out/history.db, written whole): another
+    campaign of the demo's design (a model _over_seeds identified), the demo's own model, and a campaign after a
+    crash that changed the spec's first two squareness errors by CRASH_URAD; `history compare` on it and the
+    HTML report (out/report.html)."""
+    import os
+    import tempfile
+
+    from mtcal.history import add, compare_history
+    from mtcal.report import write_report
+
+    names = list(s.m.error_groups.get("squareness", ()))[:2]
+    crashed = ErrorModel(s.truth.machine, dict(s.truth.constants), s.truth.functions, s.truth.meta)
+    for n, d in zip(names, CRASH_URAD):
+        crashed.constants[n] = crashed.constants.get(n, 0.0) + d * 1e-6
+    models = [s.seed_models[0] if s.seed_models else _campaign_model(s.m, s.truth, s.planted, 1),
+              load_model(s.model_path), _campaign_model(s.m, crashed, s.planted, SEEDS + 1)]
+    folder = s.out / "history"
+    folder.mkdir(exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".history.", suffix=".db", dir=s.out)
+    os.close(fd)
+    os.unlink(tmp)  # the store creates it
+    try:
+        for k, (mdl, date) in enumerate(zip(models, CALIBRATIONS), 1):
+            save_model(mdl, folder / f"calibration_{k}.json")
+            add(folder / f"calibration_{k}.json", "demo-machine", dt.date.fromisoformat(date), tmp)
+        comp = compare_history("demo-machine", db=tmp).to_dict()
+        report = write_report("demo-machine", s.out / "report.html", tmp)
+        os.replace(tmp, s.out / "history.db")
+    finally:
+        Path(tmp).unlink(missing_ok=True)
+    named = sorted({c["name"] for st in comp["steps"] for c in st["changed"]})
+    return {"planted": {n: d for n, d in zip(names, CRASH_URAD)}, "dates": list(CALIBRATIONS),
+            "named": named, "steps": comp["steps"], "level": comp["level"], "report": "report.html",
+            "report_pictures": report["pictures"]}
+
+
+def _history_lines(h: dict | None) -> list[str]:
+    """The report's section on the history step."""
+    if not h:
+        return []
+    lines = ["## History: three calibrations, a crash before the third", "",
+             f"Calibrations of {', '.join(h['dates'])} in `history.db`; a crash planted between the second and the "
+             "third: " + ", ".join(f"{n} {d:+g} urad" for n, d in h["planted"].items()) + ". `mtcal history "
+             f"compare` (95 % intervals of the differences, family-wise level {h['level']:g}, Holm):", ""]
+    for st in h["steps"]:
+        lines.append(f"- {st['from']} -> {st['to']}: " + ("; ".join(c["text"] for c in st["changed"]) or
+                                                          f"nothing changed ({st['unchanged']} errors compared)"))
+    return lines + ["", f"The customer's report: [{h['report']}]({h['report']}) (one self-contained HTML file).", ""]
 
 
 def _plate_step(plots: Path) -> dict:
@@ -463,7 +533,8 @@ def report(s: dict, out: Path) -> str:
               f"{p['sigma'] * 1e6:.2f} uin (paper: 4.81, -131.24, 13.69, -14.04, 9.45, 0.5).", "",
               f"Without the scale term (Reeve's model): sigma = {p['without_scale']['sigma'] * 1e6:.1f} uin; "
               f"diagnosis: {_plate_diag(p['without_scale']['diagnosis'])}.", "",
-              "![plate](plots/plate_table1.png)", "", f"Run time: {s['seconds']:.1f} s.", ""]
+              "![plate](plots/plate_table1.png)", "", *_history_lines(s.get("history")),
+              f"Run time: {s['seconds']:.1f} s.", ""]
     return "\n".join(lines)
 
 
@@ -522,4 +593,8 @@ def print_summary(s: dict) -> None:
     print(f"  plate    : NBS Table 1 alpha {p['alpha'] * 1e6:.2f}, beta {p['beta'] * 1e6:.2f}, gamma "
           f"{p['gamma'] * 1e6:.2f} (x1e-6), sigma {p['sigma'] * 1e6:.2f} uin; without scale sigma "
           f"{p['without_scale']['sigma'] * 1e6:.1f} uin -> {_plate_diag(p['without_scale']['diagnosis'])}")
-    print(f"  report   : {Path(s['out']) / 'report.md'}")
+    if "history" in s:
+        h = s["history"]
+        print(f"  history  : crash planted ({', '.join(f'{n} {d:+g} urad' for n, d in h['planted'].items())}); "
+              f"compare named {', '.join(h['named']) or 'nothing'}")
+    print(f"  report   : {Path(s['out']) / 'report.md'}, {Path(s['out']) / 'report.html'}")

@@ -1602,6 +1602,35 @@ def cases_issue35(C: Corpus):
         C.add(f"diagnose35_{slip}", "diagnose", "recording CSV", ["rec.csv"], {"rec.csv": rec},
               [err("rec.csv", None, *words)])
 
+def cases_history_and_report(C: Corpus):
+    """mtcal history and mtcal report (issue 38): a valid add, results that are not mtcal's, machine IDs a
+    filesystem or URL would mangle, dates in the future, an unreachable database, a report of a missing machine."""
+    model = jdump(HAND_MODEL)
+    hj = {"kind": "stdout_json", "keys": ["machine", "kind", "date", "file_sha256"]}
+    C.add("history_add_valid", "history", "model JSON", ["add", "m.json", "--machine", "M-1", "--date", "2024-01-15",
+                                                         "--db", "h.db", "--json"], {"m.json": model}, [ok(hj)])
+    C.add("history_add_not_mtcal", "history", "model JSON", ["add", "x.json", "--machine", "M-1", "--db", "h.db"],
+          {"x.json": jdump({"rows": [1, 2, 3]})}, [err("x.json", None, "not an mtcal result")])
+    C.add("history_add_not_json", "history", "model JSON", ["add", "x.json", "--machine", "M-1", "--db", "h.db"],
+          {"x.json": "axis,round\nX,1\n"}, [err("x.json", 1, "JSON")])
+    for cid, mid in [("slash", "a/b"), ("space", "a b"), ("query", "a?b=1"), ("dotdot", "a..b")]:
+        C.add(f"history_add_id_{cid}", "history", "option", ["add", "m.json", "--machine", mid, "--db", "h.db"],
+              {"m.json": model}, [err(None, None, "machine ID")])
+    C.add("history_add_future", "history", "option", ["add", "m.json", "--machine", "M-1", "--date", "2999-01-01",
+                                                      "--db", "h.db"], {"m.json": model}, [err(None, None, "future")])
+    C.add("history_add_bad_date", "history", "option", ["add", "m.json", "--machine", "M-1", "--date", "15.01.2026",
+                                                        "--db", "h.db"], {"m.json": model},
+          [err(None, None, "--date", option=True)])
+    C.add("history_add_unreachable", "history", "path", ["add", "m.json", "--machine", "M-1", "--db",
+                                                         "postgresql://nobody@127.0.0.1:9/none"], {"m.json": model},
+          [err(None, None, "cannot reach")])
+    C.add("history_show_no_db", "history", "path", ["show", "M-1", "--db", "h.db"],
+          expect=[err(None, None, "no history database")])
+    C.add("report_no_file", "report", "path", ["r.json", "-o", "r.html"],
+          expect=[err("r.json", None, "not found", "no such file")])
+    C.add("report_onto_input", "report", "overwrite", ["m.json", "-o", "m.json"], {"m.json": model},
+          [err("m.json", None, "input", "overwrite", "same")])
+
 
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
@@ -1626,6 +1655,8 @@ def build(root: Path) -> list[dict]:
     cases_checks(C)
     cases_uncertainty(C)
     cases_issue35(C)
+
+    cases_history_and_report(C)
     C.write()
     return C.cases
 

@@ -1,0 +1,27 @@
+"""`mtcal report ID|RESULT.json -o report.html [--db URL]`: one self-contained HTML report (mtcal.report)."""
+from __future__ import annotations
+
+import argparse
+
+from mtcal.io import dumps
+
+NAME = "report"
+HELP = ("one self-contained HTML report (pictures inline, A4 print styles) of a machine's history or of one result "
+        "file: machine, instrument and environment, identified errors, ISO 230-2, check tests, diagnosis, "
+        "compensation and tool-tip uncertainty, the history's changes")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("target", metavar="ID|RESULT.json", help="a machine ID in the history, or one result file")
+    p.add_argument("-o", "--output", required=True, metavar="report.html", help="the HTML file to write")
+    p.add_argument("--db", metavar="URL", help="the history database (as mtcal history's --db)")
+
+
+def run(args: argparse.Namespace) -> int:
+    from mtcal.report import write_report
+    out = write_report(args.target, args.output, args.db)
+    if args.json:
+        print(dumps(out))
+    else:
+        print(f"wrote {out['report']} ({out['sections']} sections, {out['pictures']} pictures, {out['bytes']} bytes)")
+    return 0

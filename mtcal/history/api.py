@@ -1,0 +1,108 @@
+"""The history's verbs on a database URL (``db``: see mtcal.history.store): what `mtcal history` runs."""
+from __future__ import annotations
+
+import datetime as dt
+from pathlib import Path
+
+from mtcal.errors import InputError
+from mtcal.history.compare import LEVEL, Comparison, Trend, compare, trend
+from mtcal.history.results import read_result
+from mtcal.history.store import Record, Store, check_machine_id
+
+
+def tool_version() -> str:
+    """The running mtcal's version (its installed distribution's)."""
+    from importlib.metadata import PackageNotFoundError, version
+    try:
+        return version("mtcal")
+    except PackageNotFoundError:  # a source tree that is not installed
+        return "unknown"
+
+
+def add(path: str | Path, machine: str, date: dt.date | None = None, db: str | None = None) -> Record:
+    """Add a result file to a machine's history (one transaction; everything is checked before anything is written).
+
+    Parameters
+    ----------
+    path : str or Path
+        An error model (`mtcal identify -o`) or the JSON answer of uncertainty, iso230-2, check evaluate, verify or
+        diagnose (mtcal.history.results.KINDS).
+    machine : str
+        The machine's ID: letters, digits, '.', '_', '-' (at most 64).
+    date : datetime.date, optional
+        The calibration's date (default today); never in the future, never before the machine's previous one.
+    db : str, optional
+        The database (mtcal.history.store.database_url: a SQLite path or postgresql://...).
+
+    Returns
+    -------
+    Record
+        What was stored: kind, date, spec, hashes, tool version, instrument, environment, quantities (mm, rad).
+
+    Raises
+    ------
+    InputError
+        A file that is not an mtcal result, a bad machine ID, an unreachable or newer database, a date in the
+        future or before the previous calibration, another machine spec, a file already in the history.
+    """
+    check_machine_id(machine)
+    today = dt.date.today()
+    date = date or today
+    if date > today:
+        raise InputError(f"date {date.isoformat()} is in the future (today is {today.isoformat()})")
+    result = read_result(path)
+    with Store(db, create=True) as store:
+        return store.add(result, machine, date, tool_version())
+
+
+def show(machine: str, db: str | None = None) -> list[Record]:
+    """``machine``'s results, oldest first."""
+    with Store(db) as store:
+        return store.records(machine)
+
+
+def compare_history(machine: str, date_from: dt.date | None = None, date_to: dt.date | None = None,
+                    db: str | None = None, level: float = LEVEL) -> Comparison:
+    """Changes between a machine's calibrations against their uncertainty (mtcal.history.compare).
+
+    Parameters
+    ----------
+    machine : str
+        The machine's ID.
+    date_from, date_to : datetime.date, optional
+        Compare the identified models of these two dates (default: every consecutive pair).
+    db : str, optional
+        The database, as for ``add``.
+    level : float
+        The family-wise level of each step (Holm over every error and position), default 0.01.
+
+    Returns
+    -------
+    Comparison
+        ``steps`` with the named changes (µm, µrad, the 95 % interval of each difference) and the unchanged count.
+    """
+    with Store(db) as store:
+        return compare(store.records(machine, "model"), machine, store.spec_of(machine), date_from, date_to, level)
+
+
+def trend_of(machine: str, name: str, position: float | None = None, db: str | None = None) -> Trend:
+    """An error's values over a machine's calibrations.
+
+    Parameters
+    ----------
+    machine : str
+        The machine's ID.
+    name : str
+        An ISO 230-1 error name (E_C0Y, E_XX, ...).
+    position : float, optional
+        An error function's position (mm or deg of its axis); default where its latest value is largest in size.
+    db : str, optional
+        The database, as for ``add``.
+
+    Returns
+    -------
+    Trend
+        ``points``: date, value and 95 % half-width (µm or µrad) per identified model, oldest first.
+    """
+    with Store(db) as store:
+        return trend(store.records(machine, "model"), machine, name, position)

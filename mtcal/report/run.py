@@ -1,0 +1,38 @@
+"""``write_report``: the report of a machine's history or of one result file, written atomically."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from mtcal.history.store import check_machine_id
+from mtcal.io import atomic_write_text, refuse_overwrite
+from mtcal.report.html import from_file, from_history, render
+
+
+def write_report(target: str, out: str | Path, db: str | None = None) -> dict:
+    """Write the self-contained HTML report of a machine's history or of one result file (atomically).
+
+    Parameters
+    ----------
+    target : str
+        A machine ID in the history ``db``, or a result file (a path that exists or ends in .json).
+    out : str or Path
+        The HTML file to write (never one of the inputs).
+    db : str, optional
+        The history database (mtcal.history.store.database_url).
+
+    Returns
+    -------
+    dict
+        {"report": path, "sections": printed sections, "pictures": inline pictures, "bytes": size}.
+    """
+    is_file = Path(target).is_file() or target.endswith(".json")
+    refuse_overwrite(out, target if is_file else None)
+    if is_file:
+        data = from_file(target)
+    else:
+        check_machine_id(target)
+        data = from_history(target, db)
+    text = render(data)
+    atomic_write_text(out, text)
+    return {"report": str(out), "sections": text.count('<section class="page">'),
+            "pictures": text.count("data:image/png;base64,"), "bytes": len(text.encode())}
