@@ -198,3 +198,14 @@ def test_verify_refuses_a_ballbar_file_in_um(tmp_path, capsys):
     f = _file(tmp_path, _rows(scale=1000.0, amp=0.005))
     err = _refused(tmp_path, capsys, f, "deviations in um", cmd="verify")
     assert "NOT PASSED" not in err
+
+
+def test_an_rtest_beyond_the_measured_range_warns_too(tmp_path, capsys):
+    import json
+    m = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+         "functions": {"E_XC": {"axis": "C", "positions": [0.0, 90.0], "values": [0.0, 0.002]}}}
+    (tmp_path / "m.json").write_text(json.dumps(m))
+    assert main(["check", "predict", "--model", str(tmp_path / "m.json"), "--rtest", "C,100,0,0", "--json"]) == 0
+    out, err = capsys.readouterr()
+    assert "outside the measured range (end values held)" in err and "E_XC" in err
+    assert json.loads(out)["tests"][0]["outside_range"]["E_XC"] > 0

@@ -23,7 +23,7 @@ from mtcal.check import rtest as rt
 from mtcal.check.files import RTEST_COLUMNS, MeasuredCheck
 from mtcal.check.signatures import Signature, fit_signatures
 from mtcal.errors import InputError
-from mtcal.model.errormodel import ErrorModel
+from mtcal.model.errormodel import ErrorEvaluator, ErrorModel
 from mtcal.model.fits import uncertainty_columns as fit_columns
 
 RESOLUTION_SD_MM = 1e-4 / np.sqrt(12)  # a ballbar's 0.1 um resolution as a standard uncertainty (noise-free data)
@@ -248,7 +248,8 @@ def _rtest(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, over: 
                       info.get("fixed") or info.get("fixed_deg", {}), info.get("tool_length", 0.0))
     q = rt.sweep_axes(m, s)
     J = rt.deviation_sensitivity(m, q, s)
-    pred = np.einsum("nke,ne->nk", J, model.errors_at(m, q, extrapolate="hold"))
+    ev = ErrorEvaluator(model, m, "hold")
+    pred = np.einsum("nke,ne->nk", J, ev(q))
     u = np.sqrt((np.einsum("nie,nek->nik", J, uncertainty_columns(umodel, m, q)) ** 2).sum(axis=2))
     meas = np.column_stack([test.data[c] for c in RTEST_COLUMNS[1:]])
     resid = meas - pred
@@ -260,7 +261,7 @@ def _rtest(test: MeasuredCheck, model: ErrorModel, umodel: ErrorModel, m, over: 
              zip(s.positions_deg, meas, pred, u)]
     return CheckEvaluation("rtest", test.source, {"range_mm": rt.ranges(meas)}, {"range_mm": rt.ranges(pred)},
                            {"range_mm": rt.ranges(resid)}, float(2 * u.max()), noise, worst <= K_AGREE, worst, [],
-                           trace, {"axis": s.axis, "sphere_mm": list(s.sphere_mm)})
+                           trace, {"axis": s.axis, "sphere_mm": list(s.sphere_mm)}, dict(ev.outside_counts))
 
 
 def after_compensation(model: ErrorModel, covered: set[str] | None = None) -> ErrorModel:

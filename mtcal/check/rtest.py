@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.model.errormodel import ErrorModel
+from mtcal.model.errormodel import ErrorEvaluator, ErrorModel
 
 COMPONENTS = ("X", "Y", "Z")
 
@@ -100,13 +100,14 @@ class RTestPrediction:
     deviation: np.ndarray
     ranges: dict[str, float]
     contributions: dict[str, float]
+    outside: dict[str, int] = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         s = self.setup
         return {"kind": "rtest", "axis": s.axis, "sphere_mm": list(s.sphere_mm), "fixed_deg": dict(s.fixed),
                 "range_mm": self.ranges,
                 "trace": [[float(p), *map(float, d)] for p, d in zip(self.positions_deg, self.deviation)],
-                "contributions": self.contributions}
+                "contributions": self.contributions, "outside_range": dict(self.outside)}
 
 
 def ranges(dev: np.ndarray) -> dict[str, float]:
@@ -120,7 +121,8 @@ def predict_rtest(model: ErrorModel, setup: RTestSetup, machine=None) -> RTestPr
     Parameters
     ----------
     model : ErrorModel
-        The error model (mm, rad); positions beyond its tables take the end values.
+        The error model (mm, rad); positions beyond an error function's measured range hold its end values,
+        counted in the prediction's ``outside`` (as compensate does).
     setup : RTestSetup
         The sweep.
     machine : Machine, optional
@@ -148,10 +150,12 @@ def predict_rtest(model: ErrorModel, setup: RTestSetup, machine=None) -> RTestPr
     m = machine or model.kinematics
     q = sweep_axes(m, setup)
     J = deviation_sensitivity(m, q, setup)
-    e = model.errors_at(m, q, extrapolate="hold")
+    ev = ErrorEvaluator(model, m, "hold")
+    e = ev(q)
     parts = np.einsum("nke,ne->nke", J, e)
     dev = parts.sum(axis=2)
     contrib = {n: float(np.ptp(parts[:, :, k], axis=0).max()) for k, n in enumerate(m.error_names)
                if np.any(parts[:, :, k])}
     contrib = dict(sorted(((n, v) for n, v in contrib.items() if v > 0), key=lambda kv: -kv[1]))
-    return RTestPrediction(setup, np.asarray(setup.positions_deg, dtype=float), dev, ranges(dev), contrib)
+    return RTestPrediction(setup, np.asarray(setup.positions_deg, dtype=float), dev, ranges(dev), contrib,
+                           dict(ev.outside_counts))
