@@ -298,6 +298,8 @@ class CircularPrediction:
         ISO 230-4's G (per direction and both), H, F (min, max), mm.
     contributions : dict of str to float
         Each error's share of G: {ISO name: G of its part alone, mm}, largest first.
+    outside : dict of str to int
+        Error evaluations beyond an error function's measured range (end values held): {name: count}.
     """
 
     setup: CircleSetup

@@ -93,6 +93,8 @@ class RTestPrediction:
         The largest difference per direction (X, Y, Z), mm.
     contributions : dict of str to float
         Each error's share: {ISO name: its largest difference over X, Y, Z, mm}, largest first.
+    outside : dict of str to int
+        Error evaluations beyond an error function's measured range (end values held): {name: count}.
     """
 
     setup: RTestSetup

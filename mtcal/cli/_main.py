@@ -170,6 +170,9 @@ def main(argv: list[str] | None = None) -> int:
         args = parse_args(sys.argv[1:] if argv is None else argv)
     except SystemExit as exc:  # --help (0) or a bad option (2, message printed)
         return int(exc.code or 0)
+    except KeyboardInterrupt:  # Ctrl-C while the command's modules load: nothing was started
+        print("mtcal: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPT
     from mtcal.io import remove_temporaries, replace_allowed  # after parsing: `mtcal --help` stays light
     prog = f"mtcal {args.command}"
     old_term = _install(signal.SIGTERM, _terminate)

@@ -44,6 +44,16 @@ def add(path: str | Path, machine: str, date: dt.date | None = None, db: str | N
     InputError
         A file that is not an mtcal result, a bad machine ID, an unreachable or newer database, a date in the
         future or before the previous calibration, another machine spec, a file already in the history.
+
+    Examples
+    --------
+    >>> import datetime, os, tempfile
+    >>> from mtcal.data import path
+    >>> from mtcal.history import add
+    >>> db = os.path.join(tempfile.mkdtemp(), "history.db")
+    >>> record = add(path("demo_truth.json"), "DMU-1", date=datetime.date(2026, 1, 15), db=db)
+    >>> record.kind, str(record.date)
+    ('model', '2026-01-15')
     """
     check_machine_id(machine)
     today = dt.date.today()
@@ -69,8 +79,10 @@ def compare_history(machine: str, date_from: dt.date | None = None, date_to: dt.
     ----------
     machine : str
         The machine's ID.
-    date_from, date_to : datetime.date, optional
-        Compare the identified models of these two dates (default: every consecutive pair).
+    date_from : datetime.date, optional
+        Compare the identified model of this date with the one of ``date_to`` (default: every consecutive pair).
+    date_to : datetime.date, optional
+        The later of the two dates compared.
     db : str, optional
         The database, as for ``add``.
     level : float
@@ -80,6 +92,25 @@ def compare_history(machine: str, date_from: dt.date | None = None, date_to: dt.
     -------
     Comparison
         ``steps`` with the named changes (µm, µrad, the 95 % interval of each difference) and the unchanged count.
+
+    Examples
+    --------
+    Two models without uncertainty (the bundled truth, then the same with E_C0Y 40 µrad larger) cannot be
+    compared: nothing is named, every error is listed as not compared.
+
+    >>> import datetime, json, os, tempfile
+    >>> from mtcal.data import path
+    >>> from mtcal.history import add, compare_history
+    >>> folder = tempfile.mkdtemp()
+    >>> db = os.path.join(folder, "history.db")
+    >>> model = json.loads(open(path("demo_truth.json")).read())
+    >>> _ = add(path("demo_truth.json"), "DMU-1", date=datetime.date(2026, 1, 15), db=db)
+    >>> model["constants"]["E_C0Y"] += 4e-5
+    >>> _ = open(os.path.join(folder, "later.json"), "w").write(json.dumps(model))
+    >>> _ = add(os.path.join(folder, "later.json"), "DMU-1", date=datetime.date(2026, 6, 15), db=db)
+    >>> step = compare_history("DMU-1", db=db).to_dict()["steps"][0]
+    >>> step["changed"], "E_C0Y" in step["not_compared"]
+    ([], True)
     """
     with Store(db) as store:
         return compare(store.records(machine, "model"), machine, store.spec_of(machine), date_from, date_to, level)
@@ -103,6 +134,17 @@ def trend_of(machine: str, name: str, position: float | None = None, db: str | N
     -------
     Trend
         ``points``: date, value and 95 % half-width (µm or µrad) per identified model, oldest first.
+
+    Examples
+    --------
+    >>> import datetime, os, tempfile
+    >>> from mtcal.data import path
+    >>> from mtcal.history import add, trend_of
+    >>> db = os.path.join(tempfile.mkdtemp(), "history.db")
+    >>> _ = add(path("demo_truth.json"), "DMU-1", date=datetime.date(2026, 1, 15), db=db)
+    >>> t = trend_of("DMU-1", "E_C0Y", db=db)
+    >>> t.unit, t.points
+    ('µrad', [{'date': '2026-01-15', 'value': 18.0, 'u95': None}])
     """
     with Store(db) as store:
         return trend(store.records(machine, "model"), machine, name, position)

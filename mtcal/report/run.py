@@ -24,6 +24,16 @@ def write_report(target: str, out: str | Path, db: str | None = None) -> dict:
     -------
     dict
         {"report": path, "sections": printed sections, "pictures": inline pictures, "bytes": size}.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from mtcal.data import path
+    >>> from mtcal.report.run import write_report
+    >>> out = os.path.join(tempfile.mkdtemp(), "report.html")
+    >>> info = write_report(path("demo_truth.json"), out)
+    >>> info["sections"] >= 1, info["pictures"] >= 1, 'src="http' in open(out).read()
+    (True, True, False)
     """
     is_file = Path(target).is_file() or target.endswith(".json")
     refuse_overwrite(out, target if is_file else None)

@@ -329,6 +329,11 @@ class UncertaintyResult:
         The interval limits' spread after each stage (adaptive runs).
     seconds : float
         Wall time.
+    model_sha256 : str
+        The identified model the trials vary (``ErrorModel.digest``): a file of these trials is taken only with
+        this model.
+    path : dict
+        Which path ran the trials: batched (mtcal.uncertainty.fast) or identify's, and the trials of each.
     """
 
     trials: int
