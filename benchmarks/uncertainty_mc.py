@@ -49,7 +49,7 @@ def speed(trials: int, fast_trials: int = 2000) -> dict:
     10^6 trials (set-up plus trials at the 2-worker rate)."""
     from mtcal.uncertainty import fast as fp
     from mtcal.uncertainty import run as mc
-    from mtcal.uncertainty.trials import noise_factor, trackers_of
+    from mtcal.uncertainty.trials import prepare_draw, trackers_of
 
     rec = mtcal.read_recording(path("demo_campaign.csv"))
     opt = {"tracker": DEMO_PLAN["tracker"]}
@@ -63,7 +63,7 @@ def speed(trials: int, fast_trials: int = 2000) -> dict:
     b, why = fp.prepare(rec, options, outputs)
     out["batched_setup_s"] = time.perf_counter() - t
     trk = trackers_of(rec, opt["tracker"])
-    noise_factor(rec, trk, inputs)
+    prepare_draw(rec, trk, inputs)
     t, c = time.perf_counter(), time.process_time()
     n = 5 * fp.BLOCK
     for i in range(5):  # k % SAMPLE: the screen and shape test on 4 of every 200

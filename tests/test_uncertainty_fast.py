@@ -19,7 +19,7 @@ from mtcal.errors import InputError
 from mtcal.identify.run import identify
 from mtcal.uncertainty import Inputs, fast, monte_carlo
 from mtcal.uncertainty import run as mc
-from mtcal.uncertainty.trials import Outputs, draw, noise_factor, trackers_of
+from mtcal.uncertainty.trials import Outputs, draw, prepare_draw, trackers_of
 
 T = DEMO_PLAN["tracker"]
 
@@ -46,7 +46,7 @@ def _compare(rec, n: int, **options):
     b, why = fast.prepare(rec, opts, outputs)
     assert b is not None, why
     trackers = trackers_of(rec, opts.get("tracker"))
-    fac = noise_factor(rec, trackers, inputs)
+    fac = prepare_draw(rec, trackers, inputs)
     xyz = np.stack([draw(rec, trackers, inputs, np.random.default_rng([7, k]), fac) for k in range(200)])
     sizes: dict = {}
     vals, tie = fast._batched(b, outputs, xyz, sizes)

@@ -40,11 +40,13 @@ from mtcal.identify import fitting
 from mtcal.kinematics.machine import Machine
 from mtcal.measurement.recordings import Recording
 from mtcal.uncertainty.inputs import Inputs
-from mtcal.uncertainty.trials import Outputs, draw, noise_factor
+from mtcal.uncertainty.trials import Outputs, draw, prepare_draw
 
 log = logging.getLogger(__name__)
 BLOCK = 200  # trials per batch (per Dask task): ~0.2-0.5 s
-TIE = 1e-3  # a degree selection whose best two BIC scores are this close (chi^2 units) is left to the full path
+TIE = 1e-5  # a degree selection whose best two BIC scores are this close (chi^2 units) is left to the full path (the
+# batched and the full path chose the same degrees in every trial compared, gaps down to 0.004 included; at 1e-3,
+# 0.7 % of the demo's trials were ties, and their identify runs cost more than all batched trials together)
 CHECK_TRIALS = 3  # trials run both ways before the rest
 CHECK_TOLERANCE = 0.05  # of an output's 95 % half-width (2 standard deviations of the batched trials): the batched
 # step from the campaign's estimate differs from identify's converged fit of a trial by 0.6-2.4 % of a parameter's
@@ -53,7 +55,7 @@ CHECK_TOLERANCE = 0.05  # of an output's 95 % half-width (2 standard deviations 
 # half-width in 95 % of cases, up to 4 % (tests/test_uncertainty_fast.py); the differences are of either sign from
 # trial to trial, so the intervals move by less; a half-width to two significant digits needs 5 %
 REASONS = ("screen", "noise law", "tie")
-SAMPLE = 50  # the screen and the shape test (100 batched trials' time each) run on every SAMPLE-th trial
+SAMPLE = 1000  # the screen and the shape test (a hundred batched trials' time each) run on every SAMPLE-th trial
 
 
 @dataclass
@@ -300,9 +302,9 @@ def fast_block(b: Batched, rec: Recording, trackers: np.ndarray, inputs: Inputs,
     t = len(ks)
     xyz = np.empty((t,) + rec.xyz.shape)
     why: list[str] = []
-    factor = noise_factor(rec, trackers, inputs)
+    prepared = prepare_draw(rec, trackers, inputs)
     for i, k in enumerate(ks):
-        xyz[i] = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), factor)
+        xyz[i] = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), prepared)
         why.append(_differs(b, rec, xyz[i]) if k % SAMPLE == 0 else "")
     out, tie = _batched(b, outputs, xyz)
     counts = {"batched": 0, **{r: 0 for r in REASONS}}

@@ -31,7 +31,7 @@ from mtcal.errors import InputError
 from mtcal.io import atomic_open
 from mtcal.measurement.recordings import Recording
 from mtcal.uncertainty.inputs import TERMS, Inputs
-from mtcal.uncertainty.trials import Outputs, draw, noise_factor, trackers_of
+from mtcal.uncertainty.trials import Outputs, draw, prepare_draw, trackers_of
 
 log = logging.getLogger(__name__)
 BATCH = 4  # trials per Dask task: a task runs ~1-4 s
@@ -48,10 +48,10 @@ def _trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: 
     quiet = logging.getLogger("mtcal")
     level = quiet.level
     quiet.setLevel(logging.ERROR)  # a trial's progress is not the user's (restored: --workers 0 runs in-process)
-    factor = noise_factor(rec, trackers, inputs)
+    prepared = prepare_draw(rec, trackers, inputs)
     try:
         for i, k in enumerate(ks):
-            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), factor)
+            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), prepared)
             out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
     finally:
         quiet.setLevel(level)

@@ -62,34 +62,44 @@ class Outputs:
         return out
 
 
-def noise_factor(rec: Recording, trackers: np.ndarray, inputs: Inputs) -> np.ndarray | None:
-    """The Cholesky factors (n, 3, 3) of the readings' noise covariance (the law ``inputs.noise`` about each row's
-    tracker), or None when the law is off: shared by every trial's ``draw``."""
+@dataclass
+class Prepared:
+    """What every trial's ``draw`` shares: the Cholesky factors (n, 3, 3) of the readings' noise covariance (None:
+    the law is off), each station's rows, each row's reflector (index into the sorted labels) and their count."""
+
+    factor: np.ndarray | None
+    stations: list[np.ndarray]
+    label_index: np.ndarray
+    labels: int
+
+
+def prepare_draw(rec: Recording, trackers: np.ndarray, inputs: Inputs) -> Prepared:
+    """``Prepared`` for ``draw`` (computed once for many trials)."""
     spec = inputs.noise
-    if not (spec.radial_um or spec.radial_um_per_m or spec.transverse_um or spec.transverse_um_per_m):
-        return None
-    return np.linalg.cholesky(trk.covariance(rec.xyz, trackers, spec))
+    factor = None
+    if spec.radial_um or spec.radial_um_per_m or spec.transverse_um or spec.transverse_um_per_m:
+        factor = np.linalg.cholesky(trk.covariance(rec.xyz, trackers, spec))
+    st = rec.stations()
+    labels = np.unique(rec.point)
+    return Prepared(factor, [st == s for s in np.unique(st)], np.searchsorted(labels, rec.point), len(labels))
 
 
 def draw(rec: Recording, trackers: np.ndarray, inputs: Inputs, rng: np.random.Generator,
-         factor: np.ndarray | None | str = "compute") -> np.ndarray:
+         prepared: Prepared | None = None) -> np.ndarray:
     """One draw of the readings (n, 3) mm: the recorded values plus the tracker noise (about each row's tracker
-    ``trackers`` (n, 3); ``factor``: ``noise_factor`` computed once for many trials), each station's scale error
-    about its tracker, each reflector's centring offset and the structure's thermal expansion about the machine
-    origin."""
+    ``trackers`` (n, 3)), each station's scale error about its tracker, each reflector's centring offset and the
+    structure's thermal expansion about the machine origin; ``prepared``: ``prepare_draw`` of these, shared by many
+    trials."""
     xyz = rec.xyz.copy()
-    st = rec.stations()
-    factor = noise_factor(rec, trackers, inputs) if isinstance(factor, str) else factor
-    if factor is not None:  # as mtcal.measurement.tracker.sample
-        xyz += np.einsum("...ij,...j->...i", factor, rng.standard_normal(rec.xyz.shape))
+    pre = prepare_draw(rec, trackers, inputs) if prepared is None else prepared
+    if pre.factor is not None:  # as mtcal.measurement.tracker.sample
+        xyz += np.einsum("...ij,...j->...i", pre.factor, rng.standard_normal(rec.xyz.shape))
     if inputs.scale_u:
-        for s in np.unique(st):
-            on = st == s
+        for on in pre.stations:
             xyz[on] += rng.normal(0.0, inputs.scale_u) * (rec.xyz[on] - trackers[on])
     if inputs.centring_u_um:
-        labels = np.unique(rec.point)
-        off = rng.normal(0.0, inputs.centring_u_um * 1e-3, (len(labels), 3))
-        xyz += off[np.searchsorted(labels, rec.point)]
+        off = rng.normal(0.0, inputs.centring_u_um * 1e-3, (pre.labels, 3))
+        xyz += off[pre.label_index]
     if inputs.material_temperature_u_k:
         xyz += rng.normal(0.0, inputs.material_temperature_u_k) * inputs.alpha_per_k * rec.xyz
     return xyz
