@@ -39,7 +39,7 @@ from mtcal.data import path  # noqa: E402
 from mtcal.data.make_demo_data import DEMO_PLAN  # noqa: E402
 from mtcal.uncertainty import Inputs, monte_carlo  # noqa: E402
 from mtcal.uncertainty.run import default_poses, program_poses  # noqa: E402
-from mtcal.uncertainty.trials import Outputs  # noqa: E402
+from mtcal.uncertainty.trials import Outputs, trial_block  # noqa: E402
 
 
 def speed(trials: int, fast_trials: int = 2000) -> dict:
@@ -71,7 +71,7 @@ def speed(trials: int, fast_trials: int = 2000) -> dict:
     dt, dc = time.perf_counter() - t, time.process_time() - c
     out["in_process"] = {"batched_trials_per_s": n / dt, "batched_trials_per_cpu_s": n / dc}
     t, c = time.perf_counter(), time.process_time()
-    mc._trial_block(rec, trk, inputs, options, outputs, 0, list(range(4)))
+    trial_block(rec, trk, inputs, options, outputs, 0, list(range(4)))
     out["in_process"].update(full_trials_per_s=4 / (time.perf_counter() - t),
                              full_trials_per_cpu_s=4 / (time.process_time() - c))
     out["in_process"]["ratio"] = (out["in_process"]["batched_trials_per_cpu_s"]

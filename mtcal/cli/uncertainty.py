@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
-from mtcal.io import atomic_write_text, dumps, file_sha256, refuse_overwrite
+from mtcal.io import atomic_write_text, dumps, file_sha256, refuse_overwrite, replace_allowed
 
 NAME = "uncertainty"
 HELP = ("GUM Supplement 1 Monte Carlo of the identification: readings drawn from the tracker's law and its "
@@ -59,7 +59,9 @@ def run(args: argparse.Namespace) -> int:
     from mtcal.uncertainty import Inputs, monte_carlo
     from mtcal.uncertainty.plots import plot_bands, plot_convergence
 
-    refuse_overwrite([args.output, args.store], args.recording, args.program)
+    refuse_overwrite([args.output], args.recording, args.program)
+    with replace_allowed():  # the store is read and checked before it is extended (mtcal.uncertainty.run.Store)
+        refuse_overwrite([args.store], args.recording, args.program)
     rec = read_recording(args.recording, args.machine)
     poses = None
     if args.program:

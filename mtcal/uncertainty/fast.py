@@ -1,6 +1,6 @@
 """Batched trials: the Monte Carlo of the joint estimator with the design factorised once (issue 37).
 
-A trial of the full path (mtcal.uncertainty.run._trial_block) runs ``identify`` from scratch: the screen, the noise
+A trial of the full path (mtcal.uncertainty.trials.trial_block) runs ``identify`` from scratch: the screen, the noise
 law's shape test, the joint fit's Gauss-Newton steps from a rough start, the degree selection of every function.
 But a trial's readings differ from the campaign's by micrometres, so its joint estimate is one Gauss-Newton step
 from the campaign's: with the whitened Jacobian J, the gauge rows C and the column scale S of the campaign's
@@ -40,7 +40,7 @@ from mtcal.identify import fitting
 from mtcal.kinematics.machine import Machine
 from mtcal.measurement.recordings import Recording
 from mtcal.uncertainty.inputs import Inputs
-from mtcal.uncertainty.trials import Outputs, draw, prepare_draw
+from mtcal.uncertainty.trials import Outputs, draw, prepare_draw, trial_block
 
 log = logging.getLogger(__name__)
 BLOCK = 200  # trials per batch (per Dask task): ~0.2-0.5 s
@@ -297,7 +297,6 @@ def fast_block(b: Batched, rec: Recording, trackers: np.ndarray, inputs: Inputs,
                seed: int, ks: list[int]) -> tuple[list[int], np.ndarray, dict[str, int]]:
     """Trials ``ks`` batched (module docstring; run on a worker): (ks, output vectors (len(ks), size), counts by
     path).  Trial k draws from ``np.random.default_rng([seed, k])`` as the full path's does."""
-    from mtcal.uncertainty.run import _trial_block
 
     t = len(ks)
     xyz = np.empty((t,) + rec.xyz.shape)
@@ -312,7 +311,7 @@ def fast_block(b: Batched, rec: Recording, trackers: np.ndarray, inputs: Inputs,
         reason = why[i] or ("tie" if tie[i] else "")
         counts[reason or "batched"] += 1
         if reason:  # the full path, trial by trial
-            out[i] = _trial_block(rec, trackers, inputs, options, outputs, seed, [k])[1][0]
+            out[i] = trial_block(rec, trackers, inputs, options, outputs, seed, [k])[1][0]
     return ks, out, counts
 
 
@@ -393,12 +392,11 @@ def self_check(b: Batched, rec: Recording, trackers: np.ndarray, inputs: Inputs,
     """Trials ``ks`` batched, the first ``CHECK_TRIALS`` of them also by the full path: (whether every output
     agrees within ``CHECK_TOLERANCE`` of its 95 % half-width (2 standard deviations over ``ks``), the check's
     report, the batched block (ks, values, counts))."""
-    from mtcal.uncertainty.run import _trial_block
 
     block = fast_block(b, rec, trackers, inputs, options, outputs, seed, ks)
     vals = block[1]
     first = ks[:CHECK_TRIALS]
-    _, full = _trial_block(rec, trackers, inputs, options, outputs, seed, first)
+    _, full = trial_block(rec, trackers, inputs, options, outputs, seed, first)
     half = 2 * vals.std(axis=0, ddof=1)
     diff = np.abs(vals[:len(first)] - full)
     ratio = np.where(half > 0, diff / np.where(half > 0, half, 1.0), np.where(diff > 1e-9, np.inf, 0.0))

@@ -28,34 +28,13 @@ from pathlib import Path
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.io import atomic_open
+from mtcal.io import atomic_open, replace_allowed
 from mtcal.measurement.recordings import Recording
 from mtcal.uncertainty.inputs import TERMS, Inputs
-from mtcal.uncertainty.trials import Outputs, draw, prepare_draw, trackers_of
+from mtcal.uncertainty.trials import Outputs, trackers_of, trial_block
 
 log = logging.getLogger(__name__)
 BATCH = 4  # trials per Dask task: a task runs ~1-4 s
-
-
-def _trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: dict, outputs: Outputs,
-                 seed: int, ks: list[int]) -> tuple[list[int], np.ndarray]:
-    """Trials ``ks`` (run on a worker): their output vectors (len(ks), size)."""
-    from dataclasses import replace
-
-    from mtcal.identify.run import identify
-
-    out = np.empty((len(ks), outputs.size))
-    quiet = logging.getLogger("mtcal")
-    level = quiet.level
-    quiet.setLevel(logging.ERROR)  # a trial's progress is not the user's (restored: --workers 0 runs in-process)
-    prepared = prepare_draw(rec, trackers, inputs)
-    try:
-        for i, k in enumerate(ks):
-            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), prepared)
-            out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
-    finally:
-        quiet.setLevel(level)
-    return ks, out
 
 
 class Store:
@@ -113,9 +92,12 @@ class Store:
         return cls(key, index.astype(np.int64), values, recording_sha256)
 
     def save(self, path: Path | None) -> None:
+        """Write the trials to ``path`` atomically; an existing file there is the store ``load`` read and checked
+        (a trial store of these inputs), so extending it replaces it even where mtcal's ledger does not know it
+        (a store copied from another machine)."""
         if path is None:
             return
-        with atomic_open(path, "wb") as fh:
+        with replace_allowed(), atomic_open(path, "wb") as fh:
             np.savez(fh, key=np.array(self.key), index=self.index, values=self.values,
                      recording_sha256=np.array(self.recording_sha256))
 
@@ -237,7 +219,7 @@ def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, 
 def _block(rec, trackers, inputs, options, outputs, seed, ks, fast):
     """Trials ``ks`` on a worker: (ks, their output vectors, the batched path's counts or None)."""
     if fast is None:
-        return (*_trial_block(rec, trackers, inputs, options, outputs, seed, ks), None)
+        return (*trial_block(rec, trackers, inputs, options, outputs, seed, ks), None)
     from mtcal.uncertainty.fast import fast_block
 
     return fast_block(fast, rec, trackers, inputs, options, outputs, seed, ks)

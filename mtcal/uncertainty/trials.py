@@ -4,6 +4,7 @@ output vector (the layout ``Outputs``).  Trial k draws from ``np.random.default_
 not depend on which worker runs it, or in which order."""
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -113,3 +114,25 @@ def trackers_of(rec: Recording, tracker) -> np.ndarray:
         raise InputError(f"{rec.source}: the Monte Carlo draws each reading about its tracker: give the tracker "
                          f"position (`tracker`) or the tracker_x,y,z columns")
     return np.broadcast_to(np.asarray(tracker, dtype=float).reshape(3), rec.xyz.shape).copy()
+
+
+def trial_block(rec: Recording, trackers: np.ndarray, inputs: Inputs, options: dict, outputs: Outputs,
+                 seed: int, ks: list[int]) -> tuple[list[int], np.ndarray]:
+    """Trials ``ks`` of the full path (each runs ``identify`` on readings drawn with seed ``[seed, k]``; on a
+    worker or in this process): their output vectors (len(ks), size)."""
+    from dataclasses import replace
+
+    from mtcal.identify.run import identify
+
+    out = np.empty((len(ks), outputs.size))
+    quiet = logging.getLogger("mtcal")
+    level = quiet.level
+    quiet.setLevel(logging.ERROR)  # a trial's progress is not the user's (restored: --workers 0 runs in-process)
+    prepared = prepare_draw(rec, trackers, inputs)
+    try:
+        for i, k in enumerate(ks):
+            xyz = draw(rec, trackers, inputs, np.random.default_rng([seed, k]), prepared)
+            out[i] = outputs.vector(identify(replace(rec, xyz=xyz), worth=False, **options).model)
+    finally:
+        quiet.setLevel(level)
+    return ks, out
