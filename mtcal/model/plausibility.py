@@ -122,8 +122,10 @@ def _fit_disagrees(name: str, f, machine: Machine) -> list[str]:
         why = (f"{miss[k] / sm[k]:.1f} sigma of the table value (its standard uncertainty {_short(name, sm[k])}; the "
                f"bound is {FIT_LEAVES_K:g} sigma)")
     else:
-        why = (f"{100 * miss[k] / largest:.0f} % of the table's largest value (the model states no uncertainty; the "
-               f"bound is {100 * FIT_UNSTATED_FRACTION:g} %)")
+        why = ((f"{100 * miss[k] / largest:.0f} % of the table's largest value" if largest > 0 else
+                "the table is zero everywhere")
+               + f" (the model states no uncertainty; the bound is {100 * FIT_UNSTATED_FRACTION:g} % of the table's "
+                 f"largest value): a model's values are the table its fit stands for")
     return [f"{name}: its fitted function ({f.fit.kind}) gives {_short(name, fitted[k])} at {f.axis} = "
             f"{f.positions[k]:g} {unit} where its own table says {_short(name, vals[k])}, {_short(name, miss[k])} "
             f"off: {why}; every export and compensation evaluates the fit (identify again with a higher "
