@@ -22,6 +22,7 @@ from mtcal.errors import InputError
 from mtcal.export import export_model
 from mtcal.kinematics.machine import available_machines, load_machine
 from mtcal.model.errormodel import ErrorFunction, ErrorModel, model_from_dict
+from mtcal.model.fits import fit_from_dict
 
 M = load_machine("dmu50")
 RNG = np.random.default_rng(7)
@@ -35,8 +36,14 @@ def poly(axis, coeffs, lo=-LIN, hi=LIN):
     """Polynomial in the axis position (no domain scaling: domain = window [-1, 1] identity is avoided by
     giving coefficients in the scaled variable t = x / LIN)."""
     pos = np.linspace(lo, hi, 9)
-    return {"axis": axis, "positions": pos.tolist(), "values": [0.0] * 9,
-            "fit": {"kind": "polynomial", "coefficients": coeffs, "domain": [lo, hi]}}
+    return tabled({"axis": axis, "positions": pos.tolist(),
+                   "fit": {"kind": "polynomial", "coefficients": coeffs, "domain": [lo, hi]}})
+
+
+def tabled(func: dict) -> dict:
+    """The function with its table: the fit at its positions (a model's values are the table its fit stands
+    for; export refuses a fit that disagrees with them, mtcal.model.plausibility)."""
+    return {**func, "values": fit_from_dict(func["fit"])(np.asarray(func["positions"], dtype=float)).tolist()}
 
 
 def raw_model(constants=None, **funcs) -> dict:
@@ -48,10 +55,10 @@ def raw_model(constants=None, **funcs) -> dict:
 EXX = [0.0, 2e-3, 0.0, 1.6e-3]
 EYX = [0.0, 0.0, 3e-3]                       # 3 um parabola (straightness)
 EZZ = [0.0, -1.5e-3, 1e-3]
-HARM = {"axis": "C", "positions": [0.0, 90.0, 180.0, 270.0, 360.0], "values": [0.0] * 5,
-        "fit": {"kind": "harmonic", "period": 360, "a0": 0.0, "cos": [0.0], "sin": [A_C]}}
-QUAD_B = {"axis": "B", "positions": [0.0, 90.0, 180.0], "values": [0.0] * 3,
-          "fit": {"kind": "polynomial", "coefficients": [A_B, 2 * A_B, A_B], "domain": [0.0, 180.0]}}
+HARM = tabled({"axis": "C", "positions": [0.0, 90.0, 180.0, 270.0, 360.0],
+               "fit": {"kind": "harmonic", "period": 360, "a0": 0.0, "cos": [0.0], "sin": [A_C]}})
+QUAD_B = tabled({"axis": "B", "positions": [0.0, 90.0, 180.0],
+                 "fit": {"kind": "polynomial", "coefficients": [A_B, 2 * A_B, A_B], "domain": [0.0, 180.0]}})
 # E_CB(B) = A_B (1 + u)^2 with u = B/90 - 1, i.e. A_B (B/90)^2
 
 
@@ -389,7 +396,7 @@ def test_refuses_what_a_format_cannot_hold(tmp_path):
 
 @pytest.mark.filterwarnings("ignore:overflow")
 def test_refuses_non_finite_and_never_overwrites_the_model(tmp_path, capsys):
-    bad = raw_model(E_XX=poly("X", [0.0, 1e308, 0.0, 1e308]))
+    bad = raw_model(E_XX={**poly("X", [0.0, 1e308, 0.0, 1e308]), "values": [0.0] * 9})  # a finite table, its fit not
     p = tmp_path / "bad.json"
     p.write_text(json.dumps(bad))
     for fmt in ("siemens", "tf5280"):
@@ -424,8 +431,8 @@ def test_linuxcnc_every_joint_of_every_machine(tmp_path, machine):
         lo, hi = (-200.0, 200.0) if kind == "linear" else (lim or (0.0, 360.0))
         amp = 5e-3 if kind == "linear" else 20e-6      # mm or rad: E = amp (t + t^2 / 2), t in [-1, 1]
         name = f"E_{ax}{ax}" if kind == "linear" else f"E_C{ax}"
-        funcs[name] = {"axis": ax, "positions": [lo, hi], "values": [0.0, 0.0],
-                       "fit": {"kind": "polynomial", "coefficients": [0.0, amp, amp / 2], "domain": [lo, hi]}}
+        funcs[name] = tabled({"axis": ax, "positions": [lo, hi],
+                              "fit": {"kind": "polynomial", "coefficients": [0.0, amp, amp / 2], "domain": [lo, hi]}})
         spans[ax], shape[ax] = (lo, hi), (kind, amp, (hi - lo) / 2)
     model = model_from_dict({"machine": machine, "units": {"length": "mm", "angle": "rad"}, "functions": funcs})
     export_model(model, m, "linuxcnc", tmp_path, file_type=1)

@@ -1,7 +1,7 @@
-"""A model whose fitted function disagrees with its own table beyond the table's uncertainty is refused before
-anything made from it reaches a machine (mtcal/model/plausibility.py; issue 36: a C table off by up to 93 % of its
-largest value was exported from the fit without a word).  Every exporter and compensation evaluate the fit, so the
-table the model states would not be what the machine gets."""
+"""A model whose fitted function disagrees with its own table beyond the table's uncertainty is refused on export
+(mtcal/model/plausibility.py; issue 36: a C table off by up to 93 % of its largest value was exported from the fit
+without a word).  Every export format evaluates the fit, so the table the model states would not be what the
+controller gets."""
 from __future__ import annotations
 
 import re

@@ -19,6 +19,7 @@ import pytest
 from mtcal.export import export_model
 from mtcal.kinematics.machine import load_machine
 from mtcal.model.errormodel import model_from_dict
+from mtcal.model.fits import Polynomial
 
 LINUXCNC = shutil.which("linuxcnc")
 pytestmark = pytest.mark.skipif(LINUXCNC is None or not Path("/usr/bin/python3").exists(),
@@ -125,7 +126,7 @@ def run_linuxcnc(folder: Path) -> dict:
 
 def test_linuxcnc_motion_applies_exported_comp_files(tmp_path):
     spec = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {}, "functions": {
-        n: {"axis": a, "positions": [-200, 0, 200], "values": [0, 0, 0],
+        n: {"axis": a, "positions": [-200, 0, 200], "values": Polynomial(C, [-200, 200])([-200, 0, 200]).tolist(),
             "fit": {"kind": "polynomial", "coefficients": C, "domain": [-200, 200]}} for n, a in
         (("E_XX", "X"), ("E_YY", "Y"))}}
     model, m = model_from_dict(spec), load_machine("dmu50")

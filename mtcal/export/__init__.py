@@ -146,7 +146,7 @@ def export_model(model: ErrorModel, machine, fmt: str, out: str | Path, model_pa
         raise InputError(f"unknown format {fmt!r}; known: {', '.join(FORMATS)}")
     if model.machine != machine.name:
         raise InputError(f"{model_path}: the model is of machine {model.machine}, not {machine.name} (`machine`)")
-    forced = check_model(model, machine, force, model_path)
+    forced = check_model(model, machine, force, model_path, fit_against_table=True)
     forced += _check_diagnosis(diagnosis, model, machine, diagnosis_source, model_path, force)
     mod, kind = FORMATS[fmt]
     control_limit = siemens.CONTROLS.get(options.get("control"), (None,))[0] if fmt == "siemens" else None

@@ -10,12 +10,13 @@ the error, the position and the bound) when
   angular errors (angular error motions, squareness, location tilts) beyond ``ANGLE_MAX_RAD`` (2 mrad, 400");
 * a table lies outside its axis' travel (the spec's limits), or a rotary axis without limits spans more than a
   turn;
-* a fitted function disagrees with its own table (every exporter and compensation evaluate the fit, so the table
-  the model states is not what the machine would get): at some position |fit - table| exceeds ``FIT_LEAVES_K`` /
-  1.96 times the table value's 95 % expanded uncertainty (``u95`` of the function's ``extra``, as identify writes
-  it: Student's t for a few rounds, 1.96 sigma for the joint fit, so 4 sigma there), else ``FIT_LEAVES_K`` times
-  its standard uncertainty (``std_mean``), or, where the model states no uncertainty, ``FIT_UNSTATED_FRACTION`` of
-  the table's largest |value|; never below ``FIT_FLOOR`` (0.1 um, 0.5 urad), what no table is measured to.
+* on export (``fit_against_table``), a fitted function disagrees with its own table (every exporter evaluates the
+  fit, so the table the model states is not what the controller would get): at some position |fit - table|
+  exceeds ``FIT_LEAVES_K`` / 1.96 times the table value's 95 % expanded uncertainty (``u95`` of the function's
+  ``extra``, as identify writes it: Student's t for a few rounds, 1.96 sigma for the joint fit, so 4 sigma there),
+  else ``FIT_LEAVES_K`` times its standard uncertainty (``std_mean``), or, where the model states no uncertainty,
+  ``FIT_UNSTATED_FRACTION`` of the table's largest |value|; never below ``FIT_FLOOR`` (0.1 um, 0.5 urad), what no
+  table is measured to.
 ``force=True`` turns each refusal into a loud warning (returned) for a user who knows better.
 """
 from __future__ import annotations
@@ -64,16 +65,18 @@ def _unit(name: str, v: float) -> str:
     return f"{v * 1e6:.6g} urad" if _angular(name) else f"{v * 1e3:.6g} um"
 
 
-def check_model(model: ErrorModel, machine: Machine, force: bool = False, what: str = "model") -> list[str]:
-    """Refuse an implausible model (module docstring); with ``force`` return the violations as warnings."""
-    problems = _problems(model, machine)
+def check_model(model: ErrorModel, machine: Machine, force: bool = False, what: str = "model",
+                fit_against_table: bool = False) -> list[str]:
+    """Refuse an implausible model (module docstring); with ``force`` return the violations as warnings.
+    ``fit_against_table``: also refuse a fitted function that disagrees with its own table (export's check)."""
+    problems = _problems(model, machine, fit_against_table)
     if problems and not force:
         more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
         raise InputError(f"{what}: {problems[0]}{more}; nothing was written (`force` writes it anyway)")
     return [f"FORCED past the plausibility guard: {p}" for p in problems]
 
 
-def _problems(model: ErrorModel, machine: Machine) -> list[str]:
+def _problems(model: ErrorModel, machine: Machine, fit_against_table: bool = False) -> list[str]:
     b = bounds(machine)
     out = []
     for name, v in model.constants.items():
@@ -84,7 +87,7 @@ def _problems(model: ErrorModel, machine: Machine) -> list[str]:
                        f"(a model in um or urad read as mm or rad?)")
     for name, f in model.functions.items():
         out += _function_problems(name, f, machine, b.get(name, np.inf))
-        out += _fit_disagrees(name, f, machine)
+        out += _fit_disagrees(name, f, machine) if fit_against_table else []
     return out
 
 
@@ -129,11 +132,13 @@ def _fit_disagrees(name: str, f, machine: Machine) -> list[str]:
         why = (f"{miss[k] / sm[k]:.1f} sigma of the table value (its standard uncertainty {_short(name, sm[k])}; the "
                f"bound is {FIT_LEAVES_K:g} sigma)")
     else:
-        why = (f"{100 * miss[k] / largest:.0f} % of the table's largest value (the model states no uncertainty; the "
-               f"bound is {100 * FIT_UNSTATED_FRACTION:g} %)")
+        why = ((f"{100 * miss[k] / largest:.0f} % of the table's largest value" if largest > 0 else
+                "the table is zero everywhere")
+               + f" (the model states no uncertainty; the bound is {100 * FIT_UNSTATED_FRACTION:g} % of the table's "
+                 f"largest value): a model's values are the table its fit stands for")
     return [f"{name}: its fitted function ({f.fit.kind}) gives {_short(name, fitted[k])} at {f.axis} = "
             f"{f.positions[k]:g} {unit} where its own table says {_short(name, vals[k])}, {_short(name, miss[k])} "
-            f"off: {why}; every export and compensation evaluates the fit (identify again with a higher "
+            f"off: {why}; every export format evaluates the fit (identify again with a higher "
             f"`max_degree` / `max_harmonics`, or more rounds)"]
 
 
