@@ -231,11 +231,12 @@ def plan(rng):
 # ---------------------------------------------------------------- planted effects
 def side_of(ax): return "tool" if ax in LINEAR else "table"
 
-def choose_effects(rng, P, n):
+def choose_effects(rng, P, n, forced=None):
     axes = P["axes"]; lin = [a for a in axes if a in LINEAR]; rot = [a for a in axes if a in ROTARY]
     pool = [c for c in PHYSICS + GROSS if not ((c in ("scale", "growing_scale") and not lin)
                                                or (c == "periodic" and not rot))]
     classes = [str(c) for c in rng.choice(pool, n, replace=False)] if n else []
+    if forced is not None: classes = list(forced)   # v3 mixes: the classes were drawn elsewhere
     eff, gross = [], []
     U = rng.uniform
     def pick_round(axset):
@@ -316,8 +317,263 @@ def key(r):
                 direction=r["direction"], time_s=round(r["time"], 1))
 
 
+# ---------------------------------------------------------------- v3: physics outside the list, careless slips
+# Drawn only in the v3 mixes (--mix v3 / outside, or --only), from their own random streams, so that the v2 mix
+# (the default) writes exactly what it wrote before these classes existed.
+OUTSIDE = ["table_warming", "spindle_warming", "axis_scatter", "graded_backlash", "thermal_straightness",
+           "air_temperature", "tracker_relevel"]
+CARELESS = ["rotary_radians", "inch_positions", "columns_swapped"]
+NEW = OUTSIDE + CARELESS
+ALPHA = 11.5e-6                      # 1/K, linear expansion of steel / cast iron
+AXIS_DIR = {"X": np.array([1.0, 0, 0]), "Y": np.array([0, 1.0, 0]), "Z": np.array([0, 0, 1.0])}
+ZONE = np.array([150.0, 120.0, 150.0])   # mm, the work-zone centre the stations look at (plan)
+WHERE_KEYS = ("place", "side", "axis", "station", "round", "point", "columns")
+
+
+class NotApplicable(Exception):
+    """A class forced with --only that this campaign cannot carry (e.g. a rotary class without B or C)."""
+
+
+def applicable(c, P):
+    axes = P["axes"]; lin = [a for a in axes if a in LINEAR]; rot = [a for a in axes if a in ROTARY]
+    if c in ("scale", "growing_scale", "spindle_warming", "axis_scatter", "graded_backlash", "thermal_straightness",
+             "inch_positions"): return bool(lin)
+    if c in ("periodic", "table_warming", "rotary_radians"): return bool(rot)
+    if c == "tracker_relevel": return bool(relevel_boundaries(P))
+    return True
+
+
+def relevel_boundaries(P):
+    """(previous block, next block) pairs at one station, consecutive in time: a pause in which the tracker can be
+    re-levelled. Pairs of two rounds of the same axis come first (the issue's case)."""
+    out = []
+    for si in range(len(P["stations"])):
+        bl = sorted([b for b in P["blocks"] if b["station"] == si], key=lambda b: b["t0"])
+        out += [(a, b) for a, b in zip(bl, bl[1:])]
+    same = [ab for ab in out if ab[0]["axis"] == ab[1]["axis"]]
+    return same or out
+
+
+def time_fraction(law, tau, t, t_end):
+    """Fraction of the end-of-campaign value reached at t (s): 0 at t = 0, 1 at t_end.
+    linear: t/t_end; first_order_lag: (1 - exp(-t/tau)) / (1 - exp(-t_end/tau))."""
+    if t <= 0: return 0.0
+    if law == "linear": return t / t_end
+    return (1 - math.exp(-t / tau)) / (1 - math.exp(-t_end / tau))
+
+
+def draw_law(rng, tau_h):
+    law = "linear" if rng.random() < 0.5 else "first_order_lag"
+    return law, (float(rng.uniform(*tau_h)) * 3600 if law == "first_order_lag" else None)
+
+
+def where(**kw):
+    return {k: kw.get(k) for k in WHERE_KEYS}
+
+
+def pick_classes_v3(rng3, P, mix, clean_fraction, only):
+    """The campaign's classes in the v3 mixes: (old-list classes, new classes)."""
+    if only is not None:
+        names = [] if only == ["none"] else list(only)
+        bad = [c for c in names if not applicable(c, P)]
+        if bad: raise NotApplicable(f"class {bad[0]} does not apply to this campaign (axes {''.join(P['axes'])})")
+    elif rng3.random() < clean_fraction:
+        names = []
+    elif mix == "outside":
+        names = [str(rng3.choice([c for c in NEW if applicable(c, P)]))]
+    else:
+        pool = [c for c in PHYSICS + GROSS + NEW if applicable(c, P)]
+        names = [str(c) for c in rng3.choice(pool, int(rng3.choice([1, 2], p=[0.6, 0.4])), replace=False)]
+    return [c for c in names if c not in NEW], [c for c in names if c in NEW]
+
+
+def choose_new(rng, P, classes):
+    """Draw the v3 classes' parameters. Each entry: name, kind (outside_list | careless), judge_as, axis, size, unit,
+    where, what, along, grows_with, describe, details (see README)."""
+    axes = P["axes"]; lin = [a for a in axes if a in LINEAR]; rot = [a for a in axes if a in ROTARY]
+    t_end = P["t_end"]; hours = t_end / 3600; U = rng.uniform; out = []
+    for c in classes:
+        e = dict(name=c, kind="careless" if c in CARELESS or c == "tracker_relevel" else "outside_list",
+                 judge_as="data_problem" if c in CARELESS else "located_unexplained")
+        if c in ("table_warming", "spindle_warming"):
+            tbl = c == "table_warming"
+            dT = float(U(1.0, 4.0) if tbl else U(2.0, 6.0)); law, tau = draw_law(rng, (0.3, 2.0) if tbl else (0.2, 1.0))
+            eps = ALPHA * dT; side = "table" if tbl else "tool"
+            sax = rot if tbl else lin
+            e.update(axis=sax[0], size=eps, unit="ratio", where=where(place=side, side=side),
+                     what="expansion",
+                     along="radial from centre_mm: the " + ("table-side reflector layout (workpiece frame)" if tbl
+                                                            else "spindle-side reflector layout (spindle frame)")
+                           + " grows about that point",
+                     grows_with="time",
+                     describe=f"the {'table' if tbl else 'spindle'}-side reflectors move apart: {eps * 1e6:.1f} ppm "
+                              f"at the end of the campaign ({dT:.2f} K at 11.5 ppm/K, {law.replace('_', ' ')}"
+                              + (f", tau {tau / 3600:.2f} h" if tau else "") + f"), {eps * 1e6 / hours:.1f} ppm/h "
+                              "on average: a warming " + ("table" if tbl else "spindle head"),
+                     details=dict(ppm_at_end=eps * 1e6, delta_T_end_K=dT, alpha_per_K=ALPHA, law=law, tau_s=tau,
+                                  mean_ppm_per_h=eps * 1e6 / hours, centre_mm=[0.0, 0.0, 0.0],
+                                  frame="workpiece (C-axis centre at the table top)" if tbl else
+                                        "spindle (the gauge point, tool length 0)", axes=sax,
+                                  points=sorted(l for l, (sd, _) in P["nests"].items() if sd == side),
+                                  model="nest q(t) = c + (1 + alpha*dT_end*f(t))*(q - c), f = time_fraction "
+                                        "(linear t/t_end, or (1-exp(-t/tau))/(1-exp(-t_end/tau)))"))
+        elif c == "axis_scatter":
+            ax = str(rng.choice(lin)); sig = float(U(1.5e-3, 5e-3))
+            stops = sorted({(r["round"], r["direction"], r["position"]) for r in P["rows"] if r["axis"] == ax})
+            delta = {k: float(rng.normal(0, sig)) for k in stops}
+            e.update(axis=ax, size=sig, unit="mm", where=where(place="axis", axis=ax), what="scatter",
+                     along=f"the {ax} axis direction", grows_with="nothing (one independent draw per stop)",
+                     describe=f"{ax} repeats worse than the other axes: {sig * 1e3:.1f} um (1 sigma) of extra "
+                              f"positioning scatter along {ax}",
+                     details=dict(sigma_um=sig * 1e3, n_stops=len(stops),
+                                  realised_rms_um=float(np.sqrt(np.mean(np.square(list(delta.values()))))) * 1e3,
+                                  model="each stop (round, direction, position) of the axis lands N(0, sigma) off "
+                                        "along the axis; all reflectors read at that stop share the draw"),
+                     _delta=delta)
+        elif c == "graded_backlash":
+            ax = str(rng.choice(lin)); hi = TRAVEL[ax][1]
+            while True:
+                b0, b1 = float(U(0, 12e-3)), float(U(0, 12e-3))
+                if abs(b1 - b0) >= 4e-3: break
+            e.update(axis=ax, size=b1 - b0, unit="mm", where=where(place="axis", axis=ax), what="lost_motion",
+                     along=f"the {ax} axis direction", grows_with="position",
+                     describe=f"the lost motion of {ax} grows along the travel: {b0 * 1e3:.1f} um at 0 mm to "
+                              f"{b1 * 1e3:.1f} um at {hi:.0f} mm (a worn screw)",
+                     details=dict(lost_motion_at_0_um=b0 * 1e3, lost_motion_at_end_um=b1 * 1e3, travel_end_mm=hi,
+                                  model="effective position = nominal + direction*b(s)/2, b(s) = b0 + (b1-b0)*s/"
+                                        "travel_end; reversal value at s = b(s); size = b1 - b0"))
+        elif c == "thermal_straightness":
+            ax = str(rng.choice(lin)); comp = str(rng.choice([k for k in "XYZ" if k != ax]))
+            amp = float(rng.choice([-1, 1]) * U(3e-3, 10e-3)); law, tau = draw_law(rng, (0.3, 2.0))
+            e.update(axis=ax, size=amp, unit="mm", where=where(place="axis", axis=ax),
+                     what="straightness", along=f"{comp} (E_{comp}{ax})", grows_with="position x time",
+                     describe=f"the straightness of {ax} in {comp} bows with time: {amp * 1e3:+.1f} um at mid-travel "
+                              f"by the end of the campaign ({law.replace('_', ' ')}): a guideway warming unevenly",
+                     details=dict(component=f"E_{comp}{ax}", direction=AXIS_DIR[comp].tolist(),
+                                  bow_at_mid_travel_end_um=amp * 1e3, travel_end_mm=TRAVEL[ax][1], law=law, tau_s=tau,
+                                  model="reading += size*4u(1-u)*f(t)*direction, u = s/travel_end, f = time_fraction"))
+        elif c == "air_temperature":
+            k = float(rng.choice([-1, 1]) * U(1.5e-6, 5e-6)); law, tau = draw_law(rng, (0.3, 2.0))
+            e.update(axis=axes[0], size=k, unit="ratio",
+                     where=where(place="tracker", station=[s["label"] for s in P["stations"]]),
+                     what="scale", along="the beam (radial from each station)", grows_with="time x distance",
+                     describe=f"the tracker's length scale drifts {k * 1e6:+.2f} ppm over the campaign "
+                              f"({law.replace('_', ' ')}): the air changed and its weather compensation did not follow",
+                     details=dict(ppm_at_end=k * 1e6, law=law, tau_s=tau, axes=list(axes),
+                                  model="reading = S + (1 + size*f(t))*(p - S), S the station, f = time_fraction; "
+                                        "0 at t = 0 (compensated at the start)"))
+        elif c == "tracker_relevel":
+            bnd = relevel_boundaries(P); a, b = bnd[int(rng.integers(len(bnd)))]
+            st = P["stations"][b["station"]]; t0 = float(U(a["t1"] + 1.0, b["t0"] - 1.0))
+            u = rng.random(); rot_on, tr_on = u < 0.8, u >= 0.4
+            ang = float(U(10e-6, 100e-6)) if rot_on else 0.0; az = float(U(0, 2 * math.pi))
+            hax = np.array([math.cos(az), math.sin(az), 0.0])
+            tv = unit(rng) * float(U(5e-3, 50e-3)) if tr_on else np.zeros(3)
+            R = rodrigues(hax * ang); S = st["position_mm"]
+            step = R @ (ZONE - S) - (ZONE - S) + tv
+            e.update(axis=b["axis"], size=float(np.linalg.norm(step)), unit="mm",
+                     where=where(place="tracker", station=st["label"], round=b["round"]),
+                     what="rotation+translation" if rot_on and tr_on else "rotation" if rot_on else "translation",
+                     along="a rigid motion of the tracker frame about the tracker", grows_with="step at t0",
+                     describe=f"the tracker {st['label']} was re-levelled before {b['axis']} round {b['round']}: "
+                              f"{ang * 1e6:.0f} urad about a horizontal axis through it and {np.linalg.norm(tv) * 1e3:.0f}"
+                              f" um of translation; the work zone steps {np.linalg.norm(step) * 1e3:.0f} um",
+                     details=dict(station=st["label"], t0_s=t0, last_block_before=dict(axis=a["axis"], round=a["round"]),
+                                  first_block_after=dict(axis=b["axis"], round=b["round"]),
+                                  rotation_angle_rad=ang, rotation_axis=hax.tolist(), rotation_vector_rad=(hax * ang).tolist(),
+                                  centre_mm=S.tolist(), translation_mm=tv.tolist(),
+                                  step_at_zone_mm=step.tolist(), zone_mm=ZONE.tolist(),
+                                  model="every reading of that station from t0 on: S + R(p - S) + translation, "
+                                        "R = exp([rotation_vector]x); size = the step at zone_mm"))
+        else:   # careless campaigns: the export's slips
+            if c == "columns_swapped":
+                bl = P["blocks"][int(rng.integers(len(P["blocks"])))]
+                cols = [str(x) for x in sorted(rng.choice(list("xyz"), 2, replace=False))]
+            else:
+                bl = [b for b in P["blocks"] if b["axis"] in (rot if c == "rotary_radians" else lin)]
+                bl = bl[int(rng.integers(len(bl)))]; cols = ["position"]
+            ax, rd = bl["axis"], bl["round"]
+            e.update(axis=ax, size=None, unit=None, where=where(place="axis", axis=ax, round=rd, columns=cols),
+                     what="units" if c != "columns_swapped" else "columns", along="the written columns",
+                     grows_with="round", details=dict(csv_lines=None))
+            if c == "rotary_radians":
+                e.update(size=math.pi / 180, unit="ratio", describe=f"the {ax} positions of round {rd} are written in "
+                         f"rad while the table moved in degrees (written = nominal_deg*pi/180)")
+            elif c == "inch_positions":
+                e.update(size=1 / 25.4, unit="ratio", describe=f"the {ax} positions of round {rd} are written in "
+                         f"inch while the machine moved in mm (written = nominal_mm/25.4, 4 decimals)")
+            else:
+                e.update(describe=f"columns {cols[0]} and {cols[1]} are exchanged in every row of {ax} round {rd}")
+        e["_t_end"] = t_end; out.append(e)
+    return out
+
+
+def rodrigues(w):
+    th = float(np.linalg.norm(w))
+    if th == 0: return np.eye(3)
+    k = w / th; K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * K @ K
+
+
+def _frac(e, t): return time_fraction(e["details"]["law"], e["details"]["tau_s"], t, e["_t_end"])
+
+def v3_nest(new, side, q, t):
+    e = new.get("table_warming" if side == "table" else "spindle_warming")
+    if not e: return q
+    c = np.array(e["details"]["centre_mm"])
+    return c + (1 + e["size"] * _frac(e, t)) * (q - c)
+
+def v3_lost_motion(new, r):
+    e = new.get("graded_backlash")
+    if not e or e["axis"] != r["axis"]: return 0.0
+    d = e["details"]; b0, b1 = d["lost_motion_at_0_um"] * 1e-3, d["lost_motion_at_end_um"] * 1e-3
+    return r["direction"] * (b0 + (b1 - b0) * r["position"] / d["travel_end_mm"]) / 2
+
+def v3_scatter(new, r):
+    e = new.get("axis_scatter")
+    if not e or e["axis"] != r["axis"]: return 0.0
+    return e["_delta"][(r["round"], r["direction"], r["position"])]
+
+def v3_straightness(new, r):
+    e = new.get("thermal_straightness")
+    if not e or e["axis"] != r["axis"]: return np.zeros(3)
+    u = r["position"] / e["details"]["travel_end_mm"]
+    return e["size"] * 4 * u * (1 - u) * _frac(e, r["time"]) * np.array(e["details"]["direction"])
+
+def v3_air(new, st, p, t):
+    e = new.get("air_temperature")
+    if not e: return p
+    S = st["position_mm"]; return S + (1 + e["size"] * _frac(e, t)) * (p - S)
+
+def v3_relevel(new, st, p, t):
+    e = new.get("tracker_relevel")
+    if not e or e["details"]["station"] != st["label"] or t < e["details"]["t0_s"]: return p
+    S = np.array(e["details"]["centre_mm"])
+    return S + rodrigues(np.array(e["details"]["rotation_vector_rad"])) @ (p - S) + np.array(e["details"]["translation_mm"])
+
+
+def careless_export(new, P, lines):
+    """Apply the careless classes to the written lines; return {name: list of line objects} to number later."""
+    marked = {}
+    for e in new:
+        if e["kind"] != "careless" or e["name"] == "tracker_relevel": continue
+        ax, rd = e["where"]["axis"], e["where"]["round"]
+        idx = [i for i, r in enumerate(P["rows"]) if r["axis"] == ax and r["round"] == rd]
+        for i in idx:
+            pos = P["rows"][i]["position"]
+            if e["name"] == "rotary_radians": lines[i][2] = fmt_num(math.radians(pos), 6)
+            elif e["name"] == "inch_positions": lines[i][2] = fmt_num(pos / 25.4, 4)
+            else:
+                a, b = (4 + "xyz".index(k) for k in e["where"]["columns"]); lines[i][a], lines[i][b] = lines[i][b], lines[i][a]
+        marked[e["name"]] = [lines[i] for i in idx]
+    return marked
+
+def fmt_num(v, nd): s = f"{v:.{nd}f}".rstrip("0").rstrip("."); return s if s not in ("-0", "") else "0"
+
+
 # ---------------------------------------------------------------- the virtual tracker
-def simulate(rng, geo, P, eff, noise):
+def simulate(rng, geo, P, eff, noise, new=None):
+    """new: {name: effect} of the v3 classes (None for the v2 mixes: then nothing below changes)."""
     E = {e["name"]: e for e in eff}
     rows = P["rows"]; out = []
     for r in rows:
@@ -328,7 +584,9 @@ def simulate(rng, geo, P, eff, noise):
         e = E.get("reflector_creep")
         if e and e["details"]["point"] == lab and t > e["details"]["onset_s"]:
             q += np.array(e["details"]["direction"]) * e["size"] / 3600 * (t - e["details"]["onset_s"])
+        if new: q = v3_nest(new, side, q, t)
         bl = E.get("backlash"); blk = d * bl["size"] / 2 if bl and bl["axis"] == ax else 0.0
+        if new: blk = blk + v3_lost_motion(new, r)
         if ax in LINEAR:
             extra = 0.0
             e = E.get("scale")
@@ -337,7 +595,9 @@ def simulate(rng, geo, P, eff, noise):
             if e and e["axis"] == ax:
                 for a, b in e["details"]["blocks"]:
                     if a <= t <= b: extra += e["size"] * pos * (t - a) / (b - a)
+            if new: extra = extra + v3_scatter(new, r)
             p = geo.tool_point(ax, pos + blk, q, extra)
+            if new: p = p + v3_straightness(new, r)
         else:
             ang = pos + (math.degrees(blk) if blk else 0.0); xa = 0.0
             e = E.get("periodic")
@@ -353,7 +613,9 @@ def simulate(rng, geo, P, eff, noise):
                 e["size"] * (1 - math.exp(-dt / e["details"]["tau_s"]))
             p = p + m * np.array(e["details"]["direction"])
         # tracker noise in the beam frame of this station
-        st = P["stations"][r["station"]]; v = p - st["position_mm"]; L = np.linalg.norm(v) / 1000.0
+        st = P["stations"][r["station"]]
+        if new: p = v3_air(new, st, p, t)
+        v = p - st["position_mm"]; L = np.linalg.norm(v) / 1000.0
         u = v / np.linalg.norm(v); a1 = np.cross(u, [0, 0, 1.0])
         if np.linalg.norm(a1) < 1e-6: a1 = np.cross(u, [1.0, 0, 0])
         a1 /= np.linalg.norm(a1); a2 = np.cross(u, a1)
@@ -365,19 +627,33 @@ def simulate(rng, geo, P, eff, noise):
         if e and e["details"]["station"] == st["label"] and t >= e["details"]["t0_s"]:
             p = p + np.array(e["details"]["vector_mm"])
         if "outlier" in r: p = p + r["outlier"]
+        if new: p = v3_relevel(new, st, p, t)
         out.append(p)
     return np.array(out)
 
 
 def fmt_pos(p): s = f"{p:.3f}".rstrip("0").rstrip("."); return s if s not in ("-0", "") else "0"
 
-def write_campaign(seed, idx, outdir, clean_fraction):
+def write_campaign(seed, idx, outdir, clean_fraction, mix="v2", only=None):
+    """mix v2 (the default) is the original generator, byte for byte. mix v3 / outside, or `only` (a list of class
+    names, or ["none"] for a forced clean campaign), draw the classes from their own stream [seed, idx, 3], the
+    tracker noise from [seed, idx, 1] and the export's draws from [seed, idx, 2]: for one (seed, idx) the
+    geometry, plan, noise law and noise samples are the same whatever classes are planted."""
     rng = np.random.default_rng([seed, idx])
     geo = Geometry(rng); P = plan(rng); noise = make_noise(rng)
-    clean = rng.random() < clean_fraction
-    n = 0 if clean else int(rng.choice([1, 2], p=[0.6, 0.4]))
-    eff, gross = choose_effects(rng, P, n)
-    XYZ = simulate(rng, geo, P, eff, noise)
+    if mix == "v2" and only is None:
+        clean = rng.random() < clean_fraction
+        n = 0 if clean else int(rng.choice([1, 2], p=[0.6, 0.4]))
+        eff, gross = choose_effects(rng, P, n)
+        v3eff = []
+        XYZ = simulate(rng, geo, P, eff, noise)
+    else:
+        rng3 = np.random.default_rng([seed, idx, 3])
+        old, new_cls = pick_classes_v3(rng3, P, mix, clean_fraction, only)
+        eff, gross = choose_effects(rng, P, len(old), forced=old)
+        v3eff = choose_new(rng3, P, new_cls)
+        XYZ = simulate(np.random.default_rng([seed, idx, 1]), geo, P, eff, noise, {e["name"]: e for e in v3eff})
+        rng = np.random.default_rng([seed, idx, 2])
     nst = len(P["stations"]); give_tracker = nst > 1 or rng.random() < 0.6
     given = [np.round(s["position_mm"] + rng.normal(0, 10, 3)) for s in P["stations"]]
     cols = ["axis", "round", "position", "point", "x", "y", "z", "time_s", "direction"]
@@ -390,6 +666,7 @@ def write_campaign(seed, idx, outdir, clean_fraction):
         if nst > 1: row.append(P["stations"][r["station"]]["label"])
         if give_tracker: row += [f"{v:.0f}" for v in given[r["station"]]]
         lines.append(row)
+    marked = careless_export(v3eff, P, lines) if v3eff else {}
     # gross errors of the export
     for g in gross:
         if g["name"] == "label_swap":
@@ -423,6 +700,11 @@ def write_campaign(seed, idx, outdir, clean_fraction):
                      alignment=dict(translation_mm=s["t"].tolist(), rotation_rad=s["w"].tolist(),
                                     model="reported = Rx(w0)Ry(w1)Rz(w2) @ measured + translation")) for k, s in
                 enumerate(P["stations"])]
+    for e in v3eff:
+        if e["name"] in marked:
+            ids = {id(x) for x in marked[e["name"]]}
+            e["details"]["csv_lines"] = [k + 2 for k, x in enumerate(lines) if id(x) in ids]
+        for k in [k for k in e if k.startswith("_")]: del e[k]
     truth = {"seed": seed, "index": idx, "generator": "gen2", "clean": not eff and not gross,
              "tracker": {"noise": noise, "stations": stations},
              "effects": eff, "gross_errors": gross,
@@ -431,6 +713,12 @@ def write_campaign(seed, idx, outdir, clean_fraction):
                                     for l, (s, q) in P["nests"].items()},
                           "n_rows": len(lines), "duration_s": P["t_end"], "columns": cols},
              "geometry": geo.to_json(P["grids"])}
+    if not (mix == "v2" and only is None):
+        for e in eff: e["kind"] = "listed"
+        for g in gross: g["kind"] = "gross"
+        truth.update(generator="gen2/v3", mix=mix if only is None else "only:" + ",".join(only),
+                     clean=not eff and not gross and not v3eff)
+        truth["effects"] = eff + v3eff
     with open(base + ".truth.json", "w") as f:
         json.dump(truth, f, indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else float(o))
     return truth
@@ -441,10 +729,21 @@ def main(argv=None):
     ap.add_argument("--out", required=True); ap.add_argument("--n", type=int, default=200)
     ap.add_argument("--seed", type=int, default=0); ap.add_argument("--start", type=int, default=0)
     ap.add_argument("--clean-fraction", type=float, default=0.4)
+    ap.add_argument("--mix", choices=["v2", "v3", "outside"], default="v2",
+                    help="v2: the original classes (default, old seeds reproduce byte for byte); v3: the original "
+                         "and the new classes; outside: each planted campaign carries exactly one new class")
+    ap.add_argument("--only", default=None,
+                    help="comma-separated class names planted in every campaign (any mix), or 'none' for clean")
     a = ap.parse_args(argv)
+    only = None if a.only is None else [c.strip() for c in a.only.split(",") if c.strip()]
+    unknown = [c for c in (only or []) if c not in PHYSICS + GROSS + NEW + ["none"]]
+    if unknown: ap.error(f"--only: unknown class {unknown[0]} (known: {', '.join(PHYSICS + GROSS + NEW)}, none)")
     os.makedirs(a.out, exist_ok=True)
     for i in range(a.start, a.start + a.n):
-        t = write_campaign(a.seed, i, a.out, a.clean_fraction)
+        try:
+            t = write_campaign(a.seed, i, a.out, a.clean_fraction, a.mix, only)
+        except NotApplicable as err:
+            print(f"campaign_{i:04d}: skipped: {err}"); continue
         print(f"campaign_{i:04d}: clean={t['clean']} effects={[e['name'] + ':' + e['axis'] for e in t['effects']]}"
               f" gross={[g['name'] for g in t['gross_errors']]}")
 
