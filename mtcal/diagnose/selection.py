@@ -184,7 +184,9 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
     while todo:
         top = todo[0].score.logp
         tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
-        v = min((o for o in todo if o.score.logp <= top + tol), key=lambda o: o.logp_adj)
+        near = [o for o in todo if o.score.logp <= top + tol]
+        best = min(o.logp_adj for o in near)  # equal within round-off: the first in the candidates' order
+        v = next(o for o in sig if any(o is x for x in near) and o.logp_adj <= best + 1e-9 * max(1.0, abs(best)))
         todo.remove(v)
         if v.candidate.name == fx.UNEXPLAINED:
             if v.candidate.extra.get("kind") == "growing":
