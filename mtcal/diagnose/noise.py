@@ -39,6 +39,7 @@ from mtcal.measurement.tracker_position import (
     refine,
     round_scatter,
     shape_ratio,
+    station_interval,
 )
 
 ITERATIONS = 2          # refits of the base with the estimated weights
@@ -80,6 +81,8 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
     lr, p = against_isotropic(r, nll)
     details = {"likelihood_ratio": lr, "p_isotropic": p,
                "distance_mm": float(np.linalg.norm(t - c)), "shape": sh.to_dict()}
+    if p < LR_LEVEL:
+        details["station_interval"] = station_interval(xyz, r, t, logs, nll, prior)
     if p >= LR_LEVEL:
         return NoiseModel.isotropic(n, f"the scatter of the repeated rounds shows no tracker shape (likelihood "
                                        f"ratio {lr:.1f}, p = {p:.2g}): equal weights, sigma from the residuals")
