@@ -471,7 +471,7 @@ def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict 
     return out
 
 
-STATION_GRID = np.geomspace(300.0, MAX_DISTANCE, 25)  # mm from the readings' centre: the profile's distances
+STATION_GRID = np.geomspace(300.0, MAX_DISTANCE, 17)  # mm from the readings' centre: the profile's distances
 STATION_DETERMINED = 2.0  # the station is determined when its distance's 95 % interval spans less than 2x
 
 
@@ -499,7 +499,7 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
     x = np.array([0.0, 0.0, *logs])
     for s in STATION_GRID:
         res = optimize.minimize(lambda v, s=s: nll(xyz, r, np.append(at(s, v[:2]), v[2:]), spec), x,
-                                method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-3, "maxiter": 400})
+                                method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2, "maxiter": 300})
         prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
         best = min(best, float(res.fun))
     prof = [(s, v + 2.0 * (nll_best - best)) for s, v in prof] + [(s0, 2.0 * (nll_best - best))]
