@@ -82,7 +82,9 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
 
     def cv(step, others):
         held, how = folds(prep, step.candidate)
-        return (cv_gain(prep, base, wy, others, w(step.candidate), held) if held else None), how
+        why: list[str] = []
+        gain = cv_gain(prep, base, wy, others, w(step.candidate), held, why) if held else None
+        return gain, (f"{how}: {why[0]}" if why else how if held else f"no held-out gain: {how}")
 
     free = [s for s in steps if s.candidate.name == fx.UNEXPLAINED]
     effects = selected_findings(prep, eng, [s for s in steps if s not in free], w, cv, null)
