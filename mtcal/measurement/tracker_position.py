@@ -490,16 +490,18 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
     s0 = float(np.linalg.norm(d0))
     u0 = d0 / s0
 
-    def at(s, v):  # position at distance s along the direction of angles v[:2] from u0's frame
-        a, b = np.linalg.svd(u0[None])[2][1:]  # two unit vectors across u0 (their signs do not matter here)
+    a, b = np.linalg.svd(u0[None])[2][1:]  # two unit vectors across u0 (their signs do not matter here)
+
+    def at(s, v):  # position at distance s along the direction tilted by v[:2] (across u0)
         u = u0 + v[0] * a + v[1] * b
         return c + s * u / np.linalg.norm(u)
 
     prof, best = [], nll_best
     x = np.array([0.0, 0.0, *logs])
     for s in STATION_GRID:
-        res = optimize.minimize(lambda v, s=s: nll(xyz, r, np.append(at(s, v[:2]), v[2:]), spec), x,
-                                method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2, "maxiter": 300})
+        with np.errstate(invalid="ignore"):  # a simplex of infinite values (too near the readings) is no fault
+            res = optimize.minimize(lambda v, s=s: nll(xyz, r, np.append(at(s, v[:2]), v[2:]), spec), x,
+                                    method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2, "maxiter": 300})
         prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
         best = min(best, float(res.fun))
     prof = [(s, v + 2.0 * (nll_best - best)) for s, v in prof] + [(s0, 2.0 * (nll_best - best))]
