@@ -93,3 +93,18 @@ def test_a_beamless_scatter_leaves_the_station_not_determined():
     out = station_interval(xyz, r, pos, logs, f)
     lo, hi = out["interval_95_mm"]
     assert not out["determined"] and lo <= 3000.0 <= hi and "not determined" in out["note"], out
+
+
+def test_a_station_placed_by_rounds_that_hold_a_shared_motion_is_not_determined():
+    """icelinker without --tracker: the rounds (their 56 um shared drift and the robot's motion) placed the
+    station 1.08 m from the readings, "determined" 0.95-1.27 m, where the mutual distances put it 2.8 m away.
+    Where the rounds and the distances disagree about the law, the interval is not trusted, and that is said."""
+    from mtcal.diagnose.noise import _trusted
+    sh = estimate_shape(_replica(), np.zeros(3), AT960)
+    assert sh.note  # the replica's shared motion: the two disagree
+    interval = {"distance_mm": 1080.6, "interval_95_mm": [948.7, 1265.1], "determined": True}
+    out = _trusted(interval, sh)
+    assert not out["determined"] and "not determined" in out["note"] and "mutual distances" in out["note"]
+    agree = estimate_shape(ri.to_recording(np.repeat(REF[None], 300, axis=0) + trk.sample(
+        np.repeat(REF[None], 300, axis=0), np.zeros(3), np.random.default_rng(5), SPEC)), np.zeros(3), AT960)
+    assert _trusted(interval, agree) is interval
