@@ -105,6 +105,26 @@ MAPPING: dict[str, Mapping] = {
                                 f"screen's {RIGID_FLOOR_MM} mm bound only the outlier can find it",
                                 unexplained=False, problem=True),
 }
+# gen2 v3 (benchmarks/gen2/README.md, "v3"): physics outside mtcal's list ("outside_list", judged as one located
+# "unexplained" at its place and nothing named beside it) and careless campaigns ("careless", judged as a data
+# problem or refusal naming its axis and round, never as physics).  mtcal has no name for any of them.
+OUTSIDE = ("table_warming", "spindle_warming", "axis_scatter", "graded_backlash", "thermal_straightness",
+           "air_temperature")
+SLIPS = ("rotary_radians", "inch_positions", "columns_swapped")  # careless exports: data problems
+LOCATED = OUTSIDE + ("tracker_relevel",)  # judged as located (gen2's judge_as "located_unexplained")
+for _name in OUTSIDE:
+    MAPPING[_name] = Mapping((), "axis", "physics outside mtcal's list: right is an 'unexplained' entry on an axis "
+                                         "where it shows, with nothing named beside it and nothing unexplained "
+                                         "elsewhere")
+MAPPING["tracker_relevel"] = Mapping(
+    ("offset (tracker knock)", "tracker_settling"), "station",
+    "the tracker re-levelled under the same station name: a rigid step of that station's frame from t0 (gen2 "
+    "calls it careless, judged as located); a tracker knock (of that station) is the translation part of it, so "
+    "it or an 'unexplained' entry where it shows is right; a data problem at its round too", problem=True)
+for _name in ("rotary_radians", "inch_positions", "columns_swapped"):
+    MAPPING[_name] = Mapping((), "axis", "a slip of the export (units, columns): right only as a data problem or "
+                                         "a refusal naming its axis (and round), never as physics",
+                             unexplained=False, problem=True)
 CLASSES = tuple(MAPPING) + ("clean",)
 
 
@@ -128,8 +148,30 @@ def _shows_after(rec: Recording, t0: float, on) -> tuple[str, ...]:
     return tuple(a for a in dict.fromkeys(rec.axis.tolist()) if (sel & (rec.axis == a)).any())
 
 
+def planted_v3(e: dict, rec: Recording, stations: int) -> Planted:
+    """A gen2 v3 entry (kind "outside_list" or "careless", README "Truth records") as Planted: the axes where it
+    shows from its ``where`` (a side: the measured axes of that side; an axis; the tracker: every axis it reaches
+    from t0 on, of its station)."""
+    w, name, d = e["where"], e["name"], e.get("details", {})
+    axes = tuple(dict.fromkeys(rec.axis.tolist()))
+    if w["place"] in ("table", "tool"):
+        side = ("B", "C") if w["place"] == "table" else ("X", "Y", "Z")
+        shows = tuple(a for a in axes if a in side)
+    elif w["place"] == "axis":
+        shows = (w["axis"],)
+    else:
+        st = w.get("station")
+        on = (np.isin(rec.station, [st] if isinstance(st, str) else st) if rec.station is not None and st
+              else np.ones(len(rec), bool))
+        shows = _shows_after(rec, float(d.get("t0_s", -np.inf)), on)
+    station = w.get("station") if stations > 1 and isinstance(w.get("station"), str) else None
+    return Planted(name, w.get("axis") or e["axis"], shows or (e["axis"],), round=w.get("round"), station=station)
+
+
 def planted_effect(e: dict, rec: Recording, stations: int) -> Planted:
     """A gen2 effect entry as Planted (time effects: every axis it reaches)."""
+    if e.get("kind") in ("outside_list", "careless"):
+        return planted_v3(e, rec, stations)
     d, name, ax = e["details"], e["name"], e["axis"]
     if name in ("thermal_drift", "reflector_creep"):
         return Planted(name, ax, tuple(d["axes"]), point=d.get("point"))
@@ -247,7 +289,9 @@ def _clean_claims(answer: dict) -> list[str]:
 
 
 def _refused(answer: dict, planted: list[Planted]) -> Verdict:
-    named = [p for p in planted if MAPPING[p.cls].problem and f"axis {p.axis}:" in answer["refused"]]
+    named = [p for p in planted if MAPPING[p.cls].problem and f"axis {p.axis}" in answer["refused"]]
+    if named and all(p.cls in SLIPS for p in planted):  # a slip refused, naming its axis: the right answer
+        return Verdict("right", {p.cls: "found" for p in planted})
     if named:
         return Verdict("out of reach", {p.cls: "stated" if p in named else "missed" for p in planted})
     return Verdict("wrong", {p.cls: "missed" for p in planted}, [f"refused: {answer['refused'][:120]}"])
@@ -282,6 +326,10 @@ def judge(answer: dict, planted: list[Planted]) -> Verdict:
              if f.get("significant") and not any(_accepted(p, f) for p in planted)]
     wrong += [f"data problem: {dp.get('text', dp.get('kind'))}" for dp in answer.get("data_problems", [])
               if not any(_problem_explained(p, dp) for p in planted)]
+    if any(p.cls in LOCATED for p in planted):  # one located entry: nothing unexplained where nothing shows
+        shows = {a for p in planted if MAPPING[p.cls].unexplained for a in p.axes}
+        wrong += [f"unexplained {u['axis']} by {u['by']} (nothing planted shows there)"
+                  for u in answer.get("unexplained", []) if u.get("axis") not in shows]
     states = set(status.values())
     verdict = ("wrong" if wrong else "missed" if "missed" in states else
                "out of reach" if "stated" in states else "right")
@@ -309,9 +357,15 @@ def answer_of(text: str, name: str) -> dict:
         return {"refused": str(exc)}
 
 
-def generate(directory: str, n: int, seed: int, start: int = 0) -> list[Path]:
-    subprocess.run([sys.executable, str(HERE / "gen2" / "gen2.py"), "--out", directory, "--n", str(n), "--seed",
-                    str(seed), "--start", str(start)], check=True, capture_output=True)
+GEN2 = HERE / "gen2" / "gen2.py"
+
+
+def generate(directory: str, n: int, seed: int, start: int = 0, mix: str = "v2", gen2: Path = GEN2) -> list[Path]:
+    """gen2's campaigns ``start`` .. ``start + n - 1`` of ``seed`` in ``mix`` (v2: the original classes; v3 and
+    outside: with the physics outside mtcal's list and the careless campaigns) into ``directory``."""
+    subprocess.run([sys.executable, str(gen2), "--out", directory, "--n", str(n), "--seed",
+                    str(seed), "--start", str(start)] + (["--mix", mix] if mix != "v2" else []) +
+                   (["--clean-fraction", "0.3"] if mix == "outside" else []), check=True, capture_output=True)
     return sorted(Path(directory).glob("campaign_*.csv"))
 
 
@@ -333,11 +387,12 @@ def run_campaign(path: Path) -> list[dict]:
     return out
 
 
-def run(n: int = 200, seed: int = 7, start: int = 0, progress: bool = True) -> list[dict]:
+def run(n: int = 200, seed: int = 7, start: int = 0, progress: bool = True, mix: str = "v2",
+        gen2: Path = GEN2) -> list[dict]:
     logging.getLogger("mtcal").setLevel(logging.ERROR)  # data problems are in the answers
     runs: list[dict] = []
     with tempfile.TemporaryDirectory() as d:
-        for path in generate(d, n, seed, start):
+        for path in generate(d, n, seed, start, mix, gen2):
             for r in run_campaign(path):
                 runs.append(r)
                 if progress:
@@ -421,10 +476,12 @@ def main() -> int:
     ap.add_argument("--n", type=int, default=200)
     ap.add_argument("--seed", type=int, default=7)
     ap.add_argument("--start", type=int, default=0, help="first campaign index (gen2 --start)")
+    ap.add_argument("--mix", default="v2", choices=("v2", "v3", "outside"), help="gen2's mix (README)")
+    ap.add_argument("--gen2", type=Path, default=GEN2, help="the generator (gen2.py with the v3 mixes)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     t0 = time.perf_counter()
-    runs = run(args.n, args.seed, args.start, progress=not args.json)
+    runs = run(args.n, args.seed, args.start, progress=not args.json, mix=args.mix, gen2=args.gen2)
     seconds = time.perf_counter() - t0
     if args.json:
         print(json.dumps({"n": args.n, "seed": args.seed, "start": args.start, "seconds": round(seconds, 1),

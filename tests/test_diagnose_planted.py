@@ -38,6 +38,8 @@ def sane_cv(d):
     for f in d.effects:
         g = (f.evidence or {}).get("cv_gain")
         assert g is None or (math.isfinite(g) and -10 < g <= 1), (f.name, g)  # the -2e25 fault of issue 13
+        if f.significant and g is None:  # issue 34: a null gain says why
+            assert f.evidence["cv"].startswith("no held-out gain") or "no held-out gain" in f.evidence["cv"], f
 
 
 @pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])

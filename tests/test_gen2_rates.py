@@ -132,6 +132,30 @@ def test_gross_errors_are_found_by_data_problems():
     assert judge(answer(sig("outlier", "X", round=5, point="P1")), [typo]).verdict == "right"
 
 
+def test_physics_outside_the_list_is_right_as_one_located_entry_with_nothing_beside_it():
+    """gen2 v3 (issue 34): an "outside_list" class is right as an unexplained entry where it shows; a name beside
+    it, or an unexplained entry where nothing planted shows, is wrong (gen2's judge_as "located_unexplained")."""
+    warm = Planted("table_warming", "B", ("B", "C"))
+    un = {"axis": "C", "by": "point x time", "where": "P7"}
+    assert judge(answer(unexplained=[un]), [warm]).verdict == "right"
+    assert judge(answer(sig("nest_creep", "C", point="P7"), unexplained=[un]), [warm]).verdict == "wrong"
+    v = judge(answer(unexplained=[un, dict(un, axis="X")]), [warm])
+    assert v.verdict == "wrong" and "nothing planted shows there" in v.wrong[0]
+    assert judge(answer(), [warm]).verdict == "missed"
+    relevel = Planted("tracker_relevel", "Y", ("Y", "Z"), round=2)
+    assert judge(answer(sig("offset", None, variant="tracker knock")), [relevel]).verdict == "right"
+    assert judge(answer(sig("backlash", "Y")), [relevel]).verdict == "wrong"
+
+
+def test_a_careless_slip_is_right_only_as_a_data_problem_or_a_refusal_never_as_physics():
+    rad = Planted("rotary_radians", "B", ("B",), round=4)
+    dp = {"kind": "pass_far", "axis": "B", "round": 4, "text": "axis B round 4: far from the other rounds"}
+    assert judge(answer(problems=[dp]), [rad]).verdict == "right"
+    assert judge({"refused": "c.csv: axis B round 4: positions outside the travel"}, [rad]).verdict == "right"
+    assert judge(answer(sig("tracker_settling", None), problems=[dp]), [rad]).verdict == "wrong"
+    assert judge(answer(unexplained=[{"axis": "B", "by": "round", "where": 4}]), [rad]).verdict == "missed"
+
+
 def test_a_refusal():
     swap = Planted("label_swap", "Y", ("Y",), round=1, points=("P1", "P2"))
     refused = {"refused": "c.csv: axis Y: no round is left after the gross-error screen"}
@@ -143,7 +167,7 @@ def test_the_name_table_covers_every_gen2_class():
     text = (ROOT / "benchmarks" / "gen2" / "gen2.py").read_text()
     lists = re.search(r"^PHYSICS = \[(.*?)\]\s*^GROSS = \[(.*?)\]", text, re.S | re.M)
     classes = set(re.findall(r'"(\w+)"', lists.group(1) + lists.group(2)))
-    assert classes == set(R.MAPPING)
+    assert classes <= set(R.MAPPING) and set(R.MAPPING) - classes <= set(R.OUTSIDE + R.SLIPS + R.LOCATED)
     assert all(m.why and m.match in ("axis", "reading", "point", "station", "any") for m in R.MAPPING.values())
 
 

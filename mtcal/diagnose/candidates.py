@@ -58,6 +58,7 @@ NOT_SEPARABLE = {
 }
 
 
+TIE = 1e-7  # relative: two scans' scores this close are one fit (round-off of a chi-square; evidence is ~1e-2)
 PERIODIC_SPARE = 5  # shapes over the positions beside the error function a periodic error needs: its own two, its
 #                    pitch (fitted over a grid) and two more to check it against (selection.inadequate_because).  With
 #                    3 (one to check against), on 11-12 positions a smooth error function's waves beyond degree 7 were
@@ -187,8 +188,14 @@ def scanned(prep: Prepared, eng: Engine) -> list[tuple[str, fx.Candidate, int]]:
     scans = [(st, *knock_scan(prep, eng, prep.geometry.at(st)[0])) for st in prep.geometry.stations()]
     kcount = sum(c for _, _, c in scans)
     if kcount:
-        st, kscan, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
-        out.append(("offset", fx.tracker_knock(prep.geometry, kscan["t0"], _knock_where(prep, kscan), st), kcount))
+        (st, kscan, _), same = _earliest_of_equal(s for s in scans if s[2])
+        c = fx.tracker_knock(prep.geometry, kscan["t0"], _knock_where(prep, kscan), st)
+        if same:
+            c.extra["same_fit_as"] = "; ".join(
+                f"station {o} knocked at t0 = {k['t0']:.6g} s by the opposite step" for o, k, _ in same) + (
+                ": the readings fix only the step between the stations (the reflectors read after it are shared "
+                "by them), not which station moved; the earliest step is named")
+        out.append(("offset", c, kcount))
     nest = _nest_knock(prep, eng)
     return out + ([nest] if nest else [])
 
@@ -205,8 +212,21 @@ def _nest_knock(prep: Prepared, eng: Engine) -> tuple[str, fx.Candidate, int] | 
     count = sum(c for _, _, c in scans)
     if not count:
         return None
-    (label, side), best, _ = max((s for s in scans if s[2]), key=lambda s: s[1]["delta"])
+    ((label, side), best, _), _ = _earliest_of_equal(s for s in scans if s[2])
     return "nest_knock", fx.nest_knock(g, label, side, best["t0"], _knock_where(prep, best)), count
+
+
+def _earliest_of_equal(scans) -> tuple[tuple, list[tuple]]:
+    """The best of several knock scans ((key, best, count) each) and the others that fit equally well.  Scores
+    equal to ``TIE`` (relative; a chi-square's round-off, far below any evidence) are the same fit: two stations'
+    steps that only the step between them fixes, or two nests' (tests/test_diagnose_multistation.py).  Which one
+    is named is then a rule of the data -- the earliest step (then the key) -- never whichever of two equal
+    scores the floating point rounds up (numpy 2.4.6 / scipy 1.17.1 named the other station of a campaign)."""
+    scans = list(scans)
+    top = max(s[1]["delta"] for s in scans)
+    equal = sorted((s for s in scans if s[1]["delta"] >= top - TIE * max(1.0, abs(top))),
+                   key=lambda s: (s[1]["t0"], str(s[0])))
+    return equal[0], equal[1:]
 
 
 def _knock_where(prep: Prepared, scan: dict) -> dict:

@@ -39,6 +39,7 @@ from mtcal.measurement.tracker_position import (
     refine,
     round_scatter,
     shape_ratio,
+    station_interval,
 )
 
 ITERATIONS = 2          # refits of the base with the estimated weights
@@ -80,6 +81,8 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
     lr, p = against_isotropic(r, nll)
     details = {"likelihood_ratio": lr, "p_isotropic": p,
                "distance_mm": float(np.linalg.norm(t - c)), "shape": sh.to_dict()}
+    if p < LR_LEVEL:
+        details["station_interval"] = _trusted(station_interval(xyz, r, t, logs, nll, prior), sh)
     if p >= LR_LEVEL:
         return NoiseModel.isotropic(n, f"the scatter of the repeated rounds shows no tracker shape (likelihood "
                                        f"ratio {lr:.1f}, p = {p:.2g}): equal weights, sigma from the residuals")
@@ -110,6 +113,23 @@ def _estimated_shape(prep: Prepared, r: np.ndarray, t: np.ndarray, nll: float, p
     c = prep.rec.xyz.mean(axis=0)
     closer = np.linalg.norm(t - c) <= np.linalg.norm(t_prior - c)
     return near if closer and stats.chi2.sf(max(2.0 * (nll_prior - nll), 0.0), 1) < LR_LEVEL else sh
+
+
+def _trusted(interval: dict, sh: ShapeEstimate) -> dict:
+    """The station's profile interval (station_interval) holds only when the scatter it is read from is the
+    tracker's noise: where the round scatter and the reflectors' mutual distances disagree about the law
+    (ShapeEstimate.note), the rounds hold a motion shared by a side, whose shape places a station that is not the
+    tracker's (icelinker: 1.08 m from the readings, determined to 0.95-1.27 m by the rounds alone, where the mutual
+    distances put it 2.8 m away): not determined, and said."""
+    if not sh.note or not interval["determined"]:
+        return interval
+    return {**interval, "determined": False,
+            "note": "the station is not determined by the data: the scatter of the rounds that places it (at "
+                    f"{interval['distance_mm'] / 1e3:.3g} m from the readings) disagrees with the reflectors' "
+                    "mutual distances about the tracker's law, so it holds a motion shared by a side (a drift, "
+                    "the machine's motion), not only the tracker's noise; the weights, and the findings that "
+                    "depend on them, are conditional on it: give the tracker's position (--tracker or the "
+                    "tracker_x,y,z columns)"}
 
 
 def _scaled(prior: TrackerSpec, logs: np.ndarray) -> TrackerSpec:

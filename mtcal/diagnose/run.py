@@ -129,7 +129,9 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
 
     def cv(step, others):
         held, how = folds(prep, step.candidate)
-        return (cv_gain(prep, base, wy, others, w(step.candidate), held) if held else None), how
+        why: list[str] = []
+        gain = cv_gain(prep, base, wy, others, w(step.candidate), held, why) if held else None
+        return gain, (f"{how}: {why[0]}" if why else how if held else f"no held-out gain: {how}")
 
     free = [s for s in steps if s.candidate.name == fx.UNEXPLAINED]
     effects = selected_findings(prep, eng, [s for s in steps if s not in free], w, cv, null)
@@ -145,8 +147,18 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     unexplained = [free_form_located(prep, eng, s, w) for s in free] + left
     base_info = _base_info(prep, degrees, test_degrees, null, int(after.copy_base().p), shapes)
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
-                     base_info, prep.noise, unexplained, residuals_before=r_before, residuals_after=after.r.copy(),
-                     prep=prep, data_problems=[p.to_dict() for p in gross.problems])
+                     base_info, prep.noise, unexplained, _noise_notes(prep), residuals_before=r_before,
+                     residuals_after=after.r.copy(), prep=prep, data_problems=[p.to_dict() for p in gross.problems])
+
+
+def _noise_notes(prep) -> list[str]:
+    """What the noise model's findings depend on, said in ``notes``: where the round scatter and the reflectors'
+    mutual distances disagree about the tracker's law (mtcal.measurement.tracker_position.rigid_law), which was
+    used; where the station is not determined by the data, what that leaves."""
+    shape = prep.noise.details.get("shape") or {}
+    out = [(shape.get("mutual_distances") or {}).get("disagreement")]
+    out.append((prep.noise.details.get("station_interval") or {}).get("note"))
+    return [n for n in out if n]
 
 
 def _screened(rec: Recording, machine: Machine):

@@ -15,6 +15,7 @@ single-reading outlier has nothing to predict (its test is its studentized displ
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Callable, Sequence
 
@@ -184,7 +185,9 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
     while todo:
         top = todo[0].score.logp
         tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
-        v = min((o for o in todo if o.score.logp <= top + tol), key=lambda o: o.logp_adj)
+        near = [o for o in todo if o.score.logp <= top + tol]
+        best = min(o.logp_adj for o in near)  # equal within round-off: the first in the candidates' order
+        v = next(o for o in sig if any(o is x for x in near) and o.logp_adj <= best + 1e-9 * max(1.0, abs(best)))
         todo.remove(v)
         if v.candidate.name == fx.UNEXPLAINED:
             if v.candidate.extra.get("kind") == "growing":
@@ -469,11 +472,12 @@ def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
 
 
 def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray], G: np.ndarray,
-            held: list[np.ndarray]) -> float | None:
+            held: list[np.ndarray], why: list[str] | None = None) -> float | None:
     """1 - RSS_with / RSS_without on held-out readings: the effects (others + G) estimated on the rest, applied to
     the held-out readings after the base model (all its parameters) is fitted to them alone; "without" uses the
     others only.  A fold where G cannot be estimated (not separable on the training readings) or where the base
-    leaves no residual is skipped; None when no fold is usable."""
+    leaves no residual is skipped; None when no fold is usable (and why, appended to ``why``)."""
+    skipped = Counter()
     with_, without = 0.0, 0.0
     used = False
     for te in held:
@@ -483,6 +487,8 @@ def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray]
         r3tr, r3te = np.repeat(tr, 3), np.repeat(te, 3)
         e_tr, e_te = engine_for(prep, base, wy, tr), engine_for(prep, base, wy, te)
         if e_te.rss <= 0 or e_tr.dof <= 0:
+            skipped["the base leaves no residual on the held-out readings (each fold's base fitted alone)"
+                    if e_te.rss <= 0 else "the base has no degrees of freedom left on the training readings"] += 1
             continue
         res = {}
         for tag, cols in (("with", others + [G]), ("without", others)):
@@ -492,6 +498,7 @@ def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray]
             Gall = np.hstack(cols)
             Gtr = Gall[r3tr]
             if not e_tr.score(Gtr[:, -G.shape[1]:] if tag == "with" else Gtr).separable:
+                skipped["the effect is not separable from the base on the training readings"] += 1
                 break
             theta, _ = e_tr.estimate([Gtr])
             pred = Gall[r3te] @ theta
@@ -503,5 +510,9 @@ def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray]
         with_ += res["with"]
         without += res["without"]
     if not used or without <= 0:
+        if why is not None:
+            why.append(f"no held-out gain: in {sum(skipped.values())} of {len(held)} folds "
+                       + "; ".join(f"{k} ({v})" for k, v in skipped.items()) if skipped else
+                       "no held-out gain: the held-out folds leave no residual")
         return None
     return 1.0 - with_ / without

@@ -258,6 +258,7 @@ class ShapeEstimate:
     base: TrackerSpec = AT960
     known: bool = True   # the tracker position given, not estimated (an estimate's error raises both ratios alike)
     near_band: float = SHAPE_NEAR  # the near band's edge (SHAPE_NEAR_FIT where the likelihood prefers the data's shape)
+    rigid: dict | None = None  # the law from the mutual distances (rigid_law) and the cross-check (_cross_check)
 
     @property
     def replaces_base(self) -> bool:
@@ -288,8 +289,14 @@ class ShapeEstimate:
             return law_report(self.spec, self.base, "data", f"{ratio}, outside {self._band()}")
         return law_report(self.base, self.base, "prior", f"the repeated rounds agree with its shape ({ratio})")
 
+    @property
+    def note(self) -> str | None:
+        """Where the round scatter and the mutual distances disagree: what differs and which law was used."""
+        return None if self.rigid is None else self.rigid.get("disagreement")
+
     def to_dict(self) -> dict:
-        return {"law_1sigma": {k: round(v, 4) for k, v in self.law().items()},
+        return {**({"mutual_distances": self.rigid} if self.rigid is not None else {}),
+                "law_1sigma": {k: round(v, 4) for k, v in self.law().items()},
                 "radial_to_transverse_over_base": round(self.rho, 3),
                 "same_with_round_means_removed": round(self.rho_centred, 3),
                 "used": "estimated law" if self.replaces_base else f"base law ({self.base.label})",
@@ -317,4 +324,201 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     rho, scale = shape_ratio(rec.xyz, r, t, base, rec.point)
     rho_c, _ = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
     c = math.sqrt(scale)
-    return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known)
+    rigid = rigid_law(rec, t, base)
+    fr, ft, rigid = _cross_check(c * rho, c, rigid, base)
+    if rigid is not None and rigid["used"] == "mutual distances":
+        rho = rho_c = fr / ft   # immune to a round's mean: both ratios are the distances'
+        scale, c = ft**2, ft
+    return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known, rigid=rigid)
+
+
+def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) -> tuple[float, float, dict | None]:
+    """The round scatter's factors (radial ``fr``, transverse ``ft`` against ``base``) checked against the mutual
+    distances' (rigid_law): where a determined sigma of the distances differs from the round scatter's by more than
+    RIGID_DISAGREE (or the scatter's radial one is above the distances' upper bound by as much), the round scatter
+    counts a motion shared by a side (a drift, the machine's own motion) as noise: the distances' sigmas are used
+    and the disagreement said.  Returns the factors used and ``rigid`` with "used" and "disagreement"."""
+    if rigid is None:
+        return fr, ft, None
+    out, say = [fr, ft], []
+    for k, (name, f0) in enumerate((("radial", fr), ("transverse", ft))):
+        g = rigid[name]
+        hi = g["interval_95"][1]
+        if g["determined"] and not 1 / RIGID_DISAGREE <= f0 / g["factor"] <= RIGID_DISAGREE:
+            out[k] = g["factor"]
+        elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi:
+            out[k] = hi   # only an upper bound from the distances: the largest sigma they allow
+        else:
+            continue
+        sig0 = g["sigma_um"] / g["factor"]
+        say.append(f"{name} {f0 * sig0:.3g} um from the rounds against {out[k] * sig0:.3g} um from the distances"
+                   + ("" if g["determined"] else " (their upper bound)"))
+    text = (f"the tracker's noise (1 sigma at {rigid['at_distance_m']:.3g} m) from the scatter of the rounds and "
+            f"from the reflectors' mutual distances within each pass differ: {'; '.join(say)} -- the rounds count "
+            "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not: the "
+            "distances' law is used") if say else None
+    return out[0], out[1], {**rigid, "used": "mutual distances" if say else "round scatter",
+                            "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
+                            **({"disagreement": text} if text else
+                               {"cross_check": f"the round scatter agrees with the mutual distances within "
+                                               f"{RIGID_DISAGREE:g}x: its law is used"})}
+
+
+RIGID_DISAGREE = 2.0    # the round scatter's sigma and the mutual distances' differ by more than this: say so and
+# weight by the mutual distances' (a drift shared by a side, or the machine's motion, counts as noise in the rounds)
+RIGID_DETERMINED = 4.0  # a scale is determined by the mutual distances when its 95 % profile interval spans < 4x
+RIGID_MIN_PAIRS = 20    # mutual distances (beyond the pairs' own means) the law needs
+def _t_consistency(nu: float) -> float:
+    """The Student-t (``nu`` dof) maximum-likelihood variance of unit normal data: E[(nu + 1) z^2 / (nu s^2 + z^2)]
+    = 1 (Gauss-Hermite), so that a t-fitted scale divided by its root is a normal sigma (0.69 for nu = 4)."""
+    x, w = np.polynomial.hermite_e.hermegauss(80)
+    w = w / w.sum()
+    return float(optimize.brentq(lambda s2: float(np.sum(w * (nu + 1) * x**2 / (nu * s2 + x**2))) - 1.0, 1e-3, 10.0))
+
+
+T_CONSISTENCY = math.sqrt(_t_consistency(NU))  # a t-fitted sigma over the normal sigma of the same readings
+PROFILE_SPAN = 9.0      # log variance factor searched either side of the best for the profile intervals
+
+
+def _pair_series(rec: Recording, t: np.ndarray):
+    """Per (station, axis, pair of reflectors): the pair's distance in every pass (station, axis, round, position,
+    direction) where both were read, with the variance coefficients of each (radial R, transverse T: var(d) =
+    c_r^2 R + c_t^2 T under the base law scaled by c_r, c_t) -- yields (d (m,) mm, time (m,), a (m,), b (m,))."""
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist(),
+                    position_key(rec.position).tolist(), rec.direction.tolist()))
+    passes: dict = {}
+    for i, k in enumerate(keys):
+        passes.setdefault(k, {}).setdefault(str(rec.point[i]), i)  # the first reading of each reflector
+    series: dict = {}
+    for (st, ax, *_), pts in passes.items():
+        labels = sorted(pts)
+        for m, a in enumerate(labels):
+            for b in labels[m + 1:]:
+                series.setdefault((st, ax, a, b), []).append((pts[a], pts[b]))
+    for rows in series.values():
+        if len(rows) >= 3:
+            ia, ib = (np.array(v) for v in zip(*rows))
+            yield ia, ib
+
+
+def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
+    """The tracker's noise law from what is rigid: within one pass (one pose of one axis) the reflectors sit on one
+    rigid side, so their mutual distances are the same in every pass up to the tracker's noise -- blind to any
+    motion of the side (a drift shared by it, the machine's own motion), unlike the scatter of the rounds.  Each
+    pair's distances, less a line in time (a side that slowly expands is not noise), have the variance
+    c_r^2 (s_ra^2 ca^2 + s_rb^2 cb^2) + c_t^2 (s_ta^2 (1 - ca^2) + s_tb^2 (1 - cb^2)) (s the ``base`` law's sigmas
+    at each reading's distance from ``t`` (mm, (3,) or (n, 3)), c the cosine between the pair and each beam); c_r,
+    c_t by maximum likelihood (Student-t, NU dof), each with its 95 % profile-likelihood interval (chi^2, 1 dof).  A
+    pair across the beams tells the transverse scale only: the radial one is then an upper bound.  None when there
+    are fewer than RIGID_MIN_PAIRS distances.  Returns {"radial", "transverse": {"factor", "interval_95",
+    "determined", "sigma_um"}, "distances", "at_distance_m"} (factors against ``base``, sigmas um at the median
+    distance)."""
+    xyz = rec.xyz
+    tt = np.broadcast_to(np.asarray(t, float), xyz.shape)
+    e, R, T = [], [], []
+    for ia, ib in _pair_series(rec, t):
+        d = np.linalg.norm(xyz[ia] - xyz[ib], axis=1)
+        tm = rec.time_s[ia]
+        F = np.column_stack([np.ones(len(d)), tm - tm.mean()]) if np.isfinite(tm).all() and len(d) >= 4 and \
+            np.ptp(tm) > 0 else np.ones((len(d), 1))
+        res = d - F @ np.linalg.lstsq(F, d, rcond=None)[0]
+        res = res * math.sqrt(len(d) / (len(d) - F.shape[1]))
+        w = (xyz[ia] - xyz[ib]) / np.maximum(d, 1e-12)[:, None]
+        coef = []
+        for i in (ia, ib):
+            v = xyz[i] - tt[i]
+            L = np.linalg.norm(v, axis=1)
+            c2 = np.einsum("ni,ni->n", w, v / L[:, None]) ** 2
+            s_r, s_t = base.sigmas(L)
+            coef.append((s_r**2 * c2, s_t**2 * (1.0 - c2)))
+        e.append(res)
+        R.append(coef[0][0] + coef[1][0])
+        T.append(coef[0][1] + coef[1][1])
+    if not e or sum(len(v) for v in e) < RIGID_MIN_PAIRS:
+        return None
+    e, R, T = (np.concatenate(v) for v in (e, R, T))
+    live = np.isfinite(e) & (R + T > 0)
+    e, R, T = e[live], R[live], T[live]
+
+    def f(v):
+        V = R * math.exp(v[0]) + T * math.exp(v[1])
+        return 0.5 * float(np.sum((NU + 1) * np.log1p(e**2 / (NU * V)) + np.log(V)))
+
+    v0 = np.log(max(float(np.median(e**2)), 1e-30) / np.median(R + T)) * np.ones(2)
+    best = min((optimize.minimize(f, v0 + s, method="Nelder-Mead", options={"xatol": 1e-4, "fatol": 1e-6})
+                for s in ([0.0, 0.0], [-4.0, 0.0], [0.0, -4.0])), key=lambda o: o.fun)
+    dist_m = float(np.median(np.linalg.norm(xyz - tt, axis=1))) / 1e3
+    s_r0, s_t0 = (float(s) * 1e3 for s in base.sigmas(dist_m * 1e3))
+    out = {"distances": int(len(e)), "at_distance_m": round(dist_m, 3)}
+    for k, (name, s0) in enumerate((("radial", s_r0), ("transverse", s_t0))):
+        def prof(g, k=k):  # 2 x the profile negative log-likelihood over its best, the other scale at its best
+            o = optimize.minimize_scalar(lambda x: f([g, x] if k == 0 else [x, g]),
+                                         bounds=(best.x[1 - k] - PROFILE_SPAN, best.x[1 - k] + PROFILE_SPAN),
+                                         method="bounded", options={"xatol": 1e-4})
+            return 2.0 * (o.fun - best.fun) - stats.chi2.ppf(0.95, 1)
+        ends = []
+        for sign in (-1.0, 1.0):
+            g = next((best.x[k] + sign * h for h in np.arange(0.5, PROFILE_SPAN + 0.01, 0.5)
+                      if prof(best.x[k] + sign * h) > 0), None)
+            ends.append(None if g is None else
+                        math.exp(0.5 * optimize.brentq(prof, g - sign * 0.5, g, xtol=1e-3)))
+        lo, hi = (None if v is None else v / T_CONSISTENCY for v in ends)
+        fac = math.exp(0.5 * best.x[k]) / T_CONSISTENCY
+        det = lo is not None and hi is not None and hi / lo < RIGID_DETERMINED
+        out[name] = {"factor": fac, "interval_95": [lo, hi], "determined": bool(det),
+                     "sigma_um": round(fac * s0, 3),
+                     "upper_um": None if hi is None else round(hi * s0, 3)}
+    return out
+
+
+STATION_GRID = np.geomspace(300.0, MAX_DISTANCE, 17)  # mm from the readings' centre: the profile's distances
+STATION_DETERMINED = 2.0  # the station is determined when its distance's 95 % interval spans less than 2x
+
+
+def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.ndarray, nll_best: float,
+                     spec: TrackerSpec = AT960) -> dict:
+    """How far the scatter ``r`` fixes the station's distance: the profile likelihood of the distance s from the
+    readings' centre (nll, the data's shape free), at every s of STATION_GRID the direction and both scales
+    re-fitted (Nelder-Mead from the estimate's), plus the estimate itself.  The 95 % interval spans every s within
+    chi^2_1(0.95) / 2 of the best (to the grid's distances either side of them: the grid is coarser than a sharp
+    profile); it is "not determined" when that set reaches the grid's ends, spans STATION_DETERMINED or more, or is
+    not one piece (a flat or many-moded likelihood; no interval then): the station found is one of several the
+    data allow.  A curvature sigma (the Hessian) says nothing of either.  Returns {"distance_mm",
+    "interval_95_mm", "determined", "profile": [[s mm, 2 (nll - best)], ...], "note"} (mm)."""
+    c = xyz.mean(axis=0)
+    d0 = np.asarray(t, float) - c
+    s0 = float(np.linalg.norm(d0))
+    u0 = d0 / s0
+
+    a, b = np.linalg.svd(u0[None])[2][1:]  # two unit vectors across u0 (their signs do not matter here)
+
+    def at(s, v):  # position at distance s along the direction tilted by v[:2] (across u0)
+        u = u0 + v[0] * a + v[1] * b
+        return c + s * u / np.linalg.norm(u)
+
+    prof, best = [], nll_best
+    x = np.array([0.0, 0.0, *logs])
+    for s in STATION_GRID:
+        with np.errstate(invalid="ignore"):  # a simplex of infinite values (too near the readings) is no fault
+            res = optimize.minimize(lambda v, s=s: nll(xyz, r, np.append(at(s, v[:2]), v[2:]), spec), x,
+                                    method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2, "maxiter": 300})
+        prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
+        best = min(best, float(res.fun))
+    prof = [(s, v + 2.0 * (nll_best - best)) for s, v in prof] + [(s0, 2.0 * (nll_best - best))]
+    prof.sort()
+    ok = np.array([v <= stats.chi2.ppf(0.95, 1) for _, v in prof])
+    idx = np.flatnonzero(ok)
+    piece = idx.size and np.all(np.diff(idx) == 1)
+    det = bool(piece and idx[0] > 0 and idx[-1] < len(prof) - 1)
+    # the bracketing distances outside the set (conservative: the grid is coarser than a sharp profile)
+    lo, hi = (prof[max(idx[0] - 1, 0)][0], prof[min(idx[-1] + 1, len(prof) - 1)][0]) if idx.size else (s0, s0)
+    det = det and hi / lo < STATION_DETERMINED
+    out = {"distance_mm": s0, "interval_95_mm": [lo, hi] if piece else None, "determined": det,
+           "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
+    if not det:
+        out["note"] = (f"the station is not determined by the scatter: its distance's profile likelihood is "
+                       f"{'flat' if piece else 'many-moded'} over {lo / 1e3:.3g}-{hi / 1e3:.3g} m from the "
+                       f"readings (the estimate, {s0 / 1e3:.3g} m, is one of the stations the data allow); the "
+                       "weights, and the findings that depend on them, are conditional on it: give the tracker's "
+                       "position (--tracker or the tracker_x,y,z columns)")
+    return out
