@@ -18,7 +18,6 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import stats
 
 from mtcal.errors import InputError
 from mtcal.history.results import Z95, Quantity
@@ -109,6 +108,7 @@ def words(name: str, spec: str | None) -> tuple[str, str]:
 
 
 def _p_value(d: float, s: float, nu: float) -> float:
+    from scipy import stats  # here, not at import: `history add` needs no statistics (scipy.stats takes seconds)
     z = abs(d) / s
     return float(2 * (stats.t.sf(z, nu) if math.isfinite(nu) else stats.norm.sf(z)))
 
@@ -141,7 +141,7 @@ def compare_pair(a: Record, b: Record, spec: str | None, level: float = LEVEL) -
             best[t[0][0]] = t
     for name, (_, d, s, nu, p, y) in sorted(best.items(), key=lambda kv: kv[1][4]):
         unit, f = SHOWN.get(y.unit, (y.unit, 1.0))
-        half = (stats.t.ppf(0.975, nu) if math.isfinite(nu) else Z95) * s
+        half = _k(nu) * s
         step.changed.append(Change(name, d * f, half * f, unit, y.axis, y.position, p,
                                    _sentence(name, d * f, half * f, unit, y, a.date, b.date, spec)))
     step.unchanged = len(compared) - len(best)
@@ -158,7 +158,11 @@ def _sentence(name: str, d: float, half: float, unit: str, q: Quantity, d1: dt.d
 
 
 def _k(dof: float | None) -> float:
-    return Z95 if dof is None or not math.isfinite(dof) else float(stats.t.ppf(0.975, dof))
+    """The 95 % coverage factor of ``dof`` degrees of freedom (Student's t; normal where infinite or unknown)."""
+    if dof is None or not math.isfinite(dof):
+        return Z95
+    from scipy import stats
+    return float(stats.t.ppf(0.975, dof))
 
 
 def _welch(sx: float, nx: float | None, sy: float, ny: float | None) -> float:
