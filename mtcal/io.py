@@ -85,12 +85,12 @@ def written_by_mtcal(path: str | os.PathLike) -> bool:
 
 def refuse_foreign(path: str | os.PathLike) -> None:
     """Raise InputError when ``path`` is an existing file that mtcal did not write (or that changed since) and
-    replacing is not allowed (``replace_allowed``, the CLI's ``--force``)."""
+    replacing is not allowed (``replace_allowed``; the CLI's ``--force``, ``--replace`` on export and compensate)."""
     p = Path(path)
     if _REPLACE_ALLOWED.get() or not p.is_file() or written_by_mtcal(p):
         return
     raise InputError("exists and was not written by mtcal (or was changed since): not replaced, nothing was "
-                     "written; choose another output or give `force` to replace it", p)
+                     "written; choose another output or give `replace` to replace it", p)
 
 
 def refuse_overwrite(outputs: Iterable[str | os.PathLike | None] | str | os.PathLike,

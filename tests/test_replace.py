@@ -30,10 +30,26 @@ def test_export_onto_a_file_mtcal_did_not_write_is_refused_naming_it(tmp_path, c
     out = tmp_path / "COMP.MPF"
     out.write_text(FOREIGN)
     code, err = _run(capsys, "export", MODEL, "--format", "siemens", "-o", out)
-    assert code == 2 and f"{out}: exists and was not written by mtcal" in err and "--force" in err, err
+    assert code == 2 and f"{out}: exists and was not written by mtcal" in err and "--replace" in err, err
     assert out.read_text() == FOREIGN
-    code, err = _run(capsys, "export", MODEL, "--format", "siemens", "-o", out, "--force")
+    code, err = _run(capsys, "export", MODEL, "--format", "siemens", "-o", out, "--replace")
     assert code == 0 and "mtcal export" in out.read_text()
+
+
+def test_the_guards_force_and_replacing_a_file_are_separate_flags(tmp_path, capsys):
+    """On export (and compensate) --force overrides the plausibility guard and --replace replaces a foreign file:
+    one never grants the other (a wrong table with exit 0 is the worst outcome)."""
+    import json
+    bad = json.loads(Path(MODEL).read_text())
+    bad["constants"]["E_C0Y"] = 0.5  # 0.5 rad of squareness: no machine
+    bad_path = tmp_path / "bad.json"
+    bad_path.write_text(json.dumps(bad))
+    out = tmp_path / "COMP.MPF"
+    out.write_text(FOREIGN)
+    code, err = _run(capsys, "export", bad_path, "--format", "siemens", "-o", out, "--replace")
+    assert code == 2 and "nothing was written" in err and out.read_text() == FOREIGN, err
+    code, err = _run(capsys, "export", MODEL, "--format", "siemens", "-o", out, "--force")
+    assert code == 2 and "exists and was not written by mtcal" in err and out.read_text() == FOREIGN, err
 
 
 def test_a_re_export_replaces_mtcals_own_file_but_not_one_edited_since(tmp_path, capsys):

@@ -182,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         with _logging(args.command, getattr(args, "quiet", False), flags), \
                 contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)), \
-                replace_allowed(getattr(args, "force", False)):
+                replace_allowed(getattr(args, "replace", False)):
             return int(args._run(args) or 0)
     except InputError as exc:
         print(f"{prog}: error: {to_flags(str(exc), flags)}", file=sys.stderr)

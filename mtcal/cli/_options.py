@@ -134,11 +134,14 @@ REPLACE_HELP = "replace an output file that mtcal did not write (or that was cha
 
 
 def force_argument(p: argparse.ArgumentParser) -> None:
-    """--force on every command that writes a file (one of OUTPUT_OPTIONS): replace outputs mtcal did not write
-    (mtcal.io.refuse_foreign); a command with its own --force (export, compensate) says both meanings in its help."""
+    """The flag that lets a command replace output files mtcal did not write (mtcal.io.refuse_foreign; keyword
+    ``replace``), on every command that writes a file (one of OUTPUT_OPTIONS): --force, except where --force already
+    overrides the plausibility guard (export, compensate), which take --replace: replacing a file must never let an
+    implausible model through, nor the other way round."""
     dests = {a.dest for a in p._actions}
-    if "force" not in dests and dests & set(OUTPUT_OPTIONS):
-        p.add_argument("--force", action="store_true", help=REPLACE_HELP)
+    if dests & set(OUTPUT_OPTIONS):
+        p.add_argument("--replace" if "force" in dests else "--force", dest="replace", action="store_true",
+                       help=REPLACE_HELP)
 
 
 def machine_argument(p: argparse.ArgumentParser, default: str | None = None) -> None:

@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from mtcal.cli._options import REPLACE_HELP, integer, real
+from mtcal.cli._options import integer, real
 from mtcal.compensate.run import compensate_program
 from mtcal.compensate.solver import MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY
 from mtcal.io import dumps, refuse_overwrite
@@ -23,7 +23,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--model", required=True, help="error model JSON (mtcal identify)")
     p.add_argument("--force", action="store_true",
                    help="compensate with a model that fails the plausibility guard (mtcal.model.plausibility), "
-                        "with a loud warning; and " + REPLACE_HELP)
+                        "with a loud warning (it never replaces a file mtcal did not write: --replace)")
     p.add_argument("--allow-subprograms", action="store_true",
                    help="pass subprogram calls (M98, M99, CALL PGM / LBL) unchanged with a warning: the moves of the "
                         "called program are NOT compensated (default: refused)")

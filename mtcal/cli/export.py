@@ -6,7 +6,7 @@ import logging
 import sys
 from pathlib import Path
 
-from mtcal.cli._options import REPLACE_HELP, integer, real
+from mtcal.cli._options import integer, real
 from mtcal.errors import InputError
 from mtcal.export import FORMATS, export_model
 from mtcal.io import dumps, read_json, refuse_overwrite
@@ -51,8 +51,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="the machine the tables are for: refused when the model is of another (default: the model's)")
     p.add_argument("--force", action="store_true",
                    help="write a model that fails the plausibility guard (values beyond a machine's errors, tables "
-                        "outside the travel, a diagnosis of another recording), with a loud warning; and "
-                        + REPLACE_HELP)
+                        "outside the travel, a diagnosis of another recording), with a loud warning (it never replaces "
+                        "a file mtcal did not write: --replace)")
 
 
 def _options(args: argparse.Namespace) -> dict:
