@@ -166,6 +166,24 @@ def test_unreachable_database(tmp_path, capsys):
     assert "is not a directory" in err
 
 
+def test_another_programs_database_or_a_file_that_is_none_is_refused_untouched(tmp_path, capsys):
+    """--db naming another program's SQLite file (tables, no mtcal revision) or a file that is no database: one
+    line, exit 2, the file's bytes unchanged (mtcal never adds its tables to a database it did not make)."""
+    m = write(tmp_path / "m.json", model_doc())
+    other = tmp_path / "inventory.db"
+    with sqlite3.connect(other) as c:
+        c.execute("CREATE TABLE parts (id INTEGER, name TEXT)")
+        c.execute("INSERT INTO parts VALUES (1, 'spindle')")
+    text = tmp_path / "notes.db"
+    text.write_text("the machine builder's notes\n")
+    for db, words in ((other, "is not an mtcal history (it holds the tables parts"),
+                      (text, "cannot be read as a database")):
+        before = db.read_bytes()
+        code, out, err = run(capsys, "history", "add", str(m), "--machine", "M1", "--db", str(db))
+        assert code == 2 and words in err and len(err.strip().splitlines()) == 1, err
+        assert db.read_bytes() == before
+
+
 def test_the_store_knows_its_head_and_migrates_an_empty_database(tmp_path):
     from alembic.config import Config
     from alembic.script import ScriptDirectory

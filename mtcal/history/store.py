@@ -136,9 +136,19 @@ class Store:
     def _migrate(self) -> str:
         """Bring the schema to this mtcal's head inside one writer's transaction; a revision this mtcal does not
         know (a newer mtcal's) is an InputError.  Alembic is loaded only when the revision is not HEAD."""
-        with self.engine.connect() as conn:
-            if _revision(conn) == HEAD:
-                return HEAD
+        try:
+            with self.engine.connect() as conn:
+                revision = _revision(conn)
+                foreign = sorted(sa.inspect(conn).get_table_names()) if revision is None else []
+        except sa.exc.DatabaseError as exc:
+            raise InputError(f"the history database {self.shown} cannot be read as a database: "
+                             f"{_first_line(exc)}; give another `db`") from None
+        if revision == HEAD:
+            return HEAD
+        if foreign:  # another program's database: never add mtcal's tables to it
+            raise InputError(f"the database {self.shown} is not an mtcal history (it holds the tables "
+                             f"{', '.join(foreign[:5])}{' ...' if len(foreign) > 5 else ''} and no mtcal schema "
+                             "revision): nothing was written; give another `db`")
         from alembic import command
         from alembic.config import Config
         from alembic.runtime.migration import MigrationContext
