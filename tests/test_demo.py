@@ -31,6 +31,27 @@ def test_demo_writes_report_plots_and_outputs(demo):
     assert (out / "model.json").exists() and (out / "sample_5axis_compensated.nc").exists()
 
 
+def test_every_file_the_demo_writes_is_known_as_mtcals(demo):
+    """The demo's folder holds only files mtcal's ledger knows (so running the demo again into it replaces them,
+    while a folder of the user's is refused: the next test)."""
+    from mtcal.io import written_by_mtcal
+    out, _ = demo
+    files = [p for p in out.rglob("*") if p.is_file()]
+    assert files and [str(p.relative_to(out)) for p in files if not written_by_mtcal(p)] == []
+
+
+def test_a_folder_holding_a_file_mtcal_did_not_write_is_refused_untouched(tmp_path, capsys):
+    """Review: the demo copied its campaign and program and moved its history over whatever was in --out."""
+    out = tmp_path / "work"
+    out.mkdir()
+    (out / "campaign.csv").write_text("the user's own campaign\n")
+    assert main(["demo", "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "campaign.csv: exists and was not written by mtcal" in err
+    assert [p.name for p in out.iterdir()] == ["campaign.csv"]
+    assert (out / "campaign.csv").read_text() == "the user's own campaign\n"
+
+
 def test_demo_compensation_helps_on_the_true_machine(demo):
     """The identified model (not the truth) corrects the sample program: checked with the truth's exact kinematics."""
     c = demo[1]["compensate"]

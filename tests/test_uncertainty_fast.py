@@ -226,6 +226,14 @@ def test_a_corrupt_store_is_refused_in_one_line(rec_x, tmp_path, capsys):
         mc.Store.load(store, "k", 3)
 
 
+def test_a_store_of_batched_trials_is_not_taken_for_exact_ones(rec_x, tmp_path):
+    """Review: the store's key did not hold `exact`, so batched trials were reused and reported as identify's."""
+    store = tmp_path / "s.npz"
+    monte_carlo(rec_x, trials=4, seed=3, workers=0, store=store, tracker=(250, -1500, 150))
+    with pytest.raises(InputError, match="its trials were drawn from"):
+        monte_carlo(rec_x, trials=4, seed=3, workers=0, store=store, exact=True, tracker=(250, -1500, 150))
+
+
 @pytest.fixture(scope="module")
 def mc_files(rec_x, tmp_path_factory):
     d = tmp_path_factory.mktemp("mc")

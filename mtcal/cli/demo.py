@@ -20,7 +20,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 def run(args: argparse.Namespace) -> int:
     from mtcal.demo.run import print_summary, run_demo
     from mtcal.io import dumps, refuse_overwrite
-    refuse_overwrite([], dirs={args.out: ()})  # an existing file is no output folder
+    # an existing file is no output folder; the demo writes many files into it: every file already there must be
+    # one mtcal wrote (mtcal.io.refuse_foreign), so a folder of the user's is refused before anything is written
+    refuse_overwrite([], dirs={args.out: ("*",)})
     summary = run_demo(args.out, machine=args.machine)
     if args.json:
         print(dumps(summary))

@@ -12,7 +12,6 @@ from __future__ import annotations
 import datetime as dt
 import json
 import logging
-import shutil
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,7 +30,7 @@ from mtcal.diagnose import diagnose, diagnose_plate, plot_findings, plot_residua
 from mtcal.identify import fitting
 from mtcal.identify.plots import plot_all
 from mtcal.identify.run import identify
-from mtcal.io import atomic_write_text, dumps, save_figure
+from mtcal.io import atomic_open, atomic_write_text, dumps, record_written, refuse_foreign, save_figure
 from mtcal.kinematics.defaults import default_positions
 from mtcal.kinematics.machine import Machine, load_machine
 from mtcal.measurement.recordings import read_recording
@@ -77,11 +76,18 @@ def tool_tip_errors(machine, truth, q: np.ndarray, targets: np.ndarray, tool_len
 BUNDLED = "dmu50"  # the machine whose campaign, truth and sample program ship in mtcal/data
 
 
+def _copy(src: Path, dst: Path) -> None:
+    """A bundled file copied into the demo's folder as every output is written (atomically; a file there that
+    mtcal did not write is refused)."""
+    with atomic_open(dst, "wb") as fh:
+        fh.write(Path(src).read_bytes())
+
+
 def _campaign(m, out: Path) -> tuple[Path, dict, object]:
     """(recording path, planted truth, truth model): the bundled campaign of the DMU 50, else a simulated one."""
     rec_path = out / "campaign.csv"
     if m.name == BUNDLED:
-        shutil.copyfile(data_path("demo_campaign.csv"), rec_path)
+        _copy(data_path("demo_campaign.csv"), rec_path)
         return rec_path, json.loads(data_path("demo_campaign.truth.json").read_text()), load_model(
             data_path("demo_truth.json"))
     truth = build_for(m)
@@ -362,7 +368,9 @@ def history_step(s: _Story) -> dict:
             add(folder / f"calibration_{k}.json", "demo-machine", dt.date.fromisoformat(date), tmp)
         comp = compare_history("demo-machine", db=tmp).to_dict()
         report = write_report("demo-machine", s.out / "report.html", tmp)
+        refuse_foreign(s.out / "history.db")
         os.replace(tmp, s.out / "history.db")
+        record_written(s.out / "history.db")
     finally:
         Path(tmp).unlink(missing_ok=True)
     named = sorted({c["name"] for st in comp["steps"] for c in st["changed"]})
@@ -404,7 +412,7 @@ def _compensate_program(m, truth, model_path: Path, out: Path, rng: np.random.Ge
     tool-tip errors on the true machine before / after."""
     nc_in = out / "sample_5axis.nc"
     if m.name == BUNDLED:
-        shutil.copyfile(data_path("sample_5axis.nc"), nc_in)
+        _copy(data_path("sample_5axis.nc"), nc_in)
     else:
         atomic_write_text(nc_in, _sample_program(m, rng))
     return compensate_file(m, truth, model_path, nc_in, out / "sample_5axis_compensated.nc")

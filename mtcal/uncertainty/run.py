@@ -505,7 +505,9 @@ def monte_carlo(rec: Recording, *, trials: int = 1000, seed: int = 0, p: float =
     m = base.model.kinematics
     outputs = Outputs.of(base.model, default_poses(m, base.model) if poses is None else poses, tables)
     path = None if store is None else Path(store)
-    st = Store.load(path, _key(rec, seed, options, inputs, outputs), outputs.size, readings_sha256(rec))
+    # `exact` is part of what the trials were drawn under: a store of batched trials is never reported as identify's
+    st = Store.load(path, _key(rec, seed, {**options, "exact": exact}, inputs, outputs), outputs.size,
+                    readings_sha256(rec))
     scale = np.where(_angular(outputs), 1e3, 1.0)
     history = []
     target = trials if tolerance_mm is None else min(trials, stage)
