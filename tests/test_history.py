@@ -364,3 +364,21 @@ def test_help_of_every_action(argv, capsys):
     """`--help` of the command and of each action prints and exits 0 (a bare % in a help text breaks argparse)."""
     code, out, err = run(capsys, *argv, "--help")
     assert code == 0 and out.startswith("usage: mtcal " + " ".join(argv)) and err == ""
+
+
+def test_the_report_pairs_a_tool_tip_uncertainty_only_with_its_own_model(tmp_path):
+    """Review: the report showed the latest uncertainty beside the latest model without asking whether it was
+    drawn about that model; it is shown only when its provenance names the model's digest."""
+    from mtcal.model.errormodel import model_from_dict
+    from mtcal.report.run import write_report
+    doc = model_doc(noise=1, seed=1)
+    digest = model_from_dict(doc).digest()
+    for name, their_digest, shown in (("own", digest, True), ("other", "0" * 64, False)):
+        db = str(tmp_path / f"{name}.db")
+        unc = dict(uncertainty_doc(), provenance={"model_sha256": their_digest})
+        add(write(tmp_path / f"m_{name}.json", doc), "M1", dt.date(2024, 1, 15), db)
+        add(write(tmp_path / f"u_{name}.json", unc), "M1", dt.date(2024, 1, 16), db)
+        write_report("M1", tmp_path / f"{name}.html", db)
+        text = (tmp_path / f"{name}.html").read_text()
+        assert ("up to ±3.10 µm (95 %)" in text) is shown
+        assert ("is of another model than the latest identified one" in text) is not shown

@@ -232,6 +232,11 @@ def compensation_section(d: ReportData) -> str:
     worth = (m.document or {}).get("worth") if m else None
     if worth:
         body += f"<p>The model's worth (split-half): {_e(_worth(worth))}</p>"
+    if u is not None and m is not None and not _of_model(u, m):
+        body += (f"<p>The latest uncertainty result ({u.date.isoformat()}) is of another model than the latest "
+                 f"identified one ({m.date.isoformat()}): what this model's tool tip is uncertain by is not known "
+                 "here (run `mtcal uncertainty` on its recording).</p>")
+        u = None
     if u is not None:
         vol = u.document.get("volumetric", {})
         where = f"the moves of {vol['program']}" if vol.get("program") else "poses of the work volume"
@@ -242,6 +247,18 @@ def compensation_section(d: ReportData) -> str:
         body = ("<p>No uncertainty result in the history: what the compensated tool tip is uncertain by is not "
                 "known here (`mtcal uncertainty` gives it).</p>")
     return _section("Compensation and tool-tip uncertainty", body)
+
+
+def _of_model(u: Record, m: Record) -> bool:
+    """Whether the uncertainty result ``u`` was drawn about the model ``m``: its provenance names the model's
+    ``ErrorModel.digest`` (a result without provenance, of an older mtcal, cannot be paired and is not)."""
+    from mtcal.errors import InputError
+    from mtcal.model.errormodel import model_from_dict
+    theirs = ((u.document or {}).get("provenance") or {}).get("model_sha256")
+    try:
+        return bool(theirs) and theirs == model_from_dict(m.document).digest()
+    except (InputError, TypeError, ValueError, KeyError):
+        return False
 
 
 def _worth(w) -> str:
