@@ -64,3 +64,12 @@ def test_a_few_rounds_widen_the_bound_by_students_t(tmp_path):
     twelve = Harmonic(360.0, 0.0, [0.0], [20e-6 + 12 * STD_MEAN])
     with pytest.raises(InputError, match=r"E_CC.*95 % expanded uncertainty"):
         export_model(c_model(twelve, extra), M, "siemens", tmp_path / "d.mpf")
+
+
+@pytest.mark.parametrize("extra", [{"std_mean": "0.5 urad"}, {"u95": 5e-7}, {"std_mean": ["n/a"] * len(C)}])
+def test_a_malformed_stated_uncertainty_is_taken_as_not_stated(tmp_path, extra):
+    """Review: a scalar or a word where the per-position list belongs raised TypeError/ValueError (an internal
+    error); it is not stated, so the 10 % bound applies and a large miss is still refused."""
+    flat = Harmonic(360.0, 0.0, [], [])
+    with pytest.raises(InputError, match=r"E_CC.*fitted function"):
+        export_model(c_model(flat, extra=extra), M, "siemens", tmp_path / "c.mpf")

@@ -187,7 +187,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
         near = [o for o in todo if o.score.logp <= top + tol]
         best = min(o.logp_adj for o in near)  # equal within round-off: the first in the candidates' order
-        v = next(o for o in sig if any(o is x for x in near) and o.logp_adj <= best + 1e-9 * max(1.0, abs(best)))
+        slack = 1e-9 * max(1.0, abs(best)) if math.isfinite(best) else 0.0
+        v = next(o for o in sig if any(o is x for x in near) and o.logp_adj <= best + slack)
         todo.remove(v)
         if v.candidate.name == fx.UNEXPLAINED:
             if v.candidate.extra.get("kind") == "growing":

@@ -98,9 +98,12 @@ def _short(name: str, v: float) -> str:
 def _per_position(f, key: str, n: int) -> np.ndarray:
     """A per-position uncertainty list of the function's ``extra`` (None entries: NaN); all NaN when absent."""
     v = f.extra.get(key) if isinstance(f.extra, dict) else None
-    if v is None or len(v) != n:
+    if not isinstance(v, (list, tuple)) or len(v) != n:  # absent or not a list per position: not stated
         return np.full(n, np.nan)
-    return np.array([np.nan if x is None else x for x in v], dtype=float)
+    try:
+        return np.array([np.nan if x is None else x for x in v], dtype=float)
+    except (TypeError, ValueError):  # a word where a number belongs: not stated (the table is guarded alone)
+        return np.full(n, np.nan)
 
 
 def _fit_disagrees(name: str, f, machine: Machine) -> list[str]:
