@@ -382,3 +382,16 @@ def test_the_report_pairs_a_tool_tip_uncertainty_only_with_its_own_model(tmp_pat
         text = (tmp_path / f"{name}.html").read_text()
         assert ("up to ±3.10 µm (95 %)" in text) is shown
         assert ("is of another model than the latest identified one" in text) is not shown
+
+
+def test_trend_plot_onto_a_foreign_file_is_refused_and_force_replaces_it(hist, tmp_path, capsys):
+    """Review: the refusal advised a flag the `trend` action did not have (--force was added to commands only)."""
+    db, _ = hist
+    plot = tmp_path / "trend.png"
+    plot.write_text("a picture of the user's\n")
+    code, out, err = run(capsys, "history", "trend", "M1", "--error", "E_C0Y", "--db", str(db), "--plot", str(plot))
+    assert code == 2 and "exists and was not written by mtcal" in err and "give --force to replace it" in err, err
+    assert plot.read_text() == "a picture of the user's\n"
+    code, out, err = run(capsys, "history", "trend", "M1", "--error", "E_C0Y", "--db", str(db), "--plot", str(plot),
+                         "--force")
+    assert code == 0 and plot.read_bytes()[:4] == b"\x89PNG", err

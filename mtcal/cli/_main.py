@@ -54,8 +54,16 @@ def _command_in(argv: list[str]) -> str | None:
 
 
 def flag_names(parser: argparse.ArgumentParser) -> dict[str, str]:
-    """{keyword: --flag} of a command's options (argparse's dest and its long option string)."""
-    return {a.dest: max(a.option_strings, key=len) for a in parser._actions if a.option_strings}
+    """{keyword: --flag} of a command's options (argparse's dest and its long option string), its actions'
+    (``history trend --plot``) included."""
+    names = {}
+    for a in parser._actions:
+        if isinstance(a, argparse._SubParsersAction):
+            for sub in a.choices.values():
+                names.update(flag_names(sub))
+        elif a.option_strings:
+            names[a.dest] = max(a.option_strings, key=len)
+    return names
 
 
 def to_flags(text: str, flags: dict[str, str]) -> str:

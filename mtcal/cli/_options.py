@@ -138,6 +138,9 @@ def force_argument(p: argparse.ArgumentParser) -> None:
     ``replace``), on every command that writes a file (one of OUTPUT_OPTIONS): --force, except where --force already
     overrides the plausibility guard (export, compensate), which take --replace: replacing a file must never let an
     implausible model through, nor the other way round."""
+    for sub in (a for a in p._actions if isinstance(a, argparse._SubParsersAction)):  # actions (history trend)
+        for action_parser in sub.choices.values():
+            force_argument(action_parser)
     dests = {a.dest for a in p._actions}
     if dests & set(OUTPUT_OPTIONS):
         p.add_argument("--replace" if "force" in dests else "--force", dest="replace", action="store_true",
