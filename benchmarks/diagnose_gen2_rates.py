@@ -430,15 +430,17 @@ def _cells(c: Counter, pct: bool) -> str:
 
 def table(runs: list[dict]) -> str:
     t = tally(runs)
+    rows = CLASSES + ("all planted", "all")
+    w = max(18, max(len(r) for r in rows) + 5)  # the v3 classes' names are longer than the v2 ones
     head = " ".join(f"{SHORT[v]:>6}" for v in VERDICTS) + "  runs"
-    lines = [f"{'':<18}| {'defaults (tracker columns removed)':<35}| tracker given",
-             f"{'planted class':<18}| {head} | {head}"]
-    for row in CLASSES + ("all planted", "all"):
+    lines = [f"{'':<{w}}| {'defaults (tracker columns removed)':<35}| tracker given",
+             f"{'planted class':<{w}}| {head} | {head}"]
+    for row in rows:
         if row in ("all planted",):
             lines.append("-" * len(lines[1]))
-        lines.append(f"{row:<18}| " + " | ".join(_cells(t[row][h], False) for h in HOWS))
+        lines.append(f"{row:<{w}}| " + " | ".join(_cells(t[row][h], False) for h in HOWS))
     for row in ("clean", "all planted", "all"):
-        lines.append(f"{row + ' (%)':<18}| " + " | ".join(_cells(t[row][h], True) for h in HOWS))
+        lines.append(f"{row + ' (%)':<{w}}| " + " | ".join(_cells(t[row][h], True) for h in HOWS))
     return "\n".join(lines)
 
 

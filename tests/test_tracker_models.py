@@ -145,8 +145,13 @@ def test_identify_finds_the_station_under_the_named_law_only(at500_campaign):
     est, _ = estimate_station(rec, AT500)
     assert est is not None and 0.8 < est.shape < 1.25, est
     assert np.all(np.abs(est.position - T) < np.minimum(3 * est.sigma_mm, 200.0)), est
-    logging.getLogger("mtcal").setLevel(logging.WARNING)
-    res = identify(rec, machine=M, tracker_model="at500", worth=False)
+    log = logging.getLogger("mtcal")
+    level = log.level
+    log.setLevel(logging.WARNING)
+    try:
+        res = identify(rec, machine=M, tracker_model="at500", worth=False)
+    finally:
+        log.setLevel(level)  # left at WARNING it hid later tests' messages from caplog
     out = res.to_json()
     assert res.method == "joint" and out["noise_law"]["instrument"] == "AT500" and out["noise_law"]["source"] == \
         "prior"

@@ -5,6 +5,7 @@ no usable interval refused by `compensate --uncertainty`."""
 from __future__ import annotations
 
 import json
+import logging
 import shutil
 from dataclasses import replace
 
@@ -130,6 +131,7 @@ def test_a_self_check_that_disagrees_falls_back_and_says_so(rec_x, monkeypatch, 
     """A batched path that does not reproduce identify on its check trials runs every trial by identify, with a
     warning: never intervals from an estimator that is not identify's."""
     monkeypatch.setattr(fast, "CHECK_TOLERANCE", 0.0)
+    caplog.set_level(logging.INFO, logger="mtcal")  # whatever level an earlier test left the library's logger at
     r = monte_carlo(rec_x, trials=12, seed=1, workers=0, tracker=T, inputs=Inputs().only("noise"))
     assert not r.path["batched"] and "disagree" in r.path["why"]
     assert any("do not reproduce identify" in x.message for x in caplog.records)
@@ -137,6 +139,7 @@ def test_a_self_check_that_disagrees_falls_back_and_says_so(rec_x, monkeypatch, 
 
 # ----------------------------------------------------------------------------------- issue 35, item 3
 def test_workers_beyond_the_cores_are_capped_with_a_line(caplog):
+    caplog.set_level(logging.INFO, logger="mtcal")
     n = mc.cores()
     assert mc.local_workers(999) == n and mc.local_workers(None) == n and mc.local_workers(1) == 1
     assert any(f"999 is more than this machine's {n} cores" in x.message for x in caplog.records)
