@@ -202,6 +202,7 @@ def _remaining(truth: ErrorModel, model: ErrorModel, factor: float) -> ErrorMode
     return ErrorModel(truth.machine, consts, funcs)
 
 
+@pytest.mark.slow
 def test_verify_passes_a_good_compensation_and_names_what_went_wrong(identified):
     """The true machine after a compensation with the identified model: applied (passes), not applied (share ~1),
     applied with the wrong sign (share ~2), each a fresh simulated campaign."""

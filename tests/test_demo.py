@@ -21,6 +21,7 @@ def demo(tmp_path_factory) -> tuple[Path, dict]:
     return out, json.loads((out / "summary.json").read_text())
 
 
+@pytest.mark.slow
 def test_demo_writes_report_plots_and_outputs(demo):
     out, _ = demo
     report = (out / "report.md").read_text()
@@ -31,6 +32,7 @@ def test_demo_writes_report_plots_and_outputs(demo):
     assert (out / "model.json").exists() and (out / "sample_5axis_compensated.nc").exists()
 
 
+@pytest.mark.slow
 def test_every_file_the_demo_writes_is_known_as_mtcals(demo):
     """The demo's folder holds only files mtcal's ledger knows (so running the demo again into it replaces them,
     while a folder of the user's is refused: the next test)."""
@@ -52,6 +54,7 @@ def test_a_folder_holding_a_file_mtcal_did_not_write_is_refused_untouched(tmp_pa
     assert (out / "campaign.csv").read_text() == "the user's own campaign\n"
 
 
+@pytest.mark.slow
 def test_demo_compensation_helps_on_the_true_machine(demo):
     """The identified model (not the truth) corrects the sample program: checked with the truth's exact kinematics."""
     c = demo[1]["compensate"]
@@ -59,6 +62,7 @@ def test_demo_compensation_helps_on_the_true_machine(demo):
     assert c["true_error_after_rms_um"] < 0.5 * c["true_error_before_rms_um"]
 
 
+@pytest.mark.slow
 def test_demo_diagnosis_finds_the_concealed_effect(demo):
     """demo_campaign.truth.json: backlash on X, 6 um reversal, hidden in the campaign."""
     d = demo[1]["diagnose"]
@@ -67,6 +71,7 @@ def test_demo_diagnosis_finds_the_concealed_effect(demo):
     assert first["estimate"] == pytest.approx(mk.DEMO_EFFECT[1]["amount"], rel=0.2)
 
 
+@pytest.mark.slow
 def test_demo_identification_and_plate_numbers(demo):
     s = demo[1]
     i = s["identify"]
@@ -86,6 +91,7 @@ def test_bundled_demo_data_are_what_the_script_makes():
     assert data_path("demo_campaign.csv").read_text() == format_recording(rec)
 
 
+@pytest.mark.slow
 def test_demo_runs_on_another_machine(tmp_path):
     """`mtcal demo --machine headbc`: the same story on the head-table spec, campaign simulated from a synthetic
     truth (no bundled data): identification, a tool path through its inverse kinematics compensated and checked
@@ -101,6 +107,7 @@ def test_demo_runs_on_another_machine(tmp_path):
     assert abs(s["diagnose"]["effects"][0]["estimate"] - 0.006) < 3 * s["diagnose"]["effects"][0]["uncertainty"]
 
 
+@pytest.mark.slow
 def test_demo_history_names_exactly_the_crash(demo):
     """Three calibrations of the simulated machine, a crash (two squareness errors +-80 urad) before the third:
     `history compare` names nothing between the first two and exactly the two planted errors after the crash,

@@ -25,6 +25,7 @@ def derived(request):
     return derive_machine(load_spec(request.param))
 
 
+@pytest.mark.slow
 def test_generated_numpy_equals_sympy_expressions(derived):
     """Each generated function against SymPy's own lambdify of the same expressions (independent printer, no cse)."""
     gen = mtcal.load_machine(derived.name)._np
@@ -146,6 +147,7 @@ def _chain_reference(ax: np.ndarray, d: float, tilt_deg: float) -> np.ndarray:
     return np.array(out)
 
 
+@pytest.mark.slow
 def test_changing_d_and_tilt_in_the_spec_needs_no_other_edit(tmp_path):
     text = (ROOT / "derive/machines/dmu50.toml").read_text()
     text = text.replace('d = "154.996"', 'd = "200.5"').replace('tilt = "45"', 'tilt = "30"')

@@ -74,6 +74,7 @@ def test_concealed_effect_found_ranked_first_and_estimated(name, params, axes, m
     assert sum(e["significant"] for e in d.effects) == 1, [e["name"] for e in d.effects if e["significant"]]
 
 
+@pytest.mark.slow
 def test_tracker_knock_is_one_offset_step_of_every_later_reading():
     # mtcal.campaign.effects "offset": the tracker (stand) knocked at t_from_s, every later reading (all axes, all
     # reflectors) displaced by one vector; diagnosed as ONE step with its change point t0 scanned over the
@@ -93,6 +94,7 @@ def test_tracker_knock_is_one_offset_step_of_every_later_reading():
         (e["name"], e.get("where")) for e in d.effects if e["significant"]]
 
 
+@pytest.mark.slow
 def test_clean_campaign_default_contract_and_nothing_added():
     rec = simulate_campaign(seed=5, plan=plan("XYZBC", rounds=2))
     d = diagnose(rec, tracker=T)
@@ -107,6 +109,7 @@ def test_clean_campaign_default_contract_and_nothing_added():
     assert ("scale", "X") in ns and ("tracker_scale", None) in ns and ("cross_axis", "Y") in ns
 
 
+@pytest.mark.slow
 def test_false_positive_rate_on_20_clean_campaigns():
     hits = 0
     for seed in range(20):
@@ -184,6 +187,7 @@ def test_cli_json(tmp_path, capsys):
     assert (tmp_path / "p" / "residuals_before.png").exists() and (tmp_path / "p" / "residuals_after.png").exists()
 
 
+@pytest.mark.slow
 def test_without_tracker_and_given_model_cli(tmp_path, capsys):
     from mtcal.cli import main
     from mtcal.measurement.recordings import write_recording
@@ -202,6 +206,7 @@ def test_without_tracker_and_given_model_cli(tmp_path, capsys):
     assert out["base_model"]["kind"] == "given model"
 
 
+@pytest.mark.slow
 def test_bundled_demo_campaign_finds_only_the_planted_backlash():
     # mtcal/data/demo_campaign.truth.json: a DMU 50 with smooth cubic error functions (demo_truth.json) and ONE
     # concealed effect, backlash on X of 6 um.  A base of degree 2 on X (BIC without the backlash in the fit)

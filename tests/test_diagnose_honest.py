@@ -23,6 +23,7 @@ def _significant(d):
 
 
 @pytest.mark.parametrize("seed, told", [(0, True), (1, False)])
+@pytest.mark.slow
 def test_a_table_drift_starting_with_the_rotary_axes_is_sized_by_what_the_readings_see(seed, told):
     """19 um along +Y, tau 1800 s, from the first reading of B (the table is first seen then): before, reported
     as a 290 um drift from the record's start (+-11 um). Now the onset is the first table reading, the size within
@@ -54,6 +55,7 @@ def test_onsets_never_precede_the_side_being_seen():
 
 
 @pytest.mark.parametrize("axis, side", [("Y", "tool"), ("C", "table")])
+@pytest.mark.slow
 def test_a_knocked_nest_is_one_finding(axis, side):
     """Reflector P knocked by 20 um (its side's +X) in the middle of one axis' block, displaced through the rest
     of the campaign: before, a re-seated nest in the wrong round, tracker knocks and a creep. Now one finding,
@@ -147,6 +149,7 @@ def test_a_knock_after_the_nest_is_last_read_is_refused():
 
 
 @pytest.mark.parametrize("axis, size, seed", [("C", 0.09, 2), ("C", 0.09, 3), ("Y", 0.06, 2)])
+@pytest.mark.slow
 def test_a_one_off_reading_is_not_mistaken_for_a_recurring_pattern(axis, size, seed):
     """A single gross reading (round 2, +X): named an outlier of its axis, with the tracker told and not. Before, the
     recurrence check scored the same places in the other rounds without the outlier fitted, where the base's share
@@ -166,6 +169,7 @@ E_XX_10 = [-1.321, -4.494, -4.576, 0.837, 8.335, 12.497, 12.066, 10.420, 10.005,
 X_10 = [round(29.3 + k * 49.1778 - 250.0, 3) for k in range(10)]
 
 
+@pytest.mark.slow
 def test_a_tabulated_error_function_on_ten_positions_is_no_periodic_error():
     """On 10 positions the error function of degree 7 leaves 2 shapes free, exactly as many as a periodic error
     has columns: whatever the polynomial leaves of a tabulated E_XX is "periodic" at some pitch (gen2: a long
@@ -189,6 +193,7 @@ def test_a_tabulated_error_function_on_ten_positions_is_no_periodic_error():
     assert any("10 positions" in (n or "") for n in notes), notes
 
 
+@pytest.mark.slow
 def test_a_smooth_error_function_on_twelve_positions_is_no_periodic_error():
     """gen2 (benchmarks/gen2) seed 19, campaign 88: a clean campaign, Y measured at 12 positions, a 1 : 70 tracker
     (0.16 um + 0.04 um/m along the beam).  Y's error functions hold four half-waves over the travel; what degree 7
@@ -202,6 +207,7 @@ def test_a_smooth_error_function_on_twelve_positions_is_no_periodic_error():
     assert run["classes"] == ["clean"] and run["verdict"] == "right", run["wrong"]
 
 
+@pytest.mark.slow
 def test_a_shape_the_tabulated_error_functions_explain_is_not_unexplained(tmp_path):
     """gen2 seed 19, campaign 183: a clean campaign, Y at 10 positions, a 1 : 70 tracker (0.15 um along the beam
     at 2 m).  What degree 7 leaves of Y's smooth error function (0.7-2.5 um at 150.4, 288.6 ... mm, the same in

@@ -36,6 +36,7 @@ def significant(d):
     return [e for e in d.effects if e["significant"]]
 
 
+@pytest.mark.slow
 def test_clean_two_station_campaigns_flag_nothing():
     """Ten seeds, alignment errors of tens of um / urad in every station: nothing flagged (0 of 10 expected at the
     family-wise level 0.005), and the per-station weights fit the noise (sigma ratio near 1)."""
@@ -56,6 +57,7 @@ OTHER_SHAPES = {"1:4": TrackerSpec(3.75, 1.5, 15.0, 6.0), "isotropic": TrackerSp
 
 @pytest.mark.parametrize("name", list(OTHER_SHAPES))
 @pytest.mark.parametrize("rounds", [3, 1])
+@pytest.mark.slow
 def test_another_trackers_shape_is_estimated_from_several_stations(name, rounds):
     """Issue 24: with several stations every reading was weighted by the AT960's law, never checked (gen2: 31 of 64
     two- and three-station runs wrong, 13 after this).  The repeated rounds of every station about its own
@@ -77,6 +79,7 @@ def test_another_trackers_shape_is_estimated_from_several_stations(name, rounds)
     assert flagged == []
 
 
+@pytest.mark.slow
 def test_report_names_the_per_station_noise_and_alignments():
     rec, _ = campaign(7200)
     d = diagnose(rec, machine=M).to_dict()
@@ -90,6 +93,7 @@ def test_report_names_the_per_station_noise_and_alignments():
     assert any("common to every station" in e.get("not_separable", "") for e in scales)
 
 
+@pytest.mark.slow
 def test_a_station_tracker_scale_is_named_from_two_stations():
     """-12 ppm in the first station's distances only (its air 12 K off): one station cannot separate it (docs:
     tracker_scale not separable with one station); two stations name it as the second station's scale relative to
@@ -104,6 +108,7 @@ def test_a_station_tracker_scale_is_named_from_two_stations():
     assert [e["name"] for e in significant(d)] == ["tracker_scale"]
 
 
+@pytest.mark.slow
 def test_backlash_keeps_its_size_from_two_stations():
     rec, _ = campaign(7400, ["backlash:axis=X,amount=0.008"])
     d = diagnose(rec, machine=M)
@@ -112,6 +117,7 @@ def test_backlash_keeps_its_size_from_two_stations():
     assert sig[0]["estimate"] == pytest.approx(0.008, abs=max(3 * sig[0]["uncertainty"], 0.0005))
 
 
+@pytest.mark.slow
 def test_a_knock_of_one_station_is_named_with_its_station_and_time():
     """The first station's tracker knocked 30 um along +Y at 600 s of its campaign; the second station (set up
     afterwards, re-aligned) is not displaced."""

@@ -44,6 +44,7 @@ def sane_cv(d):
 
 @pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])
 @pytest.mark.parametrize("name,size", FOUND, ids=[f[0] for f in FOUND])
+@pytest.mark.slow
 def test_planted_case_named_right(name, size, told):
     c = C.CASES[name](200 + [f[0] for f in FOUND].index(name) + (0 if told else 50), **size)  # independent seeds
     c = c if told else C.without_tracker(c)
@@ -56,6 +57,7 @@ def test_planted_case_named_right(name, size, told):
 
 
 @pytest.mark.parametrize("name", OUT_OF_REACH)
+@pytest.mark.slow
 def test_out_of_reach_is_stated_not_misnamed(name):
     c = C.CASES[name](300)
     d = run(c)
@@ -64,6 +66,7 @@ def test_out_of_reach_is_stated_not_misnamed(name):
     assert out_of_reach(d, c.expect) == [e["name"] for e in c.expect], msg
 
 
+@pytest.mark.slow
 def test_large_location_error_not_lost_to_an_overlapping_knock():
     # issue 13: C location found at step 1, a knock overlapping it added at step 2, backward elimination then
     # dropped the location error.  Now the location stays, the knock (if named) is confounded with it.
@@ -74,6 +77,7 @@ def test_large_location_error_not_lost_to_an_overlapping_knock():
     assert d.sigma_ratio_after < 1.2
 
 
+@pytest.mark.slow
 def test_aliased_pitch_reported_as_possible_alias():
     # a 30 mm pitch sampled every 25 mm reads as a 150 mm pitch: the true pitch is among the possible aliases
     c = C.CASES["aliased_pitch"](9)
@@ -100,6 +104,7 @@ def test_warm_up_longer_than_the_record_is_a_ramp_without_extrapolation():
 
 
 @pytest.mark.parametrize("where", ["front", "side", "far"])
+@pytest.mark.slow
 def test_noise_model_estimates_the_tracker_position(where):
     c = C.make(C.Design(station=where, rounds=4, axes=("X", "Y", "C"), tracker_given=False), (), 17)
     d = run(c)
@@ -112,6 +117,7 @@ def test_noise_model_estimates_the_tracker_position(where):
     assert d.to_dict()["noise_model"]["kind"] == "AT960 (estimated tracker)"
 
 
+@pytest.mark.slow
 def test_false_positive_rate_small_version():
     # 10 clean campaigns of the generator's varied designs (station front/side/far, 3-6 rounds, 3 or 5 axes,
     # tracker told or not) at the defaults: none flagged (the 50-campaign benchmark: 0 of 50)
@@ -125,6 +131,7 @@ def test_false_positive_rate_small_version():
 
 
 @pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])
+@pytest.mark.slow
 def test_physics_outside_the_candidates_is_located_not_named(told):
     # issue 13: a loose reflector thrown 6 um along the travel at every reversal (no rigid motion of the carriage
     # does this; no candidate models it): "unexplained, by direction x reflector" on the axes whose travel is
@@ -139,6 +146,7 @@ def test_physics_outside_the_candidates_is_located_not_named(told):
     assert u["Y"]["p_adjusted"] < 1e-6
 
 
+@pytest.mark.slow
 def test_lateral_play_named_or_confounded_with_the_roll_it_reads_as():
     # a guideway play of X (E_YX differs by 15 um between the approaches): named reversal_straightness with its
     # size; at 0.5 um it is named with the roll reversal it cannot be told from (reflector heights 10-70 mm)
@@ -171,6 +179,7 @@ def test_inadequacy_checks_reject_a_named_effect_that_leaves_its_own_pattern():
 
 
 @pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])
+@pytest.mark.slow
 def test_nest_creep_named_on_its_side(told):
     # a label names a nest on the spindle and one on the table: only the spindle's Q creeps (20 um/h over a
     # five-axis campaign); the table's Q must not be in the creep's model (it was: a re-seated nest was named)

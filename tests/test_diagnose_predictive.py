@@ -24,6 +24,7 @@ def _diagnosed(case):
 
 
 @pytest.mark.parametrize("case", td.CASES, ids=[f"{c[0]}-{i}" for i, c in enumerate(td.CASES)])
+@pytest.mark.slow
 def test_a_planted_effect_reproduces_its_pattern_through_the_simulator(case):
     """Backlash of X and C, a periodic error of Y, a spindle drift, an outlier, a bump, a re-seated nest (the base
     fitted); a scale, a second-order term, a squareness, a location of C, a tracker scale (a model given): each
@@ -55,6 +56,7 @@ def test_a_finding_at_twice_its_size_fails_the_check():
     assert not bad["passes"] and abs(bad["reproduced"] - 0.5) < 0.02 and bad["misfit_p_adjusted"] < 0.005, bad
 
 
+@pytest.mark.slow
 def test_a_drift_changing_within_one_growing_axis_block_is_said_to_be_confounded():
     """gen2 (benchmarks/gen2) seed 17, campaign 129: X's scale grows 76 ppm while X is measured (no temperature
     channel), X measured from 42.8 mm, so its reference position is not the scale's zero and the growth there

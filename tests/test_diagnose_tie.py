@@ -104,6 +104,7 @@ def test_base_design_shares_columns_and_per_axis_design_stays_per_axis():
     assert saved > 0 and per_axis.p - tied.p == saved
 
 
+@pytest.mark.slow
 def test_nest_creep_of_10_um_per_hour_is_found():
     """docs "Campaigns we did not make": 15 um over the 1.5 h record; per-axis positions absorbed it (F about 3,
     missed in 15 of 16 of these campaigns), the shared positions show it: found in 15 of 16 (seeds 500-507, the

@@ -9,6 +9,7 @@ PAGES = pages()
 
 
 @pytest.mark.parametrize("page", PAGES, ids=[str(p.relative_to(ROOT)) for p in PAGES])
+@pytest.mark.slow
 def test_page_examples_run_as_written(page, tmp_path):
     problems = []
     for b in blocks(page):

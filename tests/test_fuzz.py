@@ -259,6 +259,7 @@ def _run_signal(case, case_dir):
 
 
 @pytest.mark.parametrize("cid", _case_ids())
+@pytest.mark.slow
 def test_fuzz_case(cid, corpus, capsys, monkeypatch):
     root, cases = corpus
     case = cases[cid]

@@ -338,6 +338,7 @@ def test_a_round_with_two_columns_exchanged(camp):
     assert max(off_swapped_back) < 0.2 and np.median(off_as_written) > 1.0
 
 
+@pytest.mark.slow
 def test_the_v2_mix_is_untouched_and_v3_campaigns_keep_geometry_and_noise(camp, tmp_path):
     """The default mix draws nothing new: two writes of one (seed, index) agree byte for byte and carry no 'kind';
     a v3 campaign with a careless class differs from its clean twin only in the rows of that round."""

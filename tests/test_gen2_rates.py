@@ -179,6 +179,7 @@ def sample() -> list[dict]:
     return R.run(n=6, seed=7, start=75, progress=False)
 
 
+@pytest.mark.slow
 def test_the_benchmark_runs_end_to_end(sample):
     assert {r["campaign"] for r in sample} == {f"campaign_{i:04d}" for i in range(75, 81)}
     assert {r["how"] for r in sample} == set(R.HOWS)

@@ -331,6 +331,7 @@ def test_repeated_reading_in_one_pass_is_an_error():
 
 
 # ----------------------------------------------------------------------------- CLI
+@pytest.mark.slow
 def test_cli_json_model_and_plots(tmp_path, capsys):
     model = smooth_model(squareness={"E_C0Y": 2e-5})
     rec = exact_recording(model, rounds=2, noise=0.001, seed=8)

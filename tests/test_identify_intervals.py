@@ -16,6 +16,7 @@ from mtcal.data.make_demo_data import DEMO_PLAN
 
 
 @pytest.mark.parametrize("rounds, k_published", [(3, 4.303), (4, 3.182)])
+@pytest.mark.slow
 def test_three_point_intervals_cover_95_percent(rounds, k_published):
     """120 campaigns of axis X (three-point method, AT960 noise): the stated U95 of every error at every
     position but the reference covers the truth (noise-free identification: the truth in identify's gauge)

@@ -94,6 +94,7 @@ def test_alignment_errors_of_tens_of_um_and_urad_cost_nothing():
         assert np.allclose(a_hat[:3], a_true[:3], atol=1e-6) and np.allclose(a_hat[3:], a_true[3:], atol=1e-8)
 
 
+@pytest.mark.slow
 def test_scatter_over_seeds_matches_the_reported_covariance():
     """20 seeds of a noisy two-station campaign: the estimate minus the noise-free estimate, whitened by the
     reported covariance, has chi^2 / dof ~ 1 (mean of z^2 within 20 %) and the Birge ratio is ~1."""
@@ -175,10 +176,12 @@ def test_four_stations_one_round_each_within_3_um_volumetric(demo):
 
 
 @pytest.mark.parametrize("rounds, points", [(2, None), (1, WIDE)], ids=["2-rounds", "wide-reflectors"])
+@pytest.mark.slow
 def test_four_stations_two_rounds_or_wide_reflectors_within_2_2_um(demo, rounds, points):
     assert _demo_vol(demo, STATIONS4, rounds, points) < 2.2
 
 
+@pytest.mark.slow
 def test_one_station_joint_no_worse_than_three_point(demo):
     """The thesis campaign (one station at Pos. 1, 4 rounds, mtcal.campaign.simulate): joint <= three-point."""
     from mtcal.campaign.simulate import simulate

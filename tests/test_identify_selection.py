@@ -3,6 +3,7 @@ the table is significantly non-zero; noise-free readings give the truth back."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from mtcal.demo.run import data_path
 from mtcal.identify import fitting
@@ -13,6 +14,7 @@ from mtcal.model.errormodel import load_model
 TRUTH = load_model(data_path("demo_truth.json"))
 
 
+@pytest.mark.slow
 def test_demo_campaign_without_tracker_fits_e_xx_where_its_table_is():
     """The bundled campaign (mtcal/data/demo_campaign.csv, truth demo_truth.json: E_XX = 20 um at X = -250): the
     fit of E_XX evaluated there is within 5 um of the truth (it was fitted as the zero function: 20 um off)."""
@@ -44,6 +46,7 @@ def test_selection_uses_the_rounds_scatter_not_a_rule_that_prefers_zero():
     assert np.mean(fit_err) <= np.mean(table_err)
 
 
+@pytest.mark.slow
 def test_the_tracker_position_is_estimated_from_the_scatter_when_not_given():
     """The bundled campaign was measured from (250, -1500, 150) mm (demo_campaign.truth.json): without --tracker,
     identify estimates the station from the rounds' scatter (within 3 of its sigmas and 30 mm), stores it in the

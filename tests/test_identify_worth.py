@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from mtcal.cli import main
 from mtcal.identify.compare import compare_models
@@ -29,6 +30,7 @@ def _campaign(k: int):
     return m, truth, tracker, rec
 
 
+@pytest.mark.slow
 def test_the_predicted_error_is_the_error_the_model_has():
     """Six campaigns (the three specs, two tracker positions, 3 rounds), three-point and joint: the predicted error
     is within a factor 2.5 of the true one in every case and within 1.5 in the median (the benchmark, 54 campaigns:
@@ -46,6 +48,7 @@ def test_the_predicted_error_is_the_error_the_model_has():
     assert 0.67 < np.median(ratios) < 1.5, ratios
 
 
+@pytest.mark.slow
 def test_identify_and_compensate_warn_when_the_model_may_make_the_machine_worse(tmp_path, capsys):
     """The bundled campaign by the unweighted three-point method: 14 um predicted error against 19 um corrected
     (over 54 campaigns such models made the machine worse in 41 %): both commands warn; the joint fit does not."""

@@ -7,6 +7,8 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1] / "mtcal"
 
 # Bottom to top.  A package may import its own modules and any package listed before it.
@@ -126,6 +128,7 @@ def test_the_api_names_agree():
         assert got is want or (callable(got) and type(got).__call__.__doc__ == want.__doc__), name
 
 
+@pytest.mark.slow
 def test_a_verb_is_callable_after_its_package_is_imported():
     """mtcal.identify / mtcal.diagnose share their names with packages: once ``mtcal.identify.run`` is imported
     the attribute is the package, which must still be the verb (it was a module and not callable)."""

@@ -124,6 +124,7 @@ def run_linuxcnc(folder: Path) -> dict:
     return json.loads(out.read_text())
 
 
+@pytest.mark.slow
 def test_linuxcnc_motion_applies_exported_comp_files(tmp_path):
     spec = {"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {}, "functions": {
         n: {"axis": a, "positions": [-200, 0, 200], "values": Polynomial(C, [-200, 200])([-200, 0, 200]).tolist(),

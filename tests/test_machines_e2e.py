@@ -95,6 +95,7 @@ def test_compensation_checked_with_the_exact_kinematics_of_the_true_machine(iden
 
 
 @pytest.mark.parametrize("name", SPECS)
+@pytest.mark.slow
 def test_diagnose_finds_a_planted_backlash_and_keeps_a_clean_campaign_clean(name):
     """The physical simulator plants a 50 urad reversal on the machine's tilt axis (on the head for headbc);
     diagnosis names it on that axis within 3 sigma; the same campaign without it reports nothing."""

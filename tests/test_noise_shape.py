@@ -41,6 +41,7 @@ def _campaign(spec, seed, effects=()):
 
 
 @pytest.mark.parametrize("name", list(OTHERS))
+@pytest.mark.slow
 def test_another_trackers_shape_is_estimated_and_used(name):
     spec = OTHERS[name]
     rec = _campaign(spec, 11)
@@ -55,6 +56,7 @@ def test_another_trackers_shape_is_estimated_and_used(name):
 
 
 @pytest.mark.parametrize("name", ["1:4", "1:70"])
+@pytest.mark.slow
 def test_the_station_is_estimated_with_the_data_shape(name):
     """No tracker position given: the station and the law's radial and transverse scales are estimated together
     (tracker_position.refine).  Under the AT960's shape with only its scale free, a 1 : 4 tracker's station came
@@ -67,6 +69,7 @@ def test_the_station_is_estimated_with_the_data_shape(name):
     assert abs(np.log(rho / _true_rho(spec))) < np.log(1.3), rho
 
 
+@pytest.mark.slow
 def test_one_gross_reading_does_not_move_the_estimated_station():
     """A 90 um reading (gen2 seed 11, campaign 36: a 1 : 70 tracker) also moves the other readings of its cell
     about their mean by 11 um, 50 times the radial sigma: under a normal likelihood the station went 10.8 m off

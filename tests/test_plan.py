@@ -168,6 +168,7 @@ def test_monte_carlo_through_mtcal_identify_two_approaches():
 # ----------------------------------------------------------------------------- plan and identify agree (issue 26)
 @pytest.mark.parametrize("stations", [None, {"S1": (250.0, -1500.0, 150.0), "S2": (-1500.0, 250.0, 150.0),
                                               "S3": (1500.0, 300.0, 150.0), "S4": (-300.0, 1500.0, 150.0)}])
+@pytest.mark.slow
 def test_plan_predicts_the_scatter_of_the_default_identification(stations):
     """`plan` predicts the estimator `identify` uses with the same inputs (the joint fit with a tracker position):
     over 30 simulated campaigns the scatter of the default identification's estimates matches the prediction on

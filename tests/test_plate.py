@@ -379,6 +379,7 @@ def test_planted_outlier_is_flagged_and_only_it():
     assert clean.flagged == []
 
 
+@pytest.mark.slow
 def test_flag_false_alarm_rate_is_controlled():
     """Bonferroni at 0.01 over the points: among 100 clean plates at most a few flag anything."""
     hits = sum(bool(fit_plate(synthetic(n=30, noise=2e-7, seed=100 + s)).flagged) for s in range(100))

@@ -45,6 +45,7 @@ def _flat_subs(f, vals):
     return subs
 
 
+@pytest.mark.slow
 def test_generated_numpy_equals_direct_sympy(module):
     """Every generated function against SymPy's own evaluation (30 digits) of the derived expressions."""
     rng = np.random.default_rng(3)
@@ -57,6 +58,7 @@ def test_generated_numpy_equals_direct_sympy(module):
             np.testing.assert_allclose(got, ref, rtol=1e-11, atol=1e-12, err_msg=f.name)
 
 
+@pytest.mark.slow
 def test_numpy_equals_casadi(module):
     rng = np.random.default_rng(4)
     for f in module.functions:

@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from mtcal.measurement import tracker as trk
 
@@ -48,6 +49,7 @@ def _folder(tmp_path: Path, n: int = 1000) -> Path:
     return tmp_path
 
 
+@pytest.mark.slow
 def test_the_script_finds_the_planted_rows_the_drift_and_the_law(tmp_path):
     out = ri.run(_folder(tmp_path))
     flagged = {(r["line"], ri.NAMES.index(r["file"][9:-4]), r["looks_like"].split(":")[0].split(",")[0])

@@ -67,6 +67,7 @@ def test_the_columns_are_the_generated_signatures(data):
                                atol=1e-12)
 
 
+@pytest.mark.slow
 def test_temperature_beats_time_alone_on_the_large_channels(rows):
     """ch3 and ch4 (range -71..+20 um): c dT of t4 (chosen on the training rows) leaves 18.5 and 18.1 um RMS out
     of sample where the time-only drift leaves 32.1 and 32.0 (0.58x, 0.56x); in sample 6.7 / 6.4 against 10.3 /
@@ -81,6 +82,7 @@ def test_temperature_beats_time_alone_on_the_large_channels(rows):
                                                                                  "rms_out_um")
 
 
+@pytest.mark.slow
 def test_one_linear_temperature_is_not_enough_on_the_other_channels(rows):
     """The limitation the page states: on ch1, ch2 and ch5 the best training sensor's c dT is worse out of sample
     than the drift in time alone (1.24x, 1.22x, 1.50x) -- and worse than a constant -- and what it leaves on ch3/ch4

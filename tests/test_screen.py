@@ -92,6 +92,7 @@ def test_a_swap_in_an_axis_of_two_rounds_is_found_by_the_axes_of_its_side():
     assert [(p["kind"], p["axis"], p["round"]) for p in d["data_problems"]] == [("label_swap", "Y", 1)]
 
 
+@pytest.mark.slow
 def test_the_diagnosis_names_the_slip_not_an_outlier_or_a_reseated_nest():
     _, lines = _campaign(6)
     bad = list(lines)
@@ -153,6 +154,7 @@ def test_a_round_without_its_reference_is_left_out_and_an_axis_with_nothing_left
         screen(parse_recording("\n".join(_far_reference(one, "B", 1)), "rec.csv"))
 
 
+@pytest.mark.slow
 def test_rates_on_campaigns_of_an_independent_generator():
     """benchmarks/gen2 (written from the design contract without mtcal's code): every gross error of an export
     found (or the recording refused naming its axis), no data problem on a campaign without one.  The full rates

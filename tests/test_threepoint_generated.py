@@ -40,6 +40,7 @@ def derived():
     return derive_threepoint()
 
 
+@pytest.mark.slow
 def test_generated_numpy_equals_sympy_expressions(derived):
     """Every generated function against SymPy's lambdify of the derivation's expressions (separate printer)."""
     for f in derived.functions:

@@ -107,6 +107,7 @@ def _diagnose_json(capsys, rec, *extra) -> dict:
     return json.loads(capsys.readouterr().out)
 
 
+@pytest.mark.slow
 def test_diagnose_reports_the_named_law_and_the_data_law_under_the_at960_prior(at500_campaign, capsys):
     """With `--tracker-model at500` the AT500's law weights the readings as it is (its shape agrees with the rounds);
     under the default AT960 prior the shape check rescues the campaign (no finding either way) and reports the data's
@@ -130,6 +131,7 @@ def test_diagnose_reports_the_named_law_and_the_data_law_under_the_at960_prior(a
     assert (law["transverse_um"] + law["transverse_um_per_m"] * L) == pytest.approx(15 + 6 * L, rel=0.10)
 
 
+@pytest.mark.slow
 def test_identify_finds_the_station_under_the_named_law_only(at500_campaign):
     """From the readings alone (identify's default) under the AT960 prior: the station and the shape are estimated
     together (tracker_position.refine), so the AT500's scatter, 9-12 times the AT960's radial : transverse ratio
@@ -158,6 +160,7 @@ def test_identify_finds_the_station_under_the_named_law_only(at500_campaign):
 
 
 # ----------------------------------------------------------------------------- a law the shape check keeps
+@pytest.mark.slow
 def test_a_tracker_three_times_noisier_along_the_beam_is_seen_and_can_be_given():
     """A tracker 3 times as noisy along the beam as the AT960 (1.2 um + 0.9 um/m; across as the AT960): its
     radial : transverse ratio, 3 times the AT960's, was inside the shape check's [0.6, 4], so the AT960's law was
@@ -179,6 +182,7 @@ def test_a_tracker_three_times_noisier_along_the_beam_is_seen_and_can_be_given()
     assert not [e.name for e in given.effects if e.significant]
 
 
+@pytest.mark.slow
 def test_an_estimated_station_takes_the_data_law_when_it_also_fits_better():
     """The same 3 times noisier beam with no tracker position: the shape about an estimated position used only the
     wide band [0.6, 4] (an estimate's error raises both ratios alike), so the AT960's law was kept (gen2: 5 false
@@ -194,6 +198,7 @@ def test_an_estimated_station_takes_the_data_law_when_it_also_fits_better():
     assert not [e.name for e in d.effects if e.significant]
 
 
+@pytest.mark.slow
 def test_an_estimated_station_takes_a_shape_a_quarter_off_when_the_likelihood_prefers_it():
     """A tracker 1.3 times the AT960's radial : transverse ratio (0.52 um + 0.39 um/m along the beam): with the
     station and the shape estimated together the likelihood prefers the data's shape by far, and the rounds'
@@ -209,6 +214,7 @@ def test_an_estimated_station_takes_a_shape_a_quarter_off_when_the_likelihood_pr
     assert not [e.name for e in d.effects if e.significant] and not d.unexplained
 
 
+@pytest.mark.slow
 def test_a_tracker_more_anisotropic_than_the_base_is_seen_without_the_round_means():
     """gen2 (benchmarks/gen2, seed 19, campaign 29): a clean campaign of a 1 : 75 tracker (0.11 um + 0.045 um/m
     along the beam, 9.1 um + 2.7 um/m across; 0.37 times the AT960's ratio).  The ratio is 0.35 from the scatter,

@@ -52,6 +52,7 @@ def test_monte_carlo_agrees_with_linear_propagation_where_the_estimator_is_linea
     assert all(0.75 < q < 1.3 for q in ratios), ratios
 
 
+@pytest.mark.slow
 def test_identical_with_one_and_two_workers_and_the_store_extends(rec_x, tmp_path):
     one = monte_carlo(rec_x, trials=8, seed=3, workers=1, tracker=T)
     two = monte_carlo(rec_x, trials=8, seed=3, workers=2, tracker=T)
@@ -67,6 +68,7 @@ def test_identical_with_one_and_two_workers_and_the_store_extends(rec_x, tmp_pat
         monte_carlo(rec_x, trials=8, seed=4, workers=0, tracker=T, store=store)
 
 
+@pytest.mark.slow
 def test_systematic_terms_add_to_the_tool_tip(rec_x):
     """The tracker's scale and the reflectors' centring are inputs of their own: with them the tool tip's interval
     is wider than with the noise alone (the budget's lines)."""
@@ -128,6 +130,7 @@ def test_an_in_process_run_leaves_the_callers_logging_as_it_was(rec_x):
         log.setLevel(before)
 
 
+@pytest.mark.slow
 def test_intervals_cover_the_truth():
     """Coverage measured (issue 26; a small sample of benchmarks/uncertainty_mc.py coverage, which runs 240
     campaigns of all five axes from one and four stations): axis X of the demo's true machine, the Monte Carlo's

@@ -79,6 +79,7 @@ def _assert_equal_to_identify(ratios, agree):
     assert agree >= 0.99, agree
 
 
+@pytest.mark.slow
 def test_batched_trials_equal_identify_one_station(truth):
     """The demo's true machine from its one station (4 rounds), axes X and C: 6 trials both ways."""
     rec, _ = mtcal.simulate(truth, plan=DEMO_PLAN, rounds=None, seed=11)
@@ -100,6 +101,7 @@ def test_batched_trials_equal_identify_four_stations_and_the_demo(truth):
     _assert_equal_to_identify(*_compare(demo, 5, tracker=T)[:2])
 
 
+@pytest.mark.slow
 def test_batched_trials_equal_identify_on_another_machine():
     """The head-B machine (derive/machines/headbc.toml): the error model of tests/test_machines_e2e.py, 3 rounds,
     every axis, AT960 noise; 4 trials both ways."""
@@ -113,6 +115,7 @@ def test_batched_trials_equal_identify_on_another_machine():
     _assert_equal_to_identify(*_compare(rec, 4, tracker=plan.tracker, machine=m)[:2])
 
 
+@pytest.mark.slow
 def test_exact_keeps_the_full_path_and_the_batched_path_reports_itself(rec_x):
     """``exact`` runs identify in every trial; the batched path reports its check and the trials of each path; a
     run that cannot be batched (the three-point method) says why."""
@@ -127,6 +130,7 @@ def test_exact_keeps_the_full_path_and_the_batched_path_reports_itself(rec_x):
     assert not t.path["batched"] and "three-point" in t.path["why"]
 
 
+@pytest.mark.slow
 def test_a_self_check_that_disagrees_falls_back_and_says_so(rec_x, monkeypatch, caplog):
     """A batched path that does not reproduce identify on its check trials runs every trial by identify, with a
     warning: never intervals from an estimator that is not identify's."""
@@ -145,6 +149,7 @@ def test_workers_beyond_the_cores_are_capped_with_a_line(caplog):
     assert any(f"999 is more than this machine's {n} cores" in x.message for x in caplog.records)
 
 
+@pytest.mark.slow
 def test_ctrl_c_in_process_keeps_every_finished_trial(rec_x, tmp_path):
     """workers 0: Ctrl-C after the second block of 4 trials keeps those 8 in the store (before: none), and says
     so; a later run extends them."""
