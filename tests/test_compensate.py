@@ -318,6 +318,7 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base)
 """
 
 
+@pytest.mark.slow
 def test_memory_is_flat_on_a_long_program(tmp_path):
     """Peak resident memory of compensating 10^4 and 10^5 lines (fresh processes): streamed in chunks, the
     growth beyond the imports does not grow with the program (10^6 lines: benchmarks/bench_compensate.py)."""

@@ -62,6 +62,7 @@ CASES = [
 
 
 @pytest.mark.parametrize("name,params,axes,mode,value", CASES, ids=[f"{c[0]}-{c[2]}" for c in CASES])
+@pytest.mark.slow
 def test_concealed_effect_found_ranked_first_and_estimated(name, params, axes, mode, value):
     rec = campaign([("outlier" if name == "offset" else name, params)], list(axes))
     d = diagnose(rec, ErrorModel() if mode == "model" else None, tracker=T)

@@ -88,6 +88,7 @@ def test_the_simulated_knock_moves_one_nest_from_t0_on():
                                                                  & (side == "tool")).sum())
 
 
+@pytest.mark.slow
 def test_a_scale_growing_while_measured_is_located_not_named():
     """X's scale grows with a 3 K warm-up while X is measured (100 ppm/K, no temperature channel given): before, a
     279 um spindle drift, a settling tracker, a knock. Now one unexplained mismatch located by position x time,

@@ -88,6 +88,7 @@ def test_aliased_pitch_reported_as_possible_alias():
     assert "alias" in f["where"] and "alias" in f["note"]
 
 
+@pytest.mark.slow
 def test_warm_up_longer_than_the_record_is_a_ramp_without_extrapolation():
     tau, amp = 6 * 3600.0, 0.030
     plan = {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in "XY"}, "rounds": 3}

@@ -95,6 +95,7 @@ def test_one_linear_temperature_is_not_enough_on_the_other_channels(rows):
         assert rows[ch]["temp"].rms_out_um > 0.5 * rows[ch]["const"].rms_out_um
 
 
+@pytest.mark.slow
 def test_the_spindle_sensor_helps_the_spindle_channels(rows):
     """t5 chosen a priori (not on the data): 0.85x, 0.85x, 0.88x of the time-only RMS out of sample on ch3, ch4,
     ch5; 1.19x, 1.17x on ch1, ch2."""
