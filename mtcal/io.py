@@ -54,14 +54,6 @@ def _ledger(path: str | os.PathLike) -> Path:
     return written_state_dir() / "written" / key[:2] / key
 
 
-def _digest(path: str | os.PathLike) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
 def record_written(path: str | os.PathLike) -> None:
     """Note in the ledger that mtcal wrote ``path`` as it is now (a ledger that cannot be written is skipped:
     the file is then treated as not mtcal's on the next run, which only asks for ``--force``)."""
@@ -69,7 +61,7 @@ def record_written(path: str | os.PathLike) -> None:
     try:
         entry.parent.mkdir(parents=True, exist_ok=True)
         tmp = entry.with_name(f".{entry.name}.{secrets.token_hex(4)}")
-        tmp.write_text(f"{_digest(path)} {Path(path).resolve()}\n", encoding="utf-8")
+        tmp.write_text(f"{file_sha256(path)} {Path(path).resolve()}\n", encoding="utf-8")
         os.replace(tmp, entry)
     except OSError:
         pass
@@ -78,7 +70,7 @@ def record_written(path: str | os.PathLike) -> None:
 def written_by_mtcal(path: str | os.PathLike) -> bool:
     """Whether mtcal wrote ``path`` and nothing changed it since (its content has the hash the ledger noted)."""
     try:
-        return _ledger(path).read_text(encoding="utf-8").split(" ", 1)[0] == _digest(path)
+        return _ledger(path).read_text(encoding="utf-8").split(" ", 1)[0] == file_sha256(path)
     except OSError:
         return False
 
@@ -332,9 +324,8 @@ def _csv_fields(line: str, sep: str, path: str | os.PathLike, lno: int) -> list[
 
 
 def file_sha256(path: str | os.PathLike) -> str:
-    """sha256 of a file's bytes (what a result derived from the file records of it)."""
-    import hashlib
-
+    """sha256 of a file's bytes (what a result derived from the file records of it, and the ledger of what mtcal
+    wrote)."""
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for chunk in iter(lambda: fh.read(1 << 20), b""):
