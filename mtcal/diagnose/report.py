@@ -140,6 +140,8 @@ def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
     theta, cov = eng.estimate([w(c)])
     if c.extra.get("kind") == "growing":
         return _growing_located(prep, eng, c, s, theta, w)
+    if c.extra.get("kind") == "place":
+        return _place_located(prep, c, s, theta)
     sd = np.sqrt(np.maximum(np.diag(cov), 1e-300))
     pick = np.abs(theta) * (np.abs(theta) > 3 * sd)
     k = int(np.argmax(pick if pick.any() else np.abs(theta)))
@@ -172,6 +174,20 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
     return Located(c.axis, "position x time", errors[k], float(-s.logp_adj / math.log(10)),
                    min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(disp > 0)), s.score.F, 0.0,
                    float(disp.max()), note)
+
+
+def _place_located(prep: Prepared, c: fx.Candidate, s, theta: np.ndarray) -> Located:
+    """A selected free form of a named effect's place (mtcal.diagnose.places) as an unexplained mismatch: where
+    (the place, and the axis of the reading it moves most), its shape (``by``), the largest displacement it fits
+    at a reading (mm, machine frame) and when and where that is, with the place's words."""
+    disp = np.linalg.norm(np.einsum("nik,k->ni", c.G, theta), axis=1)
+    k = int(np.argmax(disp))
+    rec = prep.rec
+    at = (f"; largest {disp[k] * 1e3:.2f} um at axis {rec.axis[k]} round {int(rec.round[k])} point {rec.point[k]}"
+          f" at {rec.position[k]:g}" + (f", t = {rec.time_s[k]:.0f} s" if np.isfinite(rec.time_s[k]) else ""))
+    return Located(c.axis or str(rec.axis[k]), c.extra["by"], f"{c.extra['place']}: {c.label}",
+                   float(-s.logp_adj / math.log(10)), min(1.0, math.exp(s.logp_adj)), "mean",
+                   int(np.sum(disp > 0)), s.score.F, 0.0, float(disp[k]), c.extra["note"] + at)
 
 
 def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:

@@ -26,10 +26,10 @@ from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
+from mtcal.diagnose.places import REVERSALS, place_of
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
-REVERSALS = ("backlash", "reversal_angular", "reversal_straightness")
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
 ROUND_SPECIFIC = ("outlier", "offset")
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
@@ -198,10 +198,38 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             continue
         why = inadequate_because(prep, eng, v.candidate, w, level)
         if why is None:
-            return v
+            place = place_needed(prep, eng, v.candidate, w, level)
+            if place is None:
+                return v
+            free, sc, why = place
+            v.inadequate = why
+            inadequate.setdefault(v.candidate.family, v)
+            return Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
         v.inadequate = why
         inadequate.setdefault(v.candidate.family, v)
     return None
+
+
+def place_needed(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
+                 ) -> tuple[fx.Candidate, Score, str] | None:
+    """One finding per mismatch (mtcal.diagnose.places): when the free form of ``c``'s place is still needed
+    beside the named effects of that place (F tests at ``level``, Bonferroni over the free form and its sharper
+    members), the free form (an UNEXPLAINED candidate), its
+    score on the current fit and why ``c`` is not named; else None."""
+    place = place_of(prep, c, lambda axis: reversal_named(prep, axis))
+    if place is None:
+        return None
+    e = eng.copy()
+    e.add(np.hstack([w(x) for x in place.named]))
+    tests = (*place.sharper, place.candidate)
+    scores = [e.score(w(x)) for x in tests]
+    beside = min((sc for sc in scores if sc.separable), key=lambda sc: sc.logp, default=None)
+    if beside is None or beside.logp >= math.log(level / len(tests)):
+        return None
+    sc = eng.score(w(place.candidate))
+    if not sc.separable:
+        return None
+    return place.candidate, sc, place.why.format(F=f"{beside.F:.1f}", p=f"{math.exp(beside.logp):.2g}")
 
 
 def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: float) -> Score | None:

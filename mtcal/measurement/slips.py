@@ -56,7 +56,8 @@ def check_units_and_frame(rec: Recording, machine: Machine, max_deviation_mm: fl
             continue
         i, j = rows[k], refs[k]
         unit = machine.unit(axis)
-        raise InputError(f"{rec.where(i)}: point {rec.point[i]} at {axis} = {rec.position[i]:g} {unit} is "
+        raise InputError(f"{rec.where(i)}: axis {axis} round {int(rec.round[i])}: point {rec.point[i]} at {axis} = "
+                         f"{rec.position[i]:g} {unit} is "
                          f"{dev[k]:.3g} mm from where the commanded motion takes its reference reading (line "
                          f"{int(rec.line[j])}); geometric errors are far smaller: "
                          f"{_which_slip(rec, machine, axis, rows, refs, max_deviation_mm)}")

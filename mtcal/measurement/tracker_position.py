@@ -96,28 +96,50 @@ def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: 
     u = np.linalg.eigh(M)[1][:, -1]
     c = xyz.mean(axis=0)
     starts += [c + START_DISTANCE * u, c - START_DISTANCE * u]
-    starts = [s for s in starts if math.isfinite(nll(xyz, r, np.append(s, 0.0), spec))]
+    lik = Likelihood(xyz, r, spec)
+    starts = [s for s in starts if math.isfinite(lik(np.append(s, 0.0)))]
     return starts or [c + START_DISTANCE * e for e in np.vstack([np.eye(3), -np.eye(3)])]
+
+
+class Likelihood:
+    """The scatter's negative log-likelihood about a trial tracker (``nll``), with what does not depend on the trial
+    (the live rows, their squared scatter) computed once: the optimizers below call it thousands of times."""
+
+    def __init__(self, xyz: np.ndarray, r: np.ndarray, spec: TrackerSpec = AT960):
+        live = np.any(r != 0, axis=1)
+        self.xyz, self.spec, self.all_live = np.asarray(xyz, float), spec, bool(live.all())
+        self.X, self.R = self.xyz[live], r[live]
+        self.R2, self.m = np.sum(self.R**2, axis=1), int(live.sum())
+
+    def __call__(self, v: np.ndarray) -> float:
+        if not np.all(np.isfinite(v)):
+            return math.inf
+        t = v[:3]
+        lr, lt = (float(v[3]), float(v[4])) if len(v) == 5 else (float(v[3]),) * 2
+        d = self.X - t
+        dist = np.sqrt(np.add.reduce(d * d, axis=1))  # np.linalg.norm's own sum
+        near, far = (dist.min(), dist.max()) if self.all_live else self._extremes(t)
+        if near < 100.0 or far > MAX_DISTANCE:
+            return math.inf
+        s_r, s_t = self.spec.sigmas(dist)
+        along = np.einsum("ni,ni->n", self.R, d) / dist
+        across = np.maximum(self.R2 - along**2, 0.0)
+        q = along**2 / s_r**2 * math.exp(-lr) + across / s_t**2 * math.exp(-lt)
+        logdet = float(np.sum(np.log(s_r**2) + 2 * np.log(s_t**2))) + self.m * (lr + 2 * lt)
+        return 0.5 * ((NU + 3) * float(np.sum(np.log1p(q / NU))) + logdet + (lt / SCALE_PRIOR) ** 2)
+
+    def _extremes(self, t: np.ndarray) -> tuple[float, float]:
+        dist = np.linalg.norm(self.xyz - t, axis=1)  # every reading, those without scatter too
+        return float(dist.min()), float(dist.max())
 
 
 def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> float:
     """Negative log-likelihood (up to a constant) of the scatter about the tracker t = v[:3] (mm): Student-t (NU
     dof) with the scale matrix c_r * ``spec``'s radial part + c_t * its transverse part, (log c_r, log c_t) = v[3:5]
     (the data's shape), or c_r = c_t = exp(v[3]) for a 4-vector (``spec``'s shape); prior log c_t ~ N(0,
-    SCALE_PRIOR^2) (a tracker near its specification: with the convergence of the beams it fixes the distance)."""
-    t = v[:3]
-    lr, lt = (float(v[3]), float(v[4])) if len(v) == 5 else (float(v[3]),) * 2
-    d = xyz - t
-    dist = np.linalg.norm(d, axis=1)
-    if not np.all(np.isfinite(v)) or dist.min() < 100.0 or dist.max() > MAX_DISTANCE:
-        return math.inf
-    live = np.any(r != 0, axis=1)
-    s_r, s_t = spec.sigmas(dist[live])
-    along = np.einsum("ni,ni->n", r[live], d[live]) / dist[live]
-    across = np.maximum(np.sum(r[live] ** 2, axis=1) - along**2, 0.0)
-    q = along**2 / s_r**2 * math.exp(-lr) + across / s_t**2 * math.exp(-lt)
-    logdet = float(np.sum(np.log(s_r**2) + 2 * np.log(s_t**2))) + int(live.sum()) * (lr + 2 * lt)
-    return 0.5 * ((NU + 3) * float(np.sum(np.log1p(q / NU))) + logdet + (lt / SCALE_PRIOR) ** 2)
+    SCALE_PRIOR^2) (a tracker near its specification: with the convergence of the beams it fixes the distance).
+    Rows of zeros of ``r`` carry no scatter (cells of one reading); the distance bounds hold for every reading."""
+    return Likelihood(xyz, r, spec)(np.asarray(v, float))
 
 
 def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec = AT960, shape: bool = True
@@ -125,11 +147,11 @@ def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec 
     """Maximum likelihood from ``start`` (nll): (position mm, log scales (log c_r, log c_t), negative
     log-likelihood); ``shape``: the radial and transverse scales free (the data's shape; Nelder-Mead from three
     radial starts, the beams converge only under the right shape), else ``spec``'s shape times one scale."""
-    best = None
+    best, lik = None, Likelihood(xyz, r, spec)
     for lr0 in ((0.0, -LOG_SHAPE_START, LOG_SHAPE_START) if shape else (None,)):
         x0 = np.append(np.asarray(start, float), [0.0] if lr0 is None else [lr0, 0.0])
         simplex = x0 + np.vstack([np.zeros(len(x0)), np.diag([300.0, 300.0, 300.0] + [0.3] * (len(x0) - 3))])
-        res = optimize.minimize(lambda v: nll(xyz, r, v, spec), x0, method="Nelder-Mead",
+        res = optimize.minimize(lik, x0, method="Nelder-Mead",
                                 options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 4000})
         if best is None or res.fun < best.fun:
             best = res
@@ -153,8 +175,7 @@ def isotropic_nll(r: np.ndarray) -> float:
 def _covariance(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960) -> np.ndarray | None:
     h = np.asarray(HESSIAN_STEP)
 
-    def f(x):
-        return nll(xyz, r, x, spec)
+    f = Likelihood(xyz, r, spec)
 
     f0 = f(v)
     k = len(v)
@@ -481,7 +502,7 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
                      spec: TrackerSpec = AT960) -> dict:
     """How far the scatter ``r`` fixes the station's distance: the profile likelihood of the distance s from the
     readings' centre (nll, the data's shape free), at every s of STATION_GRID the direction and both scales
-    re-fitted (Nelder-Mead from the estimate's), plus the estimate itself.  The 95 % interval spans every s within
+    re-fitted (Nelder-Mead from the previous distance's optimum, the first from the estimate's), plus the estimate itself.  The 95 % interval spans every s within
     chi^2_1(0.95) / 2 of the best (to the grid's distances either side of them: the grid is coarser than a sharp
     profile); it is "not determined" when that set reaches the grid's ends, spans STATION_DETERMINED or more, or is
     not one piece (a flat or many-moded likelihood; no interval then): the station found is one of several the
@@ -498,14 +519,16 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
         u = u0 + v[0] * a + v[1] * b
         return c + s * u / np.linalg.norm(u)
 
-    prof, best = [], nll_best
+    prof, best, lik = [], nll_best, Likelihood(xyz, r, spec)
     x = np.array([0.0, 0.0, *logs])
     for s in STATION_GRID:
         with np.errstate(invalid="ignore"):  # a simplex of infinite values (too near the readings) is no fault
-            res = optimize.minimize(lambda v, s=s: nll(xyz, r, np.append(at(s, v[:2]), v[2:]), spec), x,
+            res = optimize.minimize(lambda v, s=s: lik(np.append(at(s, v[:2]), v[2:])), x,
                                     method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2, "maxiter": 300})
         prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
         best = min(best, float(res.fun))
+        if math.isfinite(res.fun):
+            x = res.x  # the next distance starts from this one's optimum (the profile is continuous)
     prof = [(s, v + 2.0 * (nll_best - best)) for s, v in prof] + [(s0, 2.0 * (nll_best - best))]
     prof.sort()
     ok = np.array([v <= stats.chi2.ppf(0.95, 1) for _, v in prof])

@@ -1,0 +1,212 @@
+"""The free form of a named effect's place: one finding per mismatch (issue 34 item 2, docs/design.md).
+
+A named effect says *what* moved *where* and *how*.  Its place -- an axis' reversal, one station's tracker, one
+nest, one side -- has a free form that spans the named effect and every other motion of the same kind there: a
+reversal free at every position, a rigid step (translation and rotation about the tracker) of the station, the
+same step or creep at every nest of the side, a drift of each nest of the side on its own.  The name enters only
+if the data do not still need that free form beside it (an F test at the diagnosis' level, nested: the free form
+spans the named effect).  When they do, the mismatch is outside the named effect; it is then reported once, as an
+``unexplained`` entry located at the place with its shape (the free form fitted: where, along what, how large),
+and the selection goes on beside it, so that what the name would have left behind is not named again by others
+(a warming table's nests moving apart, taken nest by nest, came out as a creep and three knocks).
+
+Every free form is built from the generated signatures (generated/signatures_numpy.py, derive/signatures.py): a
+reading's displacement (outlier_signature: I3 on the chosen readings), a nest's motion in its side's frame
+(nest_creep_signature: R dt), a turn about the tracker (tracker_settling_signature's ramp column, u x (point - T)
+dt, with dt a step).  Units: mm (translations, machine frame or the side's frame), rad (turns).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtcal.diagnose import effects as fx
+from mtcal.generated import signatures_numpy as S
+
+REVERSALS = ("backlash", "reversal_angular", "reversal_straightness")
+
+
+@dataclass
+class Place:
+    """The free form of a named candidate's place: ``candidate`` (an UNEXPLAINED candidate whose ``extra`` says
+    where: "place", "by", "note"), the ``named`` columns it must be tested beside (the candidate's own, and every
+    named effect of the same kind at that place), and ``why``: the words for a name the free form is needed
+    beside ({F} and {p} filled in by the caller).  ``sharper``: members of the free form with fewer columns
+    (the commonest shape of the mismatch), tested beside the named ones too (the level shared among all tests):
+    the whole free form spreads its evidence over every column."""
+
+    candidate: fx.Candidate
+    named: list[fx.Candidate]
+    why: str
+    sharper: tuple[fx.Candidate, ...] = ()
+
+
+def place_of(prep, c: fx.Candidate, named_reversals) -> Place | None:
+    """The free form of the place of the named candidate ``c`` (None: no free form beyond the checks of
+    mtcal.diagnose.selection.inadequate_because).  ``named_reversals``: axis -> the named reversal candidates of
+    that axis (mtcal.diagnose.candidates.reversal_named)."""
+    g = prep.geometry
+    if c.name in REVERSALS and c.axis is not None:
+        return _reversal_place(g, c.axis, named_reversals(c.axis))
+    if c.name == "offset" and c.extra.get("variant") == "tracker knock":
+        return _tracker_place(g, c)
+    if c.name == "tracker_settling":
+        return _settling_place(prep, c)
+    if c.name in ("nest_knock", "nest_creep"):
+        return _side_nests(g, c)
+    if c.name == "thermal_drift":
+        return _nest_drifts(g, c)
+    return None
+
+
+def _reversal_place(g, axis: str, named: list[fx.Candidate]) -> Place | None:
+    """Direction of approach x position: the reversal (reading(+) - reading(-), a 3-vector in the machine frame,
+    mm) free at every measured position of the axis.  It spans the constant reversals of the rigid carriage that
+    the named effects are (backlash, a lateral play) as they act at one reflector, and a lost motion that grows
+    or changes along the travel (a worn screw) that none of them is."""
+    on = (g.axis == axis) & (g.direction != 0)
+    positions = np.unique(g.position[on])
+    if len(positions) < 3:
+        return None
+    half = np.where(on, 0.5 * g.direction, 0.0)
+    G = np.concatenate([S.outlier_signature(np.where(g.position == q, half, 0.0)) for q in positions], axis=-1)
+    unit = g.machine.unit(axis)
+    free = fx.Candidate(fx.UNEXPLAINED, axis, "direction of approach x position (free-form reversal)", G,
+                        [f"r_{k}({q:g} {unit}) (mm)" for q in positions for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place reversal {axis}",
+                        extra={"kind": "place", "by": "direction x position", "positions": positions.tolist(),
+                               "unit": unit, "place": f"axis {axis}",
+                               "note": f"the readings of {axis} differ between the directions of approach by an "
+                                       "amount that changes along the travel, beyond every rigid reversal of the "
+                                       "axis (backlash, straightness and angular reversals): a lost motion "
+                                       "growing or changing with the position (a worn screw, a varying preload)"})
+    s = np.zeros(len(g.axis))
+    s[on] = (g.position[on] - positions[0]) / (positions[-1] - positions[0])
+    linear = fx.Candidate("reversal x position", axis, "", S.outlier_signature(half * s), [], family="check")
+    return Place(free, named, "the reversal of " + axis + " changes along the travel beyond the named reversals "
+                 "of the axis together (direction of approach x position beside them: F = {F}, p = {p}): a lost "
+                 "motion that varies with the position, not a constant one", (linear,))
+
+
+def _tracker_place(g, c: fx.Candidate) -> Place | None:
+    """A rigid step of the station's frame from t0: the knock's translation and a turn about the tracker (rad, a
+    rotation vector: the tracker re-levelled or turned on its stand)."""
+    station = c.extra.get("station")
+    rows, tracker, of = g.at(station)
+    if tracker is None:
+        return None
+    on = rows & np.isfinite(g.time_s) & (g.time_s >= c.extra["t0_s"])
+    step = on.astype(float)
+    turn = np.zeros((len(on), 3, 3))
+    turn[on] = np.stack([S.tracker_settling_signature(g.xyz[on], tracker, u, step[on], 1.0)[:, :, 0]
+                         for u in np.eye(3)], axis=-1)
+    free = fx.Candidate(fx.UNEXPLAINED, None, f"rigid step of the tracker{of}'s frame at t0 = "
+                        f"{c.extra['t0_s']:.6g} s", np.concatenate([c.G, turn], axis=-1),
+                        list(c.params) + ["w_x (rad)", "w_y (rad)", "w_z (rad)"],
+                        family=f"{fx.UNEXPLAINED} place tracker", extra={
+                            "kind": "place", "by": "time (station frame)", "place": f"the tracker{of}",
+                            "t0_s": c.extra["t0_s"], **({"station": station} if station else {}),
+                            "note": f"every reading of the tracker{of} from t0 = {c.extra['t0_s']:.6g} s on moves "
+                                    "by a step that also turns about the tracker: the tracker re-levelled or turned "
+                                    "on its stand (a knock alone translates)"})
+    return Place(free, [c], "the step at t0 also turns the readings about the tracker (a turn beside the knock's "
+                 "translation: F = {F}, p = {p}): the tracker re-levelled or turned, not knocked")
+
+
+def _side_nests(g, c: fx.Candidate) -> Place | None:
+    """The same motion (a step at t0 or a creep from t0, 3-vector in the side's frame, mm or mm/s) at every nest
+    of the named nest's side, each its own."""
+    side, label = c.extra["side"], c.extra["point"]
+    others = sorted(set(g.point[(g.side == side) & (g.point != label)].tolist()))
+    if not others:
+        return None
+    time_law = (np.isfinite(g.time_s) & (g.time_s >= c.extra["t0_s"])).astype(float) if c.name == "nest_knock" \
+        else np.where(np.isfinite(g.time_s), np.maximum(g.time_s - c.extra["t0_s"], 0.0), 0.0)
+    rot = g.rotation.reshape(-1, 9)
+    G = [S.nest_creep_signature(rot, np.where((g.point == p) & (g.side == side), time_law, 0.0)) for p in others]
+    what = "step" if c.name == "nest_knock" else "creep"
+    free = fx.Candidate(fx.UNEXPLAINED, None, f"every nest of the {side} side ({what} of each)",
+                        np.concatenate([c.G] + G, axis=-1), [f"{p} {k}" for p in [label] + others for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place side {side}",
+                        extra={"kind": "place", "by": f"nest x time ({side} side)", "place": f"the {side} side",
+                               "side": side, "t0_s": c.extra["t0_s"], "points": [label] + others,
+                               "note": f"the nests of the {side} side move with time, each its own way (a {what} "
+                                       f"of one nest does not explain it): the side warming or growing (its nests "
+                                       "moving apart) or distorting"})
+    return Place(free, [c], f"the other nests of the {side} side move too (the same {what} at each beside it: "
+                 "F = {F}, p = {p}): a motion or growth of the side, not of one nest")
+
+
+def _nest_drifts(g, c: fx.Candidate) -> Place | None:
+    """Each nest of the drifting side (or of every side, for the tracker) with its own drift of the same time law
+    (3-vector each, mm): the side's nests moving apart or differently, which a translation of the side is not."""
+    moved = np.any(c.G != 0, axis=(1, 2))
+    nests = sorted(set(zip(g.point[moved].tolist(), g.side[moved].tolist())))
+    if len(nests) < 2:
+        return None
+    G = np.concatenate([c.G * ((g.point == p) & (g.side == s))[:, None, None] for p, s in nests], axis=-1)
+    target = c.extra["target"]
+    free = fx.Candidate(fx.UNEXPLAINED, None, f"each nest of the {target}'s readings drifting on its own", G,
+                        [f"{p} ({s}) {k}" for p, s in nests for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place drift {target}",
+                        extra={"kind": "place", "by": "nest x time", "place": f"the {target}",
+                               "tau_s": c.extra["tau_s"], "t0_s": c.extra["t0_s"],
+                               "points": [p for p, _ in nests],
+                               "note": f"the nests read through the {target} move apart or differently with time: "
+                                       "not one translation of the side (a drift) but a growth or distortion (the "
+                                       "side warming unevenly)"})
+    return Place(free, [c], "the nests drift differently (each nest's own drift beside the common one: F = {F}, "
+                 "p = {p}): the side grows or distorts, it does not translate")
+
+
+def _settling_place(prep, c: fx.Candidate) -> Place | None:
+    """A turn of the station's frame about the tracker free in every block of readings (one axis' round: rad, a
+    rotation vector per block, relative to the first block in time): a tilt that jumps between blocks (the tracker
+    re-levelled between rounds) as well as one that settles smoothly, which the named settling is."""
+    g, rec = prep.geometry, prep.rec
+    station = c.extra.get("station")
+    rows, tracker, of = g.at(station)
+    if tracker is None:
+        return None
+    blocks = _blocks(rec, rows)
+    if len(blocks) < 3:
+        return None
+    cols = []
+    for sel in blocks[1:]:  # relative to the first block (a turn common to all is the station's alignment)
+        turn = np.zeros((len(sel), 3, 3))
+        turn[sel] = np.stack([S.tracker_settling_signature(g.xyz[sel], tracker, u, np.ones(int(sel.sum())), 1.0)
+                              [:, :, 0] for u in np.eye(3)], axis=-1)
+        cols.append(turn)
+    free = fx.Candidate(fx.UNEXPLAINED, None, f"turn of the tracker{of}'s frame in each block of readings",
+                        np.concatenate(cols, axis=-1),
+                        [f"w_{k}(block {b + 2}) (rad)" for b in range(len(cols)) for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place tracker turn", extra={
+                            "kind": "place", "by": "block of readings (station frame)", "place": f"the tracker{of}",
+                            **({"station": station} if station else {}),
+                            "note": f"the readings of the tracker{of} turn about it from one block of readings to "
+                                    "the next, not as a smooth settling: the tracker re-levelled or turned between "
+                                    "rounds (log the tracker's level and station changes)"})
+    return Place(free, [c], "the turn about the tracker jumps between blocks of readings beyond the settling "
+                 "(a turn per block beside it: F = {F}, p = {p}): re-levelled or turned, not settling")
+
+
+MAX_BLOCKS = 12  # blocks of a free turn: an axis' round each, or this many runs of readings in time where more
+
+
+def _blocks(rec, rows: np.ndarray) -> list[np.ndarray]:
+    """The blocks of readings of ``rows`` (bool (n,)) in time order: one per (axis, round), or MAX_BLOCKS runs of
+    equal count in time where there are more (a recording of a thousand poses)."""
+    keys = sorted(set(zip(rec.axis[rows].tolist(), rec.round[rows].tolist())))
+    first = {k: float(np.min(rec.time_s[rows & (rec.axis == k[0]) & (rec.round == k[1])])) for k in keys}
+    keys.sort(key=lambda k: (first[k], k))
+    if len(keys) <= MAX_BLOCKS:
+        return [rows & (rec.axis == a) & (rec.round == r) for a, r in keys]
+    idx = np.flatnonzero(rows)
+    idx = idx[np.argsort(rec.time_s[idx], kind="stable")]
+    out = []
+    for part in np.array_split(idx, MAX_BLOCKS):
+        sel = np.zeros(len(rows), bool)
+        sel[part] = True
+        out.append(sel)
+    return out
