@@ -276,3 +276,21 @@ def test_a_wave_of_two_cycles_over_the_travel_is_the_error_functions(seed):
     d = diagnose(rec, tracker=T).to_dict()
     assert [e["name"] for e in d["effects"] if e["significant"]] == []
     assert [u for u in d["unexplained"] if u["by"] == "position"] == []
+
+
+def test_readings_without_a_direction_are_not_said_to_be_one_directional():
+    """Out-and-back rounds written without the direction column: the reversal effects cannot be tested, and the
+    note says the direction is missing -- not "every target was approached from one direction" (what main said,
+    wrongly: the rounds were bidirectional)."""
+    from dataclasses import replace
+
+    import campaigns as C
+
+    from mtcal.diagnose.candidates import NO_DIRECTION
+
+    c = C.make(C.Design(rounds=3, axes=("X",), counts=(6,)), [("backlash", {"axis": "X", "amount": 0.006})], 0)
+    assert set(c.recording.direction.tolist()) == {1, -1}
+    rec = replace(c.recording, direction=np.zeros_like(c.recording.direction))
+    d = diagnose(rec, tracker=c.tracker)
+    notes = [f.to_dict() for f in d.effects if f.name == "backlash"]
+    assert notes and notes[0]["not_separable"] == NO_DIRECTION

@@ -16,6 +16,9 @@ from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import knock_scan, outlier_scan, where_of
 
 BIDIRECTIONAL = "every target was approached from one direction; measure bidirectionally (ISO 230-2)"
+NO_DIRECTION = ("the readings carry no approach direction (no `direction` column, or 0): a reversal shows only "
+                "between readings of known approach; write each reading's direction, +1 or -1 "
+                "(docs/guide/your-data.md, \"When `direction` is needed\")")
 NOT_SEPARABLE = {
     "scale": "a linear positioning error is part of the fitted error function E_JJ; compare with a reference model "
              "(`model`) or measure a length standard (a second tracker station does not separate it: a scale "
@@ -86,7 +89,8 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
             out += reversal_named(prep, a)
             out.append(fx.reversal_free(g, a))
         else:
-            notes += [{"name": nm, "axis": a, "not_separable": NOT_SEPARABLE[nm]}
+            why = NO_DIRECTION if dirs == {0} else None
+            notes += [{"name": nm, "axis": a, "not_separable": why or NOT_SEPARABLE[nm]}
                       for nm in ("backlash", "reversal_angular", "reversal_straightness")]
         grid, span = fx.pitch_grid(rec.position[on], g.linear(a), min(max_degree, ROTARY_HARMONICS))
         spare = _spare_shapes(prep, a, max_degree)
