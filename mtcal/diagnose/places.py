@@ -48,7 +48,7 @@ def place_of(prep, c: fx.Candidate, named_reversals) -> Place | None:
     that axis (mtcal.diagnose.candidates.reversal_named)."""
     g = prep.geometry
     if c.name in REVERSALS and c.axis is not None:
-        return _reversal_place(g, c.axis, named_reversals(c.axis))
+        return _reversal_place(g, c.axis, [c, *named_reversals(c.axis)])
     if c.name == "offset" and c.extra.get("variant") == "tracker knock":
         return _tracker_place(g, c)
     if c.name == "tracker_settling":
