@@ -11,7 +11,7 @@ from mtcal.diagnose.design import base_design, engine_for, family_degrees, raw_s
 from mtcal.diagnose.predictive import predictive_checks
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
-from mtcal.diagnose.scans import beyond_the_family, locate
+from mtcal.diagnose.scans import beyond_the_family, collapsed, locate
 from mtcal.diagnose.selection import (
     Columns,
     backward,
@@ -124,7 +124,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     base = base_design(prep, degrees)
     eng = engine_for(prep, base, wy)
     base_sigma, base_ratio, r_before = raw_sigma(prep, eng.r, eng.dof), eng.sigma, eng.r.copy()
-    located = locate(prep, null_eng.copy_base(), level)  # against the tests' null, as "unexplained" below
+    located = collapsed(locate(prep, null_eng.copy_base(), level))  # against the tests' null, as "unexplained" below
     after = with_steps(eng, steps, w)
 
     def cv(step, others):
@@ -144,6 +144,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     # reported with the base
     with_effects = with_steps(null_eng, steps, w)
     left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
+    left = collapsed(left)
     unexplained = [free_form_located(prep, eng, s, w) for s in free] + left
     base_info = _base_info(prep, degrees, test_degrees, null, int(after.copy_base().p), shapes)
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,

@@ -109,6 +109,35 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
     return out
 
 
+MAX_LEVELS = 3  # located levels of one factor on one axis beyond which they are one entry (collapsed)
+
+
+def collapsed(located: list[Located]) -> list[Located]:
+    """One entry per (axis, factor) where more than MAX_LEVELS levels of that factor are located: a recording whose
+    every pose (round) is displaced its own way holds one mismatch -- a motion from one level to the next that the
+    model does not hold -- not one per level (icelinker: 40 of 1000 robot poses).  The entry keeps the largest
+    shift (mm), the smallest adjusted p, the readings of every level, and lists the levels in ``where``."""
+    groups: dict[tuple[str, str], list[Located]] = {}
+    for u in located:
+        groups.setdefault((u.axis, u.by), []).append(u)
+    out = []
+    for (axis, by), us in groups.items():
+        if len(us) <= MAX_LEVELS:
+            out += us
+            continue
+        top = max(us, key=lambda u: u.score)
+        big = max(us, key=lambda u: u.shift_mm)
+        note = (f"{len(us)} levels of {by} of axis {axis} are displaced, each its own way (largest "
+                f"{big.shift_mm * 1e3:.1f} um at {by} {big.where}): the readings move from one {by} to the next "
+                "in a way the model does not hold (a motion shared by the reflectors, e.g. of the stand or the "
+                "structure they sit on)")
+        out.append(Located(axis, by, {"levels": [u.where for u in us]}, top.score,
+                           top.p_adjusted, top.kind, sum(u.readings for u in us), top.mean_shift_chi2_per_dof,
+                           top.spread_chi2_per_dof, big.shift_mm, note))
+    out.sort(key=lambda d: -d.score)
+    return out
+
+
 SHAPE_NOTE = ("the error functions tabulated at the measured positions explain it: a quasi-static shape beyond "
               "the family's degree, not a left-out effect")
 

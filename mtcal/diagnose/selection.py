@@ -204,7 +204,9 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             free, sc, why = place
             v.inadequate = why
             inadequate.setdefault(v.candidate.family, v)
-            return Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
+            if sc.logp + v.log_multiplicity < math.log(level):
+                return Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
+            continue
         v.inadequate = why
         inadequate.setdefault(v.candidate.family, v)
     return None
