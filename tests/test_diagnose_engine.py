@@ -32,3 +32,19 @@ def test_a_column_of_rounding_size_is_no_column():
     X = np.hstack([x, 1e-13 * rng.normal(size=(n, 1))])
     eng = Engine([(np.arange(n), X)], rng.normal(size=n))
     assert eng.p == 1
+
+
+def test_many_located_levels_of_one_factor_are_one_entry():
+    """scans.collapsed: five displaced rounds of X are one entry listing them, sized by the largest shift; two
+    located positions stay two entries (MAX_LEVELS = 3)."""
+    from mtcal.diagnose.scans import MAX_LEVELS, Located, collapsed
+
+    rounds = [Located("X", "round", k, 10.0 + k, 10.0 ** -(10 + k), "mean", 3, 5.0, 1.0, 0.001 * k)
+              for k in range(1, 6)]
+    positions = [Located("X", "position", q, 4.0, 1e-4, "mean", 6, 3.0, 1.0, 0.002) for q in (100.0, 200.0)]
+    out = collapsed(rounds + positions)
+    assert MAX_LEVELS == 3 and len(out) == 3
+    (one,) = [u for u in out if u.by == "round"]
+    assert one.where == {"levels": [1, 2, 3, 4, 5]} and one.shift_mm == 0.005 and one.readings == 15
+    assert one.p_adjusted == 1e-15 and "5 levels of round of axis X" in one.note
+    assert sorted(u.where for u in out if u.by == "position") == [100.0, 200.0]
