@@ -108,3 +108,16 @@ def test_a_station_placed_by_rounds_that_hold_a_shared_motion_is_not_determined(
     agree = estimate_shape(ri.to_recording(np.repeat(REF[None], 300, axis=0) + trk.sample(
         np.repeat(REF[None], 300, axis=0), np.zeros(3), np.random.default_rng(5), SPEC)), np.zeros(3), AT960)
     assert _trusted(interval, agree) is interval
+
+
+def test_a_station_about_which_the_distances_show_no_tracker_noise_is_not_determined():
+    """icelinker without --tracker (benchmarks/real_icelinker.py's data): the rounds put the station at (2418, 611,
+    -1586) mm, 1.08 m from the readings, "determined" 0.95-1.27 m; about it the mutual distances' transverse factor
+    was 3e-8, not determined (about the tracker's origin: 0.18, 0.17-0.18), and the rounds' radial factor 7.5 was
+    within 2x of the distances' 15, so the disagreement rule said nothing and the station stood.  The replica
+    about the same point: the transverse scale is not determined, and the station is said not to be, for that."""
+    from mtcal.diagnose.noise import _trusted
+    sh = estimate_shape(_replica(), np.array([2418.5, 611.2, -1586.2]), AT960, known=False)
+    assert not sh.rigid["transverse"]["determined"] and sh.rigid["transverse"]["factor"] < 1e-3
+    out = _trusted({"distance_mm": 1080.6, "interval_95_mm": [948.7, 1265.1], "determined": True}, sh)
+    assert not out["determined"] and "show no tracker's noise" in out["note"]

@@ -120,8 +120,23 @@ def _trusted(interval: dict, sh: ShapeEstimate) -> dict:
     tracker's noise: where the round scatter and the reflectors' mutual distances disagree about the law
     (ShapeEstimate.note), the rounds hold a motion shared by a side, whose shape places a station that is not the
     tracker's (icelinker: 1.08 m from the readings, determined to 0.95-1.27 m by the rounds alone, where the mutual
-    distances put it 2.8 m away): not determined, and said."""
-    if not sh.note or not interval["determined"]:
+    distances put it 2.8 m away): not determined, and said.  So too where the distances, read about that station,
+    do not determine the scatter across the beams (icelinker: a transverse factor of 3e-8 about the rounds' station
+    1.08 m away, 0.18 (0.17-0.18) about the tracker's own origin 2.8 m away): what is rigid shows no tracker's
+    noise about it."""
+    if not interval["determined"]:
+        return interval
+    across = (sh.rigid or {}).get("transverse") or {}
+    if sh.rigid and not across.get("determined"):
+        return {**interval, "determined": False,
+                "note": "the station is not determined by the data: about the station the scatter of the rounds "
+                        f"places (at {interval['distance_mm'] / 1e3:.3g} m from the readings) the reflectors' mutual "
+                        "distances show no tracker's noise (their scatter across the beams is not determined there, "
+                        f"factor {across.get('factor', float('nan')):.2g} of the law's), so the rounds' scatter "
+                        "holds a motion shared by a side (a drift, the machine's motion), not only the tracker's "
+                        "noise; the weights, and the findings that depend on them, are conditional on it: give the "
+                        "tracker's position (--tracker or the tracker_x,y,z columns)"}
+    if not sh.note:
         return interval
     return {**interval, "determined": False,
             "note": "the station is not determined by the data: the scatter of the rounds that places it (at "
