@@ -12,14 +12,13 @@ file's own unit.
 from __future__ import annotations
 
 import csv
-import hashlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from mtcal.errors import InputError
-from mtcal.io import dumps, read_json
+from mtcal.io import dumps, file_sha256, read_json
 
 KINDS = ("model", "uncertainty", "iso230-2", "check", "verify", "diagnose")
 Z95 = 1.959963984540054  # the normal 97.5 % quantile: k of an interval with infinite degrees of freedom
@@ -56,11 +55,6 @@ class Result:
     quantities: list[Quantity] = field(default_factory=list)
 
 
-def sha256_file(path: str | Path) -> str:
-    """Hex SHA-256 of a file's bytes."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
 def kind_of(doc: Any, source: str) -> str:
     """The kind of an mtcal result (module docstring) from its keys; anything else is an InputError."""
     if not isinstance(doc, dict):
@@ -90,7 +84,7 @@ def read_result(path: str | Path) -> Result:
     p = Path(path)
     doc = read_json(p, "result")
     kind = kind_of(doc, str(p))
-    res = Result(kind, str(p), doc, None, sha256_file(p))
+    res = Result(kind, str(p), doc, None, file_sha256(p))
     _READERS[kind](res, p)
     return res
 
@@ -110,7 +104,7 @@ def _recording(res: Result, name: Any, p: Path) -> None:
     rec = _find(name, p)
     if rec is None:
         return
-    res.recording_sha256 = sha256_file(rec)
+    res.recording_sha256 = file_sha256(rec)
     with rec.open(newline="", encoding="utf-8", errors="replace") as fh:
         rows = [r for r in csv.DictReader(line for line in fh if not line.lstrip().startswith("#"))]
     temps = [float(r["temperature_c"]) for r in rows if (r.get("temperature_c") or "").strip()]
