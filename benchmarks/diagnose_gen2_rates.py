@@ -116,8 +116,15 @@ for _name in OUTSIDE:
     MAPPING[_name] = Mapping((), "axis", "physics outside mtcal's list: right is an 'unexplained' entry on an axis "
                                          "where it shows, with nothing named beside it and nothing unexplained "
                                          "elsewhere")
+# the members of mtcal's grammar of effects (issue 34 item 1, derive/grammar.py) that name four of them: right too,
+# at their place (the side that expands, the axis whose lost motion grows or that repeats worse)
+GRAMMAR = {"table_warming": ("side_expansion",), "spindle_warming": ("side_expansion",),
+           "graded_backlash": ("backlash_travel",), "axis_scatter": ("axis_scatter",)}
+for _name, _names in GRAMMAR.items():
+    MAPPING[_name] = Mapping(_names, "side" if _name.endswith("_warming") else "axis",
+                             MAPPING[_name].why + f"; or the grammar's {_names[0]} at its place")
 MAPPING["tracker_relevel"] = Mapping(
-    ("offset (tracker knock)", "tracker_settling"), "station",
+    ("offset (tracker knock)", "tracker_settling", "tracker_relevel"), "station",
     "the tracker re-levelled under the same station name: a rigid step of that station's frame from t0 (gen2 "
     "calls it careless, judged as located); a tracker knock (of that station) is the translation part of it, so "
     "it or an 'unexplained' entry where it shows is right; a data problem at its round too", problem=True)
@@ -140,6 +147,7 @@ class Planted:
     round: int | None = None
     station: str | None = None
     points: tuple[str, ...] = ()
+    side: str | None = None
 
 
 def _shows_after(rec: Recording, t0: float, on) -> tuple[str, ...]:
@@ -165,7 +173,8 @@ def planted_v3(e: dict, rec: Recording, stations: int) -> Planted:
               else np.ones(len(rec), bool))
         shows = _shows_after(rec, float(d.get("t0_s", -np.inf)), on)
     station = w.get("station") if stations > 1 and isinstance(w.get("station"), str) else None
-    return Planted(name, w.get("axis") or e["axis"], shows or (e["axis"],), round=w.get("round"), station=station)
+    return Planted(name, w.get("axis") or e["axis"], shows or (e["axis"],), round=w.get("round"), station=station,
+                   side=w["place"] if w["place"] in ("table", "tool") else None)
 
 
 def planted_effect(e: dict, rec: Recording, stations: int) -> Planted:
@@ -239,6 +248,8 @@ def _at(p: Planted, f: dict) -> bool:
         return _same(_field(f, "point"), p.point)
     if match == "station":
         return _same(_field(f, "station"), p.station)
+    if match == "side":
+        return _same(f.get("side"), p.side)
     return True
 
 
@@ -267,8 +278,16 @@ def _problem_explained(p: Planted, dp: dict) -> bool:
     return MAPPING[p.cls].problem and dp.get("axis") == p.axis and dp.get("round") == p.round
 
 
+def _scatter_found(answer: dict) -> list[dict]:
+    """The axes the noise model found repeating worse than the others (mtcal.diagnose.scatter; noise_model
+    .axis_scatter.found), as findings {"name": "axis_scatter", "axis"}."""
+    found = ((answer.get("noise_model") or {}).get("axis_scatter") or {}).get("found") or []
+    return [{"name": "axis_scatter", "axis": f if isinstance(f, str) else f.get("axis"), "significant": True}
+            for f in (found if isinstance(found, list) else [found])]
+
+
 def _status(p: Planted, answer: dict) -> str:
-    sig = [f for f in answer["effects"] if f.get("significant")]
+    sig = [f for f in answer["effects"] if f.get("significant")] + _scatter_found(answer)
     m = MAPPING[p.cls]
     if (any(_accepted(p, f) for f in sig)
             or (m.unexplained and any(u.get("axis") in p.axes for u in answer.get("unexplained", [])))
@@ -283,7 +302,7 @@ def _describe(f: dict) -> str:
 
 
 def _clean_claims(answer: dict) -> list[str]:
-    return ([_describe(f) for f in answer["effects"] if f.get("significant")] +
+    return ([_describe(f) for f in answer["effects"] + _scatter_found(answer) if f.get("significant")] +
             [f"unexplained {u['axis']} by {u['by']} {u['where']}" for u in answer.get("unexplained", [])] +
             [f"data problem: {dp.get('text', dp.get('kind'))}" for dp in answer.get("data_problems", [])])
 
@@ -322,7 +341,7 @@ def judge(answer: dict, planted: list[Planted]) -> Verdict:
         claims = _clean_claims(answer)
         return Verdict("wrong" if claims else "right", {}, claims)
     status = {p.cls: _status(p, answer) for p in planted}
-    wrong = [_describe(f) for f in answer["effects"]
+    wrong = [_describe(f) for f in answer["effects"] + _scatter_found(answer)
              if f.get("significant") and not any(_accepted(p, f) for p in planted)]
     wrong += [f"data problem: {dp.get('text', dp.get('kind'))}" for dp in answer.get("data_problems", [])
               if not any(_problem_explained(p, dp) for p in planted)]

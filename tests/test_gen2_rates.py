@@ -168,7 +168,7 @@ def test_the_name_table_covers_every_gen2_class():
     lists = re.search(r"^PHYSICS = \[(.*?)\]\s*^GROSS = \[(.*?)\]", text, re.S | re.M)
     classes = set(re.findall(r'"(\w+)"', lists.group(1) + lists.group(2)))
     assert classes <= set(R.MAPPING) and set(R.MAPPING) - classes <= set(R.OUTSIDE + R.SLIPS + R.LOCATED)
-    assert all(m.why and m.match in ("axis", "reading", "point", "station", "any") for m in R.MAPPING.values())
+    assert all(m.why and m.match in ("axis", "reading", "point", "station", "side", "any") for m in R.MAPPING.values())
 
 
 # ------------------------------------------------------------------------------------------ end to end
