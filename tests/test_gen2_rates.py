@@ -147,6 +147,22 @@ def test_physics_outside_the_list_is_right_as_one_located_entry_with_nothing_bes
     assert judge(answer(sig("backlash", "Y")), [relevel]).verdict == "wrong"
 
 
+def test_the_grammar_names_four_outside_classes_at_their_place():
+    """Issue 34 item 1: a warmed side named side_expansion of that side, a graded lost motion backlash_travel of its
+    axis, an axis repeating worse axis_scatter of that axis (noise_model.axis_scatter.found) are right; the other
+    side, axis or a scatter found elsewhere are wrong."""
+    warm = Planted("table_warming", "B", ("B", "C"), side="table")
+    assert judge(answer(sig("side_expansion", None, side="table")), [warm]).verdict == "right"
+    assert judge(answer(sig("side_expansion", None, side="tool")), [warm]).verdict == "wrong"
+    graded = Planted("graded_backlash", "X", ("X",))
+    assert judge(answer(sig("backlash_travel", "X")), [graded]).verdict == "right"
+    assert judge(answer(sig("backlash", "X")), [graded]).verdict == "wrong"
+    worse = Planted("axis_scatter", "Y", ("Y",))
+    assert judge({**answer(), "noise_model": {"axis_scatter": {"found": ["Y"]}}}, [worse]).verdict == "right"
+    v = judge({**answer(), "noise_model": {"axis_scatter": {"found": ["Z"]}}}, [worse])
+    assert v.verdict == "wrong" and v.wrong == ["axis_scatter Z"]
+
+
 def test_a_careless_slip_is_right_only_as_a_data_problem_or_a_refusal_never_as_physics():
     rad = Planted("rotary_radians", "B", ("B",), round=4)
     dp = {"kind": "pass_far", "axis": "B", "round": 4, "text": "axis B round 4: far from the other rounds"}
