@@ -134,7 +134,7 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
         return gain, (f"{how}: {why[0]}" if why else how if held else f"no held-out gain: {how}")
 
     free = [s for s in steps if s.candidate.name == fx.UNEXPLAINED]
-    effects = selected_findings(prep, eng, [s for s in steps if s not in free], w, cv, null)
+    effects = selected_findings(prep, eng, [s for s in steps if all(s is not f for f in free)], w, cv, null)
     predictive_checks(prep, eng.copy_base(), effects, after.r, after.sigma, level)
     effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
     effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)

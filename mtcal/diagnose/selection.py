@@ -91,7 +91,7 @@ class Columns:
         return c.extra["_w"]
 
 
-@dataclass
+@dataclass(eq=False)  # a step is itself: its candidate's arrays have no truth value to compare
 class Step:
     """A selected effect: its candidate, F test at entry, Bonferroni-adjusted log p, family size, confounds."""
 
@@ -156,7 +156,7 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
         sig = [v for v in last.values() if v.logp_adj < math.log(level)]
         if not sig:
             break
-        best = _strongest_adequate(prep, eng, sig, w, level, inadequate)
+        best = _strongest_adequate(prep, eng, sig, w, level, inadequate, {x.candidate.family for x in selected})
         if best is None:
             break
         c = best.candidate
@@ -175,9 +175,11 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
 
 
 def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns, level: float,
-                        inadequate: dict[str, Step]) -> Step | None:
+                        inadequate: dict[str, Step], taken: set[str] = frozenset()) -> Step | None:
     """The significant candidate with the strongest evidence (raw p) whose own model explains the pattern it
     fits (``inadequate_because``); the others are recorded in ``inadequate`` (by family, first reason kept).
+    A candidate whose place's free form is still needed beside it gives way to that free form (place_needed),
+    once: where it was selected already (``taken``: the families selected), the mismatch has its entry.
     A free-form candidate is taken only when the named effects it spans cannot explain what it fits.  Exact ties
     (a knock just after a reflector's first sequence is that nest's offset) go to the smaller family (the
     adjusted p breaks them)."""
@@ -204,7 +206,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             free, sc, why = place
             v.inadequate = why
             inadequate.setdefault(v.candidate.family, v)
-            if sc.logp + v.log_multiplicity < math.log(level):
+            if free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
                 return Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
             continue
         v.inadequate = why
