@@ -184,6 +184,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
     (a knock just after a reflector's first sequence is that nest's offset) go to the smaller family (the
     adjusted p breaks them)."""
     todo = sorted(sig, key=lambda v: v.score.logp)
+    fallback: Step | None = None  # a place's free form, taken unless a name within that place is adequate
     while todo:
         top = todo[0].score.logp
         tol = 1e-9 * max(1.0, abs(top)) if math.isfinite(top) else 0.0
@@ -192,6 +193,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         slack = 1e-9 * max(1.0, abs(best)) if math.isfinite(best) else 0.0
         v = next(o for o in sig if any(o is x for x in near) and o.logp_adj <= best + slack)
         todo.remove(v)
+        if fallback is not None and not _within(eng, fallback.candidate, v, w):
+            return fallback  # the stronger mismatch first; this one is scored again at the next step
         if v.candidate.name == fx.UNEXPLAINED:
             if v.candidate.extra.get("kind") == "growing":
                 return v  # no named effect changes an error motion's shape with time (without a temperature)
@@ -204,14 +207,23 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             if place is None:
                 return v
             free, sc, why = place
-            v.inadequate = why
-            inadequate.setdefault(v.candidate.family, v)
-            if free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
-                return Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
-            continue
+            if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
+                fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
         v.inadequate = why
         inadequate.setdefault(v.candidate.family, v)
-    return None
+    return fallback
+
+
+WITHIN = 0.1  # a candidate whose fit the free form of a place leaves less than this share of is within that place
+
+
+def _within(eng: Engine, free: fx.Candidate, v: Step, w: Columns) -> bool:
+    """Whether the candidate of ``v`` describes the mismatch at ``free``'s place: beside the free form it fits
+    less than WITHIN of what it fits alone (a tracker re-levelled, named beside the rigid step a knock left)."""
+    e = eng.copy()
+    e.add(w(free))
+    sc = e.score(w(v.candidate))
+    return not sc.separable or sc.delta < WITHIN * v.score.delta
 
 
 def place_needed(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
