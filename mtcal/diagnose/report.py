@@ -233,15 +233,23 @@ def _um(v: float, unit: str) -> str:
 
 
 def _side_expansion_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
-    """side_expansion: the growth of the side's layout (ppm per hour for a ramp, ppm for a lag's final value)."""
-    v, u, ci = _linear(np.ones(1), theta, cov)
-    side, ramp_law = c.extra["side"], c.extra["law"] == "ramp"
+    """side_expansion: the growth of the side's layout (ppm per hour for a ramp, ppm for a lag's final value; a lag
+    whose time constant exceeds the record: its mean rate over the record, ppm per hour, no final value)."""
+    side, ramp_law, x = c.extra["side"], c.extra["law"] == "ramp", c.extra
+    record = x["t_end_s"] - x["t0_s"]
+    slow = not ramp_law and x["tau_s"] > record > 0  # a lag beyond the record: its mean rate over the record
+    scale = (1.0 - math.exp(-record / x["tau_s"])) / (record / 3600.0) if slow else 1.0
+    v, u, ci = _linear(np.array([scale]), theta, cov)
+    ramp_law = ramp_law or slow
     how = "move apart" if v >= 0 else "move together"
     warm = f"a {'warming' if v >= 0 else 'cooling'} {'table' if side == 'table' else 'spindle side'}"
     rate = (f"{abs(v):.2g} ppm per hour (95 %: {ci[0]:.2g} to {ci[1]:.2g})" if ramp_law else
             f"by {abs(v):.2g} ppm with a time constant of {c.extra['tau_s']:.0f} s (95 %: {ci[0]:.2g} to "
             f"{ci[1]:.2g} ppm)")
     return {"estimate": v, "uncertainty": u, "unit": "ppm/h" if ramp_law else "ppm", "interval_95": ci,
+            **({"law": "ramp over the record", "record_s": record,
+                "note": f"time constant beyond the record ({x['tau_s']:.0f} s > {record:.0f} s): the mean rate "
+                        "over the record is reported, no final value"} if slow else {}),
             "says": f"the {side}-side reflectors {how} {rate} about their centroid: {warm}"}
 
 
