@@ -129,6 +129,8 @@ MEMBERS: dict[str, Member] = {
                              "ramp_h; lag", "ramp: ppm per hour; lag: ppm (final), tau s"),
     "backlash_travel": Member("one axis", "error (positioning)", "direction; position_direction",
                               "b mm (rad) at position 0, g mm per mm (rad per deg)"),
+    "axis_scatter": Member("one axis", "scatter (along its motion)", "each reading (random: a variance component)",
+                           "sd mm (rad rotary)"),
     "tracker_relevel": Member("tracker", "rotation about the tracker (horizontal axes x, y)",
                               "step (at a round's first reading)", "w_x, w_y rad"),
 }

@@ -197,3 +197,41 @@ def test_cli_round_trip_of_the_new_members(tmp_path, capsys):
     assert [e["name"] for e in summary["effects"]] == list(NEW)
     truth = json.loads((tmp_path / "rec.truth.json").read_text())
     assert truth["effects"][2]["about"] == [0.0, 1.0, 0.0] and truth["effects"][2]["t0_s"] > 0
+
+
+# ----------------------------------------------------------------------------- one axis repeating worse
+def _scatter(rec, told: bool):
+    d = diagnose(rec, tracker=Plan().tracker if told else None)
+    return d, d.to_dict()["noise_model"]["axis_scatter"]
+
+
+@pytest.mark.parametrize("told", [True, False], ids=["tracker told", "tracker not told"])
+@pytest.mark.slow
+def test_one_axis_repeating_worse_is_found_and_its_readings_reweighted(told):
+    """3 um of extra positioning scatter on Y (the default five-axis campaign, 3 rounds): found on Y by the F test
+    of the round-to-round scatter along each axis' motion, sized with an interval covering 3 um, said in words --
+    and nothing named: without the re-weighting the same campaign gave 3-7 outliers of Y and ~140 located
+    'unexplained' entries (seeds 1-3, measured on this branch with the re-weighting switched off)."""
+    rec, _ = mtcal.simulate(seed=2, rounds=3, effects=["axis_scatter:axis=Y,sd=0.003,seed=2"])
+    d, sc = _scatter(rec, told)
+    f = sc["found"]
+    assert f["axis"] == "Y" and f["interval_95_mm"][0] < 0.003 < f["interval_95_mm"][1], f
+    assert f["says"].startswith("Y repeats worse than X, Z, B and C: ") and "extra scatter along Y" in f["says"]
+    assert f["p_adjusted"] < 1e-6 and f["readings_reweighted"] == int(np.sum(rec.axis == "Y"))
+    assert not [e.name for e in d.effects if e.significant] and not d.unexplained
+    assert "re-weighted" in d.noise.how
+
+
+def test_the_scatter_test_does_not_fire_on_systematic_effects():
+    """The test reads the round-to-round scatter less the cell and round means: a large backlash, a knocked tracker
+    and a drift (every one systematic) leave it at the law's scatter; the statistic is an F of the axes' scatter
+    along their motion, each axis tested against the others (p > the level on all)."""
+    from mtcal.diagnose.scatter import axis_scatter
+    m = mtcal.load_machine("dmu50")
+    plan = {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in "XYC"}, "rounds": 3}
+    rec, _ = mtcal.simulate(seed=5, plan=plan, effects=["backlash:axis=Y,amount=0.02", "offset:size=0.05",
+                                                        "thermal_drift:amplitude=0.03,direction=+Y"])
+    prep = prepare(rec, m, tracker=Plan().tracker)
+    sc = axis_scatter(prep).details["axis_scatter"]
+    assert sc["found"] is None and {t["axis"] for t in sc["tested"]} == {"X", "Y", "C"}
+    assert all(t["p_adjusted"] > 0.005 for t in sc["tested"]), sc["tested"]

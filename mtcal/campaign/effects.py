@@ -7,7 +7,7 @@ axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (docs/design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
 outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
-thermal_temperature; issue 24: nest_knock; issue 34: side_expansion, backlash_travel, tracker_relevel.
+thermal_temperature; issue 24: nest_knock; issue 34: side_expansion, backlash_travel, tracker_relevel, axis_scatter.
 Parameters are checked (finite, in a physical range) and a bad one is an InputError.
 API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
@@ -63,6 +63,8 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  (law "lag").
 * backlash_travel  a reversal growing along the travel (a worn screw): positioning error + d (amount + slope q) / 2,
                  amount the reversal at q = 0 (mm, rad rotary) and slope its change per mm (rad per deg).
+* axis_scatter   one axis repeating worse than the others: its positioning error gets an independent random
+                 N(0, sd^2) at every reading of it (mm, rad rotary; ``seed``): scatter along its motion.
 * tracker_relevel  the tracker re-levelled between two rounds: every reading from the first of ``round`` of
                  ``axis`` on turns by angle_rad about the horizontal axis ``about`` through the tracker (exact).
 
@@ -255,6 +257,10 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                         "angle_rad": (20e-6, _in(-1e-2, 1e-2, "rad"), "rad, rotation of the re-levelling"),
                         "about": ("+X", _dir, "horizontal axis through the tracker (machine frame): X, Y, -X, -Y "
                                               "or a;b;0")},
+    "axis_scatter": {"axis": (None, _axis, "axis; default the machine's first"),
+                     "sd": (0.003, _in(0.0, 1.0, "mm or rad"), "mm (rad rotary): extra random scatter of the axis' "
+                                                               "positioning, one standard deviation"),
+                     "seed": (1, _int, "seed of the scatter's random numbers")},
     "tracker_scale": {"ppm": (math.nan, _float, "scale of distances, 1e-6; default from dt_c, dp_hpa, drh_pct"),
                       "dt_c": (2.0, _float, "air temperature minus the tracker's assumed, degC"),
                       "dp_hpa": (0.0, _float, "air pressure minus assumed, hPa"),
@@ -407,6 +413,9 @@ class Effect:
         elif n == "thermal_temperature":
             errors[:, idx[self.error]] += S.thermal_temperature_model(q_of(p["axis"]), self.delta_t(rows),
                                                                       [p["ppm_per_k"]])[:, 0]
+        elif n == "axis_scatter":  # a variance component: the positioning repeats worse by sd at every reading
+            on = rows.axis == p["axis"]
+            errors[on, idx[self.error]] += np.random.default_rng(p["seed"]).normal(0.0, p["sd"], int(on.sum()))
         elif n == "backlash_travel":  # the grammar's direction x position (derive/grammar.py)
             on = rows.axis == p["axis"]
             d, q = rows.direction[on].astype(float), q_of(p["axis"])[on]
@@ -588,6 +597,8 @@ class Effect:
                            delta_t_range_k=[float(dT.min()), float(dT.max())])
         elif n == "side_expansion":
             out.update(side=p["side"], law=p["law"], centroid_local_mm=[float(v) for v in self.centroid])
+        elif n == "axis_scatter":
+            out.update(axis=p["axis"], error=self.error)
         elif n == "backlash_travel":
             out.update(axis=p["axis"], error=self.error)
             if rows is not None:
