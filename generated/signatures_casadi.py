@@ -11,7 +11,7 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
 
 
 @functools.cache
@@ -718,3 +718,226 @@ def outlier_signature():
     _out[2, 1] = 0
     _out[2, 2] = on
     return ca.Function('signatures_outlier_signature', [on], [_out], ['on'], ['out'])
+
+
+@functools.cache
+def side_expansion_ramp_model():
+    """side_expansion (ramp): displacement 1e-6 e (dt / 3600 s) (local - centroid) of a reflector in its side's local frame, mm (e in ppm per hour)
+
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    offset = ca.SX.sym('offset', 3)
+    o_x = offset[0]
+    o_y = offset[1]
+    o_z = offset[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    params = ca.SX.sym('params', 1)
+    e = params[0]
+    _x0 = (1/3600000000)*dt*e
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*o_x
+    _out[1, 0] = _x0*o_y
+    _out[2, 0] = _x0*o_z
+    return ca.Function('signatures_side_expansion_ramp_model', [offset, dt, params], [_out], ['offset', 'dt', 'params'], ['out'])
+
+
+@functools.cache
+def side_expansion_ramp_signature():
+    """side_expansion (ramp): d reading / d e = 1e-6 (dt / 3600 s) R (local - centroid), mm per (ppm/h)
+
+    rotation (..., 9): the side's rotation local -> machine frame, row-major (9,)
+        [R_00, R_01, R_02, R_10, R_11, R_12, R_20, R_21, R_22]
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    returns (..., 3)
+    """
+    rotation = ca.SX.sym('rotation', 9)
+    R_00 = rotation[0]
+    R_01 = rotation[1]
+    R_02 = rotation[2]
+    R_10 = rotation[3]
+    R_11 = rotation[4]
+    R_12 = rotation[5]
+    R_20 = rotation[6]
+    R_21 = rotation[7]
+    R_22 = rotation[8]
+    offset = ca.SX.sym('offset', 3)
+    o_x = offset[0]
+    o_y = offset[1]
+    o_z = offset[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    _x0 = (1/3600000000)*dt
+    _x1 = _x0*o_x
+    _x2 = _x0*o_y
+    _x3 = _x0*o_z
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = R_00*_x1 + R_01*_x2 + R_02*_x3
+    _out[1, 0] = R_10*_x1 + R_11*_x2 + R_12*_x3
+    _out[2, 0] = R_20*_x1 + R_21*_x2 + R_22*_x3
+    return ca.Function('signatures_side_expansion_ramp_signature', [rotation, offset, dt], [_out], ['rotation', 'offset', 'dt'], ['out'])
+
+
+@functools.cache
+def side_expansion_lag_model():
+    """side_expansion (lag): displacement 1e-6 e (1 - exp(-dt / tau)) (local - centroid), mm (e in ppm)
+
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    offset = ca.SX.sym('offset', 3)
+    o_x = offset[0]
+    o_y = offset[1]
+    o_z = offset[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    params = ca.SX.sym('params', 1)
+    e = params[0]
+    _x0 = (1/1000000)*e*(1 - ca.exp(-dt/tau))
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*o_x
+    _out[1, 0] = _x0*o_y
+    _out[2, 0] = _x0*o_z
+    return ca.Function('signatures_side_expansion_lag_model', [offset, dt, tau, params], [_out], ['offset', 'dt', 'tau', 'params'], ['out'])
+
+
+@functools.cache
+def side_expansion_lag_signature():
+    """side_expansion (lag): d reading / d e = 1e-6 (1 - exp(-dt / tau)) R (local - centroid), mm per ppm
+
+    rotation (..., 9): the side's rotation local -> machine frame, row-major (9,)
+        [R_00, R_01, R_02, R_10, R_11, R_12, R_20, R_21, R_22]
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    rotation = ca.SX.sym('rotation', 9)
+    R_00 = rotation[0]
+    R_01 = rotation[1]
+    R_02 = rotation[2]
+    R_10 = rotation[3]
+    R_11 = rotation[4]
+    R_12 = rotation[5]
+    R_20 = rotation[6]
+    R_21 = rotation[7]
+    R_22 = rotation[8]
+    offset = ca.SX.sym('offset', 3)
+    o_x = offset[0]
+    o_y = offset[1]
+    o_z = offset[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _x0 = 1/1000000 - 1/1000000*ca.exp(-dt/tau)
+    _x1 = _x0*o_x
+    _x2 = _x0*o_y
+    _x3 = _x0*o_z
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = R_00*_x1 + R_01*_x2 + R_02*_x3
+    _out[1, 0] = R_10*_x1 + R_11*_x2 + R_12*_x3
+    _out[2, 0] = R_20*_x1 + R_21*_x2 + R_22*_x3
+    return ca.Function('signatures_side_expansion_lag_signature', [rotation, offset, dt, tau], [_out], ['rotation', 'offset', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def backlash_travel_model():
+    """backlash_travel: positioning error + d / 2 (b + g q): a reversal b + g q growing along the travel, mm (rad)
+
+    d (...): approach direction, +1 or -1
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    params (..., 2): parameters [b, g]
+        [b, g]
+    returns (..., 1)
+    """
+    d = ca.SX.sym('d', 1)
+    d = d[0]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    params = ca.SX.sym('params', 2)
+    b = params[0]
+    g = params[1]
+    _x0 = (1/2)*d
+    _out = ca.SX.zeros(1, 1)
+    _out[0, 0] = _x0*b + _x0*g*q
+    return ca.Function('signatures_backlash_travel_model', [d, q, params], [_out], ['d', 'q', 'params'], ['out'])
+
+
+@functools.cache
+def backlash_travel_signature():
+    """backlash_travel: d reading / d [b, g] = column d / 2 [1, q], mm per mm and mm per (mm/mm)
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    d (...): approach direction, +1 or -1
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    returns (..., 3, 2)
+    """
+    column = ca.SX.sym('column', 3)
+    c_x = column[0]
+    c_y = column[1]
+    c_z = column[2]
+    d = ca.SX.sym('d', 1)
+    d = d[0]
+    q = ca.SX.sym('q', 1)
+    q = q[0]
+    _x0 = (1/2)*d
+    _x1 = _x0*c_x
+    _x2 = _x0*c_y
+    _x3 = _x0*c_z
+    _out = ca.SX.zeros(3, 2)
+    _out[0, 0] = _x1
+    _out[0, 1] = _x1*q
+    _out[1, 0] = _x2
+    _out[1, 1] = _x2*q
+    _out[2, 0] = _x3
+    _out[2, 1] = _x3*q
+    return ca.Function('signatures_backlash_travel_signature', [column, d, q], [_out], ['column', 'd', 'q'], ['out'])
+
+
+@functools.cache
+def tracker_relevel_signature():
+    """tracker_relevel: d reading / d [w_x, w_y] = on [e_x, e_y] x (point - tracker), mm per rad (a rotation step about horizontal axes through the tracker, from a round's first reading on)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    on (...): 1 for the displaced readings, 0 otherwise
+    returns (..., 3, 2)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    on = ca.SX.sym('on', 1)
+    on = on[0]
+    _x0 = on*(-tz + z)
+    _out = ca.SX.zeros(3, 2)
+    _out[0, 0] = 0
+    _out[0, 1] = _x0
+    _out[1, 0] = -_x0
+    _out[1, 1] = 0
+    _out[2, 0] = on*(-ty + y)
+    _out[2, 1] = -on*(-tx + x)
+    return ca.Function('signatures_tracker_relevel_signature', [xyz, tracker, on], [_out], ['xyz', 'tracker', 'on'], ['out'])

@@ -11,7 +11,7 @@ import numpy
 
 from mtcal._gensupport import as_arg, out_array
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
 
 
 def backlash_model(d, params):
@@ -689,4 +689,220 @@ def outlier_signature(on):
     _out[..., 2, 0] = 0
     _out[..., 2, 1] = 0
     _out[..., 2, 2] = on
+    return _out
+
+
+def side_expansion_ramp_model(offset, dt, params):
+    """side_expansion (ramp): displacement 1e-6 e (dt / 3600 s) (local - centroid) of a reflector in its side's local frame, mm (e in ppm per hour)
+
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    offset = as_arg(offset, 3, 'offset', 'side_expansion_ramp_model')
+    dt = as_arg(dt, 0, 'dt', 'side_expansion_ramp_model')
+    params = as_arg(params, 1, 'params', 'side_expansion_ramp_model')
+    o_x = offset[..., 0]
+    o_y = offset[..., 1]
+    o_z = offset[..., 2]
+    dt = dt
+    e = params[..., 0]
+    _x0 = (1/3600000000)*dt*e
+    _out = out_array((offset.shape[:-1], dt.shape, params.shape[:-1],), (3,))
+    _out[..., 0] = _x0*o_x
+    _out[..., 1] = _x0*o_y
+    _out[..., 2] = _x0*o_z
+    return _out
+
+
+def side_expansion_ramp_signature(rotation, offset, dt):
+    """side_expansion (ramp): d reading / d e = 1e-6 (dt / 3600 s) R (local - centroid), mm per (ppm/h)
+
+    rotation (..., 9): the side's rotation local -> machine frame, row-major (9,)
+        [R_00, R_01, R_02, R_10, R_11, R_12, R_20, R_21, R_22]
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    returns (..., 3)
+    """
+    rotation = as_arg(rotation, 9, 'rotation', 'side_expansion_ramp_signature')
+    offset = as_arg(offset, 3, 'offset', 'side_expansion_ramp_signature')
+    dt = as_arg(dt, 0, 'dt', 'side_expansion_ramp_signature')
+    R_00 = rotation[..., 0]
+    R_01 = rotation[..., 1]
+    R_02 = rotation[..., 2]
+    R_10 = rotation[..., 3]
+    R_11 = rotation[..., 4]
+    R_12 = rotation[..., 5]
+    R_20 = rotation[..., 6]
+    R_21 = rotation[..., 7]
+    R_22 = rotation[..., 8]
+    o_x = offset[..., 0]
+    o_y = offset[..., 1]
+    o_z = offset[..., 2]
+    dt = dt
+    _x0 = (1/3600000000)*dt
+    _x1 = _x0*o_x
+    _x2 = _x0*o_y
+    _x3 = _x0*o_z
+    _out = out_array((rotation.shape[:-1], offset.shape[:-1], dt.shape,), (3,))
+    _out[..., 0] = R_00*_x1 + R_01*_x2 + R_02*_x3
+    _out[..., 1] = R_10*_x1 + R_11*_x2 + R_12*_x3
+    _out[..., 2] = R_20*_x1 + R_21*_x2 + R_22*_x3
+    return _out
+
+
+def side_expansion_lag_model(offset, dt, tau, params):
+    """side_expansion (lag): displacement 1e-6 e (1 - exp(-dt / tau)) (local - centroid), mm (e in ppm)
+
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    offset = as_arg(offset, 3, 'offset', 'side_expansion_lag_model')
+    dt = as_arg(dt, 0, 'dt', 'side_expansion_lag_model')
+    tau = as_arg(tau, 0, 'tau', 'side_expansion_lag_model')
+    params = as_arg(params, 1, 'params', 'side_expansion_lag_model')
+    o_x = offset[..., 0]
+    o_y = offset[..., 1]
+    o_z = offset[..., 2]
+    dt = dt
+    tau = tau
+    e = params[..., 0]
+    _x0 = (1/1000000)*e*(1 - numpy.exp(-dt/tau))
+    _out = out_array((offset.shape[:-1], dt.shape, tau.shape, params.shape[:-1],), (3,))
+    _out[..., 0] = _x0*o_x
+    _out[..., 1] = _x0*o_y
+    _out[..., 2] = _x0*o_z
+    return _out
+
+
+def side_expansion_lag_signature(rotation, offset, dt, tau):
+    """side_expansion (lag): d reading / d e = 1e-6 (1 - exp(-dt / tau)) R (local - centroid), mm per ppm
+
+    rotation (..., 9): the side's rotation local -> machine frame, row-major (9,)
+        [R_00, R_01, R_02, R_10, R_11, R_12, R_20, R_21, R_22]
+    offset (..., 3): reflector's local position less its side's layout centroid, mm, the side's local frame
+        [o_x, o_y, o_z]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    rotation = as_arg(rotation, 9, 'rotation', 'side_expansion_lag_signature')
+    offset = as_arg(offset, 3, 'offset', 'side_expansion_lag_signature')
+    dt = as_arg(dt, 0, 'dt', 'side_expansion_lag_signature')
+    tau = as_arg(tau, 0, 'tau', 'side_expansion_lag_signature')
+    R_00 = rotation[..., 0]
+    R_01 = rotation[..., 1]
+    R_02 = rotation[..., 2]
+    R_10 = rotation[..., 3]
+    R_11 = rotation[..., 4]
+    R_12 = rotation[..., 5]
+    R_20 = rotation[..., 6]
+    R_21 = rotation[..., 7]
+    R_22 = rotation[..., 8]
+    o_x = offset[..., 0]
+    o_y = offset[..., 1]
+    o_z = offset[..., 2]
+    dt = dt
+    tau = tau
+    _x0 = 1/1000000 - 1/1000000*numpy.exp(-dt/tau)
+    _x1 = _x0*o_x
+    _x2 = _x0*o_y
+    _x3 = _x0*o_z
+    _out = out_array((rotation.shape[:-1], offset.shape[:-1], dt.shape, tau.shape,), (3,))
+    _out[..., 0] = R_00*_x1 + R_01*_x2 + R_02*_x3
+    _out[..., 1] = R_10*_x1 + R_11*_x2 + R_12*_x3
+    _out[..., 2] = R_20*_x1 + R_21*_x2 + R_22*_x3
+    return _out
+
+
+def backlash_travel_model(d, q, params):
+    """backlash_travel: positioning error + d / 2 (b + g q): a reversal b + g q growing along the travel, mm (rad)
+
+    d (...): approach direction, +1 or -1
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    params (..., 2): parameters [b, g]
+        [b, g]
+    returns (..., 1)
+    """
+    d = as_arg(d, 0, 'd', 'backlash_travel_model')
+    q = as_arg(q, 0, 'q', 'backlash_travel_model')
+    params = as_arg(params, 2, 'params', 'backlash_travel_model')
+    d = d
+    q = q
+    b = params[..., 0]
+    g = params[..., 1]
+    _x0 = (1/2)*d
+    _out = out_array((d.shape, q.shape, params.shape[:-1],), (1,))
+    _out[..., 0] = _x0*b + _x0*g*q
+    return _out
+
+
+def backlash_travel_signature(column, d, q):
+    """backlash_travel: d reading / d [b, g] = column d / 2 [1, q], mm per mm and mm per (mm/mm)
+
+    column (..., 3): point Jacobian column of the affected error, mm per error unit (mm or rad)
+        [c_x, c_y, c_z]
+    d (...): approach direction, +1 or -1
+    q (...): axis position: mm (linear) or rad (rotary) for scale; mm or deg otherwise
+    returns (..., 3, 2)
+    """
+    column = as_arg(column, 3, 'column', 'backlash_travel_signature')
+    d = as_arg(d, 0, 'd', 'backlash_travel_signature')
+    q = as_arg(q, 0, 'q', 'backlash_travel_signature')
+    c_x = column[..., 0]
+    c_y = column[..., 1]
+    c_z = column[..., 2]
+    d = d
+    q = q
+    _x0 = (1/2)*d
+    _x1 = _x0*c_x
+    _x2 = _x0*c_y
+    _x3 = _x0*c_z
+    _out = out_array((column.shape[:-1], d.shape, q.shape,), (3, 2))
+    _out[..., 0, 0] = _x1
+    _out[..., 0, 1] = _x1*q
+    _out[..., 1, 0] = _x2
+    _out[..., 1, 1] = _x2*q
+    _out[..., 2, 0] = _x3
+    _out[..., 2, 1] = _x3*q
+    return _out
+
+
+def tracker_relevel_signature(xyz, tracker, on):
+    """tracker_relevel: d reading / d [w_x, w_y] = on [e_x, e_y] x (point - tracker), mm per rad (a rotation step about horizontal axes through the tracker, from a round's first reading on)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    on (...): 1 for the displaced readings, 0 otherwise
+    returns (..., 3, 2)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'tracker_relevel_signature')
+    tracker = as_arg(tracker, 3, 'tracker', 'tracker_relevel_signature')
+    on = as_arg(on, 0, 'on', 'tracker_relevel_signature')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    on = on
+    _x0 = on*(-tz + z)
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1], on.shape,), (3, 2))
+    _out[..., 0, 0] = 0
+    _out[..., 0, 1] = _x0
+    _out[..., 1, 0] = -_x0
+    _out[..., 1, 1] = 0
+    _out[..., 2, 0] = on*(-ty + y)
+    _out[..., 2, 1] = -on*(-tx + x)
     return _out

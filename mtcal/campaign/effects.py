@@ -7,8 +7,8 @@ axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (docs/design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
 outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
-thermal_temperature; issue 24: nest_knock.  Parameters are checked (finite, in a physical range) and a bad one is
-an InputError.
+thermal_temperature; issue 24: nest_knock; issue 34: side_expansion, backlash_travel, tracker_relevel, axis_scatter.
+Parameters are checked (finite, in a physical range) and a bad one is an InputError.
 API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
 
@@ -57,6 +57,16 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
 * outlier        a gross reading: one reading (mode "reading") or that reflector for the rest of the round
                  (mode "bump": a knocked magnet nest) displaced by ``size`` mm along ``direction``.
 * second_order   a quadratic term in an error function: error + coefficient * q^2 (per mm^2 or deg^2).
+* side_expansion (issue 34, a member of derive/grammar.py) the reflectors of ``side`` move apart about their
+                 layout's centroid (the side's local frame): local + 1e-6 h (local - centroid), h = ppm_per_h (t -
+                 t0_s) / 3600 (law "ramp": a warming table, ppm per hour) or ppm (1 - exp(-(t - t0_s) / tau_s))
+                 (law "lag").
+* backlash_travel  a reversal growing along the travel (a worn screw): positioning error + d (amount + slope q) / 2,
+                 amount the reversal at q = 0 (mm, rad rotary) and slope its change per mm (rad per deg).
+* axis_scatter   one axis repeating worse than the others: its positioning error gets an independent random
+                 N(0, sd^2) at every reading of it (mm, rad rotary; ``seed``): scatter along its motion.
+* tracker_relevel  the tracker re-levelled between two rounds: every reading from the first of ``round`` of
+                 ``axis`` on turns by angle_rad about the horizontal axis ``about`` through the tracker (exact).
 
 Axes and error names come from the machine (``Effect.bind``): an effect's default axis is the machine's first
 axis, its default error the positioning error of that axis (E_XX on an X axis, E_C<R> on a rotary axis), the
@@ -229,6 +239,28 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                             "target": ("spindle", _choice("spindle", "table"), "side that drifts"),
                             "t_ref_c": (math.nan, _in(-50.0, 100.0, "degC"),
                                         "degC, temperature of zero effect; default the first reading's")},
+    "side_expansion": {"side": ("table", _choice("tool", "table"), "side whose reflector layout grows"),
+                       "law": ("ramp", _choice("ramp", "lag"), "time law: ramp (ppm_per_h) or lag (ppm, tau_s)"),
+                       "ppm_per_h": (10.0, _in(-1000.0, 1000.0, "ppm per hour"), "ramp: growth, 1e-6 per hour"),
+                       "ppm": (20.0, _in(-1000.0, 1000.0, "ppm"), "lag: final growth, 1e-6"),
+                       "tau_s": (1800.0, _in(1.0, 1e7, "s"), "lag: time constant, s"),
+                       "t0_s": (0.0, _in(0.0, 1e7), "s, start of the growth")},
+    "backlash_travel": {"axis": (None, _axis, "axis; default the machine's first"),
+                        "amount": (0.002, _in(-1.0, 1.0, "mm or rad"), "reversal b at position 0: error(+ approach) "
+                                                                       "- error(- approach), mm (rad rotary)"),
+                        "slope": (1.2e-5, _in(-1e-3, 1e-3, "per mm or deg"),
+                                  "change of the reversal per mm (rad per deg) of travel: 1.2e-5 -> 2 um at 0 to "
+                                  "8 um at 500 mm")},
+    "tracker_relevel": {"axis": (None, _axis, "axis of the round; default the machine's first"),
+                        "round": (2, _int, "the round (1-based) from whose first reading on the tracker is "
+                                           "re-levelled"),
+                        "angle_rad": (20e-6, _in(-1e-2, 1e-2, "rad"), "rad, rotation of the re-levelling"),
+                        "about": ("+X", _dir, "horizontal axis through the tracker (machine frame): X, Y, -X, -Y "
+                                              "or a;b;0")},
+    "axis_scatter": {"axis": (None, _axis, "axis; default the machine's first"),
+                     "sd": (0.003, _in(0.0, 1.0, "mm or rad"), "mm (rad rotary): extra random scatter of the axis' "
+                                                               "positioning, one standard deviation"),
+                     "seed": (1, _int, "seed of the scatter's random numbers")},
     "tracker_scale": {"ppm": (math.nan, _float, "scale of distances, 1e-6; default from dt_c, dp_hpa, drh_pct"),
                       "dt_c": (2.0, _float, "air temperature minus the tracker's assumed, degC"),
                       "dp_hpa": (0.0, _float, "air pressure minus assumed, hPa"),
@@ -263,6 +295,7 @@ class Effect:
     name: str
     params: dict = field(default_factory=dict)
     error: str | None = field(default=None, repr=False)  # the positioning error it acts on (set by ``bind``)
+    centroid: np.ndarray | None = field(default=None, repr=False)  # side_expansion: the side's layout centroid
 
     def __post_init__(self):
         if self.name not in PARAMS:
@@ -318,12 +351,20 @@ class Effect:
         if self.name in ("cross_axis", "second_order"):
             funcs = machine.error_groups["linear"] + machine.error_groups["rotary"]
             self._member("error", p["error"], funcs)
+        if self.name == "side_expansion":
+            pts = (points or {}).get(p["side"]) or dict(machine.campaign["reflectors"][p["side"]])
+            centroid = np.mean(np.asarray(list(pts.values()), dtype=float), axis=0)
+        if self.name == "tracker_relevel" and abs(_unit(p["about"])[2]) > 1e-9:
+            raise InputError(f"effect tracker_relevel: about must be horizontal (a re-levelling turns about "
+                             f"horizontal axes through the tracker: X, Y or a;b;0), got {p['about']!r}")
         if self.name == "outlier" and p["point"] is None:
             side = machine.side(p["axis"])
             p["point"] = next(iter(points[side])) if points else machine.campaign["reflectors"][side][0][0]
         out = Effect(self.name, {})
         out.params = p
         out.error = machine.positioning_errors[p["axis"]] if "axis" in p else None
+        if self.name == "side_expansion":
+            out.centroid = centroid
         return out
 
     def _member(self, key: str, value: str, options) -> None:
@@ -372,10 +413,19 @@ class Effect:
         elif n == "thermal_temperature":
             errors[:, idx[self.error]] += S.thermal_temperature_model(q_of(p["axis"]), self.delta_t(rows),
                                                                       [p["ppm_per_k"]])[:, 0]
+        elif n == "axis_scatter":  # a variance component: the positioning repeats worse by sd at every reading
+            on = rows.axis == p["axis"]
+            errors[on, idx[self.error]] += np.random.default_rng(p["seed"]).normal(0.0, p["sd"], int(on.sum()))
+        elif n == "backlash_travel":  # the grammar's direction x position (derive/grammar.py)
+            on = rows.axis == p["axis"]
+            d, q = rows.direction[on].astype(float), q_of(p["axis"])[on]
+            errors[on, idx[self.error]] += S.backlash_travel_model(d, q, [p["amount"], p["slope"]])[:, 0]
 
     def move_nests(self, rows: Rows, local: np.ndarray) -> None:
         """nest_creep, nest_knock: add the nest's creep or step to the reflector's local coordinates (n, 3) mm in
         place, before the exact kinematics carry them to the machine frame."""
+        if self.name == "side_expansion":
+            self._expand(rows, local)
         if self.name not in ("nest_creep", "nest_knock"):
             return
         p = self.params
@@ -386,6 +436,24 @@ class Effect:
             return
         dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
         local[on] += S.nest_creep_model(p["rate_mm_s"] * _unit(p["direction"]), dt)
+
+    def _expand(self, rows: Rows, local: np.ndarray) -> None:
+        """side_expansion: the side's reflectors move apart about their layout's centroid (the side's local frame,
+        mm), 1e-6 ppm_per_h (t - t0_s) / 3600 s (ramp) or 1e-6 ppm (1 - exp(-(t - t0_s) / tau_s)) (lag)."""
+        p = self.params
+        on = rows.side == p["side"]
+        dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
+        off = local[on] - self.centroid
+        local[on] += (S.side_expansion_ramp_model(off, dt, [p["ppm_per_h"]]) if p["law"] == "ramp" else
+                      S.side_expansion_lag_model(off, dt, p["tau_s"], [p["ppm"]]))
+
+    def relevel_time(self, rows: Rows) -> float:
+        """tracker_relevel: time (s) of the first reading of ``round`` of ``axis`` (the first re-levelled)."""
+        p = self.params
+        on = (rows.axis == p["axis"]) & (rows.round == p["round"])
+        if not on.any():
+            raise InputError(f"effect tracker_relevel: axis {p['axis']} has no round {p['round']}")
+        return float(rows.time_s[on].min())
 
     def delta_t(self, rows: Rows) -> np.ndarray:
         """thermal_temperature: T - T_ref (K) of every reading (T_ref default: the first reading's)."""
@@ -441,6 +509,9 @@ class Effect:
                                                           self.delta_t(rows)[on])
         elif n == "tracker_settling":
             xyz[:] = S.tracker_settling_reading(xyz, tracker, _unit(p["about"]), self.settling_angle(rows.time_s))
+        elif n == "tracker_relevel":  # a rotation step about the tracker (exact), from the round's first reading
+            on = rows.time_s >= self.relevel_time(rows)
+            xyz[on] = S.tracker_settling_reading(xyz[on], tracker, _unit(p["about"]), p["angle_rad"])
 
     def settling_angle(self, t: np.ndarray) -> np.ndarray:
         """tracker_settling: tilt (rad) of the tracker at times t (s)."""
@@ -524,6 +595,21 @@ class Effect:
                 dT = self.delta_t(rows)
                 out.update(t_ref_c=float(rows.temperature_c[0] if math.isnan(p["t_ref_c"]) else p["t_ref_c"]),
                            delta_t_range_k=[float(dT.min()), float(dT.max())])
+        elif n == "side_expansion":
+            out.update(side=p["side"], law=p["law"], centroid_local_mm=[float(v) for v in self.centroid])
+        elif n == "axis_scatter":
+            out.update(axis=p["axis"], error=self.error)
+        elif n == "backlash_travel":
+            out.update(axis=p["axis"], error=self.error)
+            if rows is not None:
+                q = rows.position[rows.axis == p["axis"]]
+                if len(q):
+                    ends = [float(q.min()), float(q.max())]
+                    out.update(travel=ends, reversal_at_ends=[p["amount"] + p["slope"] * v for v in ends])
+        elif n == "tracker_relevel":
+            out.update(about=_unit(p["about"]).tolist(), angle_rad=p["angle_rad"])
+            if rows is not None:
+                out["t0_s"] = self.relevel_time(rows)
         elif n == "offset":
             out.update(direction=p["direction"], size=p["size"])
             if rows is not None:

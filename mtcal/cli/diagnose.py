@@ -93,6 +93,12 @@ def run(args: argparse.Namespace) -> int:
               f"F = {ev['F']:.1f}, p_adj = {ev['p_adjusted']:.2g}, cv gain = "
               f"{'-' if ev['cv_gain'] is None else format(ev['cv_gain'], '.3g')}, "
               f"sigma after {e['sigma_after'] * 1e3:.3f} um")
+    scatter = (out["noise_model"].get("axis_scatter") or {}).get("found")
+    if scatter:
+        print(f"  {scatter['says']}")
+    for e in sig:
+        if e.get("says"):
+            print(f"  {e['name']}: {e['says']}")
     for e in sig:
         for c in e.get("confounded_with", []):
             print(f"    confounded with {c['name']} {c['axis'] or ''} {c['where']}: {c['separate_by']}")

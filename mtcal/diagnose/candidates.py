@@ -140,7 +140,61 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
     for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
+    out += grammar_members(prep, notes)
     return out, notes
+
+
+def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
+    """The grammar's members of issue 34 (derive/grammar.py) this recording can show: a side's reflectors moving
+    apart (a ramp or a lag in time, from the side's first reading), an axis' reversal changing along its travel
+    (bidirectional axes), the tracker re-levelled at the first reading of a round (a tracker position known)."""
+    g, rec = prep.geometry, prep.rec
+    out: list[fx.Candidate] = []
+    for a in prep.axes:
+        if {1, -1} <= set(rec.direction[rec.axis == a].tolist()):
+            out.append(fx.backlash_travel(g, a))
+    if not np.isfinite(rec.time_s).all():
+        notes.append({"name": "side_expansion", "axis": None, "not_separable": NOT_SEPARABLE["thermal_drift"]})
+    else:
+        offset = layout_offsets(prep)
+        for side in ("tool", "table"):
+            seen = g.side == side
+            if len(set(rec.point[seen].tolist())) < 2:
+                continue  # one reflector: no layout to grow
+            t0 = float(np.min(rec.time_s[seen]))
+            out += [fx.side_expansion(g, offset, side, t0)] + [fx.side_expansion(g, offset, side, t0, tau)
+                                                               for tau in fx.TAUS_S]
+    for st in g.stations():
+        rows, tracker, _ = g.at(st)
+        if tracker is None:
+            continue
+        for rank0, where in round_starts(prep, rows):
+            t0 = float(rec.time_s[prep.order == rank0][0]) if np.isfinite(rec.time_s).all() else float("nan")
+            out.append(fx.tracker_relevel(g, prep.order >= rank0, t0, where, st))
+    return out
+
+
+def layout_offsets(prep: Prepared) -> np.ndarray:
+    """(n, 3) mm: each reading's reflector position (the side's local frame, prepare's reference positions) less the
+    centroid of the reflectors read on its axis."""
+    off = np.zeros((len(prep.rec), 3))
+    for a in prep.axes:
+        on = prep.rec.axis == a
+        labels = sorted(set(prep.rec.point[on].tolist()))
+        centroid = np.mean([prep.local[on & (prep.rec.point == p)][0] for p in labels], axis=0)
+        off[on] = prep.local[on] - centroid
+    return off
+
+
+def round_starts(prep: Prepared, rows: np.ndarray) -> list[tuple[int, dict]]:
+    """The first reading (its rank in time) of every (axis, round) block among ``rows`` but the earliest, with the
+    axis and round it starts: where a tracker may have been re-levelled between rounds."""
+    rec, first = prep.rec, {}
+    for i in np.flatnonzero(rows):
+        k = (str(rec.axis[i]), int(rec.round[i]))
+        first[k] = min(first.get(k, prep.order[i]), prep.order[i])
+    starts = sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items())
+    return starts[1:]
 
 
 def onsets(rec, seen: np.ndarray) -> list[float]:

@@ -401,3 +401,64 @@ def tabulated(g: Geometry, axis: str) -> Candidate:
     holds."""
     return Candidate("error function (tabulated)", axis, "every error motion at every position",
                      _per_position(g, axis, list(g.machine.error_motions(axis))), [], family="check")
+
+
+# ----------------------------------------------------------------------------- the grammar's members of issue 34
+# members whose change is in time (a ramp, a lag, a step between rounds): validated on held-out alternate readings,
+# not held-out rounds (a round held out and fitted alone absorbs a step or a slow change into its reflector
+# positions) -- the hook selection.ALTERNATE_FOLDS needs to name them (mtcal.diagnose.selection.folds)
+ALTERNATE_FOLDS = ("side_expansion", "tracker_relevel")
+def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: float | None = None) -> Candidate:
+    """The reflectors of ``side`` (tool or table) moving apart about their layout's centroid from t0 (s):
+    ``offset`` (n, 3) mm is each reading's reflector position less the centroid of its axis' reflectors (the side's
+    local frame, mtcal.diagnose.prepare's reference positions); a ramp (``tau`` None: e in ppm per hour) or a
+    first-order lag of time constant ``tau`` (e in ppm, the final growth): derive/grammar.py's expansion x ramp_h
+    or lag."""
+    on = (g.side == side) & np.isfinite(g.time_s)
+    dt = np.where(on, np.maximum(g.time_s - t0, 0.0), 0.0)
+    R = g.rotation.reshape(-1, 9)
+    G = np.zeros((len(g.axis), 3))
+    if tau is None:
+        G[on] = S.side_expansion_ramp_signature(R[on], offset[on], dt[on])
+    else:
+        G[on] = S.side_expansion_lag_signature(R[on], offset[on], dt[on], float(tau))
+    law = "ramp" if tau is None else f"lag, tau={tau:.0f} s"
+    c = Candidate("side_expansion", None, f"{side} side, {law}", G[:, :, None],
+                  ["e (ppm/h)" if tau is None else "e (ppm)"], family="side_expansion",
+                  extra={"side": side, "law": "ramp" if tau is None else "lag", "t0_s": float(t0),
+                         **({} if tau is None else {"tau_s": float(tau)}),
+                         "t_end_s": float(np.nanmax(g.time_s[on])) if on.any() else float(t0)})
+    if tau is not None:
+        c.refine = lambda t: side_expansion(g, offset, side, t0, t)
+        c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
+    return c
+
+
+def backlash_travel(g: Geometry, axis: str) -> Candidate:
+    """The reversal (backlash) of an axis changing along its travel: positioning error + d / 2 (b + g q)
+    (derive/grammar.py's error x direction, position x direction): b the reversal at position 0 (mm, rad rotary),
+    g its change per mm (rad per deg)."""
+    e = g.machine.positioning_errors[axis]
+    G = S.backlash_travel_signature(g.col(e), g.direction.astype(float), g.position) * _on(g, axis)[:, :, None]
+    unit, qunit = ("mm", "mm") if g.linear(axis) else ("rad", "deg")
+    q = g.position[g.axis == axis]
+    return Candidate("backlash_travel", axis, e, G, [f"b at 0 {qunit} ({unit})", f"g ({unit}/{qunit})"],
+                     family=f"backlash_travel {axis}",
+                     extra={"error": e, "travel": [float(q.min()), float(q.max())], "unit": unit,
+                            "position_unit": qunit})
+
+
+def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, station: str | None = None
+                    ) -> Candidate:
+    """The tracker (of ``station``) re-levelled between two rounds: every reading from the first of the round
+    ``where`` names on (``after``, bool (n,)) turned about horizontal axes (x, y, machine frame) through the tracker
+    by w_x, w_y (rad) -- derive/grammar.py's rotation about the tracker x step."""
+    rows, t, of = g.at(station)
+    on = rows & after
+    G = np.zeros((len(g.axis), 3, 2))
+    G[on] = S.tracker_relevel_signature(g.xyz[on], t, 1.0)
+    return Candidate("tracker_relevel", None, f"tracker{of} re-levelled before round {where['round']} of axis "
+                     f"{where['axis']} (t0 = {t0:.6g} s, {int(on.sum())} reading(s) after)", G,
+                     ["w_x (rad)", "w_y (rad)"], family="tracker_relevel",
+                     extra={"t0_s": float(t0), "round": int(where["round"]), "from_axis": str(where["axis"]),
+                            "tracker": [float(v) for v in t], **_tag(station)})

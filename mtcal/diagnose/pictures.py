@@ -20,7 +20,7 @@ import numpy as np
 from mtcal.diagnose.report import Diagnosis, Finding
 from mtcal.io import save_figure
 
-REVERSAL = ("backlash", "reversal_angular", "reversal_straightness")
+REVERSAL = ("backlash", "reversal_angular", "reversal_straightness", "backlash_travel")
 TIME = ("thermal_drift", "thermal_temperature", "nest_creep", "nest_knock", "tracker_settling", "tracker_scale")
 
 

@@ -91,6 +91,14 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
                 Effect(n, {"rate_rad_s": 0.0, "angle_rad": angle, "about": about_a, **common})]
     if n == "tracker_scale":
         return [Effect(n, {"ppm": float(th[0])})]
+    if n == "side_expansion":
+        law = {"ppm_per_h": float(th[0])} if x["law"] == "ramp" else {"ppm": float(th[0]), "tau_s": x["tau_s"]}
+        return [Effect(n, {"side": x["side"], "law": x["law"], "t0_s": x["t0_s"], **law})]
+    if n == "backlash_travel":
+        return [Effect(n, {"axis": c.axis, "amount": float(th[0]), "slope": float(th[1])})]
+    if n == "tracker_relevel":
+        angle, about = _vector(np.array([th[0], th[1], 0.0]))
+        return [Effect(n, {"axis": x["from_axis"], "round": x["round"], "angle_rad": angle, "about": about})]
     if n == "thermal_temperature":
         t_ref = float(prep.rec.temperature_c[np.argmin(prep.order)])
         if x.get("variant") == "expansion":

@@ -29,6 +29,7 @@ import numpy as np
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.noise import NoiseModel, noise_model, stations_model
 from mtcal.diagnose.prepared import Prepared
+from mtcal.diagnose.scatter import axis_scatter
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
 from mtcal.measurement.passes import first_readings, position_key, reference_position
@@ -173,4 +174,5 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
                   else noise_model(prep, t, max_degree, tracker_model))
     if t is None and prep.noise.tracker is not None:
         prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)
+    prep.noise = axis_scatter(prep)  # one axis repeating worse than the others: its readings re-weighted
     return prep

@@ -194,6 +194,8 @@ def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
     """The reported estimate (one number with its unit and standard uncertainty) and all parameters."""
     sd = np.sqrt(np.maximum(np.diag(cov), 0.0))
     params = {p: float(v) for p, v in zip(c.params, theta)}
+    if c.name in GRAMMAR_HEADLINES:  # issue 34's members: their figure, interval and words
+        return {**GRAMMAR_HEADLINES[c.name](c, theta, cov), "parameters": params, "direction": None}
     if c.name == "periodic":
         amp = float(np.hypot(*theta))
         g = theta / amp if amp > 0 else np.zeros(2)
@@ -230,6 +232,74 @@ def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
     unit = c.params[k].split("(")[-1].rstrip(")") if "(" in c.params[k] else c.params[k]
     return {"estimate": float(theta[k]), "uncertainty": float(sd[k]), "unit": unit, "parameters": params,
             "direction": None, **({"error": c.params[k].split(" ")[0]} if len(theta) > 1 else {})}
+
+
+Z95 = 1.959964  # the normal distribution's 97.5 % point: 95 % intervals of linear functions of the estimate
+
+
+def _linear(a: np.ndarray, theta: np.ndarray, cov: np.ndarray) -> tuple[float, float, list[float]]:
+    """The estimate a . theta, its standard uncertainty and 95 % interval."""
+    v, u = float(a @ theta), float(math.sqrt(max(a @ cov @ a, 0.0)))
+    return v, u, [v - Z95 * u, v + Z95 * u]
+
+
+def _um(v: float, unit: str) -> str:
+    """A length (mm) in um or an angle (rad) in urad, for the words."""
+    return f"{v * 1e3:.2g} um" if unit == "mm" else f"{v * 1e6:.2g} urad"
+
+
+def _side_expansion_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
+    """side_expansion: the growth of the side's layout (ppm per hour for a ramp, ppm for a lag's final value; a lag
+    whose time constant exceeds the record: its mean rate over the record, ppm per hour, no final value)."""
+    side, ramp_law, x = c.extra["side"], c.extra["law"] == "ramp", c.extra
+    record = x["t_end_s"] - x["t0_s"]
+    slow = not ramp_law and x["tau_s"] > record > 0  # a lag beyond the record: its mean rate over the record
+    scale = (1.0 - math.exp(-record / x["tau_s"])) / (record / 3600.0) if slow else 1.0
+    v, u, ci = _linear(np.array([scale]), theta, cov)
+    ramp_law = ramp_law or slow
+    how = "move apart" if v >= 0 else "move together"
+    warm = f"a {'warming' if v >= 0 else 'cooling'} {'table' if side == 'table' else 'spindle side'}"
+    rate = (f"{abs(v):.2g} ppm per hour (95 %: {ci[0]:.2g} to {ci[1]:.2g})" if ramp_law else
+            f"by {abs(v):.2g} ppm with a time constant of {c.extra['tau_s']:.0f} s (95 %: {ci[0]:.2g} to "
+            f"{ci[1]:.2g} ppm)")
+    return {"estimate": v, "uncertainty": u, "unit": "ppm/h" if ramp_law else "ppm", "interval_95": ci,
+            **({"law": "ramp over the record", "record_s": record,
+                "note": f"time constant beyond the record ({x['tau_s']:.0f} s > {record:.0f} s): the mean rate "
+                        "over the record is reported, no final value"} if slow else {}),
+            "says": f"the {side}-side reflectors {how} {rate} about their centroid: {warm}"}
+
+
+def _backlash_travel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
+    """backlash_travel: the reversal at both ends of the measured travel (the estimate: at the end where it is
+    larger), each with its 95 % interval."""
+    unit, qu = c.extra["unit"], c.extra["position_unit"]
+    ends = [(q, *_linear(np.array([1.0, q]), theta, cov)) for q in c.extra["travel"]]
+    far = max(ends, key=lambda e: abs(e[1]))
+    grows = "grows" if abs(ends[1][1]) > abs(ends[0][1]) else "shrinks"
+    return {"estimate": far[1], "uncertainty": far[2], "unit": unit, "interval_95": far[3],
+            "reversal_at_ends": [{"position": q, "reversal": v, "uncertainty": u, "interval_95": ci}
+                                 for q, v, u, ci in ends],
+            "says": f"the lost motion of {c.axis} {grows} along the travel: {_um(abs(ends[0][1]), unit)} at "
+                    f"{ends[0][0]:g} {qu} to {_um(abs(ends[1][1]), unit)} at {ends[1][0]:g} {qu} (reversal "
+                    f"error(+) - error(-); 95 %: {_um(ends[0][3][0], unit)} to {_um(ends[0][3][1], unit)} and "
+                    f"{_um(ends[1][3][0], unit)} to {_um(ends[1][3][1], unit)})"}
+
+
+def _tracker_relevel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
+    """tracker_relevel: the size of the rotation step (rad) about the horizontal axis it turns about."""
+    size = float(np.linalg.norm(theta))
+    a = theta / size if size > 0 else np.array([1.0, 0.0])
+    _, u, ci = _linear(a, theta, cov)
+    about = [float(a[0]), float(a[1]), 0.0]
+    return {"estimate": size, "uncertainty": u, "unit": "rad", "interval_95": [max(ci[0], 0.0), ci[1]],
+            "rotation_vector": [float(theta[0]), float(theta[1]), 0.0], "about": about, "t0_s": c.extra["t0_s"],
+            "says": f"the tracker was re-levelled before round {c.extra['round']} of {c.extra['from_axis']}: every "
+                    f"later reading turned {size * 1e6:.2g} urad (95 %: {max(ci[0], 0.0) * 1e6:.2g} to "
+                    f"{ci[1] * 1e6:.2g}) about the horizontal axis ({about[0]:.2f}, {about[1]:.2f}, 0) through it"}
+
+
+GRAMMAR_HEADLINES = {"side_expansion": _side_expansion_head, "backlash_travel": _backlash_travel_head,
+                     "tracker_relevel": _tracker_relevel_head}
 
 
 def ramp(c: fx.Candidate, head: dict, t: np.ndarray) -> dict:
