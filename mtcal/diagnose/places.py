@@ -24,7 +24,7 @@ import numpy as np
 from mtcal.diagnose import effects as fx
 from mtcal.generated import signatures_numpy as S
 
-REVERSALS = ("backlash", "reversal_angular", "reversal_straightness")
+REVERSALS = ("backlash", "backlash_travel", "reversal_angular", "reversal_straightness")
 
 
 @dataclass
