@@ -35,7 +35,7 @@ ROUND_SPECIFIC = ("outlier", "offset")
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
 # alone absorbs most of a drift into its reflector positions)
 ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature",
-                                    "nest_knock")
+                                    "nest_knock") + fx.ALTERNATE_FOLDS  # and the grammar's time members
 
 SEPARATE_BY = {
     frozenset(("rotary_location", "offset")): "measure the rotary axis again at the end of the campaign, or from a "
@@ -197,6 +197,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             return fallback  # the stronger mismatch first; this one is scored again at the next step
         if v.candidate.name == fx.UNEXPLAINED:
             if v.candidate.extra.get("kind") == "growing":
+                if _explained_by_a_name(eng, v, sig, w, level):
+                    continue  # a member of the grammar (a side expanding) moves the axis' readings so
                 return v  # no named effect changes an error motion's shape with time (without a temperature)
             if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
                 return v  # the named reversal effects of the axis cannot explain it
@@ -212,6 +214,20 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         v.inadequate = why
         inadequate.setdefault(v.candidate.family, v)
     return fallback
+
+
+def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> bool:
+    """Whether a significant named candidate of ``sig`` leaves the free form of ``v`` insignificant beside it
+    (its own test at ``level``, its multiplicity): the free form's misfit is that effect's."""
+    for o in sig:
+        if o.candidate.name == fx.UNEXPLAINED or o.candidate.name in ROUND_SPECIFIC:
+            continue
+        e = eng.copy()
+        e.add(w(o.candidate))
+        sc = e.score(w(v.candidate))
+        if not (sc.separable and sc.logp + v.log_multiplicity < math.log(level)):
+            return True
+    return False
 
 
 WITHIN = 0.1  # a candidate whose fit the free form of a place leaves less than this share of is within that place
