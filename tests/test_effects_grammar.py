@@ -58,6 +58,7 @@ def _cases(m: mtcal.Machine, prep, pl: Plan):
         yield ("backlash_travel", {"axis": a, "amount": b, "slope": s}, [b, s],
                lambda a=a: fx.backlash_travel(g, a).G, lin)
     (rank0, where), *_ = round_starts(prep, np.ones(len(g.axis), bool))[len(m.axes) // 2:]
+    assert where["round"] == 2  # two rounds: every member is an axis' second round
     t0 = float(prep.rec.time_s[prep.order == rank0][0])
     u = np.array([0.6, 0.8])
     yield ("tracker_relevel", {"axis": where["axis"], "round": where["round"], "angle_rad": 1e-3,

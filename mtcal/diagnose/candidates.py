@@ -187,14 +187,17 @@ def layout_offsets(prep: Prepared) -> np.ndarray:
 
 
 def round_starts(prep: Prepared, rows: np.ndarray) -> list[tuple[int, dict]]:
-    """The first reading (its rank in time) of every (axis, round) block among ``rows`` but the earliest, with the
-    axis and round it starts: where a tracker may have been re-levelled between rounds."""
+    """The first reading (its rank in time) of every round of an axis among ``rows`` but the axis' first, with the
+    axis and round it starts: where a tracker may have been re-levelled between two rounds of an axis (the rounds
+    before and after show the step; at the start of an axis' block the base's positions and error functions of the
+    axes after it would take the rotation, and only the positions those axes share could show it: a quasi-static
+    misfit of the shared positions, not a re-levelling)."""
     rec, first = prep.rec, {}
     for i in np.flatnonzero(rows):
         k = (str(rec.axis[i]), int(rec.round[i]))
         first[k] = min(first.get(k, prep.order[i]), prep.order[i])
-    starts = sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items())
-    return starts[1:]
+    opening = {a: min(r for (b, _), r in first.items() if b == a) for a, _ in first}
+    return sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items() if r != opening[a])
 
 
 def onsets(rec, seen: np.ndarray) -> list[float]:
