@@ -68,14 +68,13 @@ def _compare(rec, n: int, **options):
 
 
 def _assert_equal_to_identify(ratios, agree):
-    """Every error's estimate within 1 % of its 95 % half-width in 95 % of (trial, output) pairs, none beyond
-    fast.CHECK_TOLERANCE, 5 % (measured: demo campaign 99th percentile 1.0 %, largest 1.5 %; X and C from one
-    station largest 4.0 %: the batched step from the campaign's estimate differs from identify's converged fit by
-    0.6-2.4 % of a parameter's standard deviation, and a trial's own covariance, which the batched path takes as
-    the campaign's times the Birge ratio, moves a fit by up to 0.45 % of a half-width); degrees agree in >= 99 % of
-    (trial, function) pairs."""
-    assert np.quantile(ratios, 0.95) <= 0.01, np.quantile(ratios, 0.95)
-    assert ratios.max() <= fast.CHECK_TOLERANCE, ratios.max()
+    """Issue 37: every error's estimate (each function at each table position, each constant) within 1 % of its
+    95 % half-width (u95: twice the standard deviation of 200 batched trials) in every trial compared, and the
+    selected degrees agree in >= 99 % of (trial, function) pairs.  Before the second batched Gauss-Newton step
+    (mtcal.uncertainty.fast, the module docstring) the one linear step from the campaign's estimate missed
+    identify's fit by up to 4.5 % of a parameter's standard deviation: largest ratio 1.5 % on the demo campaign,
+    4.0 % on X and C from one station."""
+    assert ratios.max() <= 0.01, (ratios.max(), np.quantile(ratios, 0.95))
     assert agree >= 0.99, agree
 
 
