@@ -102,7 +102,8 @@ class _Second:
     six), the unwhitened Jacobian blocks identify builds at the campaign's estimate (``jac_e`` (u, 3, 6),
     ``rot`` (u, 3, 3)) and their turn (``d_jac_e`` (u, 3 (k), 3, 6) = d jac_e / d w_k; ``d_jac_a`` (9, 6) =
     d point_rows / d p_k, stacked over (k, output)); the model's departure from identify's Jacobian to second
-    order: ``lin`` (u, 15, 3) and the products of local parameters ``pairs`` (P, 2) with ``quad`` (u, P, 3);
+    order: ``lin`` (u, 15, 3) and, over the local parameters ``used`` in a second-order term, ``hess`` (u, d,
+    3 d): Q_o = sum z_d hess[d, e, o] z_e;
     ``spread`` (3 u, 3 n) sums W_i^T over a distinct reading's rows, its transpose spreads back with W_i;
     ``to_e``, ``to_a`` (n_params, 6 u) map per-reading gradients onto the parameters; ``scale`` the column
     scale."""
@@ -115,8 +116,8 @@ class _Second:
     d_jac_e: np.ndarray
     d_jac_a: np.ndarray
     lin: np.ndarray
-    pairs: np.ndarray
-    quad: np.ndarray
+    used: np.ndarray
+    hess: np.ndarray
     spread: object
     to_e: object
     to_a: object
@@ -273,14 +274,17 @@ def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np
     to_e = sps.csr_matrix((np.ones(int(has.sum()) * 6), (cols[has, :6].ravel(), flat[has].ravel())),
                           shape=(lay.n, 6 * nu))
     to_a = sps.csr_matrix((np.ones(6 * nu), (cols[:, 9:].ravel(), flat.ravel())), shape=(lay.n, 6 * nu))
-    return _Second(cols, has, inv, jac_e, rot, d_e / h[6:9][None, :, None, None],
-                   d_a.reshape(9, 6) / 1.0, lin, np.array(pairs, dtype=int).reshape(-1, 2),
-                   np.stack(quad, axis=1) if quad else np.zeros((nu, 0, 3)), spread.tocsr(), to_e, to_a, scale)
+    used = np.array(sorted({d for pr in pairs for d in pr}), dtype=int)
+    hess = np.zeros((nu, len(used), len(used), 3))  # Q_o = sum_de z_d H[d, e, o] z_e over the terms kept
+    for (d, e), hq in zip(pairs, quad):
+        hess[:, np.searchsorted(used, d), np.searchsorted(used, e)] += hq
+    return _Second(cols, has, inv, jac_e, rot, d_e / h[6:9][None, :, None, None], d_a.reshape(9, 6), lin, used,
+                   hess.reshape(nu, len(used), 3 * len(used)), spread.tocsr(), to_e, to_a, scale)
 
 
 def _second(b: Batched, s: _Second, dx: np.ndarray, resid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The second Gauss-Newton step of every trial from its first (dx (n_params, T), its whitened residual
-    resid (T, 3 n)): (dx2 (n_params, T), the whitened residual after it (T, 3 n)).
+    resid (3 n, T)): (dx2 (n_params, T), the whitened residual after it (3 n, T)).
 
     identify's fit stops where J(x)^T W^T r(x) = 0 (J: the Jacobian it builds at x, W: the whitening, r: the
     whitened residual).  At x0 + dx its Jacobian has turned (the error motions' columns with the reflector's
@@ -291,15 +295,15 @@ def _second(b: Batched, s: _Second, dx: np.ndarray, resid: np.ndarray) -> tuple[
     one station: identify's fit minus the one linear step up to 4.5 % of a parameter's standard deviation."""
     t = dx.shape[1]
     nu = len(s.has)
-    z = dx.T[:, s.cols]  # (T, u, 15)
-    z[:, ~s.has, :6] = 0.0
-    z = np.ascontiguousarray(z.transpose(1, 0, 2))  # (u, T, 15)
+    z = dx[s.cols].transpose(0, 2, 1)  # (u, T, 15)
+    z[~s.has, :, :6] = 0.0
     de, dw = z[..., :6], z[..., 6:9]
     dp = np.matmul(de, s.jac_e.transpose(0, 2, 1)) + np.matmul(dw, s.rot.transpose(0, 2, 1))  # (u, T, 3)
     q = np.matmul(z, s.lin)  # (u, T, 3) mm
-    if len(s.pairs):
-        q += np.matmul(z[..., s.pairs[:, 0]] * z[..., s.pairs[:, 1]], s.quad)
-    sr = np.asarray(s.spread @ resid.T).reshape(nu, 3, t).transpose(0, 2, 1)  # (u, T, 3): sum of W^T r
+    if len(s.used):
+        zu = np.ascontiguousarray(z[..., s.used])
+        q += np.einsum("utd,utdo->uto", zu, np.matmul(zu, s.hess).reshape(nu, t, len(s.used), 3))
+    sr = np.asarray(s.spread @ resid).reshape(nu, 3, t).transpose(0, 2, 1)  # (u, T, 3): sum of W^T r
     ge = np.matmul((dw[..., :, None] * sr[..., None, :]).reshape(nu, t, 9),
                    s.d_jac_e.reshape(nu, 9, 6))  # (u, T, 6)
     ga = (dp[..., :, None] * sr[..., None, :]).reshape(nu, t, 9) @ s.d_jac_a
@@ -308,7 +312,7 @@ def _second(b: Batched, s: _Second, dx: np.ndarray, resid: np.ndarray) -> tuple[
                                        + s.to_a @ ga.transpose(0, 2, 1).reshape(6 * nu, t))
          - np.asarray(b.js_t @ wq))
     dx2 = b.gain @ g
-    return dx2, resid - wq.T - np.asarray(b.jw @ dx2).T
+    return dx2, resid - wq  # J dx2 left out: r . J dx2 = lambda . C dx2 = 0 (the gauge), |J dx2|^2 fourth order
 
 
 def _diag(v):
@@ -546,24 +550,19 @@ def _batched(b: Batched, outputs: Outputs, xyz: np.ndarray, sizes: dict | None =
     return _outputs(b, outputs, dx, b2, sizes)
 
 
-def _apply3(mat: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """mat[n] @ v[t, n] for (n, 3, 3) matrices and (T, n, 3) vectors (three broadcast products: faster than
-    einsum or a batched matmul of 3 x 3 blocks)."""
-    return sum(mat[None, :, :, j] * v[..., j, None] for j in range(3))
-
-
 def _step(b: Batched, xyz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(the trials' change of the joint estimate dx (n_params, T), their squared Birge ratios (T,)) from their
-    readings ``xyz`` (T, n, 3) mm: the linear step from the campaign's estimate, then the second Gauss-Newton step
-    (``_second``)."""
+    readings ``xyz`` (T, n, 3) mm (fastest as ``draw_many`` lays them out, trials last in memory): the linear step
+    from the campaign's estimate, then the second Gauss-Newton step (``_second``).  Residuals are kept (3 n, T)."""
     t = len(xyz)
-    rw = _apply3(b.whiten, xyz - b.xyz0).reshape(t, -1) + b.rw0
-    dx = b.gain @ np.asarray(b.js_t @ rw.T)  # (n_params, T)
-    resid = rw - np.asarray(b.jw @ dx).T
+    d = (xyz - b.xyz0[None]).transpose(1, 2, 0)  # (n, 3, T)
+    rw = np.matmul(b.whiten, d).reshape(-1, t) + b.rw0[:, None]  # (3 n, T) whitened
+    dx = b.gain @ np.asarray(b.js_t @ rw)  # (n_params, T)
+    resid = rw - np.asarray(b.jw @ dx)
     if b.second is not None:
         dx2, resid = _second(b, b.second, dx, resid)
         dx = dx + dx2
-    b2 = np.einsum("ti,ti->t", resid, resid) / max(b.dof, 1)
+    b2 = np.einsum("it,it->t", resid, resid) / max(b.dof, 1)
     return dx, b2
 
 

@@ -589,6 +589,8 @@ def _batched_path(rec: Recording, options: dict, outputs: Outputs, inputs: Input
     b.merge(block[2])
     if progress:
         progress(len(first))
+    log.info("batched trials: the check's %d trials agree with identify within %.2g %% of a half-width; %d trials "
+             "to run", check["trials"], 100 * check["largest_difference_of_half_width"], len(pending) - len(first))
     return b, {"batched": True, "check": check}
 
 
