@@ -214,15 +214,15 @@ def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np
     sides = np.array([m.side(str(a)) for a in rec.axis])
     keys = jt._direction_keys(rec)
     q = jt._axes_matrix(m, rec)
-    _, (ecol, _), _, _ = jt._state(m, rec, lay, q, keys, sides, res.x)
+    _, ecol, _, _ = jt._rows(m, rec, lay, keys, sides)
     wcol = np.array([lay.reflectors[(s, str(p))] for s, p in zip(sides, rec.point)])
     acol = np.array([lay.stations[s] for s in rec.stations()])
     _, first, inv = np.unique(np.column_stack([q, ecol, wcol, acol]), axis=0, return_index=True,
                               return_inverse=True)
     inv = inv.ravel()
     sub = rec.select(first)
-    args = (m, sub, lay, q[first], keys[first], sides[first])
-    f0, (_, jac_e), (_, rot), _ = jt._state(*args, res.x)
+    args = (m, q[first], sides[first], jt._rows(m, sub, lay, keys[first], sides[first]))
+    f0, (_, jac_e), (_, rot), (_, jac_a) = jt._state_at(*args, res.x)
     has = ecol[first] >= 0
     cols = np.column_stack([np.where(has[:, None], ecol[first, None] + np.arange(6), 0),
                             wcol[first, None] + np.arange(3), acol[first, None] + np.arange(6)])
@@ -237,11 +237,11 @@ def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np
         vec.append(v)
 
     def f(x):
-        return jt._state(*args, x)[0]
+        return jt._state_at(*args, x)[0]
 
     plus = [f(res.x + v) for v in vec]
     minus = [f(res.x - v) for v in vec]
-    jl = np.concatenate([jac_e, rot, jt._state(*args, res.x)[3][1]], axis=2)  # (u, 3, 15): identify's J
+    jl = np.concatenate([jac_e, rot, jac_a], axis=2)  # (u, 3, 15): identify's J
     lin = np.stack([(plus[d] - minus[d]) / (2 * h[d]) for d in range(15)], axis=1) - jl.transpose(0, 2, 1)
     lin[~has, :6] = 0.0
     sd = np.sqrt(np.maximum(np.diagonal(res.covariance), 0.0))
@@ -261,7 +261,7 @@ def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np
             if np.abs(hq).max() * sd_local[d] * sd_local[e] > SECOND_FLOOR_MM:
                 pairs.append((d, e))
                 quad.append(hq)
-    d_e = np.stack([jt._state(*args, res.x + vec[6 + k])[1][1] - jac_e for k in range(3)], axis=1)
+    d_e = np.stack([jt._state_at(*args, res.x + vec[6 + k])[1][1] - jac_e for k in range(3)], axis=1)
     zero = tp.point_rows(np.zeros((1, 3)))[0]
     d_a = np.stack([tp.point_rows(np.eye(3)[k:k + 1])[0] - zero for k in range(3)])  # (k, 3, 6)
     n = len(rec)
