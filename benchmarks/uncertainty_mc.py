@@ -163,7 +163,7 @@ def _groups(outputs: Outputs, n_volume: int) -> dict[str, np.ndarray]:
             "volume": vol[:3 * n_volume], "program": vol[3 * n_volume:]}
 
 
-def coverage(n: int, trials: int, stations: int, refs: int, direct: int) -> dict:
+def coverage(n: int, trials: int, stations: int, refs: int, direct: int, workers: int = 2) -> dict:
     """Coverage of the 95 % intervals (module docstring): the truth in identify's gauge is the noise-free
     campaign's identification (its functions reproduce the true tables to < 1e-6 mm); ``refs`` campaigns get a
     Monte Carlo of ``trials`` trials, whose interval offsets about their estimate are applied to the estimates of
@@ -182,7 +182,7 @@ def coverage(n: int, trials: int, stations: int, refs: int, direct: int) -> dict
         lo, hi, mid, u, hits = [], [], [], [], []
         for k in range(refs):
             rec, _ = _campaign(truth, stations, 9000 + k)
-            r = monte_carlo(rec, trials=trials, seed=k, workers=2, inputs=Inputs().only("noise"), poses=poses,
+            r = monte_carlo(rec, trials=trials, seed=k, workers=workers, inputs=Inputs().only("noise"), poses=poses,
                             tables=mode == "tables", **opt)
             est = o.vector(mtcal.identify(rec, worth=False, **opt).model)
             lo.append(r.stats["lo"] - est)
@@ -225,9 +225,12 @@ def main() -> None:
     ap.add_argument("--stations", type=int, choices=(1, 4), default=1)
     ap.add_argument("--refs", type=int, default=6)
     ap.add_argument("--direct", type=int, default=6)
+    ap.add_argument("--workers", type=int, default=2, help="coverage: the reference campaigns' Monte Carlo workers "
+                                                           "(0: in this process)")
     a = ap.parse_args()
     res = (speed(a.trials or 8, a.fast_trials) if a.what == "speed" else one_core(a.trials or 8)
-           if a.what == "one-core" else coverage(a.n, a.trials or 200, a.stations, a.refs, min(a.direct, a.refs)))
+           if a.what == "one-core" else coverage(a.n, a.trials or 200, a.stations, a.refs, min(a.direct, a.refs),
+                                                           a.workers))
     print(json.dumps(res, indent=1))
 
 
