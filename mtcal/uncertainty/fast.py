@@ -429,6 +429,8 @@ def _table_covariance(res, axis: str, positions: np.ndarray, turns: list) -> tup
     (mtcal.identify.joint.axis_result scales it by max(1, b^2), mtcal.identify.build._value_covariance by
     min(1, b^2): a trial's values are fitted with b^2 times this), and its turn (R, n_pos * 6, n_pos * 6) per
     unit move of each reflector coordinate: d cov = -cov dN_r cov (``_turns``)."""
+    import scipy.sparse as sps
+
     keys, _, cov = res.errors(axis)
     avg = np.zeros((len(positions), len(keys)))
     for ik, k in enumerate(keys):
@@ -440,7 +442,12 @@ def _table_covariance(res, axis: str, positions: np.ndarray, turns: list) -> tup
     known = np.repeat(first >= 0, 6)
     cols = (np.maximum(first, 0)[:, None] + np.arange(6)).ravel()
     g = big @ (res.covariance[cols, :] * known[:, None])  # (n_pos * 6, n_params)
-    turn = np.stack([-(g @ np.asarray(dn @ g.T)) for dn in turns]) if turns else np.zeros((0,) + (len(big),) * 2)
+    if turns:  # all reflector coordinates at once: (R n_params, n_params) @ g^T, then g @ each block
+        r = len(turns)
+        dng = np.asarray(sps.vstack(turns).tocsr() @ np.ascontiguousarray(g.T)).reshape(r, len(g.T), len(g))
+        turn = -np.matmul(g[None], dng)
+    else:
+        turn = np.zeros((0,) + (len(big),) * 2)
     return big @ cov.reshape(6 * len(keys), 6 * len(keys)) @ big.T, turn
 
 
