@@ -307,3 +307,18 @@ def test_compensate_refuses_a_monte_carlo_it_cannot_use(mc_files, capsys, case):
     assert len(lines) == 1 and str(bad) in lines[0], err
     assert {"other model": "another model", "nan": "non-finite", "0 trials": "0 trials",
             "program edited": "another version", "no provenance": "no provenance"}[case] in lines[0]
+
+
+@pytest.mark.slow
+def test_local_workers_keep_glibcs_mmap_threshold_and_one_blas_thread():
+    """Dask's workers get MALLOC_TRIM_THRESHOLD_=65536, which fixes glibc's mmap threshold at 128 kB: each batched
+    block's arrays were mapped afresh (benchmarks/uncertainty_mc.py one-core: 480 instead of 681 trials per
+    CPU-second, the system time doubled).  mtcal's local workers run without it, BLAS still on one thread."""
+    import os
+
+    client, cluster = mc._client(1, None)
+    try:
+        env = client.run(lambda: (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")))
+    finally:
+        mc._close(client, cluster)
+    assert list(env.values()) == [(None, "1")]
