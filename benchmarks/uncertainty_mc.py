@@ -106,8 +106,8 @@ def speed(trials: int, fast_trials: int = 20000) -> dict:
     (mtcal.uncertainty.fast): on one core in a process of its own with BLAS limited to one thread (``one_core``),
     and end to end with 1 and 2 local Dask workers (set-up included; ``trials_phase``: from the first block's
     arrival to the last, the set-up of the base fit, the linearisation, the check and the cluster excluded), the
-    speed-ups, and the projected hours of 10^5 and 10^6 trials on two workers (the 2-worker run's set-up plus the
-    trials at its steady rate)."""
+    speed-ups, and the projected hours of 10^5 and 10^6 trials on two workers (batched: the 2-worker run's set-up
+    plus the trials at its steady rate; full: two cores at the one-core CPU rate)."""
     import subprocess
 
     env = {**os.environ, **ONE_THREAD}
@@ -132,10 +132,12 @@ def speed(trials: int, fast_trials: int = 20000) -> dict:
         one, two = out[f"{name}_workers_1"], out[f"{name}_workers_2"]
         out[f"{name}_speedup_2_over_1"] = two["trials_per_s"] / one["trials_per_s"]
         out[f"{name}_speedup_2_over_1_trials_phase"] = two["trials_phase_per_s"] / one["trials_phase_per_s"]
-    b2, f2 = out["batched_workers_2"], out["full_workers_2"]
+    # projected: batched, the 2-worker run's set-up and its rate once the trials ran; full, two cores at the
+    # one-core CPU rate (its few trials make no steady rate of their own)
+    b2, full = out["batched_workers_2"], out["one_core"]["full_trials_per_cpu_s"]
     out["projected_hours"] = {f"{p}_{n:.0e}".replace("+0", ""): h for n in (1e5, 1e6) for p, h in
                               (("batched_2_workers", (b2["setup_s"] + n / b2["trials_phase_per_s"]) / 3600),
-                               ("full_2_workers", (f2["setup_s"] + n / f2["trials_phase_per_s"]) / 3600))}
+                               ("full_2_workers", n / (2 * full) / 3600))}
     out["load_average_1min_after"] = os.getloadavg()[0]
     return out
 

@@ -201,10 +201,8 @@ SECOND_FLOOR_MM = 1e-8  # a second-order term whose effect at one standard devia
 
 def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np.ndarray) -> _Second:
     """``_Second`` at the campaign's joint estimate ``res`` (mtcal.identify.joint): identify's Jacobian blocks
-    (``joint._state``) and, by differences of the exact model on the distinct readings, the model's first- and
-    second-order departure from them (steps of 1 mm and 1 mrad: the model is quadratic in the lengths and nearly
-    so in the small angles; a term is kept where it moves a reading by more than ``SECOND_FLOOR_MM`` at one
-    standard deviation of its parameters)."""
+    (``joint._state``) on the distinct readings, their turn, the model's departure from them (``_departure``) and
+    the maps between readings, distinct readings and parameters."""
     import scipy.sparse as sps
 
     from mtcal.generated import threepoint_numpy as tp
@@ -214,57 +212,18 @@ def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np
     sides = np.array([m.side(str(a)) for a in rec.axis])
     keys = jt._direction_keys(rec)
     q = jt._axes_matrix(m, rec)
-    _, ecol, _, _ = jt._rows(m, rec, lay, keys, sides)
-    wcol = np.array([lay.reflectors[(s, str(p))] for s, p in zip(sides, rec.point)])
-    acol = np.array([lay.stations[s] for s in rec.stations()])
+    wcol, ecol, _, acol = jt._rows(m, rec, lay, keys, sides)
     _, first, inv = np.unique(np.column_stack([q, ecol, wcol, acol]), axis=0, return_index=True,
                               return_inverse=True)
     inv = inv.ravel()
-    sub = rec.select(first)
-    args = (m, q[first], sides[first], jt._rows(m, sub, lay, keys[first], sides[first]))
-    f0, (_, jac_e), (_, rot), (_, jac_a) = jt._state_at(*args, res.x)
+    args = (m, q[first], sides[first], jt._rows(m, rec.select(first), lay, keys[first], sides[first]))
     has = ecol[first] >= 0
     cols = np.column_stack([np.where(has[:, None], ecol[first, None] + np.arange(6), 0),
                             wcol[first, None] + np.arange(3), acol[first, None] + np.arange(6)])
-    nu = len(first)
-    # local directions: each of the 15 local parameters moved in every distinct reading at once
-    h = np.array([1.0] * 3 + [1e-3] * 3 + [1.0] * 3 + [1.0] * 3 + [1e-3] * 3)  # (E_X.., E_A..: mm, rad; w mm;
-    # the station's translations mm, rotations rad: mtcal.identify.joint)
-    vec = []
-    for d in range(15):
-        v = np.zeros(lay.n)
-        v[np.unique(cols[has if d < 6 else slice(None), d])] = h[d]
-        vec.append(v)
-
-    def f(x):
-        return jt._state_at(*args, x)[0]
-
-    plus = [f(res.x + v) for v in vec]
-    minus = [f(res.x - v) for v in vec]
-    jl = np.concatenate([jac_e, rot, jac_a], axis=2)  # (u, 3, 15): identify's J
-    lin = np.stack([(plus[d] - minus[d]) / (2 * h[d]) for d in range(15)], axis=1) - jl.transpose(0, 2, 1)
-    lin[~has, :6] = 0.0
-    sd = np.sqrt(np.maximum(np.diagonal(res.covariance), 0.0))
-    sd_local = np.array([sd[cols[has if d < 6 else slice(None), d]].max(initial=0.0) for d in range(15)])
-    lin[:, sd_local * np.abs(lin).max(axis=(0, 2)) <= SECOND_FLOOR_MM] = 0.0
-    pairs, quad = [], []
-    for d in range(15):
-        for e in range(d, 15):
-            if sd_local[d] == 0 or sd_local[e] == 0:
-                continue
-            if d == e:
-                hq = (plus[d] + minus[d] - 2 * f0) / h[d] ** 2 / 2
-            else:
-                hq = (f(res.x + vec[d] + vec[e]) - plus[d] - plus[e] + f0) / (h[d] * h[e])
-            if e < 6 or d < 6:
-                hq[~has] = 0.0
-            if np.abs(hq).max() * sd_local[d] * sd_local[e] > SECOND_FLOOR_MM:
-                pairs.append((d, e))
-                quad.append(hq)
-    d_e = np.stack([jt._state_at(*args, res.x + vec[6 + k])[1][1] - jac_e for k in range(3)], axis=1)
+    nu, n = len(first), len(rec)
+    jac_e, rot, lin, used, hess, d_e = _departure(res, args, cols, has)
     zero = tp.point_rows(np.zeros((1, 3)))[0]
     d_a = np.stack([tp.point_rows(np.eye(3)[k:k + 1])[0] - zero for k in range(3)])  # (k, 3, 6)
-    n = len(rec)
     rows = (3 * inv)[:, None, None] + np.arange(3)[None, :, None]
     cc = (3 * np.arange(n))[:, None, None] + np.arange(3)[None, None, :]
     wt = whiten.transpose(0, 2, 1)  # W_i^T: row (u, o) <- column (i, p)
@@ -274,12 +233,55 @@ def _second_order(rec: Recording, m: Machine, res, whiten: np.ndarray, scale: np
     to_e = sps.csr_matrix((np.ones(int(has.sum()) * 6), (cols[has, :6].ravel(), flat[has].ravel())),
                           shape=(lay.n, 6 * nu))
     to_a = sps.csr_matrix((np.ones(6 * nu), (cols[:, 9:].ravel(), flat.ravel())), shape=(lay.n, 6 * nu))
-    used = np.array(sorted({d for pr in pairs for d in pr}), dtype=int)
-    hess = np.zeros((nu, len(used), len(used), 3))  # Q_o = sum_de z_d H[d, e, o] z_e over the terms kept
-    for (d, e), hq in zip(pairs, quad):
+    return _Second(cols, has, inv, jac_e, rot, d_e, d_a.reshape(9, 6), lin, used, hess, spread.tocsr(), to_e, to_a,
+                   scale)
+
+
+def _departure(res, args: tuple, cols: np.ndarray, has: np.ndarray):
+    """(jac_e, rot, lin, used, hess, d_jac_e) of ``_Second`` on the distinct readings (``args`` for
+    ``joint._state_at``; ``cols`` (u, 15) their local parameters' columns, ``has``: not at the reference): by
+    differences of the exact model, each of the 15 local parameters moved in every distinct reading at once (steps
+    of 1 mm and 1 mrad: the model is quadratic in the lengths and nearly so in the small angles), its first- and
+    second-order departure from identify's Jacobian; a term is kept where it moves a reading by more than
+    ``SECOND_FLOOR_MM`` at one standard deviation of its parameters."""
+    from mtcal.identify import joint as jt
+
+    f0, (_, jac_e), (_, rot), (_, jac_a) = jt._state_at(*args, res.x)
+    h = np.array([1.0] * 3 + [1e-3] * 3 + [1.0] * 3 + [1.0] * 3 + [1e-3] * 3)  # (E_X.., E_A..: mm, rad; w mm;
+    # the station's translations mm, rotations rad: mtcal.identify.joint)
+    vec = []
+    for d in range(15):
+        v = np.zeros(len(res.x))
+        v[np.unique(cols[has if d < 6 else slice(None), d])] = h[d]
+        vec.append(v)
+
+    def f(x):
+        return jt._state_at(*args, x)[0]
+
+    plus, minus = [f(res.x + v) for v in vec], [f(res.x - v) for v in vec]
+    jl = np.concatenate([jac_e, rot, jac_a], axis=2)  # (u, 3, 15): identify's J
+    lin = np.stack([(plus[d] - minus[d]) / (2 * h[d]) for d in range(15)], axis=1) - jl.transpose(0, 2, 1)
+    lin[~has, :6] = 0.0
+    sd = np.sqrt(np.maximum(np.diagonal(res.covariance), 0.0))
+    sd_local = np.array([sd[cols[has if d < 6 else slice(None), d]].max(initial=0.0) for d in range(15)])
+    lin[:, sd_local * np.abs(lin).max(axis=(0, 2)) <= SECOND_FLOOR_MM] = 0.0
+    terms = {}
+    for d in range(15):
+        for e in range(d, 15):
+            if sd_local[d] == 0 or sd_local[e] == 0:
+                continue
+            hq = ((plus[d] + minus[d] - 2 * f0) / h[d] ** 2 / 2 if d == e else
+                  (f(res.x + vec[d] + vec[e]) - plus[d] - plus[e] + f0) / (h[d] * h[e]))
+            if d < 6:
+                hq[~has] = 0.0
+            if np.abs(hq).max() * sd_local[d] * sd_local[e] > SECOND_FLOOR_MM:
+                terms[(d, e)] = hq
+    used = np.array(sorted({d for pr in terms for d in pr}), dtype=int)
+    hess = np.zeros((len(f0), len(used), len(used), 3))  # Q_o = sum_de z_d H[d, e, o] z_e over the terms kept
+    for (d, e), hq in terms.items():
         hess[:, np.searchsorted(used, d), np.searchsorted(used, e)] += hq
-    return _Second(cols, has, inv, jac_e, rot, d_e / h[6:9][None, :, None, None], d_a.reshape(9, 6), lin, used,
-                   hess.reshape(nu, len(used), 3 * len(used)), spread.tocsr(), to_e, to_a, scale)
+    d_e = np.stack([jt._state_at(*args, res.x + vec[6 + k])[1][1] - jac_e for k in range(3)], axis=1) / h[6]
+    return jac_e, rot, lin, used, hess.reshape(len(f0), len(used), 3 * len(used)), d_e
 
 
 def _second(b: Batched, s: _Second, dx: np.ndarray, resid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
