@@ -1,9 +1,9 @@
 """The Monte Carlo of `mtcal uncertainty` (mtcal.uncertainty): speed against workers and coverage of its intervals.
 
-`python benchmarks/uncertainty_mc.py speed [--trials 8] [--fast-trials 2000]`: trials per second of the full path
+`python benchmarks/uncertainty_mc.py speed [--trials 8] [--fast-trials 20000]`: trials per second of the full path
 (identify per trial, `--exact`) and of the batched path (mtcal.uncertainty.fast) on the bundled campaign (all five
-axes, the joint fit), in this process and with 1 and 2 local Dask workers, and the projected hours of 10^5 and
-10^6 trials on two workers.
+axes, the joint fit), on one core (a process of its own with BLAS limited to one thread: `one-core`), and with 1
+and 2 local Dask workers, and the projected hours of 10^5 and 10^6 trials on two workers.
 
 `python benchmarks/uncertainty_mc.py coverage [--n 240] [--trials 200] [--refs 6] [--direct 6] [--stations 1|4]`:
 how often the 95 % intervals hold the truth, over n simulated campaigns of the demo's true machine (all five
@@ -41,58 +41,103 @@ from mtcal.uncertainty import Inputs, monte_carlo  # noqa: E402
 from mtcal.uncertainty.run import default_poses, program_poses  # noqa: E402
 from mtcal.uncertainty.trials import Outputs, trial_block  # noqa: E402
 
+ONE_THREAD = {"OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
 
-def speed(trials: int, fast_trials: int = 2000) -> dict:
-    """Trials per second of the full path (`--exact`: identify per trial) and of the batched path
-    (mtcal.uncertainty.fast), in this process (one core, the batched trials' steady state: one block after the
-    set-up) and end to end with 1 and 2 local Dask workers (set-up included), and the projected hours of 10^5 and
-    10^6 trials (set-up plus trials at the 2-worker rate)."""
-    from mtcal.uncertainty import fast as fp
+
+def _demo():
+    """(recording, identify options, base result, inputs, outputs) of the bundled campaign as `mtcal uncertainty`
+    runs it."""
     from mtcal.uncertainty import run as mc
-    from mtcal.uncertainty.trials import prepare_draw, trackers_of
 
     rec = mtcal.read_recording(path("demo_campaign.csv"))
     opt = {"tracker": DEMO_PLAN["tracker"]}
-    out = {"trials_full": trials, "trials_batched": fast_trials, "cores": os.cpu_count(), "readings": len(rec),
-           "load_average_1min_before": os.getloadavg()[0]}
     base = mtcal.identify(rec, worth=False, **opt)
-    options = {**opt, "method": base.method}
     inputs = mc.drawn_law(Inputs(), base)
     outputs = Outputs.of(base.model, default_poses(base.model.kinematics, base.model), False)
-    t = time.perf_counter()
+    return rec, opt, base, inputs, outputs
+
+
+def one_core(trials: int, blocks: int = 10) -> dict:
+    """In this process (started by ``speed`` with BLAS limited to one thread, ``ONE_THREAD``): trials per second
+    (wall) and per CPU-second of the batched path (``blocks`` blocks of mtcal.uncertainty.fast.BLOCK trials after
+    the set-up, the screen and shape test on every SAMPLE-th as in a run) and of the full path (``trials`` trials
+    of identify), their ratio, and where a block's time goes (cProfile, the five largest by own time)."""
+    import cProfile
+    import pstats
+
+    from mtcal.uncertainty import fast as fp
+    from mtcal.uncertainty.trials import trackers_of
+
+    rec, opt, base, inputs, outputs = _demo()
+    options = {**opt, "method": base.method}
+    out = {"blas_threads_env": {k: os.environ.get(k) for k in ONE_THREAD}, "readings": len(rec),
+           "load_average_1min_before": os.getloadavg()[0]}
+    t, c = time.perf_counter(), time.process_time()
     b, why = fp.prepare(rec, options, outputs)
-    out["batched_setup_s"] = time.perf_counter() - t
+    out["batched_setup_s"], out["batched_setup_cpu_s"] = time.perf_counter() - t, time.process_time() - c
     trk = trackers_of(rec, opt["tracker"])
-    prepare_draw(rec, trk, inputs)
+    fp.fast_block(b, rec, trk, inputs, options, outputs, 0, list(range(1, 11)))  # the per-worker set-up
     t, c = time.perf_counter(), time.process_time()
-    n = 5 * fp.BLOCK
-    for i in range(5):  # k % SAMPLE: the screen and shape test on 4 of every 200
-        fp.fast_block(b, rec, trk, inputs, options, outputs, 0, list(range(1 + i * fp.BLOCK, 1 + (i + 1) * fp.BLOCK)))
+    for i in range(blocks):
+        b.merge(fp.fast_block(b, rec, trk, inputs, options, outputs, 0,
+                              list(range(1 + i * fp.BLOCK, 1 + (i + 1) * fp.BLOCK)))[2])
     dt, dc = time.perf_counter() - t, time.process_time() - c
-    out["in_process"] = {"batched_trials_per_s": n / dt, "batched_trials_per_cpu_s": n / dc}
+    n = blocks * fp.BLOCK
+    out.update(batched_trials=n, batched_trials_per_s=n / dt, batched_trials_per_cpu_s=n / dc,
+               counts=dict(b.counts))
     t, c = time.perf_counter(), time.process_time()
-    trial_block(rec, trk, inputs, options, outputs, 0, list(range(4)))
-    out["in_process"].update(full_trials_per_s=4 / (time.perf_counter() - t),
-                             full_trials_per_cpu_s=4 / (time.process_time() - c))
-    out["in_process"]["ratio"] = (out["in_process"]["batched_trials_per_cpu_s"]
-                                  / out["in_process"]["full_trials_per_cpu_s"])
+    trial_block(rec, trk, inputs, options, outputs, 0, list(range(trials)))
+    out.update(full_trials=trials, full_trials_per_s=trials / (time.perf_counter() - t),
+               full_trials_per_cpu_s=trials / (time.process_time() - c))
+    out["ratio_cpu"] = out["batched_trials_per_cpu_s"] / out["full_trials_per_cpu_s"]
+    prof = cProfile.Profile()
+    prof.enable()
+    fp.fast_block(b, rec, trk, inputs, options, outputs, 0, list(range(1, 1 + fp.BLOCK)))
+    prof.disable()
+    st = pstats.Stats(prof)
+    top = sorted(st.stats.items(), key=lambda kv: -kv[1][2])[:5]
+    out["block_profile_own_s"] = {f"{Path(k[0]).name}:{k[2]}": round(v[2], 4) for k, v in top}
+    out["load_average_1min_after"] = os.getloadavg()[0]
+    return out
+
+
+def speed(trials: int, fast_trials: int = 20000) -> dict:
+    """Trials per second of the full path (`--exact`: identify per trial) and of the batched path
+    (mtcal.uncertainty.fast): on one core in a process of its own with BLAS limited to one thread (``one_core``),
+    and end to end with 1 and 2 local Dask workers (set-up included; ``trials_phase``: from the first block's
+    arrival to the last, the set-up of the base fit, the linearisation, the check and the cluster excluded), the
+    speed-ups, and the projected hours of 10^5 and 10^6 trials on two workers (batched: the 2-worker run's set-up
+    plus the trials at its steady rate; full: two cores at the one-core CPU rate)."""
+    import subprocess
+
+    env = {**os.environ, **ONE_THREAD}
+    p = subprocess.run([sys.executable, __file__, "one-core", "--trials", str(trials)], env=env, check=True,
+                       capture_output=True, text=True)
+    out = {"trials_full": trials, "trials_batched": fast_trials, "cores": os.cpu_count(),
+           "load_average_1min_before": os.getloadavg()[0], "one_core": json.loads(p.stdout)}
+    rec, opt, *_ = _demo()
     for w in (1, 2):
         for name, n, exact in (("full", trials, True), ("batched", fast_trials, False)):
+            arrivals = []
             t = time.perf_counter()
-            r = monte_carlo(rec, trials=n, seed=0, workers=w, exact=exact, **opt)
+            r = monte_carlo(rec, trials=n, seed=0, workers=w, exact=exact, progress=lambda k, a=arrivals: a.append(
+                (time.perf_counter(), k)), **opt)
             dt = time.perf_counter() - t
-            out[f"{name}_workers_{w}"] = {"seconds": dt, "trials_per_s": n / dt, "path": r.path}
+            first, last = arrivals[0][0], arrivals[-1][0]
+            done = sum(k for _, k in arrivals[1:])
+            out[f"{name}_workers_{w}"] = {"seconds": dt, "trials_per_s": n / dt, "setup_s": first - t,
+                                          "trials_phase_per_s": done / max(last - first, 1e-9),
+                                          "load_average_1min_after": os.getloadavg()[0], "path": r.path}
     for name in ("full", "batched"):
-        one, two = out[f"{name}_workers_1"]["trials_per_s"], out[f"{name}_workers_2"]["trials_per_s"]
-        out[f"{name}_speedup_2_over_1"] = two / one
-    # projected: the set-up (base identify, linearisation, check, cluster start) plus the trials at the steady
-    # 2-worker rate (the in-process batched rate times the 2-worker speed-up measured end to end)
-    setup = out["batched_workers_2"]["seconds"] - fast_trials / (2 * out["in_process"]["batched_trials_per_s"])
-    rate2 = out["in_process"]["batched_trials_per_s"] * min(2.0, max(1.0, out["batched_speedup_2_over_1"]))
-    full2 = out["full_workers_2"]["trials_per_s"]
+        one, two = out[f"{name}_workers_1"], out[f"{name}_workers_2"]
+        out[f"{name}_speedup_2_over_1"] = two["trials_per_s"] / one["trials_per_s"]
+        out[f"{name}_speedup_2_over_1_trials_phase"] = two["trials_phase_per_s"] / one["trials_phase_per_s"]
+    # projected: batched, the 2-worker run's set-up and its rate once the trials ran; full, two cores at the
+    # one-core CPU rate (its few trials make no steady rate of their own)
+    b2, full = out["batched_workers_2"], out["one_core"]["full_trials_per_cpu_s"]
     out["projected_hours"] = {f"{p}_{n:.0e}".replace("+0", ""): h for n in (1e5, 1e6) for p, h in
-                              (("batched_2_workers", (max(setup, 0.0) + n / rate2) / 3600),
-                               ("full_2_workers", n / full2 / 3600))}
+                              (("batched_2_workers", (b2["setup_s"] + n / b2["trials_phase_per_s"]) / 3600),
+                               ("full_2_workers", n / (2 * full) / 3600))}
     out["load_average_1min_after"] = os.getloadavg()[0]
     return out
 
@@ -120,7 +165,7 @@ def _groups(outputs: Outputs, n_volume: int) -> dict[str, np.ndarray]:
             "volume": vol[:3 * n_volume], "program": vol[3 * n_volume:]}
 
 
-def coverage(n: int, trials: int, stations: int, refs: int, direct: int) -> dict:
+def coverage(n: int, trials: int, stations: int, refs: int, direct: int, workers: int = 2) -> dict:
     """Coverage of the 95 % intervals (module docstring): the truth in identify's gauge is the noise-free
     campaign's identification (its functions reproduce the true tables to < 1e-6 mm); ``refs`` campaigns get a
     Monte Carlo of ``trials`` trials, whose interval offsets about their estimate are applied to the estimates of
@@ -139,7 +184,7 @@ def coverage(n: int, trials: int, stations: int, refs: int, direct: int) -> dict
         lo, hi, mid, u, hits = [], [], [], [], []
         for k in range(refs):
             rec, _ = _campaign(truth, stations, 9000 + k)
-            r = monte_carlo(rec, trials=trials, seed=k, workers=2, inputs=Inputs().only("noise"), poses=poses,
+            r = monte_carlo(rec, trials=trials, seed=k, workers=workers, inputs=Inputs().only("noise"), poses=poses,
                             tables=mode == "tables", **opt)
             est = o.vector(mtcal.identify(rec, worth=False, **opt).model)
             lo.append(r.stats["lo"] - est)
@@ -175,16 +220,19 @@ def coverage(n: int, trials: int, stations: int, refs: int, direct: int) -> dict
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=("speed", "coverage"))
+    ap.add_argument("what", choices=("speed", "coverage", "one-core"))
     ap.add_argument("--trials", type=int, default=None)
-    ap.add_argument("--fast-trials", type=int, default=2000, help="speed: trials of the batched path")
+    ap.add_argument("--fast-trials", type=int, default=20000, help="speed: trials of the batched path")
     ap.add_argument("--n", type=int, default=40)
     ap.add_argument("--stations", type=int, choices=(1, 4), default=1)
     ap.add_argument("--refs", type=int, default=6)
     ap.add_argument("--direct", type=int, default=6)
+    ap.add_argument("--workers", type=int, default=2, help="coverage: the reference campaigns' Monte Carlo workers "
+                                                           "(0: in this process)")
     a = ap.parse_args()
-    res = (speed(a.trials or 8, a.fast_trials) if a.what == "speed"
-           else coverage(a.n, a.trials or 200, a.stations, a.refs, min(a.direct, a.refs)))
+    res = (speed(a.trials or 8, a.fast_trials) if a.what == "speed" else one_core(a.trials or 8)
+           if a.what == "one-core" else coverage(a.n, a.trials or 200, a.stations, a.refs, min(a.direct, a.refs),
+                                                           a.workers))
     print(json.dumps(res, indent=1))
 
 

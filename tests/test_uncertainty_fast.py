@@ -68,14 +68,15 @@ def _compare(rec, n: int, **options):
 
 
 def _assert_equal_to_identify(ratios, agree):
-    """Every error's estimate within 1 % of its 95 % half-width in 95 % of (trial, output) pairs, none beyond
-    fast.CHECK_TOLERANCE, 5 % (measured: demo campaign 99th percentile 1.0 %, largest 1.5 %; X and C from one
-    station largest 4.0 %: the batched step from the campaign's estimate differs from identify's converged fit by
-    0.6-2.4 % of a parameter's standard deviation, and a trial's own covariance, which the batched path takes as
-    the campaign's times the Birge ratio, moves a fit by up to 0.45 % of a half-width); degrees agree in >= 99 % of
-    (trial, function) pairs."""
-    assert np.quantile(ratios, 0.95) <= 0.01, np.quantile(ratios, 0.95)
-    assert ratios.max() <= fast.CHECK_TOLERANCE, ratios.max()
+    """Issue 37: every error's estimate (each function at each table position, each constant) within 1 % of its
+    95 % half-width (u95: twice the standard deviation of 200 batched trials) in every trial compared, and the
+    selected degrees agree in >= 99 % of (trial, function) pairs.  Before the second batched Gauss-Newton step
+    and the fits' covariance turned with the trial's reflectors (mtcal.uncertainty.fast, the module docstring) the
+    one linear step from the campaign's estimate missed identify's fit by up to 4.5 % of a parameter's standard
+    deviation: largest ratio 1.5 % on the demo campaign, 4.0 % on X and C from one station; with both, largest
+    0.06 % on X and C, on four stations and on the demo campaign, 0.04 % on the head-B machine, degrees the same in
+    every pair."""
+    assert ratios.max() <= 0.01, (ratios.max(), np.quantile(ratios, 0.95))
     assert agree >= 0.99, agree
 
 
@@ -306,3 +307,18 @@ def test_compensate_refuses_a_monte_carlo_it_cannot_use(mc_files, capsys, case):
     assert len(lines) == 1 and str(bad) in lines[0], err
     assert {"other model": "another model", "nan": "non-finite", "0 trials": "0 trials",
             "program edited": "another version", "no provenance": "no provenance"}[case] in lines[0]
+
+
+@pytest.mark.slow
+def test_local_workers_keep_glibcs_mmap_threshold_and_one_blas_thread():
+    """Dask's workers get MALLOC_TRIM_THRESHOLD_=65536, which fixes glibc's mmap threshold at 128 kB: each batched
+    block's arrays were mapped afresh (benchmarks/uncertainty_mc.py one-core: 480 instead of 681 trials per
+    CPU-second, the system time doubled).  mtcal's local workers run without it, BLAS still on one thread."""
+    import os
+
+    client, cluster = mc._client(1, None)
+    try:
+        env = client.run(lambda: (os.environ.get("MALLOC_TRIM_THRESHOLD_"), os.environ.get("OMP_NUM_THREADS")))
+    finally:
+        mc._close(client, cluster)
+    assert list(env.values()) == [(None, "1")]

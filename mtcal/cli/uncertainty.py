@@ -105,10 +105,30 @@ def _progress(args):
     if args.quiet or args.json:
         return None
     try:
-        from tqdm import tqdm
+        import tqdm  # noqa: F401
     except ImportError:
         return None
-    return tqdm(total=args.trials, unit="trial", file=sys.stderr, desc="mtcal uncertainty")
+    return _Bar(args.trials)
+
+
+class _Bar:
+    """The trials' progress bar on stderr, started at the first trials done: its rate and remaining time are the
+    trials' (the set-up before them, identify, the batched path's check and the cluster's start, says its own
+    lines), so a long run's estimate is right from the start."""
+
+    def __init__(self, total: int):
+        self.total, self.bar = total, None
+
+    def update(self, n: int) -> None:
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=self.total, unit="trial", file=sys.stderr, desc="mtcal uncertainty")
+        self.bar.update(n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _text(d: dict) -> str:

@@ -163,13 +163,28 @@ def _trackers(rec: Recording, tracker) -> dict[str, np.ndarray]:
 # ----------------------------------------------------------------------------------------------- model
 def _state(m: Machine, rec: Recording, lay: Layout, q, keys, sides, x):
     """Exact model readings (n, 3) and the Jacobian blocks (errors, reflectors, alignment) at parameters x."""
-    n = len(rec)
-    st = rec.stations()
-    w = np.array([x[lay.reflectors[(s, str(p))]:lay.reflectors[(s, str(p))] + 3] for s, p in zip(sides, rec.point)])
+    return _state_at(m, q, sides, _rows(m, rec, lay, keys, sides), x)
+
+
+def _rows(m: Machine, rec: Recording, lay: Layout, keys, sides):
+    """Each row's columns in x, which do not change with x: (its reflector's first column (n,), its key's first
+    error column or -1 at the reference (n,), the indices of its axis' six error motions in the machine's errors
+    (n, 6), its station's first column (n,))."""
+    wcol = np.array([lay.reflectors[(s, str(p))] for s, p in zip(sides, rec.point)])
     ecol = np.array([lay.err_index.get((str(a), round(float(p), 6), int(d)), -1)
                      for a, p, d in zip(rec.axis, rec.position, keys)])
+    motions = {a: [m.error_names.index(nm) for nm in m.error_motions(a)] for a in map(str, np.unique(rec.axis))}
+    mot_idx = np.array([motions[str(a)] for a in rec.axis]).reshape(len(rec), 6)
+    acol = np.array([lay.stations[s] for s in rec.stations()])
+    return wcol, ecol, mot_idx, acol
+
+
+def _state_at(m: Machine, q, sides, rows, x):
+    """``_state`` with the rows' columns given (``_rows``)."""
+    wcol, ecol, mot_idx, acol = rows
+    n = len(ecol)
+    w = x[wcol[:, None] + np.arange(3)]
     err = np.zeros((n, len(m.error_names)))
-    mot_idx = np.array([[m.error_names.index(nm) for nm in m.error_motions(str(a))] for a in rec.axis])
     has = ecol >= 0
     err[np.arange(n)[has, None], mot_idx[has]] = x[ecol[has, None] + np.arange(6)]
     pts = np.empty((n, 3))
@@ -183,7 +198,7 @@ def _state(m: Machine, rec: Recording, lay: Layout, q, keys, sides, x):
         je = m.point_jacobian_errors(side, q[on], w[on])
         jac_e[on] = np.take_along_axis(je, mot_idx[on][:, None, :], axis=-1)
         rot[on] = m.rigid_motion(side, q[on])[1]
-    a_s = np.array([x[lay.stations[s]:lay.stations[s] + 6] for s in st])
+    a_s = x[acol[:, None] + np.arange(6)]
     model = tp.rigid_point(pts, a_s)
     jac_a = tp.point_rows(pts)
     return model, (ecol, jac_e), (w, rot), (a_s, jac_a)

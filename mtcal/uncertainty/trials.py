@@ -106,6 +106,41 @@ def draw(rec: Recording, trackers: np.ndarray, inputs: Inputs, rng: np.random.Ge
     return xyz
 
 
+def draw_many(rec: Recording, trackers: np.ndarray, inputs: Inputs, seed: int, ks: list[int],
+              prepared: Prepared | None = None) -> np.ndarray:
+    """``draw`` of trials ``ks`` (each from ``np.random.default_rng([seed, k])``, the same numbers in the same
+    order) at once: (len(ks), n, 3) mm, trials last in memory (a transposed view); the arithmetic is batched over
+    the trials (the batched path's draw, mtcal.uncertainty.fast)."""
+    pre = prepare_draw(rec, trackers, inputs) if prepared is None else prepared
+    t, n = len(ks), len(rec)
+    z = np.zeros((n, 3, t))  # trials last: the products below are (n, 3, 3) @ (n, 3, T)
+    scale = np.zeros((len(pre.stations), t))
+    off = np.zeros((pre.labels, 3, t))
+    temp = np.zeros(t)
+    for i, k in enumerate(ks):  # the draws of trial k in draw's order
+        rng = np.random.default_rng([seed, k])
+        if pre.factor is not None:
+            z[..., i] = rng.standard_normal(rec.xyz.shape)
+        if inputs.scale_u:
+            scale[:, i] = [rng.normal(0.0, inputs.scale_u) for _ in pre.stations]
+        if inputs.centring_u_um:
+            off[..., i] = rng.normal(0.0, inputs.centring_u_um * 1e-3, (pre.labels, 3))
+        if inputs.material_temperature_u_k:
+            temp[i] = rng.normal(0.0, inputs.material_temperature_u_k)
+    xyz = np.matmul(pre.factor, z) if pre.factor is not None else z
+    xyz += rec.xyz[..., None]
+    if inputs.scale_u:
+        station = np.zeros(n, dtype=int)
+        for j, on in enumerate(pre.stations):
+            station[on] = j
+        xyz += scale[station][:, None, :] * (rec.xyz - trackers)[..., None]
+    if inputs.centring_u_um:
+        xyz += off[pre.label_index]
+    if inputs.material_temperature_u_k:
+        xyz += (temp * inputs.alpha_per_k)[None, None, :] * rec.xyz[..., None]
+    return xyz.transpose(2, 0, 1)
+
+
 def trackers_of(rec: Recording, tracker) -> np.ndarray:
     """Each row's tracker position (n, 3) mm: the recording's columns, else the one given; refuses neither."""
     if rec.tracker_xyz is not None:
