@@ -155,10 +155,12 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
 def _noise_notes(prep) -> list[str]:
     """What the noise model's findings depend on, said in ``notes``: where the round scatter and the reflectors'
     mutual distances disagree about the tracker's law (mtcal.measurement.tracker_position.rigid_law), which was
-    used; where the station is not determined by the data, what that leaves."""
+    used; where the station is not determined by the data, what that leaves; an axis repeating worse than the
+    others (mtcal.diagnose.scatter), found and its readings re-weighted."""
     shape = prep.noise.details.get("shape") or {}
     out = [(shape.get("mutual_distances") or {}).get("disagreement")]
     out.append((prep.noise.details.get("station_interval") or {}).get("note"))
+    out.append(((prep.noise.details.get("axis_scatter") or {}).get("found") or {}).get("says"))
     return [n for n in out if n]
 
 

@@ -63,6 +63,23 @@ SEPARATE_BY = {
                                                               "with the lever (Abbe), a straightness reversal "
                                                               "does not",
     frozenset(("periodic",)): "measure at a finer, non-uniform position step (below half the shortest pitch)",
+    frozenset(("backlash_travel", "backlash")): "measure the reversal at more positions over the whole travel: a "
+                                                "worn screw's lost motion changes along it, a constant one does not",
+    frozenset(("backlash_travel", "reversal_straightness")): "measure with reflectors at several offsets from the "
+                                                             "axis and over the whole travel: a lateral play moves "
+                                                             "across the axis, a lost motion along it",
+    frozenset(("backlash_travel", "reversal_angular")): "measure with reflectors at several offsets from the axis: "
+                                                        "an angular reversal grows with the offset (Abbe), a lost "
+                                                        "motion does not",
+    frozenset(("side_expansion", "thermal_drift")): "measure a second nest far from the others on the same side: "
+                                                    "an expanding side moves its nests apart, a drifting one moves "
+                                                    "them alike",
+    frozenset(("tracker_relevel", "offset")): "measure a fixed reference nest off the machine before and after "
+                                              "each round: a re-levelled tracker turns every reading about itself, "
+                                              "a knock shifts them alike",
+    frozenset(("tracker_relevel", "tracker_settling")): "log when the tracker is touched or re-levelled and measure "
+                                                        "a fixed reference nest at each round: a re-levelling is a "
+                                                        "step between rounds, a settling a gradual turn",
 }
 DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
 

@@ -502,11 +502,12 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
                      spec: TrackerSpec = AT960) -> dict:
     """How far the scatter ``r`` fixes the station's distance: the profile likelihood of the distance s from the
     readings' centre (nll, the data's shape free), at every s of STATION_GRID the direction and both scales
-    re-fitted (Nelder-Mead from the previous distance's optimum, the first from the estimate's), plus the estimate itself.  The 95 % interval spans every s within
-    chi^2_1(0.95) / 2 of the best (to the grid's distances either side of them: the grid is coarser than a sharp
-    profile); it is "not determined" when that set reaches the grid's ends, spans STATION_DETERMINED or more, or is
-    not one piece (a flat or many-moded likelihood; no interval then): the station found is one of several the
-    data allow.  A curvature sigma (the Hessian) says nothing of either.  Returns {"distance_mm",
+    re-fitted (Nelder-Mead from the previous distance's optimum, the first from the estimate's), plus the estimate
+    itself. The 95 % interval spans every s within chi^2_1(0.95) / 2 of the best (to the grid's distances either
+    side of them: the grid is coarser than a sharp profile); it is "not determined" when that set reaches the grid's
+    ends, spans STATION_DETERMINED or more, or is not one piece (a flat or many-moded likelihood; no interval then):
+    the station found is one of several the data allow. A curvature sigma (the Hessian) says nothing of either.
+    Returns {"distance_mm",
     "interval_95_mm", "determined", "profile": [[s mm, 2 (nll - best)], ...], "note"} (mm)."""
     c = xyz.mean(axis=0)
     d0 = np.asarray(t, float) - c
