@@ -133,7 +133,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     ap.add_argument("--debug", action="store_true", help=debug_help)
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, (module, text) in _commands().items():
-        p = sub.add_parser(name, help=text, description=text)
+        p = sub.add_parser(name, help=text, description=text.replace("%%", "%"))  # help is %-formatted, this not
         if only is None or name == only:
             mod = importlib.import_module(f"mtcal.cli.{module}")
             add_common_arguments(p, debug_help)

@@ -11,8 +11,9 @@ from mtcal.io import atomic_write_text, dumps, file_sha256, refuse_overwrite, re
 
 NAME = "uncertainty"
 HELP = ("GUM Supplement 1 Monte Carlo of the identification: readings drawn from the tracker's law and its "
-        "systematic terms, identify re-run per trial on Dask; 95 %% intervals of every error, constant and of the "
-        "tool tip over the work volume (mm, rad)")
+        "systematic terms, each trial's fit batched on the campaign's factorisation (identify re-run per trial with "
+        "--exact), on Dask workers; 95 %% intervals of every error, constant and of the tool tip over the work "
+        "volume (mm, rad)")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
