@@ -191,13 +191,22 @@ def round_starts(prep: Prepared, rows: np.ndarray) -> list[tuple[int, dict]]:
     axis and round it starts: where a tracker may have been re-levelled between two rounds of an axis (the rounds
     before and after show the step; at the start of an axis' block the base's positions and error functions of the
     axes after it would take the rotation, and only the positions those axes share could show it: a quasi-static
-    misfit of the shared positions, not a re-levelling)."""
+    misfit of the shared positions, not a re-levelling).  Only a start whose previous reading in time is of the same
+    axis counts: rounds numbered out of time order (gen2 held-out seed 3501: "before round 1 of axis B" at B's block
+    start on a clean campaign) open a block too."""
     rec, first = prep.rec, {}
     for i in np.flatnonzero(rows):
         k = (str(rec.axis[i]), int(rec.round[i]))
         first[k] = min(first.get(k, prep.order[i]), prep.order[i])
     opening = {a: min(r for (b, _), r in first.items() if b == a) for a, _ in first}
-    return sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items() if r != opening[a])
+    ranks = np.sort(prep.order[rows])
+    axis_at = {int(prep.order[i]): str(rec.axis[i]) for i in np.flatnonzero(rows)}
+
+    def within_block(r: int) -> bool:  # the reading before it in time is of the same axis (not a block's start)
+        k = int(np.searchsorted(ranks, r))
+        return k > 0 and axis_at[int(ranks[k - 1])] == axis_at[int(r)]
+
+    return sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items() if r != opening[a] and within_block(r))
 
 
 def onsets(rec, seen: np.ndarray) -> list[float]:
