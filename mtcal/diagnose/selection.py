@@ -224,7 +224,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
-                return v
+                return _simplest(eng, v, sig, w, level)
             free, sc, why = place
             if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
                 fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
@@ -245,6 +245,23 @@ def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, leve
         if not (sc.separable and sc.logp + v.log_multiplicity < math.log(level)):
             return True
     return False
+
+
+NESTED = {"backlash_travel": "backlash"}  # a member -> the simpler member it contains (its value at g = 0)
+
+
+def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
+    """``v``, or the simpler member it contains (NESTED, same axis, in ``sig``) where what ``v`` adds beside it is
+    not significant: beyond the float range of p, the chi^2 tail that orders the evidence favours the member with
+    more columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2 columns)."""
+    simple = NESTED.get(v.candidate.name)
+    o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == v.candidate.axis), None)
+    if o is None:
+        return v
+    e = eng.copy()
+    e.add(w(o.candidate))
+    sc = e.score(w(v.candidate))
+    return v if sc.separable and sc.logp + v.log_multiplicity < math.log(level) else o
 
 
 WITHIN = 0.1  # a candidate whose fit the free form of a place leaves less than this share of is within that place
