@@ -236,15 +236,9 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
 def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> bool:
     """Whether a significant named candidate of ``sig`` leaves the free form of ``v`` insignificant beside it
     (its own test at ``level``, its multiplicity): the free form's misfit is that effect's."""
-    for o in sig:
-        if o.candidate.name == fx.UNEXPLAINED or o.candidate.name in ROUND_SPECIFIC:
-            continue
-        e = eng.copy()
-        e.add(w(o.candidate))
-        sc = e.score(w(v.candidate))
-        if not (sc.separable and sc.logp + v.log_multiplicity < math.log(level)):
-            return True
-    return False
+    own = level * math.exp(-v.log_multiplicity)
+    return any(_significant_beside(eng, w(o.candidate), w(v.candidate), own) is None for o in sig
+               if o.candidate.name != fx.UNEXPLAINED and o.candidate.name not in ROUND_SPECIFIC)
 
 
 NESTED = {"backlash_travel": "backlash"}  # a member -> the simpler member it contains (its value at g = 0)
@@ -258,10 +252,7 @@ def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -
     o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == v.candidate.axis), None)
     if o is None:
         return v
-    e = eng.copy()
-    e.add(w(o.candidate))
-    sc = e.score(w(v.candidate))
-    return v if sc.separable and sc.logp + v.log_multiplicity < math.log(level) else o
+    return v if _significant_beside(eng, w(o.candidate), w(v.candidate), level * math.exp(-v.log_multiplicity)) else o
 
 
 WITHIN = 0.1  # a candidate whose fit the free form of a place leaves less than this share of is within that place
