@@ -96,11 +96,7 @@ def _tracker_place(g, c: fx.Candidate) -> Place | None:
     rows, tracker, of = g.at(station)
     if tracker is None:
         return None
-    on = rows & np.isfinite(g.time_s) & (g.time_s >= c.extra["t0_s"])
-    step = on.astype(float)
-    turn = np.zeros((len(on), 3, 3))
-    turn[on] = np.stack([S.tracker_settling_signature(g.xyz[on], tracker, u, step[on], 1.0)[:, :, 0]
-                         for u in np.eye(3)], axis=-1)
+    turn = _turn(g, tracker, rows & np.isfinite(g.time_s) & (g.time_s >= c.extra["t0_s"]))
     free = fx.Candidate(fx.UNEXPLAINED, None, f"rigid step of the tracker{of}'s frame at t0 = "
                         f"{c.extra['t0_s']:.6g} s", np.concatenate([c.G, turn], axis=-1),
                         list(c.params) + ["w_x (rad)", "w_y (rad)", "w_z (rad)"],
@@ -112,6 +108,15 @@ def _tracker_place(g, c: fx.Candidate) -> Place | None:
                                     "on its stand (a knock alone translates)"})
     return Place(free, [c], "the step at t0 also turns the readings about the tracker (a turn beside the knock's "
                  "translation: F = {F}, p = {p}): the tracker re-levelled or turned, not knocked")
+
+
+def _turn(g, tracker: np.ndarray, on: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) mm per rad: the readings ``on`` (bool (n,)) turned about the tracker (mm, machine frame) by a
+    rotation vector's x, y, z components -- tracker_settling_signature's ramp column u x (point - T) with dt 1."""
+    turn = np.zeros((len(on), 3, 3))
+    turn[on] = np.stack([S.tracker_settling_signature(g.xyz[on], tracker, u, np.ones(int(on.sum())), 1.0)[:, :, 0]
+                         for u in np.eye(3)], axis=-1)
+    return turn
 
 
 def _side_nests(g, c: fx.Candidate) -> Place | None:
@@ -172,12 +177,8 @@ def _settling_place(prep, c: fx.Candidate) -> Place | None:
     blocks = _blocks(rec, rows)
     if len(blocks) < 3:
         return None
-    cols = []
-    for sel in blocks[1:]:  # relative to the first block (a turn common to all is the station's alignment)
-        turn = np.zeros((len(sel), 3, 3))
-        turn[sel] = np.stack([S.tracker_settling_signature(g.xyz[sel], tracker, u, np.ones(int(sel.sum())), 1.0)
-                              [:, :, 0] for u in np.eye(3)], axis=-1)
-        cols.append(turn)
+    cols = [_turn(g, tracker, sel) for sel in blocks[1:]]  # relative to the first block (a turn common to all
+    #                                                          is the station's alignment)
     free = fx.Candidate(fx.UNEXPLAINED, None, f"turn of the tracker{of}'s frame in each block of readings",
                         np.concatenate(cols, axis=-1),
                         [f"w_{k}(block {b + 2}) (rad)" for b in range(len(cols)) for k in "xyz"],
