@@ -14,7 +14,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
+
+from mtcal import _tails
 
 ALIAS_TOL = 1e-4       # sin of the smallest angle between a candidate and the base below this: not separable
 WEAK_TOL = 0.05        # ... below this: separable only weakly (estimate strongly correlated with the base)
@@ -181,7 +182,7 @@ class Engine:
         dof = max(self.dof - k, 1)
         rss1 = max(self.rss - delta, 1e-300)
         F = (delta / k) / (rss1 / dof)
-        logp = float(stats.f.logsf(F, k, dof))
+        logp = float(_tails.f_logsf(F, k, dof))
         if not math.isfinite(logp):  # beyond the float range: the chi^2 tail exponent keeps the order finite
             logp = -0.5 * k * F
         return Score(True, sep, k, dof, delta, F, logp)

@@ -24,8 +24,8 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from scipy import stats
 
+from mtcal import _tails
 from mtcal.diagnose.design import base_design, engine_for, family_degrees, whiten
 from mtcal.diagnose.prepared import NoiseModel, Prepared
 from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
@@ -74,7 +74,7 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
     for _ in range(ITERATIONS):  # refit the base with the weights of the estimate: the unweighted fit leaks the
         # large transverse noise into the radial residuals of other readings
         r = _base_residuals(prep, max_degree, prior, NoiseModel.at960(xyz, t, "", "", _scaled(prior, logs)).W)
-        t, logs, nll = refine(xyz, r, t, prior)
+        t, logs, nll = refine(xyz, r, t, prior, logs=logs)
     sh = _estimated_shape(prep, r, t, nll, prior)
     spec = sh.spec if sh.replaces_base else prior
     c = xyz.mean(axis=0)
@@ -112,7 +112,7 @@ def _estimated_shape(prep: Prepared, r: np.ndarray, t: np.ndarray, nll: float, p
     t_prior, _, nll_prior = refine(prep.rec.xyz, r, t, prior, shape=False)
     c = prep.rec.xyz.mean(axis=0)
     closer = np.linalg.norm(t - c) <= np.linalg.norm(t_prior - c)
-    return near if closer and stats.chi2.sf(max(2.0 * (nll_prior - nll), 0.0), 1) < LR_LEVEL else sh
+    return near if closer and _tails.chi2_sf(max(2.0 * (nll_prior - nll), 0.0), 1) < LR_LEVEL else sh
 
 
 def _trusted(interval: dict, sh: ShapeEstimate) -> dict:

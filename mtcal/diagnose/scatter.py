@@ -22,8 +22,8 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from scipy import stats
 
+from mtcal import _tails
 from mtcal.diagnose.prepared import NoiseModel, Prepared
 
 LEVEL = 0.005  # family-wise over the axes tested: the diagnosis' default level (mtcal.diagnose.run.LEVEL)
@@ -70,7 +70,7 @@ def axis_scatter(prep: Prepared, level: float = LEVEL) -> NoiseModel:
         dj, do = dof[a], sum(v for b, v in dof.items() if b != a)
         k = sum(v for b, v in z2.items() if b != a) / do           # the law's common scale, from the others
         F = (z2[a] / dj) / k
-        p = float(stats.f.sf(F, dj, do))
+        p = float(_tails.f_sf(F, dj, do))
         tested.append({"axis": a, "F": F, "dof": [dj, do], "p_value": p,
                        "p_adjusted": min(1.0, p * len(tables)), "scale": k})
     best = min(tested, key=lambda t: t["p_value"])
@@ -93,7 +93,7 @@ def _found(prep: Prepared, t: dict, rows: np.ndarray, sig2: np.ndarray) -> dict:
     """The extra scatter (sd, mm) of axis ``t["axis"]`` along its motion with its 95 % interval, in words."""
     a, (dj, do), F, k = t["axis"], t["dof"], t["F"], t["scale"]
     base = k * float(np.mean(sig2[rows]))                           # the law's variance along the motion, mm^2
-    lo, hi = F / stats.f.ppf(0.975, dj, do), F / stats.f.ppf(0.025, dj, do)
+    lo, hi = F / _tails.f_ppf(0.975, dj, do), F / _tails.f_ppf(0.025, dj, do)
     sd = [math.sqrt(max(r - 1.0, 0.0) * base) for r in (F, lo, hi)]
     others = [b for b in prep.axes if b != a]
     names = " and ".join([", ".join(others[:-1]), others[-1]] if len(others) > 1 else others)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mtcal import _tails
 from mtcal.errors import InputError
 from mtcal.history.results import Z95, Quantity
 from mtcal.history.store import Record
@@ -108,9 +109,8 @@ def words(name: str, spec: str | None) -> tuple[str, str]:
 
 
 def _p_value(d: float, s: float, nu: float) -> float:
-    from scipy import stats  # here, not at import: `history add` needs no statistics (scipy.stats takes seconds)
     z = abs(d) / s
-    return float(2 * (stats.t.sf(z, nu) if math.isfinite(nu) else stats.norm.sf(z)))
+    return float(2 * _tails.t_sf(z, nu))
 
 
 def _key(q: Quantity) -> tuple:
@@ -161,8 +161,7 @@ def _k(dof: float | None) -> float:
     """The 95 % coverage factor of ``dof`` degrees of freedom (Student's t; normal where infinite or unknown)."""
     if dof is None or not math.isfinite(dof):
         return Z95
-    from scipy import stats
-    return float(stats.t.ppf(0.975, dof))
+    return float(_tails.t_ppf(0.975, dof))
 
 
 def _welch(sx: float, nx: float | None, sy: float, ny: float | None) -> float:

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from mtcal import _tails
 from mtcal.errors import InputError
 from mtcal.io import dumps, file_sha256, read_json
 
@@ -145,10 +146,9 @@ def _model(res: Result, p: Path) -> None:
         if _number(sigma.get(n)) is not None:  # the joint fit's standard deviation
             u = Z95 * sigma[n]
         elif isinstance(type_a.get(n), dict) and _number(type_a[n].get("std_mean")) is not None:
-            from scipy.stats import t
             k = len(type_a[n].get("rounds", []))
             dof = float(k - 1) if k > 1 else None
-            u = (t.ppf(0.975, dof) if dof else Z95) * type_a[n]["std_mean"]
+            u = (_tails.t_ppf(0.975, dof) if dof else Z95) * type_a[n]["std_mean"]
         res.quantities.append(Quantity(n, float(v), _unit(n), None, None, u, dof))
 
 

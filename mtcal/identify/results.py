@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mtcal import _tails
 from mtcal.identify import fitting
 from mtcal.model.errormodel import ErrorModel
 from mtcal.model.fits import Fit
@@ -122,10 +123,8 @@ class AxisResult:
     def k95(self) -> np.ndarray:
         """Coverage factor per position for a 95 % interval of the mean: Student's t_0.975(dof) (GUM G.3.2; 4.30
         for 3 rounds, 3.18 for 4, where +-2 sigma would cover 82 % and 86 %), 1.96 for the joint fit."""
-        from scipy.stats import t
-
         with np.errstate(invalid="ignore"):
-            return t.ppf(0.975, self.dof)
+            return _tails.t_ppf(0.975, self.dof)
 
     @property
     def u95(self) -> np.ndarray:

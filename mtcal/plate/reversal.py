@@ -20,6 +20,7 @@ from typing import Sequence
 
 import numpy as np
 
+from mtcal import _tails
 from mtcal.errors import InputError
 from mtcal.generated import plate_numpy as G
 from mtcal.io import read_csv_rows, save_figure
@@ -504,8 +505,6 @@ def _statistics(J: np.ndarray, R: np.ndarray, ids: list[str], level: float
     statistic Q_i = r_i' (I - H_ii)^-1 r_i compares with s_(i)^2 = (SSR - Q_i) / (dof - m):
     F_i = Q_i / (m s_(i)^2) ~ F(m, dof - m) if the point is consistent; Bonferroni over the N points.
     """
-    from scipy import stats
-
     n, m, p = J.shape
     A = J.reshape(-1, p)
     r = R.ravel()
@@ -527,7 +526,7 @@ def _statistics(J: np.ndarray, R: np.ndarray, ids: list[str], level: float
     s2 = (ssr - Q) / (dof - m)
     with np.errstate(divide="ignore", invalid="ignore"):
         F = np.where(ok & (s2 > 0), Q / (m * s2), 0.0)
-    pval = stats.f.sf(F, m, dof - m)
+    pval = _tails.f_sf(F, m, dof - m)
     padj = np.minimum(1.0, pval * n)
     for i in np.argsort(padj, kind="stable"):
         if ok[i] and padj[i] < level:
