@@ -121,3 +121,29 @@ def test_a_station_about_which_the_distances_show_no_tracker_noise_is_not_determ
     assert not sh.rigid["transverse"]["determined"] and sh.rigid["transverse"]["factor"] < 1e-3
     out = _trusted({"distance_mm": 1080.6, "interval_95_mm": [948.7, 1265.1], "determined": True}, sh)
     assert not out["determined"] and "show no tracker's noise" in out["note"]
+
+
+def test_a_station_beyond_the_search_bound_is_not_determined():
+    """A tracker 28 m away: the beams are nearly parallel and the profile stays within the 95 % level up to the
+    search's bound (MAX_DISTANCE, 30 m, where the likelihood is made infinite). The interval ends at the bound, not
+    where the data end it: "not determined". On main the set 16.9-30 m spans less than 2x and was called
+    determined (and, its profile read by a chain from 0.3 m, 1641 above the best at 22.5 m, where it is 0.65)."""
+    t = np.array([0.0, -28000.0, 0.0])
+    xyz, r = _beam_scatter(t, AT960)
+    pos, logs, f = refine(xyz, r, t)
+    out = station_interval(xyz, r, pos, logs, f)
+    lo, hi = out["interval_95_mm"]
+    profile = dict(map(tuple, out["profile"]))
+    assert not out["determined"] and hi == 30000.0 and lo <= 22500.0, out
+    assert profile[22496.8] < 3.84, profile  # the profile read from the estimate outwards
+
+
+def test_the_profile_near_a_determined_station_is_read_from_the_estimate():
+    """3 m: the profile 0.06 m from the estimate is a few units. A chain of BFGS fits from the grid's near end (0.3 m)
+    read ~1820 there (stuck in another basin of the tilts and scales): the chain starts at the estimate."""
+    t = np.array([0.0, -3000.0, 0.0])
+    xyz, r = _beam_scatter(t, AT960)
+    pos, logs, f = refine(xyz, r, t)
+    out = station_interval(xyz, r, pos, logs, f)
+    profile = dict(map(tuple, out["profile"]))
+    assert out["determined"] and profile[3000.0] < 10.0 and 100.0 < profile[4000.6] < 1000.0, profile

@@ -19,8 +19,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
 
+from mtcal import _tails
 from mtcal.measurement.passes import position_key
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.tracker import AT960, TrackerSpec, law_report
@@ -33,6 +34,7 @@ HESSIAN_STEP = (5.0, 5.0, 5.0, 0.01, 0.01)  # mm, mm, mm, log c_r, log c_t: cent
 NU = 4.0                 # Student-t dof of the scatter: the readings an effect moves (an outlier and the other
 # readings of its cell, a bumped nest) weigh less than under a normal law (gen2, 1 : 70 trackers: the station of an
 # outlier's campaign 10.8 m off under a normal law, 21 mm under this one)
+WARM = 0.1              # a warm start's simplex over the cold starts' (refine)
 LOG_SHAPE_START = 1.5    # the radial scale starts at the prior's and exp(+-1.5) (variance) times it
 SHAPE_HIGH, SHAPE_LOW = 4.0, 0.6  # the base law's shape gives way when the data's radial : transverse ratio over
 # the base's is above SHAPE_HIGH (both with and without each round's mean removed: effects the scatter holds raise
@@ -103,30 +105,36 @@ def beam_starts(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: 
 
 class Likelihood:
     """The scatter's negative log-likelihood about a trial tracker (``nll``), with what does not depend on the trial
-    (the live rows, their squared scatter) computed once: the optimizers below call it thousands of times."""
+    (the live rows, their squared scatter, the law's coefficients) computed once and the coordinates held as
+    contiguous columns: the optimizers below call it thousands of times (about 0.1 ms a call for 1700 readings)."""
 
     def __init__(self, xyz: np.ndarray, r: np.ndarray, spec: TrackerSpec = AT960):
         live = np.any(r != 0, axis=1)
         self.xyz, self.spec, self.all_live = np.asarray(xyz, float), spec, bool(live.all())
-        self.X, self.R = self.xyz[live], r[live]
-        self.R2, self.m = np.sum(self.R**2, axis=1), int(live.sum())
+        self.X, self.R = (np.ascontiguousarray(a.T) for a in (self.xyz[live], r[live]))  # (3, m) each
+        self.R2, self.m = np.sum(r[live] ** 2, axis=1), int(live.sum())
+        # the law's sigmas a + b L (mm, L in mm): spec.sigmas' numbers, held to evaluate without its calls
+        self.law = [(a / spec.k * 1e-3, b / spec.k * 1e-6) for a, b in (
+            (spec.radial_um, spec.radial_um_per_m), (spec.transverse_um, spec.transverse_um_per_m))]
 
     def __call__(self, v: np.ndarray) -> float:
         if not np.all(np.isfinite(v)):
             return math.inf
-        t = v[:3]
         lr, lt = (float(v[3]), float(v[4])) if len(v) == 5 else (float(v[3]),) * 2
-        d = self.X - t
-        dist = np.sqrt(np.add.reduce(d * d, axis=1))  # np.linalg.norm's own sum
-        near, far = (dist.min(), dist.max()) if self.all_live else self._extremes(t)
+        (x, y, z), (rx, ry, rz) = self.X, self.R
+        dx, dy, dz = x - v[0], y - v[1], z - v[2]
+        dist = np.sqrt(dx * dx + dy * dy + dz * dz)
+        near, far = (dist.min(), dist.max()) if self.all_live else self._extremes(np.asarray(v[:3], float))
         if near < 100.0 or far > MAX_DISTANCE:
             return math.inf
-        s_r, s_t = self.spec.sigmas(dist)
-        along = np.einsum("ni,ni->n", self.R, d) / dist
-        across = np.maximum(self.R2 - along**2, 0.0)
-        q = along**2 / s_r**2 * math.exp(-lr) + across / s_t**2 * math.exp(-lt)
-        logdet = float(np.sum(np.log(s_r**2) + 2 * np.log(s_t**2))) + self.m * (lr + 2 * lt)
-        return 0.5 * ((NU + 3) * float(np.sum(np.log1p(q / NU))) + logdet + (lt / SCALE_PRIOR) ** 2)
+        (ar, br), (at, bt) = self.law
+        s_r, s_t = ar + br * dist, at + bt * dist
+        along2 = ((rx * dx + ry * dy + rz * dz) / dist) ** 2
+        across = np.maximum(self.R2 - along2, 0.0)
+        st2 = s_t * s_t
+        q = along2 * (math.exp(-lr) / NU) / (s_r * s_r) + across * (math.exp(-lt) / NU) / st2
+        logdet = 2.0 * float(np.sum(np.log(s_r * st2))) + self.m * (lr + 2 * lt)
+        return 0.5 * ((NU + 3) * float(np.sum(np.log1p(q))) + logdet + (lt / SCALE_PRIOR) ** 2)
 
     def _extremes(self, t: np.ndarray) -> tuple[float, float]:
         dist = np.linalg.norm(self.xyz - t, axis=1)  # every reading, those without scatter too
@@ -142,15 +150,19 @@ def nll(xyz: np.ndarray, r: np.ndarray, v: np.ndarray, spec: TrackerSpec = AT960
     return Likelihood(xyz, r, spec)(np.asarray(v, float))
 
 
-def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec = AT960, shape: bool = True
-           ) -> tuple[np.ndarray, np.ndarray, float]:
+def refine(xyz: np.ndarray, r: np.ndarray, start: np.ndarray, spec: TrackerSpec = AT960, shape: bool = True,
+           logs: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, float]:
     """Maximum likelihood from ``start`` (nll): (position mm, log scales (log c_r, log c_t), negative
     log-likelihood); ``shape``: the radial and transverse scales free (the data's shape; Nelder-Mead from three
-    radial starts, the beams converge only under the right shape), else ``spec``'s shape times one scale."""
+    radial starts, the beams converge only under the right shape), else ``spec``'s shape times one scale.
+    ``logs``: a previous optimum's log scales (with ``start`` its position, on a scatter that changed little since):
+    one start from there, the simplex a tenth of the cold starts' (WARM)."""
     best, lik = None, Likelihood(xyz, r, spec)
-    for lr0 in ((0.0, -LOG_SHAPE_START, LOG_SHAPE_START) if shape else (None,)):
-        x0 = np.append(np.asarray(start, float), [0.0] if lr0 is None else [lr0, 0.0])
-        simplex = x0 + np.vstack([np.zeros(len(x0)), np.diag([300.0, 300.0, 300.0] + [0.3] * (len(x0) - 3))])
+    warm = logs is not None and shape
+    for lr0 in ((None,) if not shape else (tuple(logs),) if warm else (0.0, -LOG_SHAPE_START, LOG_SHAPE_START)):
+        x0 = np.append(np.asarray(start, float), [0.0] if lr0 is None else lr0 if warm else [lr0, 0.0])
+        step = np.array([300.0, 300.0, 300.0] + [0.3] * (len(x0) - 3)) * (WARM if warm else 1.0)
+        simplex = x0 + np.vstack([np.zeros(len(x0)), np.diag(step)])
         res = optimize.minimize(lik, x0, method="Nelder-Mead",
                                 options={"xatol": 1e-3, "fatol": 1e-3, "initial_simplex": simplex, "maxiter": 4000})
         if best is None or res.fun < best.fun:
@@ -200,7 +212,7 @@ def against_isotropic(r: np.ndarray, nll_fit: float) -> tuple[float, float]:
     """(likelihood ratio, p) of a fit (``nll_fit``: position and shape, refine) against isotropic noise of the best
     scale on the scatter ``r``: chi^2 with 4 dof (the position and the shape)."""
     lr = 2.0 * (isotropic_nll(r) - nll_fit)
-    return lr, float(stats.chi2.sf(max(lr, 0.0), 4))
+    return lr, float(_tails.chi2_sf(max(lr, 0.0), 4))
 
 
 def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], spec: TrackerSpec = AT960
@@ -478,7 +490,7 @@ def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict 
             o = optimize.minimize_scalar(lambda x: f([g, x] if k == 0 else [x, g]),
                                          bounds=(best.x[1 - k] - PROFILE_SPAN, best.x[1 - k] + PROFILE_SPAN),
                                          method="bounded", options={"xatol": 1e-4})
-            return 2.0 * (o.fun - best.fun) - stats.chi2.ppf(0.95, 1)
+            return 2.0 * (o.fun - best.fun) - _tails.chi2_ppf(0.95, 1)
         ends = []
         for sign in (-1.0, 1.0):
             g = next((best.x[k] + sign * h for h in np.arange(0.5, PROFILE_SPAN + 0.01, 0.5)
@@ -494,6 +506,19 @@ def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict 
     return out
 
 
+def _profile_point(f, x: np.ndarray) -> optimize.OptimizeResult:
+    """The minimum of ``f`` (a profile's negative log-likelihood: two tilts and two log scales) from ``x``: BFGS on
+    finite differences (smooth there, about a fifth of Nelder-Mead's evaluations for the same values on the demo
+    campaign), Nelder-Mead where BFGS ends on no finite value from a finite start (a step into the region too near
+    the readings or too far from them, where the likelihood is infinite); an infinite start stays infinite."""
+    with np.errstate(invalid="ignore", over="ignore"):  # steps into the infinite region are no fault
+        res = optimize.minimize(f, x, method="BFGS", options={"gtol": 1e-3})
+        if not (math.isfinite(res.fun) and np.all(np.isfinite(res.x))) and math.isfinite(f(x)):
+            res = optimize.minimize(f, x, method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2,
+                                                                          "maxiter": 300})
+    return res
+
+
 STATION_GRID = np.geomspace(300.0, MAX_DISTANCE, 17)  # mm from the readings' centre: the profile's distances
 STATION_DETERMINED = 2.0  # the station is determined when its distance's 95 % interval spans less than 2x
 
@@ -501,12 +526,13 @@ STATION_DETERMINED = 2.0  # the station is determined when its distance's 95 % i
 def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.ndarray, nll_best: float,
                      spec: TrackerSpec = AT960) -> dict:
     """How far the scatter ``r`` fixes the station's distance: the profile likelihood of the distance s from the
-    readings' centre (nll, the data's shape free), at every s of STATION_GRID the direction and both scales
-    re-fitted (Nelder-Mead from the previous distance's optimum, the first from the estimate's), plus the estimate
-    itself. The 95 % interval spans every s within chi^2_1(0.95) / 2 of the best (to the grid's distances either
-    side of them: the grid is coarser than a sharp profile); it is "not determined" when that set reaches the grid's
-    ends, spans STATION_DETERMINED or more, or is not one piece (a flat or many-moded likelihood; no interval then):
-    the station found is one of several the data allow. A curvature sigma (the Hessian) says nothing of either.
+    readings' centre (nll, the data's shape free), at every s of STATION_GRID the direction and both scales re-fitted
+    (_profile_point; from the estimate outwards both ways, each distance from the previous one's optimum), plus the
+    estimate itself. The 95 % interval spans every s within chi^2_1(0.95) / 2 of the best (to the grid's distances
+    either side of them: the grid is coarser than a sharp profile); it is "not determined" when that set reaches the
+    grid's ends or the search's bounds (an infinite likelihood beside it), spans STATION_DETERMINED or more, or is
+    not one piece (a flat or many-moded likelihood; no interval then): the station found is one of several the data
+    allow. A curvature sigma (the Hessian) says nothing of either.
     Returns {"distance_mm",
     "interval_95_mm", "determined", "profile": [[s mm, 2 (nll - best)], ...], "note"} (mm)."""
     c = xyz.mean(axis=0)
@@ -521,24 +547,27 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
         return c + s * u / np.linalg.norm(u)
 
     prof, best, lik = [], nll_best, Likelihood(xyz, r, spec)
-    x = np.array([0.0, 0.0, *logs])
-    for s in STATION_GRID:
-        with np.errstate(invalid="ignore"):  # a simplex of infinite values (too near the readings) is no fault
-            res = optimize.minimize(lambda v, s=s: lik(np.append(at(s, v[:2]), v[2:])), x,
-                                    method="Nelder-Mead", options={"xatol": 1e-3, "fatol": 1e-2, "maxiter": 300})
-        prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
-        best = min(best, float(res.fun))
-        if math.isfinite(res.fun):
-            x = res.x  # the next distance starts from this one's optimum (the profile is continuous)
+    for way in (STATION_GRID[STATION_GRID < s0][::-1], STATION_GRID[STATION_GRID >= s0]):
+        x = np.array([0.0, 0.0, *logs])  # from the estimate outwards, each distance from the previous one's
+        for s in way:  # optimum (the profile is continuous; from the grid's near end a chain strays into
+            # another basin of the tilts and scales and reads the profile thousands too high)
+            res = _profile_point(lambda v, s=s: lik(np.append(at(s, v[:2]), v[2:])), x)
+            prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
+            best = min(best, float(res.fun))
+            if math.isfinite(res.fun):
+                x = res.x
     prof = [(s, v + 2.0 * (nll_best - best)) for s, v in prof] + [(s0, 2.0 * (nll_best - best))]
     prof.sort()
-    ok = np.array([v <= stats.chi2.ppf(0.95, 1) for _, v in prof])
+    ok = np.array([v <= _tails.chi2_ppf(0.95, 1) for _, v in prof])
     idx = np.flatnonzero(ok)
     piece = idx.size and np.all(np.diff(idx) == 1)
     det = bool(piece and idx[0] > 0 and idx[-1] < len(prof) - 1)
     # the bracketing distances outside the set (conservative: the grid is coarser than a sharp profile)
-    lo, hi = (prof[max(idx[0] - 1, 0)][0], prof[min(idx[-1] + 1, len(prof) - 1)][0]) if idx.size else (s0, s0)
-    det = det and hi / lo < STATION_DETERMINED
+    ends = (max(idx[0] - 1, 0), min(idx[-1] + 1, len(prof) - 1)) if idx.size else None
+    lo, hi = (prof[ends[0]][0], prof[ends[1]][0]) if ends else (s0, s0)
+    # an end where the likelihood is infinite is the search's bound (MAX_DISTANCE, 100 mm of a reading), not the
+    # data's: the set may go on beyond it
+    det = det and hi / lo < STATION_DETERMINED and all(math.isfinite(prof[i][1]) for i in ends)
     out = {"distance_mm": s0, "interval_95_mm": [lo, hi] if piece else None, "determined": det,
            "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
     if not det:
