@@ -11,8 +11,8 @@ from dataclasses import asdict, dataclass, replace
 from typing import Any, Callable
 
 import numpy as np
-from scipy import stats
 
+from mtcal import _tails
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.engine import ALIAS_TOL, Engine
 from mtcal.diagnose.prepare import Prepared
@@ -94,9 +94,9 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
             continue
         mean = r[sel].sum(axis=0)
         T_shift = float(mean @ mean) / (ng * s2)
-        p_shift = float(stats.chi2.sf(T_shift, 3))
+        p_shift = float(_tails.chi2_sf(T_shift, 3))
         S = float(t2[sel].sum())
-        p_disp = float(stats.chi2.sf(S, 3 * ng))
+        p_disp = float(_tails.chi2_sf(S, 3 * ng))
         tests.append((a, by, where, ng, min(p_shift, p_disp), "mean" if p_shift <= p_disp else "spread",
                       T_shift / 3, S / (3 * ng), float(np.linalg.norm(raw[sel].mean(axis=0)))))
     out = []
@@ -185,15 +185,17 @@ def outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
         A = np.cumsum((Wi.transpose(0, 2, 1) @ Wi)[::-1], axis=0)[::-1]          # sum W^T W
         B = np.cumsum(np.einsum("npk,nkj->npj", Qi[idx].transpose(0, 2, 1), Wi)[::-1], axis=0)[::-1]  # Q^T G
         b = np.cumsum(np.einsum("nki,nk->ni", Wi, r[idx])[::-1], axis=0)[::-1]   # G^T r
-        for j in range(1, len(idx) - 1):
-            GpGp = A[j] - B[j].T @ B[j]
-            lam = np.linalg.eigvalsh(GpGp)
-            if lam[0] <= ALIAS_TOL**2 * np.linalg.eigvalsh(A[j])[-1]:
-                continue
-            d = float(b[j] @ np.linalg.solve(GpGp, b[j]))
-            count += 1
-            if d > best["delta"]:
-                best = {"delta": d, "rows": idx[j:], "mode": "bump"}
+        # every start j = 1 .. len - 2 at once
+        GpGp = A[1:-1] - np.einsum("jpi,jpk->jik", B[1:-1], B[1:-1])
+        ok = np.linalg.eigvalsh(GpGp)[:, 0] > ALIAS_TOL**2 * np.linalg.eigvalsh(A[1:-1])[:, -1]
+        if not ok.any():
+            continue
+        bj = b[1:-1][ok]
+        d = np.einsum("ji,ji->j", bj, np.linalg.solve(GpGp[ok], bj[..., None])[..., 0])
+        count += int(ok.sum())
+        k = int(np.argmax(d))
+        if d[k] > best["delta"]:
+            best = {"delta": float(d[k]), "rows": idx[1 + np.flatnonzero(ok)[k]:], "mode": "bump"}
     return best, count
 
 
