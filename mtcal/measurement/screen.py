@@ -44,6 +44,7 @@ SAME_MM = 1e-6         # readings equal to this are one reading repeated
 @dataclass
 class DataProblem:
     """One gross error: ``kind`` one of "label_swap", "far_reading", "pass_far", "rounds_disagree",
+    "round_off_side" (of two rounds that disagree, the one the other axes of its side do not agree with),
     "duplicate_row"."""
 
     kind: str
@@ -89,7 +90,8 @@ def screen(rec: Recording, sides: Mapping[str, str] | None = None, machine=None)
     medians = {g: _pooled_medians([d for a, d in dist.items() if group[a] == g]) for g in set(group.values())}
     for axis, passes in by_axis.items():
         rigid = _rigidity(rec, axis, passes, dist[axis], medians[group[axis]], out, machine)
-        bad = rigid | _cross_round(rec, axis, passes, rigid, out)
+        nests = _side_nests(rec, axis, by_axis, group, machine)
+        bad = rigid | _cross_round(rec, axis, passes, rigid, out, nests, machine)
         for key in bad:
             out.keep[list(passes[key].values())] = False
         _reference_rounds(rec, axis, out)
@@ -114,6 +116,8 @@ def _merge(problems: list[DataProblem]) -> list[DataProblem]:
                 f"readings of {' or '.join(pts)} far from their nest in {axis} round {rnd}" if kind == "far_reading"
                 else f"{axis} round {rnd}: passes far from the other rounds'" if kind == "pass_far"
                 else f"{axis} round {rnd} disagrees with the other round" if kind == "rounds_disagree"
+                else f"{axis} round {rnd}: its nests lie far from where the other axes of its side read them (the "
+                     f"axis' other round agrees with them)" if kind == "round_off_side"
                 else f"duplicated rows of {axis} round {rnd}")
         out.append(DataProblem(kind, axis, rnd, at[0], pts, lines, size,
                                f"{what} ({len(ps)} passes, at {at[0]:g} .. {at[-1]:g}; lines {lines[0]}-{lines[-1]}; "
@@ -245,11 +249,39 @@ def _cause(rec: Recording, rows: list[int]) -> str:
     return "misread, mistyped or another reflector"
 
 
-def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out: Screen) -> set[tuple]:
+def _local(rec: Recording, axis: str, rows: np.ndarray, q: np.ndarray, machine) -> np.ndarray:
+    """The readings ``rows`` of ``axis`` at positions ``q`` carried back to their side's frame by the nominal
+    motion (x = b + R local): where the nests sit on the side, the same for every axis of that side (mm)."""
+    b, R = machine.rigid_motion(axis, machine.axis_vector({axis: q}))
+    return np.einsum("nji,nj->ni", R, rec.xyz[rows] - b)
+
+
+def _side_nests(rec: Recording, axis: str, by_axis: dict, group: dict, machine) -> dict[tuple, np.ndarray]:
+    """{(station, point): where the nest sits on the side (mm, _local)} from the passes of the other axes of
+    ``axis``' side (the median over them): what tells which of two rounds that disagree holds the slip (a
+    machine's geometric errors, tens of um, are far below PASS_FLOOR_MM).  Empty without a machine or sides."""
+    others = [a for a in by_axis if a != axis and group[a] == group[axis] and not group[a].startswith("axis ")]
+    if machine is None or not others:
+        return {}
+    seen: dict[tuple, list[np.ndarray]] = {}
+    for a in others:
+        keys = [(k[0], p, i, k[2]) for k, g in by_axis[a].items() for p, i in g.items()]
+        if not keys:
+            continue
+        rows = np.array([i for *_, i, _ in keys])
+        local = _local(rec, a, rows, np.array([q for *_, q in keys]), machine)
+        for (st, p, _, _), v in zip(keys, local):
+            seen.setdefault((st, p), []).append(v)
+    return {k: np.median(v, axis=0) for k, v in seen.items()}
+
+
+def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out: Screen,
+                 nests: dict[tuple, np.ndarray] | None = None, machine=None) -> set[tuple]:
     """Passes whose readings are far (> PASS_FLOOR_MM) from the same reflectors in the same pass of the other
     rounds: two labels swapped (exchanging them brings both back), the whole pass moved (a wrong position or axis
-    label), or single readings far off.  With two rounds only, the median cannot say which round is wrong: both
-    passes are left out as rounds that disagree."""
+    label), or single readings far off.  With two rounds only, the median cannot say which round is wrong: where
+    the other axes of the side put the pass' nests (``nests``, _side_nests) one of the two agrees with and the
+    other does not, the other is left out; else both, as rounds that disagree."""
     groups: dict[tuple, list[tuple]] = {}
     for key in passes:
         if key not in skip:
@@ -260,12 +292,45 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
             continue
         ref = {p: np.median([rec.xyz[passes[k][p]] for k in keys if p in passes[k]], axis=0)
                for p in {p for k in keys for p in passes[k]}}
-        for k in keys:
+        far = [k for k in keys if max(float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items())
+               > PASS_FLOOR_MM]
+        off = _off_the_side(rec, axis, far, passes, nests or {}, machine) if len(keys) == 2 else None
+        for k in far:
             dev = {p: float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items()}
-            if max(dev.values()) > PASS_FLOOR_MM:
+            if off is None:
                 bad.add(k)
                 out.problems.append(_cross_explain(rec, axis, k, passes[k], ref, dev, len(keys)))
+            elif k in off:
+                bad.add(k)
+                out.problems.append(_off_explain(rec, axis, k, passes[k], off[k]))
     return bad
+
+
+def _off_the_side(rec: Recording, axis: str, far: list[tuple], passes: dict, nests: dict, machine
+                  ) -> dict[tuple, float] | None:
+    """Of the two passes ``far`` of two rounds that disagree: {the one whose nests lie more than PASS_FLOOR_MM
+    from where the other axes of the side put them: that distance, mm}, when the other lies within it; else None
+    (the side cannot tell: both are left out as rounds that disagree)."""
+    if len(far) != 2 or not nests:
+        return None
+    off = {}
+    for k in far:
+        pts = [p for p in passes[k] if (k[0], p) in nests]
+        if not pts:
+            return None
+        local = _local(rec, axis, np.array([passes[k][p] for p in pts]), np.full(len(pts), k[2]), machine)
+        off[k] = max(float(np.linalg.norm(v - nests[(k[0], p)])) for p, v in zip(pts, local))
+    wrong = [k for k in far if off[k] > PASS_FLOOR_MM]
+    return {wrong[0]: off[wrong[0]]} if len(wrong) == 1 else None
+
+
+def _off_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], size: float) -> DataProblem:
+    _, rnd, q, _ = key
+    lines = tuple(sorted(int(rec.line[i]) for i in g.values()))
+    return DataProblem("round_off_side", axis, rnd, q, tuple(sorted(g)), lines, size,
+                       f"{axis} round {rnd} at {q:g}: its readings are {size:.3g} mm from where the other axes of "
+                       f"its side read the same nests (lines {lines[0]}-{lines[-1]}; the axis' other round agrees "
+                       "with them): a wrong label, a unit or columns slip?: pass left out")
 
 
 def _cross_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], ref: dict, dev: dict,
