@@ -4,6 +4,7 @@ from __future__ import annotations
 import logging
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import candidates, screen
@@ -33,6 +34,9 @@ log = logging.getLogger("mtcal.diagnose")
 LEVEL = 0.005  # the default family-wise level: it bounds the rate of false findings on a clean campaign by design,
 #              so it sits at half the 1 % the project promises (issue 24), the rest left to the noise model's error
 #              (gen2 at 0.01: findings of clean campaigns at p_adj 0.0057-0.0073, as often as the level allows)
+# BLAS_THREADS: the diagnosis is thousands of products and factorisations of a few hundred columns, where a second
+# BLAS thread costs more than it gives: `mtcal diagnose demo_campaign.csv` took 45 CPU-s (70 s wall) with
+# OpenBLAS's default threads on this 2-core machine at a load of 9, 4-5 CPU-s (6-8 s) on one thread
 MAX_DEGREE = 7  # the quasi-static family: polynomials up to degree 7 on linear axes (two undulations over the
 #                travel), harmonics up to design.ROTARY_HARMONICS on rotary axes
 
@@ -93,6 +97,12 @@ def diagnose(rec: Recording, model=None, *, machine: Machine | str = DEFAULT_MAC
     >>> print(f"{found[0].estimate * 1e3:.1f} um")
     5.6 um
     """
+    with threadpool_limits(limits=1, user_api="blas"):  # BLAS_THREADS
+        return _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_positions, tracker_model)
+
+
+def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_positions, tracker_model
+              ) -> Diagnosis:
     say = log.info
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
