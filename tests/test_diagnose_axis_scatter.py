@@ -82,6 +82,8 @@ def test_two_stations_eight_rounds_sized_on_x(tmp_path):
     assert sc["found"] is not None and sc["found"]["axis"] == "X", sc
     lo, hi = sc["found"]["interval_95_mm"]
     assert lo < sigma < hi and hi < 2 * sigma, sc["found"]
+    # compared with the linear axes tested, not with the rotary ones this design does not test
+    assert sc["found"]["says"].startswith("X repeats worse than Y and Z: ") and "B, C: rotary" in sc["not_tested"]
 
 
 @pytest.mark.parametrize("seed,index,args,law", [

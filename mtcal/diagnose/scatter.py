@@ -215,7 +215,7 @@ def _by_stops(prep: Prepared, stop: np.ndarray, nests: np.ndarray, axes: list[st
     if best["p_adjusted"] >= level:
         return replace(noise, details={**noise.details, "axis_scatter": out})
     a = best["axis"]
-    found = _stop_found(prep, fits[a], best)
+    found = _stop_found(prep, {**fits[a], "tested": [t["axis"] for t in tested]}, best)
     out["found"] = found
     on = rec.axis == a
     g = fits[a]["g"][on]
@@ -408,7 +408,7 @@ def _stop_found(prep: Prepared, fit: dict, t: dict) -> dict:
     s2 = [max(v, 0.0) * m0 / (2.0 * tt) for v in (T / m0 - 1.0, T / lo - 1.0, T / hi - 1.0)]
     sd = [math.sqrt(v) for v in s2]
     law = math.sqrt(fit["law_var"])
-    others = [b for b in prep.axes if b != a]
+    others = [b for b in fit["tested"] if b != a] or [b for b in prep.axes if b != a]
     names = " and ".join([", ".join(others[:-1]), others[-1]] if len(others) > 1 else others)
     return {"axis": a, "extra_sd_mm": sd[0], "interval_95_mm": [sd[1], sd[2]], "law_sd_mm": law,
             "F": T / m0, "p_adjusted": t["p_adjusted"], "per": "stop",
