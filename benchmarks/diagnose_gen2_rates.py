@@ -116,12 +116,15 @@ for _name in OUTSIDE:
     MAPPING[_name] = Mapping((), "axis", "physics outside mtcal's list: right is an 'unexplained' entry on an axis "
                                          "where it shows, with nothing named beside it and nothing unexplained "
                                          "elsewhere")
-# the members of mtcal's grammar of effects (issue 34 item 1, derive/grammar.py) that name four of them: right too,
-# at their place (the side that expands, the axis whose lost motion grows or that repeats worse)
+# the members of mtcal's grammar of effects (issue 34 item 1, derive/grammar.py) that name five of them: right too,
+# at their place (the side that expands, the axis whose lost motion grows or that repeats worse; the air's drift
+# scales every station's distances by one law, so any air_index_drift is at its place)
 GRAMMAR = {"table_warming": ("side_expansion",), "spindle_warming": ("side_expansion",),
-           "graded_backlash": ("backlash_travel",), "axis_scatter": ("axis_scatter",)}
+           "graded_backlash": ("backlash_travel",), "axis_scatter": ("axis_scatter",),
+           "air_temperature": ("air_index_drift",)}
+PLACE = {"table_warming": "side", "spindle_warming": "side", "air_temperature": "any"}  # else the axis
 for _name, _names in GRAMMAR.items():
-    MAPPING[_name] = Mapping(_names, "side" if _name.endswith("_warming") else "axis",
+    MAPPING[_name] = Mapping(_names, PLACE.get(_name, "axis"),
                              MAPPING[_name].why + f"; or the grammar's {_names[0]} at its place")
 MAPPING["tracker_relevel"] = Mapping(
     ("offset (tracker knock)", "tracker_settling", "tracker_relevel"), "station",

@@ -298,8 +298,33 @@ def _tracker_relevel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -
                     f"{ci[1] * 1e6:.2g}) about the horizontal axis ({about[0]:.2f}, {about[1]:.2f}, 0) through it"}
 
 
+def _air_index_drift_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
+    """air_index_drift: the change of the tracker's distance scale (ppm per hour for a ramp, ppm for a lag's final
+    value; a lag whose time constant exceeds the record: its mean rate over the record, ppm per hour), and the
+    air temperature change it amounts to at about -1 ppm per K (mtcal.campaign.effects' tracker_scale)."""
+    x = c.extra
+    record = x["t_end_s"] - x["t0_s"]
+    slow = x["law"] == "lag" and x["tau_s"] > record > 0
+    scale = (1.0 - math.exp(-record / x["tau_s"])) / (record / 3600.0) if slow else 1.0
+    v, u, ci = _linear(np.array([scale]), theta, cov)
+    ramp_law = x["law"] == "ramp" or slow
+    how = "lengthen" if v >= 0 else "shorten"
+    size = (f"{abs(v):.2g} ppm per hour (95 %: {ci[0]:.2g} to {ci[1]:.2g})" if ramp_law else
+            f"by {abs(v):.2g} ppm with a time constant of {x['tau_s']:.0f} s (95 %: {ci[0]:.2g} to {ci[1]:.2g} ppm)")
+    stations = "every station's" if x["stations"] > 1 else "the tracker's"
+    where = "" if x["tracker_from"] == "given" else " (about the station estimated from the rounds' scatter)"
+    return {"estimate": v, "uncertainty": u, "unit": "ppm/h" if ramp_law else "ppm", "interval_95": ci,
+            "tracker": x["tracker_from"],
+            **({"law": "ramp over the record", "record_s": record,
+                "note": f"time constant beyond the record ({x['tau_s']:.0f} s > {record:.0f} s): the mean rate "
+                        "over the record is reported, no final value"} if slow else {}),
+            "says": f"{stations} distances {how} {size}{where}: the air's refractive index drifted and the weather "
+                    f"compensation did not follow (the air {'cooling' if v >= 0 else 'warming'} by about "
+                    f"{abs(v):.2g} K{' per hour' if ramp_law else ''} at 1 ppm per K, or its pressure changing)"}
+
+
 GRAMMAR_HEADLINES = {"side_expansion": _side_expansion_head, "backlash_travel": _backlash_travel_head,
-                     "tracker_relevel": _tracker_relevel_head}
+                     "tracker_relevel": _tracker_relevel_head, "air_index_drift": _air_index_drift_head}
 
 
 def ramp(c: fx.Candidate, head: dict, t: np.ndarray) -> dict:

@@ -80,6 +80,22 @@ SEPARATE_BY = {
     frozenset(("tracker_relevel", "tracker_settling")): "log when the tracker is touched or re-levelled and measure "
                                                         "a fixed reference nest at each round: a re-levelling is a "
                                                         "step between rounds, a settling a gradual turn",
+    # the air's drift scales the distances about each station: along the beams, growing with their length
+    frozenset(("air_index_drift", "thermal_drift")): "measure from a second station at a right angle to the first "
+                                                     "(one air scales both about their own stations, a drifting "
+                                                     "tracker moves one), or log the air's temperature and pressure "
+                                                     "at the beam: a scale grows with the distance, a drift does not",
+    frozenset(("air_index_drift", "offset")): "log the air's temperature and pressure with the readings, and "
+                                              "measure a fixed reference nest off the machine at each round: a "
+                                              "scale follows the air gradually, a knock is a step",
+    frozenset(("air_index_drift", "tracker_settling")): "measure reflectors at several distances along one beam: "
+                                                        "the air lengthens a beam, a settling tracker turns it",
+    frozenset(("air_index_drift", "side_expansion")): "measure from a second station, or a reflector off the side: "
+                                                      "the air scales every distance about the tracker, an expanding "
+                                                      "side only its own nests about their centroid",
+    frozenset(("air_index_drift", "tracker_scale")): "log the air's temperature and pressure with the readings: a "
+                                                     "scale that changes during the campaign is the air's drift, a "
+                                                     "constant one a station's",
 }
 DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
 
