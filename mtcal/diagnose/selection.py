@@ -486,6 +486,25 @@ def growing_confounds(prep: Prepared, eng: Engine, steps: list[Step], w: Columns
                                           "share_in_block": share})
 
 
+def air_confounds(steps: list[Step], notes: list[dict]) -> None:
+    """Where the air's drift could not be tested because the station is not determined (a note of
+    mtcal.diagnose.candidates.air_index_drift), a selected drift (of a side or of the tracker) lists it in
+    ``confounded_with``: about a station the data do not place, a scale of the distances changing with time is a
+    drift along the unknown beam with a remainder too small to tell apart, so the drift may be the air's (gen2 seed
+    9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air came out as a
+    drift of the table alone)."""
+    why = next((n["not_separable"] for n in notes if n["name"] == "air_index_drift"
+                and n.get("kind") == "station undetermined"), None)
+    if why is None:
+        return
+    for s in steps:
+        if s.candidate.name == "thermal_drift" and all(c["name"] != "air_index_drift" for c in s.confounded_with):
+            s.confounded_with.append({"name": "air_index_drift", "axis": None, "where": "the air's refractive index "
+                                      "drifting (not tested: the station is not determined)", "overlap_cos": None,
+                                      "p_adjusted": None, "why": why,
+                                      "separate_by": separate_by("air_index_drift", "thermal_drift")})
+
+
 def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
              say: Callable[[str], None]) -> list[Step]:
     """Drop a selected effect that the others have made insignificant -- unless a LATER, smaller effect that
