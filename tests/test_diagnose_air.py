@@ -134,3 +134,30 @@ def test_a_gen2_clean_campaign_of_two_stations_names_no_air_change(tmp_path, ind
     d = diagnose(parse_recording(path.read_text(), path.name))
     assert "air_index_drift" not in [n for n, _ in _named(d)]
     assert any(f.name == "air_index_drift" for f in d.effects)
+
+
+def test_a_drift_lists_the_air_where_the_station_is_not_determined():
+    """Where the air's drift could not be tested (candidates' note: the station not determined), a selected drift
+    lists it in confounded_with with what separates them (gen2 seed 9000 campaign 2, B and C from one station, the
+    tracker columns removed: a 4.6 ppm air ramp came out as a drift of the table alone); a tested station adds
+    nothing; nor does a note of another kind."""
+    from mtcal.diagnose import effects as fx
+    from mtcal.diagnose.candidates import NOT_SEPARABLE
+    from mtcal.diagnose.engine import Score
+    from mtcal.diagnose.selection import Step, air_confounds
+
+    def drift() -> Step:
+        c = fx.Candidate("thermal_drift", None, "table, tau=1800 s", np.zeros((2, 3, 3)), ["A_x", "A_y", "A_z"])
+        return Step(c, Score(True, 1.0), -50.0)
+
+    s = drift()
+    air_confounds([s], [{"name": "air_index_drift", "axis": None, "kind": "station undetermined",
+                         "not_separable": NOT_SEPARABLE["air_index_drift undetermined"]}])
+    (rival,) = s.confounded_with
+    assert rival["name"] == "air_index_drift" and "not determined" in rival["where"]
+    assert rival["separate_by"].startswith("measure from a second station at a right angle")
+    s = drift()
+    air_confounds([s], [{"name": "air_index_drift", "axis": None,
+                         "not_separable": NOT_SEPARABLE["air_index_drift station"]}])
+    air_confounds([s], [])
+    assert s.confounded_with == []
