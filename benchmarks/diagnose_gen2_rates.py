@@ -116,12 +116,15 @@ for _name in OUTSIDE:
     MAPPING[_name] = Mapping((), "axis", "physics outside mtcal's list: right is an 'unexplained' entry on an axis "
                                          "where it shows, with nothing named beside it and nothing unexplained "
                                          "elsewhere")
-# the members of mtcal's grammar of effects (issue 34 item 1, derive/grammar.py) that name four of them: right too,
-# at their place (the side that expands, the axis whose lost motion grows or that repeats worse)
+# the members of mtcal's grammar of effects (issue 34 item 1, derive/grammar.py) that name five of them: right too,
+# at their place (the side that expands, the axis whose lost motion grows or that repeats worse; the air's drift
+# scales every station's distances by one law, so any air_index_drift is at its place)
 GRAMMAR = {"table_warming": ("side_expansion",), "spindle_warming": ("side_expansion",),
-           "graded_backlash": ("backlash_travel",), "axis_scatter": ("axis_scatter",)}
+           "graded_backlash": ("backlash_travel",), "axis_scatter": ("axis_scatter",),
+           "air_temperature": ("air_index_drift",)}
+PLACE = {"table_warming": "side", "spindle_warming": "side", "air_temperature": "any"}  # else the axis
 for _name, _names in GRAMMAR.items():
-    MAPPING[_name] = Mapping(_names, "side" if _name.endswith("_warming") else "axis",
+    MAPPING[_name] = Mapping(_names, PLACE.get(_name, "axis"),
                              MAPPING[_name].why + f"; or the grammar's {_names[0]} at its place")
 MAPPING["tracker_relevel"] = Mapping(
     ("offset (tracker knock)", "tracker_settling", "tracker_relevel"), "station",
@@ -379,12 +382,15 @@ def answer_of(text: str, name: str) -> dict:
 GEN2 = HERE / "gen2" / "gen2.py"
 
 
-def generate(directory: str, n: int, seed: int, start: int = 0, mix: str = "v2", gen2: Path = GEN2) -> list[Path]:
+def generate(directory: str, n: int, seed: int, start: int = 0, mix: str = "v2", gen2: Path = GEN2,
+             only: str | None = None) -> list[Path]:
     """gen2's campaigns ``start`` .. ``start + n - 1`` of ``seed`` in ``mix`` (v2: the original classes; v3 and
-    outside: with the physics outside mtcal's list and the careless campaigns) into ``directory``."""
+    outside: with the physics outside mtcal's list and the careless campaigns) into ``directory``; ``only``: gen2's
+    --only (class names planted in every campaign, or "none" for clean ones)."""
     subprocess.run([sys.executable, str(gen2), "--out", directory, "--n", str(n), "--seed",
                     str(seed), "--start", str(start)] + (["--mix", mix] if mix != "v2" else []) +
-                   (["--clean-fraction", "0.3"] if mix == "outside" else []), check=True, capture_output=True)
+                   (["--clean-fraction", "0.3"] if mix == "outside" else []) + (["--only", only] if only else []),
+                   check=True, capture_output=True)
     return sorted(Path(directory).glob("campaign_*.csv"))
 
 
@@ -407,11 +413,11 @@ def run_campaign(path: Path) -> list[dict]:
 
 
 def run(n: int = 200, seed: int = 7, start: int = 0, progress: bool = True, mix: str = "v2",
-        gen2: Path = GEN2) -> list[dict]:
+        gen2: Path = GEN2, only: str | None = None) -> list[dict]:
     logging.getLogger("mtcal").setLevel(logging.ERROR)  # data problems are in the answers
     runs: list[dict] = []
     with tempfile.TemporaryDirectory() as d:
-        for path in generate(d, n, seed, start, mix, gen2):
+        for path in generate(d, n, seed, start, mix, gen2, only):
             for r in run_campaign(path):
                 runs.append(r)
                 if progress:
@@ -499,10 +505,11 @@ def main() -> int:
     ap.add_argument("--start", type=int, default=0, help="first campaign index (gen2 --start)")
     ap.add_argument("--mix", default="v2", choices=("v2", "v3", "outside"), help="gen2's mix (README)")
     ap.add_argument("--gen2", type=Path, default=GEN2, help="the generator (gen2.py with the v3 mixes)")
+    ap.add_argument("--only", help="gen2's --only: class names planted in every campaign, or 'none' (clean)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     t0 = time.perf_counter()
-    runs = run(args.n, args.seed, args.start, progress=not args.json, mix=args.mix, gen2=args.gen2)
+    runs = run(args.n, args.seed, args.start, progress=not args.json, mix=args.mix, gen2=args.gen2, only=args.only)
     seconds = time.perf_counter() - t0
     if args.json:
         print(json.dumps({"n": args.n, "seed": args.seed, "start": args.start, "seconds": round(seconds, 1),

@@ -5,7 +5,8 @@
   - ``translation``  v h                                         (v a 3-vector, mm)
   - ``rotation``     Rot(u, theta h) (p - pivot) - (p - pivot)       (Rodrigues, exact; pivot: the tracker)
   - ``expansion``    1e-6 e h R (local - centroid)                (the side's reflector layout growing about its
-                                                                  centroid: e in ppm, R the side's rotation)
+                                                                  centroid: e in ppm, R the side's rotation), or
+                     1e-6 e h (point - tracker)                   (the tracker's distances scaling: the air)
   - ``error``        column x (increment of an error function)   (column: the machine's generated point Jacobian
                                                                   column of that error, mm per mm or per rad)
   - ``scatter``      no displacement: a variance component of the readings (a weight, not a column)
@@ -74,8 +75,9 @@ def rotation(u: sp.Matrix, theta: sp.Expr, point: sp.Matrix, pivot: sp.Matrix) -
 
 
 def expansion(e: sp.Expr, h: sp.Expr, offset: sp.Matrix) -> sp.Matrix:
-    """Displacement (mm, the side's local frame) of a reflector at ``offset`` = local - centroid of its side's
-    layout when the layout grows by 1e-6 e h (e in ppm)."""
+    """Displacement (mm) of a point at ``offset`` from the centre of an expansion by 1e-6 e h (e in ppm): a
+    reflector at local - centroid of its side's layout (the side's local frame), or a reading at point - tracker
+    (the machine frame: the tracker's distances scaling)."""
     return PPM * e * h * offset
 
 
@@ -133,6 +135,11 @@ MEMBERS: dict[str, Member] = {
                            "sd mm (rad rotary)"),
     "tracker_relevel": Member("tracker", "rotation about the tracker (horizontal axes x, y)",
                               "step (at a round's first reading)", "w_x, w_y rad"),
+    # the air's refractive index drifting while the tracker's weather compensation stays at its first value: every
+    # distance of every station scales by the same 1e-6 e h(t) (one air, one law; about 1 ppm per K, 0.27 ppm per
+    # hPa).  A scale constant over the campaign is tracker_scale (the machine frame's, or a station's relative one)
+    "air_index_drift": Member("tracker (every station, one law shared by all)", "expansion about the tracker",
+                              "ramp_h; lag", "ramp: ppm per hour; lag: ppm (final), tau s"),
 }
 
 
@@ -148,7 +155,17 @@ def composites(sym: dict) -> list[tuple[str, tuple, sp.Matrix, list, str]]:
     inc = law("direction", d=s["d"]) * b + law("position_direction", d=s["d"], q=s["q"]) * g
     relevel = (rotation(sp.Matrix([1, 0, 0]), wx * law("step", on=s["on"]), s["xyz"], s["tracker"])
                + rotation(sp.Matrix([0, 1, 0]), wy * law("step", on=s["on"]), s["xyz"], s["tracker"]))
+    beam = s["xyz"] - s["tracker"]  # a reading's distance vector from its station: what the air scales
     return [
+        ("air_index_drift_ramp_model", ("xyz", "tracker", "dt"), expansion(e, ramp, beam), [e],
+         "air_index_drift (ramp): displacement 1e-6 e (dt / 3600 s) (point - tracker) of a reading, mm (e in ppm "
+         "per hour: the tracker's distances scale as the air's refractive index drifts uncompensated)"),
+        ("air_index_drift_ramp_signature", ("xyz", "tracker", "dt"), expansion(e, ramp, beam), [e],
+         "air_index_drift (ramp): d reading / d e = 1e-6 (dt / 3600 s) (point - tracker), mm per (ppm/h)"),
+        ("air_index_drift_lag_model", ("xyz", "tracker", "dt", "tau"), expansion(e, lag, beam), [e],
+         "air_index_drift (lag): displacement 1e-6 e (1 - exp(-dt / tau)) (point - tracker), mm (e in ppm)"),
+        ("air_index_drift_lag_signature", ("xyz", "tracker", "dt", "tau"), expansion(e, lag, beam), [e],
+         "air_index_drift (lag): d reading / d e = 1e-6 (1 - exp(-dt / tau)) (point - tracker), mm per ppm"),
         ("side_expansion_ramp_model", ("offset", "dt"), expansion(e, ramp, s["offset"]), [e],
          "side_expansion (ramp): displacement 1e-6 e (dt / 3600 s) (local - centroid) of a reflector in its side's "
          "local frame, mm (e in ppm per hour)"),

@@ -11,7 +11,7 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'air_index_drift_ramp_model', 'air_index_drift_ramp_signature', 'air_index_drift_lag_model', 'air_index_drift_lag_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
 
 
 @functools.cache
@@ -718,6 +718,136 @@ def outlier_signature():
     _out[2, 1] = 0
     _out[2, 2] = on
     return ca.Function('signatures_outlier_signature', [on], [_out], ['on'], ['out'])
+
+
+@functools.cache
+def air_index_drift_ramp_model():
+    """air_index_drift (ramp): displacement 1e-6 e (dt / 3600 s) (point - tracker) of a reading, mm (e in ppm per hour: the tracker's distances scale as the air's refractive index drifts uncompensated)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    params = ca.SX.sym('params', 1)
+    e = params[0]
+    _x0 = (1/3600000000)*dt*e
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*(-tx + x)
+    _out[1, 0] = _x0*(-ty + y)
+    _out[2, 0] = _x0*(-tz + z)
+    return ca.Function('signatures_air_index_drift_ramp_model', [xyz, tracker, dt, params], [_out], ['xyz', 'tracker', 'dt', 'params'], ['out'])
+
+
+@functools.cache
+def air_index_drift_ramp_signature():
+    """air_index_drift (ramp): d reading / d e = 1e-6 (dt / 3600 s) (point - tracker), mm per (ppm/h)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    _x0 = (1/3600000000)*dt
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*(-tx + x)
+    _out[1, 0] = _x0*(-ty + y)
+    _out[2, 0] = _x0*(-tz + z)
+    return ca.Function('signatures_air_index_drift_ramp_signature', [xyz, tracker, dt], [_out], ['xyz', 'tracker', 'dt'], ['out'])
+
+
+@functools.cache
+def air_index_drift_lag_model():
+    """air_index_drift (lag): displacement 1e-6 e (1 - exp(-dt / tau)) (point - tracker), mm (e in ppm)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    params = ca.SX.sym('params', 1)
+    e = params[0]
+    _x0 = (1/1000000)*e*(1 - ca.exp(-dt/tau))
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*(-tx + x)
+    _out[1, 0] = _x0*(-ty + y)
+    _out[2, 0] = _x0*(-tz + z)
+    return ca.Function('signatures_air_index_drift_lag_model', [xyz, tracker, dt, tau, params], [_out], ['xyz', 'tracker', 'dt', 'tau', 'params'], ['out'])
+
+
+@functools.cache
+def air_index_drift_lag_signature():
+    """air_index_drift (lag): d reading / d e = 1e-6 (1 - exp(-dt / tau)) (point - tracker), mm per ppm
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    dt = ca.SX.sym('dt', 1)
+    dt = dt[0]
+    tau = ca.SX.sym('tau', 1)
+    tau = tau[0]
+    _x0 = 1/1000000 - 1/1000000*ca.exp(-dt/tau)
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x0*(-tx + x)
+    _out[1, 0] = _x0*(-ty + y)
+    _out[2, 0] = _x0*(-tz + z)
+    return ca.Function('signatures_air_index_drift_lag_signature', [xyz, tracker, dt, tau], [_out], ['xyz', 'tracker', 'dt', 'tau'], ['out'])
 
 
 @functools.cache

@@ -11,7 +11,7 @@ import numpy
 
 from mtcal._gensupport import as_arg, out_array
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'air_index_drift_ramp_model', 'air_index_drift_ramp_signature', 'air_index_drift_lag_model', 'air_index_drift_lag_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
 
 
 def backlash_model(d, params):
@@ -689,6 +689,132 @@ def outlier_signature(on):
     _out[..., 2, 0] = 0
     _out[..., 2, 1] = 0
     _out[..., 2, 2] = on
+    return _out
+
+
+def air_index_drift_ramp_model(xyz, tracker, dt, params):
+    """air_index_drift (ramp): displacement 1e-6 e (dt / 3600 s) (point - tracker) of a reading, mm (e in ppm per hour: the tracker's distances scale as the air's refractive index drifts uncompensated)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'air_index_drift_ramp_model')
+    tracker = as_arg(tracker, 3, 'tracker', 'air_index_drift_ramp_model')
+    dt = as_arg(dt, 0, 'dt', 'air_index_drift_ramp_model')
+    params = as_arg(params, 1, 'params', 'air_index_drift_ramp_model')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    dt = dt
+    e = params[..., 0]
+    _x0 = (1/3600000000)*dt*e
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1], dt.shape, params.shape[:-1],), (3,))
+    _out[..., 0] = _x0*(-tx + x)
+    _out[..., 1] = _x0*(-ty + y)
+    _out[..., 2] = _x0*(-tz + z)
+    return _out
+
+
+def air_index_drift_ramp_signature(xyz, tracker, dt):
+    """air_index_drift (ramp): d reading / d e = 1e-6 (dt / 3600 s) (point - tracker), mm per (ppm/h)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'air_index_drift_ramp_signature')
+    tracker = as_arg(tracker, 3, 'tracker', 'air_index_drift_ramp_signature')
+    dt = as_arg(dt, 0, 'dt', 'air_index_drift_ramp_signature')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    dt = dt
+    _x0 = (1/3600000000)*dt
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1], dt.shape,), (3,))
+    _out[..., 0] = _x0*(-tx + x)
+    _out[..., 1] = _x0*(-ty + y)
+    _out[..., 2] = _x0*(-tz + z)
+    return _out
+
+
+def air_index_drift_lag_model(xyz, tracker, dt, tau, params):
+    """air_index_drift (lag): displacement 1e-6 e (1 - exp(-dt / tau)) (point - tracker), mm (e in ppm)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    params (..., 1): parameters [e]
+        [e]
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'air_index_drift_lag_model')
+    tracker = as_arg(tracker, 3, 'tracker', 'air_index_drift_lag_model')
+    dt = as_arg(dt, 0, 'dt', 'air_index_drift_lag_model')
+    tau = as_arg(tau, 0, 'tau', 'air_index_drift_lag_model')
+    params = as_arg(params, 1, 'params', 'air_index_drift_lag_model')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    dt = dt
+    tau = tau
+    e = params[..., 0]
+    _x0 = (1/1000000)*e*(1 - numpy.exp(-dt/tau))
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1], dt.shape, tau.shape, params.shape[:-1],), (3,))
+    _out[..., 0] = _x0*(-tx + x)
+    _out[..., 1] = _x0*(-ty + y)
+    _out[..., 2] = _x0*(-tz + z)
+    return _out
+
+
+def air_index_drift_lag_signature(xyz, tracker, dt, tau):
+    """air_index_drift (lag): d reading / d e = 1e-6 (1 - exp(-dt / tau)) (point - tracker), mm per ppm
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    dt (...): time since the start of the warm-up, s (0 before it)
+    tau (...): warm-up time constant, s
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'air_index_drift_lag_signature')
+    tracker = as_arg(tracker, 3, 'tracker', 'air_index_drift_lag_signature')
+    dt = as_arg(dt, 0, 'dt', 'air_index_drift_lag_signature')
+    tau = as_arg(tau, 0, 'tau', 'air_index_drift_lag_signature')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    dt = dt
+    tau = tau
+    _x0 = 1/1000000 - 1/1000000*numpy.exp(-dt/tau)
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1], dt.shape, tau.shape,), (3,))
+    _out[..., 0] = _x0*(-tx + x)
+    _out[..., 1] = _x0*(-ty + y)
+    _out[..., 2] = _x0*(-tz + z)
     return _out
 
 

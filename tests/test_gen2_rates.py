@@ -163,6 +163,19 @@ def test_the_grammar_names_four_outside_classes_at_their_place():
     assert v.verdict == "wrong" and v.wrong == ["axis_scatter Z"]
 
 
+def test_the_air_s_drift_names_gen2_s_air_temperature():
+    """gen2's air_temperature (README: every reading scales about its station) is the grammar's air_index_drift, of
+    every station alike (no place to match); a tracker's thermal_drift is wrong unless it lists the air's drift
+    among what it cannot be told apart from."""
+    air = Planted("air_temperature", "X", ("X", "Y", "Z", "B", "C"))
+    assert judge(answer(sig("air_index_drift", None, stations=2)), [air]).verdict == "right"
+    drift = sig("thermal_drift", None, target="tracker", station="S1")
+    assert judge(answer(drift), [air]).verdict == "wrong"
+    rival = {"name": "air_index_drift", "axis": None, "where": "about the tracker, lag, tau=1800 s"}
+    assert judge(answer(dict(drift, confounded_with=[rival])), [air]).verdict == "right"
+    assert judge(answer(sig("air_index_drift", None)), []).verdict == "wrong"  # on a clean campaign
+
+
 def test_a_careless_slip_is_right_only_as_a_data_problem_or_a_refusal_never_as_physics():
     rad = Planted("rotary_radians", "B", ("B",), round=4)
     dp = {"kind": "pass_far", "axis": "B", "round": 4, "text": "axis B round 4: far from the other rounds"}

@@ -7,7 +7,8 @@ axis positions (the axis' own unit), s for time, ppm = 1e-6.
 
 Names (docs/design.md): thermal_drift, backlash, periodic, scale, squareness, rotary_location, cross_axis,
 outlier, second_order, offset, tracker_scale; issue 13: reversal_angular, nest_creep, tracker_settling,
-thermal_temperature; issue 24: nest_knock; issue 34: side_expansion, backlash_travel, tracker_relevel, axis_scatter.
+thermal_temperature; issue 24: nest_knock; issue 34: side_expansion, backlash_travel, tracker_relevel, axis_scatter,
+air_index_drift.
 Parameters are checked (finite, in a physical range) and a bad one is an InputError.
 API: ``effects=[("backlash", {"axis": "X", "amount": 0.004})]`` or
 ``Effect`` objects; CLI: ``--effect backlash:axis=X,amount=0.004``.
@@ -67,6 +68,10 @@ Models (q = axis position in mm or deg, d = approach direction +1/-1, t = time_s
                  N(0, sd^2) at every reading of it (mm, rad rotary; ``seed``): scatter along its motion.
 * tracker_relevel  the tracker re-levelled between two rounds: every reading from the first of ``round`` of
                  ``axis`` on turns by angle_rad about the horizontal axis ``about`` through the tracker (exact).
+* air_index_drift  the air's refractive index drifts while the tracker's weather compensation keeps its first value:
+                 every reading scales about the tracker, tracker + (1 + 1e-6 h) (point - tracker), h = ppm_per_h (t -
+                 t0_s) / 3600 (law "ramp") or ppm (1 - exp(-(t - t0_s) / tau_s)) (law "lag"); about -1 ppm per K of
+                 air temperature (see tracker_scale), so 3 ppm is the air 3 K cooler.
 
 Axes and error names come from the machine (``Effect.bind``): an effect's default axis is the machine's first
 axis, its default error the positioning error of that axis (E_XX on an X axis, E_C<R> on a rotary axis), the
@@ -261,6 +266,11 @@ PARAMS: dict[str, dict[str, tuple[Any, Callable, str]]] = {
                      "sd": (0.003, _in(0.0, 1.0, "mm or rad"), "mm (rad rotary): extra random scatter of the axis' "
                                                                "positioning, one standard deviation"),
                      "seed": (1, _int, "seed of the scatter's random numbers")},
+    "air_index_drift": {"law": ("lag", _choice("ramp", "lag"), "time law: ramp (ppm_per_h) or lag (ppm, tau_s)"),
+                        "ppm_per_h": (2.0, _in(-100.0, 100.0, "ppm per hour"), "ramp: scale change, 1e-6 per hour"),
+                        "ppm": (4.0, _in(-100.0, 100.0, "ppm"), "lag: final scale change, 1e-6"),
+                        "tau_s": (1800.0, _in(1.0, 1e7, "s"), "lag: time constant, s"),
+                        "t0_s": (0.0, _in(0.0, 1e7), "s, when the compensation was last set")},
     "tracker_scale": {"ppm": (math.nan, _float, "scale of distances, 1e-6; default from dt_c, dp_hpa, drh_pct"),
                       "dt_c": (2.0, _float, "air temperature minus the tracker's assumed, degC"),
                       "dp_hpa": (0.0, _float, "air pressure minus assumed, hPa"),
@@ -509,6 +519,10 @@ class Effect:
                                                           self.delta_t(rows)[on])
         elif n == "tracker_settling":
             xyz[:] = S.tracker_settling_reading(xyz, tracker, _unit(p["about"]), self.settling_angle(rows.time_s))
+        elif n == "air_index_drift":
+            dt = np.maximum(rows.time_s - p["t0_s"], 0.0)
+            xyz += (S.air_index_drift_ramp_model(xyz, tracker, dt, [p["ppm_per_h"]]) if p["law"] == "ramp" else
+                    S.air_index_drift_lag_model(xyz, tracker, dt, p["tau_s"], [p["ppm"]]))
         elif n == "tracker_relevel":  # a rotation step about the tracker (exact), from the round's first reading
             on = rows.time_s >= self.relevel_time(rows)
             xyz[on] = S.tracker_settling_reading(xyz[on], tracker, _unit(p["about"]), p["angle_rad"])
@@ -597,6 +611,12 @@ class Effect:
                            delta_t_range_k=[float(dT.min()), float(dT.max())])
         elif n == "side_expansion":
             out.update(side=p["side"], law=p["law"], centroid_local_mm=[float(v) for v in self.centroid])
+        elif n == "air_index_drift":
+            out.update(law=p["law"])
+            if rows is not None:  # the scale at the last reading, ppm
+                dt = max(float(rows.time_s.max()) - p["t0_s"], 0.0)
+                out["ppm_at_end"] = (p["ppm_per_h"] * dt / 3600.0 if p["law"] == "ramp" else
+                                     p["ppm"] * (1.0 - math.exp(-dt / p["tau_s"])))
         elif n == "axis_scatter":
             out.update(axis=p["axis"], error=self.error)
         elif n == "backlash_travel":

@@ -46,6 +46,13 @@ NOT_SEPARABLE = {
                              "right angle to the others",
     "backlash": BIDIRECTIONAL,
     "thermal_drift": "the recording has no time_s column",
+    "air_index_drift station": "the tracker's position is not known (the scatter of the rounds shows no tracker "
+                               "shape): a scale of the distances about it cannot be placed; give the tracker's "
+                               "position (--tracker or the tracker_x,y,z columns)",
+    "air_index_drift undetermined": "the station is not determined by the data (its profile interval, "
+                                    "noise_model.station_interval): a scale of the distances about it would be "
+                                    "about a guessed point; give the tracker's position (--tracker or the "
+                                    "tracker_x,y,z columns) and log the air's temperature and pressure",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
     "periodic few": "{n} positions leave {spare} shape(s) beside the fitted error function, fewer than {need}: any "
                     "misfit of the error function there is as periodic as a periodic error is; measure at more "
@@ -164,6 +171,7 @@ def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
             t0 = float(np.min(rec.time_s[seen]))
             out += [fx.side_expansion(g, offset, side, t0)] + [fx.side_expansion(g, offset, side, t0, tau)
                                                                for tau in fx.TAUS_S]
+    out += air_index_drift(prep, notes)
     for st in g.stations():
         rows, tracker, _ = g.at(st)
         if tracker is None:
@@ -172,6 +180,26 @@ def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
             t0 = float(rec.time_s[prep.order == rank0][0]) if np.isfinite(rec.time_s).all() else float("nan")
             out.append(fx.tracker_relevel(g, prep.order >= rank0, t0, where, st))
     return out
+
+
+def air_index_drift(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
+    """The air's refractive index drifting from the first reading on, one law for every station (a ramp, or a lag
+    over fx.TAUS_S): offered where the station(s) are known -- given (--tracker, the tracker_x,y,z columns), or
+    estimated from the scatter of the rounds and determined by it (mtcal.diagnose.noise's station interval); else
+    a note says why not (a scale about a station the data do not place is not this effect's shape)."""
+    g, rec = prep.geometry, prep.rec
+    interval = prep.noise.details.get("station_interval")
+    why = (NOT_SEPARABLE["thermal_drift"] if not np.isfinite(rec.time_s).all() else
+           NOT_SEPARABLE["air_index_drift station"] if g.tracker is None and not g.trackers else
+           NOT_SEPARABLE["air_index_drift undetermined"] if interval is not None and not interval["determined"]
+           else None)
+    if why is not None:
+        notes.append({"name": "air_index_drift", "axis": None, "not_separable": why,
+                      **({"kind": "station undetermined"} if why == NOT_SEPARABLE["air_index_drift undetermined"]
+                         else {})})
+        return []
+    t0, how = float(np.min(rec.time_s)), "estimated" if interval is not None else "given"
+    return [fx.air_index_drift(g, t0, None, how)] + [fx.air_index_drift(g, t0, tau, how) for tau in fx.TAUS_S]
 
 
 def layout_offsets(prep: Prepared) -> np.ndarray:

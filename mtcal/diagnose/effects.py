@@ -407,7 +407,7 @@ def tabulated(g: Geometry, axis: str) -> Candidate:
 # members whose change is in time (a ramp, a lag, a step between rounds): validated on held-out alternate readings,
 # not held-out rounds (a round held out and fitted alone absorbs a step or a slow change into its reflector
 # positions) -- the hook selection.ALTERNATE_FOLDS needs to name them (mtcal.diagnose.selection.folds)
-ALTERNATE_FOLDS = ("side_expansion", "tracker_relevel")
+ALTERNATE_FOLDS = ("side_expansion", "tracker_relevel", "air_index_drift")
 def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: float | None = None) -> Candidate:
     """The reflectors of ``side`` (tool or table) moving apart about their layout's centroid from t0 (s):
     ``offset`` (n, 3) mm is each reading's reflector position less the centroid of its axis' reflectors (the side's
@@ -462,3 +462,28 @@ def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, stat
                      ["w_x (rad)", "w_y (rad)"], family="tracker_relevel",
                      extra={"t0_s": float(t0), "round": int(where["round"]), "from_axis": str(where["axis"]),
                             "tracker": [float(v) for v in t], **_tag(station)})
+
+
+def air_index_drift(g: Geometry, t0: float, tau: float | None = None, station: str = "given") -> Candidate:
+    """The air's refractive index drifting from t0 (s) while the tracker's weather compensation keeps its value
+    there: every reading of every station scales about its own station by the same 1e-6 e h(t) (one air, one law;
+    derive/grammar.py's expansion about the tracker x ramp_h or lag): a ramp (``tau`` None: e in ppm per hour) or a
+    first-order lag of time constant ``tau`` (e in ppm, the final change).  ``station``: "given" (the tracker
+    position(s) of the recording or --tracker) or "estimated" (mtcal.diagnose.noise's, determined by the data)."""
+    G = np.zeros((len(g.axis), 3))
+    dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
+    for st in g.stations():
+        on, tracker, _ = g.at(st)
+        G[on] = (S.air_index_drift_ramp_signature(g.xyz[on], tracker, dt[on]) if tau is None else
+                 S.air_index_drift_lag_signature(g.xyz[on], tracker, dt[on], float(tau)))
+    law = "ramp" if tau is None else f"lag, tau={tau:.0f} s"
+    n = len(g.stations())
+    c = Candidate("air_index_drift", None, f"about the tracker{' (every station)' if n > 1 else ''}, {law}",
+                  G[:, :, None], ["e (ppm/h)" if tau is None else "e (ppm)"], family="air_index_drift",
+                  extra={"law": "ramp" if tau is None else "lag", "t0_s": float(t0),
+                         **({} if tau is None else {"tau_s": float(tau)}), "stations": n, "tracker_from": station,
+                         "t_end_s": float(np.nanmax(g.time_s))})
+    if tau is not None:
+        c.refine = lambda t: air_index_drift(g, t0, t, station)
+        c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
+    return c

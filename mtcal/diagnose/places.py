@@ -145,24 +145,52 @@ def _side_nests(g, c: fx.Candidate) -> Place | None:
 
 def _nest_drifts(g, c: fx.Candidate) -> Place | None:
     """Each nest of the drifting side (or of every side, for the tracker) with its own drift of the same time law
-    (3-vector each, mm): the side's nests moving apart or differently, which a translation of the side is not."""
+    (3-vector each, mm): the side's nests moving apart or differently, which a translation of the side is not; and
+    the drifting readings scaling about their station with that law (ppm; each station its own, about the tracker
+    given or estimated, else the readings' centroid: with the drift's translation beside it, a scale about any point
+    is one about the station) -- the air's refractive index drifting, which moves each reading along its beam."""
     moved = np.any(c.G != 0, axis=(1, 2))
     nests = sorted(set(zip(g.point[moved].tolist(), g.side[moved].tolist())))
-    if len(nests) < 2:
+    scale = _drift_scale(g, c, moved)
+    if len(nests) < 2 and scale is None:
         return None
-    G = np.concatenate([c.G * ((g.point == p) & (g.side == s))[:, None, None] for p, s in nests], axis=-1)
+    G = np.concatenate([c.G * ((g.point == p) & (g.side == s))[:, None, None] for p, s in nests]
+                       + ([] if scale is None else [scale.G]), axis=-1)
     target = c.extra["target"]
-    free = fx.Candidate(fx.UNEXPLAINED, None, f"each nest of the {target}'s readings drifting on its own", G,
-                        [f"{p} ({s}) {k}" for p, s in nests for k in "xyz"],
-                        family=f"{fx.UNEXPLAINED} place drift {target}",
+    free = fx.Candidate(fx.UNEXPLAINED, None, f"each nest of the {target}'s readings drifting on its own, and a "
+                        "scale about the tracker", G, [f"{p} ({s}) {k}" for p, s in nests for k in "xyz"]
+                        + ([] if scale is None else scale.params), family=f"{fx.UNEXPLAINED} place drift {target}",
                         extra={"kind": "place", "by": "nest x time", "place": f"the {target}",
                                "tau_s": c.extra["tau_s"], "t0_s": c.extra["t0_s"],
                                "points": [p for p, _ in nests],
                                "note": f"the nests read through the {target} move apart or differently with time: "
                                        "not one translation of the side (a drift) but a growth or distortion (the "
-                                       "side warming unevenly)"})
-    return Place(free, [c], "the nests drift differently (each nest's own drift beside the common one: F = {F}, "
-                 "p = {p}): the side grows or distorts, it does not translate")
+                                       "side warming unevenly), or every distance to the tracker scaling (the "
+                                       "air's refractive index drifting uncompensated)"})
+    return Place(free, [c], "the drifting readings move apart or scale (each nest's own drift, or a scale about the "
+                 "tracker, beside the common one: F = {F}, p = {p}): a growth, a distortion or the air, not one "
+                 "translation", () if scale is None else (scale,))
+
+
+def _drift_scale(g, c: fx.Candidate, moved: np.ndarray) -> fx.Candidate | None:
+    """The readings a drift ``c`` moves (``moved``) scaling with its time law about their station (each station's
+    tracker, given or estimated; else their centroid): derive/grammar.py's expansion about the tracker, the air's
+    lag signature (mm per ppm), one column per station.  None where the drift's readings are of one place only."""
+    dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - c.extra["t0_s"], 0.0), 0.0)
+    cols = []
+    for st in g.stations():
+        rows, tracker, _ = g.at(st)
+        on = rows & moved
+        if not on.any():
+            continue
+        centre = tracker if tracker is not None else g.xyz[on].mean(axis=0)
+        G = np.zeros((len(g.axis), 3, 1))
+        G[on, :, 0] = S.air_index_drift_lag_signature(g.xyz[on], centre, dt[on], c.extra["tau_s"])
+        cols.append(G)
+    if not cols:
+        return None
+    return fx.Candidate("scale with the drift", None, "", np.concatenate(cols, axis=-1),
+                        [f"scale {k + 1} (ppm)" for k in range(len(cols))], family="check")
 
 
 def _settling_place(prep, c: fx.Candidate) -> Place | None:

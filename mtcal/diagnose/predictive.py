@@ -94,6 +94,11 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
     if n == "side_expansion":
         law = {"ppm_per_h": float(th[0])} if x["law"] == "ramp" else {"ppm": float(th[0]), "tau_s": x["tau_s"]}
         return [Effect(n, {"side": x["side"], "law": x["law"], "t0_s": x["t0_s"], **law})]
+    if n == "air_index_drift":
+        if x["stations"] > 1:
+            return "an effect of several stations: the simulator has one tracker"
+        law = {"ppm_per_h": float(th[0])} if x["law"] == "ramp" else {"ppm": float(th[0]), "tau_s": x["tau_s"]}
+        return [Effect(n, {"law": x["law"], "t0_s": x["t0_s"], **law})]
     if n == "backlash_travel":
         return [Effect(n, {"axis": c.axis, "amount": float(th[0]), "slope": float(th[1])})]
     if n == "tracker_relevel":

@@ -298,8 +298,61 @@ def _tracker_relevel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -
                     f"{ci[1] * 1e6:.2g}) about the horizontal axis ({about[0]:.2f}, {about[1]:.2f}, 0) through it"}
 
 
+def _air_index_drift_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
+    """air_index_drift: the change of the tracker's distance scale (ppm per hour for a ramp, ppm for a lag's final
+    value; a lag whose time constant exceeds the record: its mean rate over the record, ppm per hour), and the
+    air temperature change it amounts to at about 1 ppm per K (mtcal.campaign.effects' tracker_scale).  A lag's
+    interval is widened over its time constant by the profile (``_profiled``)."""
+    x = c.extra
+    record = x["t_end_s"] - x["t0_s"]
+    slow = x["law"] == "lag" and x["tau_s"] > record > 0
+    scale = (1.0 - math.exp(-record / x["tau_s"])) / (record / 3600.0) if slow else 1.0
+    v, u, ci = _linear(np.array([scale]), theta, cov)
+    ramp_law = x["law"] == "ramp" or slow
+    return {"estimate": v, "uncertainty": u, "unit": "ppm/h" if ramp_law else "ppm", "interval_95": ci,
+            "tracker": x["tracker_from"],
+            **({"law": "ramp over the record", "record_s": record,
+                "note": f"time constant beyond the record ({x['tau_s']:.0f} s > {record:.0f} s): the mean rate "
+                        "over the record is reported, no final value"} if slow else {}),
+            "says": _air_says(x, v, ci, ramp_law)}
+
+
+def _air_says(x: dict, v: float, ci: list[float], ramp_law: bool) -> str:
+    """The air's drift in words: its size (``v``, ``ci``: ppm per hour or ppm) and what it amounts to."""
+    size = (f"{abs(v):.2g} ppm per hour (95 %: {ci[0]:.2g} to {ci[1]:.2g})" if ramp_law else
+            f"by {abs(v):.2g} ppm with a time constant of {x['tau_s']:.0f} s (95 %: {ci[0]:.2g} to {ci[1]:.2g} ppm)")
+    stations = "every station's" if x["stations"] > 1 else "the tracker's"
+    where = "" if x["tracker_from"] == "given" else " (about the station estimated from the rounds' scatter)"
+    return (f"{stations} distances {'lengthen' if v >= 0 else 'shorten'} {size}{where}: the air's refractive index "
+            f"drifted and the weather compensation did not follow (the air {'cooling' if v >= 0 else 'warming'} by "
+            f"about {abs(v):.2g} K{' per hour' if ramp_law else ''} at 1 ppm per K, or its pressure changing)")
+
+
+def _air_profiled(prep: Prepared, eng: Engine, others: list[np.ndarray], c: fx.Candidate, w, details: dict
+                  ) -> dict:
+    """The air's drift (a lag) sized over its time constant (mtcal.diagnose.profile): the 95 % interval of the
+    reported figure (the final change, or the mean rate over the record where tau exceeds it), its standard
+    uncertainty at least the interval's half-width / 1.96, the change at the last reading (ppm) with its interval,
+    and the words again; {} for a ramp (no nuisance parameter)."""
+    from mtcal.diagnose.profile import Z95, members, profile
+
+    x = c.extra
+    prof = profile(eng, others, members(prep, c), w, 0, x["t_end_s"])
+    if prof is None:
+        return {}
+    record = x["t_end_s"] - x["t0_s"]
+    rate = details.get("law") == "ramp over the record"
+    lo, hi = (v / (record / 3600.0) for v in prof["change_interval_95"]) if rate else prof["interval_95"]
+    v = details["estimate"]
+    frac = (record / 3600.0) if rate else 1.0 - math.exp(-record / x["tau_s"])
+    return {"interval_95": [lo, hi], "uncertainty": max(details["uncertainty"], (hi - lo) / (2 * Z95)),
+            "profile": prof, "change_over_record": {"ppm": v * frac, "interval_95": prof["change_interval_95"],
+                                                    "record_s": record},
+            "says": _air_says(x, v, [lo, hi], rate)}
+
+
 GRAMMAR_HEADLINES = {"side_expansion": _side_expansion_head, "backlash_travel": _backlash_travel_head,
-                     "tracker_relevel": _tracker_relevel_head}
+                     "tracker_relevel": _tracker_relevel_head, "air_index_drift": _air_index_drift_head}
 
 
 def ramp(c: fx.Candidate, head: dict, t: np.ndarray) -> dict:
@@ -407,7 +460,7 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
                    **{k2: v for k2, v in c.extra.items() if not k2.startswith("_") and k2 != "rows"}}
         est = h.pop("estimate")
         details.update(h)
-        details.update(_profiled(prep, eng, Gs[:i] + Gs[i + 1:], c, w, d, details))
+        details.update(_profiled(prep, eng, Gs[:i] + Gs[i + 1:], c, w, d, {**details, "estimate": est}))
         v = Gs[i] @ theta_all[off - k:off]
         f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details,
                     fitted=v - base.project(v[:, None])[:, 0], touched=np.any(c.G != 0, axis=(1, 2)),
@@ -440,6 +493,8 @@ def _profiled(prep: Prepared, eng: Engine, others: list[np.ndarray], c: fx.Candi
     the interval's half-width / 1.96, and the profile's report; {} for other findings."""
     from mtcal.diagnose.profile import Z95, members, profile
 
+    if c.name == "air_index_drift":
+        return _air_profiled(prep, eng, others, c, w, details)
     if not direction:
         return {}
     k = "XYZ".index(direction[1])

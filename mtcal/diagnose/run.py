@@ -15,6 +15,7 @@ from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_finding
 from mtcal.diagnose.scans import beyond_the_family, collapsed, locate
 from mtcal.diagnose.selection import (
     Columns,
+    air_confounds,
     backward,
     cv_gain,
     folds,
@@ -124,6 +125,7 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
     steps = backward(eng, steps, w, level, say)
     growing_confounds(prep, eng, steps, w)
+    air_confounds(steps, notes)
     null = ("the given model" if prep.given_model else
             f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)})"
             ) + " + the effects selected before"

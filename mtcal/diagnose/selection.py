@@ -80,6 +80,22 @@ SEPARATE_BY = {
     frozenset(("tracker_relevel", "tracker_settling")): "log when the tracker is touched or re-levelled and measure "
                                                         "a fixed reference nest at each round: a re-levelling is a "
                                                         "step between rounds, a settling a gradual turn",
+    # the air's drift scales the distances about each station: along the beams, growing with their length
+    frozenset(("air_index_drift", "thermal_drift")): "measure from a second station at a right angle to the first "
+                                                     "(one air scales both about their own stations, a drifting "
+                                                     "tracker moves one), or log the air's temperature and pressure "
+                                                     "at the beam: a scale grows with the distance, a drift does not",
+    frozenset(("air_index_drift", "offset")): "log the air's temperature and pressure with the readings, and "
+                                              "measure a fixed reference nest off the machine at each round: a "
+                                              "scale follows the air gradually, a knock is a step",
+    frozenset(("air_index_drift", "tracker_settling")): "measure reflectors at several distances along one beam: "
+                                                        "the air lengthens a beam, a settling tracker turns it",
+    frozenset(("air_index_drift", "side_expansion")): "measure from a second station, or a reflector off the side: "
+                                                      "the air scales every distance about the tracker, an expanding "
+                                                      "side only its own nests about their centroid",
+    frozenset(("air_index_drift", "tracker_scale")): "log the air's temperature and pressure with the readings: a "
+                                                     "scale that changes during the campaign is the air's drift, a "
+                                                     "constant one a station's",
 }
 DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
 
@@ -468,6 +484,25 @@ def growing_confounds(prep: Prepared, eng: Engine, steps: list[Step], w: Columns
                                              for c in s.confounded_with):
                 s.confounded_with.append({**_confound(s.candidate, g, 0.0), "overlap_cos": None,
                                           "share_in_block": share})
+
+
+def air_confounds(steps: list[Step], notes: list[dict]) -> None:
+    """Where the air's drift could not be tested because the station is not determined (a note of
+    mtcal.diagnose.candidates.air_index_drift), a selected drift (of a side or of the tracker) lists it in
+    ``confounded_with``: about a station the data do not place, a scale of the distances changing with time is a
+    drift along the unknown beam with a remainder too small to tell apart, so the drift may be the air's (gen2 seed
+    9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air came out as a
+    drift of the table alone)."""
+    why = next((n["not_separable"] for n in notes if n["name"] == "air_index_drift"
+                and n.get("kind") == "station undetermined"), None)
+    if why is None:
+        return
+    for s in steps:
+        if s.candidate.name == "thermal_drift" and all(c["name"] != "air_index_drift" for c in s.confounded_with):
+            s.confounded_with.append({"name": "air_index_drift", "axis": None, "where": "the air's refractive index "
+                                      "drifting (not tested: the station is not determined)", "overlap_cos": None,
+                                      "p_adjusted": None, "why": why,
+                                      "separate_by": separate_by("air_index_drift", "thermal_drift")})
 
 
 def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
