@@ -233,10 +233,8 @@ def _nest_distance(rec: Recording, axis: str, key: tuple, row: int, point: str, 
     other = [(g[point], k[2]) for k, g in passes.items() if k != key and k[0] == key[0] and point in g]
     if machine is None or not other:
         return None
-    rows = np.array([j for j, _ in other])
-    t1, r1 = machine.rigid_motion(axis, machine.axis_vector({axis: np.array([q for _, q in other])}))
+    local = _local(rec, axis, np.array([j for j, _ in other]), np.array([q for _, q in other]), machine)
     t, r = machine.rigid_motion(axis, machine.axis_vector({axis: key[2]}))
-    local = np.einsum("nji,nj->ni", r1, rec.xyz[rows] - t1)
     nest = np.median(local @ r.T + t, axis=0)
     return float(np.linalg.norm(rec.xyz[row] - nest))
 
