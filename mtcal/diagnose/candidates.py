@@ -169,8 +169,8 @@ def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
             if len(set(rec.point[seen].tolist())) < 2:
                 continue  # one reflector: no layout to grow
             t0 = float(np.min(rec.time_s[seen]))
-            out += [fx.side_expansion(g, offset, side, t0)] + [fx.side_expansion(g, offset, side, t0, tau)
-                                                               for tau in fx.TAUS_S]
+            out += [fx.side_expansion(g, offset, side, t0, tau, centre) for tau in (None, *fx.TAUS_S)
+                    for centre in (False, True)]
     out += air_index_drift(prep, notes)
     for st in g.stations():
         rows, tracker, _ = g.at(st)

@@ -408,28 +408,33 @@ def tabulated(g: Geometry, axis: str) -> Candidate:
 # not held-out rounds (a round held out and fitted alone absorbs a step or a slow change into its reflector
 # positions) -- the hook selection.ALTERNATE_FOLDS needs to name them (mtcal.diagnose.selection.folds)
 ALTERNATE_FOLDS = ("side_expansion", "tracker_relevel", "air_index_drift")
-def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: float | None = None) -> Candidate:
+def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: float | None = None,
+                   centre: bool = False) -> Candidate:
     """The reflectors of ``side`` (tool or table) moving apart about their layout's centroid from t0 (s):
     ``offset`` (n, 3) mm is each reading's reflector position less the centroid of its axis' reflectors (the side's
     local frame, mtcal.diagnose.prepare's reference positions); a ramp (``tau`` None: e in ppm per hour) or a
     first-order lag of time constant ``tau`` (e in ppm, the final growth): derive/grammar.py's expansion x ramp_h
-    or lag."""
+    or lag.  ``centre``: about a centre the data fix instead (a spindle grows from its bearing, a table about its
+    clamping, not about the reflectors): three more columns, the same law's expansion at unit offsets along the
+    side's axes, i.e. e (centroid - centre) in ppm mm (or ppm/h mm), the side's frame."""
     on = (g.side == side) & np.isfinite(g.time_s)
     dt = np.where(on, np.maximum(g.time_s - t0, 0.0), 0.0)
     R = g.rotation.reshape(-1, 9)
-    G = np.zeros((len(g.axis), 3))
-    if tau is None:
-        G[on] = S.side_expansion_ramp_signature(R[on], offset[on], dt[on])
-    else:
-        G[on] = S.side_expansion_lag_signature(R[on], offset[on], dt[on], float(tau))
+    offsets = [offset] + ([np.broadcast_to(u, offset.shape) for u in np.eye(3)] if centre else [])
+    G = np.zeros((len(g.axis), 3, len(offsets)))
+    for k, off in enumerate(offsets):
+        G[on, :, k] = (S.side_expansion_ramp_signature(R[on], off[on], dt[on]) if tau is None else
+                       S.side_expansion_lag_signature(R[on], off[on], dt[on], float(tau)))
     law = "ramp" if tau is None else f"lag, tau={tau:.0f} s"
-    c = Candidate("side_expansion", None, f"{side} side, {law}", G[:, :, None],
-                  ["e (ppm/h)" if tau is None else "e (ppm)"], family="side_expansion",
+    unit = "ppm/h" if tau is None else "ppm"
+    c = Candidate("side_expansion", None, f"{side} side, {law}" + (", centre fitted" if centre else ""), G,
+                  [f"e ({unit})"] + ([f"e (centroid - centre)_{k} ({unit} mm)" for k in "xyz"] if centre else []),
+                  family="side_expansion",
                   extra={"side": side, "law": "ramp" if tau is None else "lag", "t0_s": float(t0),
-                         **({} if tau is None else {"tau_s": float(tau)}),
+                         **({} if tau is None else {"tau_s": float(tau)}), "centre": centre,
                          "t_end_s": float(np.nanmax(g.time_s[on])) if on.any() else float(t0)})
     if tau is not None:
-        c.refine = lambda t: side_expansion(g, offset, side, t0, t)
+        c.refine = lambda t: side_expansion(g, offset, side, t0, t, centre)
         c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c
 

@@ -92,6 +92,8 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
     if n == "tracker_scale":
         return [Effect(n, {"ppm": float(th[0])})]
     if n == "side_expansion":
+        if x.get("centre"):
+            return "an expansion about a fitted centre: the simulator grows a side about its reflectors' centroid"
         law = {"ppm_per_h": float(th[0])} if x["law"] == "ramp" else {"ppm": float(th[0]), "tau_s": x["tau_s"]}
         return [Effect(n, {"side": x["side"], "law": x["law"], "t0_s": x["t0_s"], **law})]
     if n == "air_index_drift":

@@ -141,7 +141,7 @@ def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
     if c.extra.get("kind") == "growing":
         return _growing_located(prep, eng, c, s, theta, w)
     if c.extra.get("kind") == "place":
-        return _place_located(prep, c, s, theta)
+        return _place_located(prep, c, s, theta, _seen_most(prep, eng, c, theta, w) if "names" in c.extra else None)
     sd = np.sqrt(np.maximum(np.diag(cov), 1e-300))
     pick = np.abs(theta) * (np.abs(theta) > 3 * sd)
     k = int(np.argmax(pick if pick.any() else np.abs(theta)))
@@ -176,16 +176,26 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
                    float(disp.max()), note)
 
 
-def _place_located(prep: Prepared, c: fx.Candidate, s, theta: np.ndarray) -> Located:
+def _seen_most(prep: Prepared, eng: Engine, c: fx.Candidate, theta: np.ndarray, w) -> str:
+    """The axis whose readings show most of what the free form ``c`` fits (``theta``) beyond the base: the sum over
+    the axis' readings of the squared whitened fit after the base's projection (a step of every later reading is
+    mostly the base's offsets where it is constant, and seen where the base cannot take it)."""
+    G = w(c)
+    f = ((G - eng.copy_base().project(G)) @ theta).reshape(len(prep.rec), -1)
+    axes = list(dict.fromkeys(prep.rec.axis.tolist()))
+    return max(axes, key=lambda a: float(np.sum(f[prep.rec.axis == a] ** 2)))
+
+
+def _place_located(prep: Prepared, c: fx.Candidate, s, theta: np.ndarray, axis: str | None = None) -> Located:
     """A selected free form of a named effect's place (mtcal.diagnose.places) as an unexplained mismatch: where
-    (the place, and the axis of the reading it moves most), its shape (``by``), the largest displacement it fits
-    at a reading (mm, machine frame) and when and where that is, with the place's words."""
+    (the place, and ``axis`` or else the axis of the reading it moves most), its shape (``by``), the largest
+    displacement it fits at a reading (mm, machine frame) and when and where that is, with the place's words."""
     disp = np.linalg.norm(np.einsum("nik,k->ni", c.G, theta), axis=1)
     k = int(np.argmax(disp))
     rec = prep.rec
     at = (f"; largest {disp[k] * 1e3:.2f} um at axis {rec.axis[k]} round {int(rec.round[k])} point {rec.point[k]}"
           f" at {rec.position[k]:g}" + (f", t = {rec.time_s[k]:.0f} s" if np.isfinite(rec.time_s[k]) else ""))
-    return Located(c.axis or str(rec.axis[k]), c.extra["by"], f"{c.extra['place']}: {c.label}",
+    return Located(axis or c.axis or str(rec.axis[k]), c.extra["by"], f"{c.extra['place']}: {c.label}",
                    float(-s.logp_adj / math.log(10)), min(1.0, math.exp(s.logp_adj)), "mean",
                    int(np.sum(disp > 0)), s.score.F, 0.0, float(disp[k]), c.extra["note"] + at)
 
@@ -255,7 +265,9 @@ def _side_expansion_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) ->
     record = x["t_end_s"] - x["t0_s"]
     slow = not ramp_law and x["tau_s"] > record > 0  # a lag beyond the record: its mean rate over the record
     scale = (1.0 - math.exp(-record / x["tau_s"])) / (record / 3600.0) if slow else 1.0
-    v, u, ci = _linear(np.array([scale]), theta, cov)
+    a = np.zeros(len(theta))
+    a[0] = scale
+    v, u, ci = _linear(a, theta, cov)
     ramp_law = ramp_law or slow
     how = "move apart" if v >= 0 else "move together"
     warm = f"a {'warming' if v >= 0 else 'cooling'} {'table' if side == 'table' else 'spindle side'}"
@@ -266,7 +278,27 @@ def _side_expansion_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) ->
             **({"law": "ramp over the record", "record_s": record,
                 "note": f"time constant beyond the record ({x['tau_s']:.0f} s > {record:.0f} s): the mean rate "
                         "over the record is reported, no final value"} if slow else {}),
-            "says": f"the {side}-side reflectors {how} {rate} about their centroid: {warm}"}
+            **_centre(theta, cov),
+            "says": f"the {side}-side reflectors {how} {rate} about {_about(theta)}: {warm}"}
+
+
+def _centre(theta: np.ndarray, cov: np.ndarray) -> dict:
+    """A side_expansion about a fitted centre: the centre less the reflectors' centroid (mm, the side's frame),
+    -theta[1:4] / theta[0], with its standard uncertainty to first order; {} about the centroid."""
+    if len(theta) < 4 or theta[0] == 0:
+        return {}
+    d = -theta[1:4] / theta[0]
+    J = np.hstack([(theta[1:4] / theta[0] ** 2)[:, None], -np.eye(3) / theta[0]])
+    u = np.sqrt(np.maximum(np.diag(J @ cov[:4, :4] @ J.T), 0.0))
+    return {"centre_from_centroid_mm": d.tolist(), "centre_uncertainty_mm": u.tolist()}
+
+
+def _about(theta: np.ndarray) -> str:
+    """Where a side's expansion is about, in words."""
+    if len(theta) < 4 or theta[0] == 0:
+        return "their centroid"
+    return (f"a point {np.linalg.norm(theta[1:4] / theta[0]):.0f} mm from their centroid (the centre fitted: "
+            "centre_from_centroid_mm)")
 
 
 def _backlash_travel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:

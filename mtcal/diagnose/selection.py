@@ -26,12 +26,16 @@ from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
-from mtcal.diagnose.places import REVERSALS, place_of
+from mtcal.diagnose.places import REVERSALS, place_of, tie
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
 ROUND_SPECIFIC = ("outlier", "offset")
+# two named effects of different physics fitting one misfit: one is named over the other only when the likelihood
+# ratio between them (equal columns; Akaike's penalty for a difference in columns) is at least 100, Jeffreys'
+# "decisive" -- else the mismatch is reported once, located, with both as what it may be (_tied)
+TIE_CHI2 = 2 * math.log(100)
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
 # alone absorbs most of a drift into its reflector positions)
 ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature",
@@ -240,7 +244,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
-                return _simplest(eng, v, sig, w, level)
+                return _one_name(eng, _simplest(eng, v, sig, w, level), sig, w, level)
             free, sc, why = place
             if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
                 fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
@@ -257,7 +261,78 @@ def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, leve
                if o.candidate.name != fx.UNEXPLAINED and o.candidate.name not in ROUND_SPECIFIC)
 
 
+def _one_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
+    """``v``, or -- where named changes at other places fit the same misfit alike (_tied) -- one free form of them
+    all (mtcal.diagnose.places.tie): the mismatch located, with every name it may be, none of them named.  Its
+    evidence is ``v``'s test (the misfit is there; the free form's own test would spread it over every column)."""
+    rivals = _tied(eng, v, sig, w, level)
+    if not rivals:
+        return v
+    free = tie(v.candidate, [o.candidate for o in rivals],
+               [(v.score.delta - o.score.delta) / _s2(eng, v) for o in rivals])
+    return Step(free, v.score, v.logp_adj)
+
+
+def _s2(eng: Engine, v: Step) -> float:
+    """The residual variance (whitened) with ``v``'s columns fitted."""
+    return max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
+
+
+def _place(c: fx.Candidate) -> tuple | None:
+    """Where a named change in time acts: the tracker (of a station), a side, one nest; None for a quasi-static
+    effect (of an axis' error motions) or a one-off reading, whose rivals the grammar orders and confounded_with
+    reports."""
+    e = c.extra
+    if c.name in ("tracker_settling", "tracker_relevel", "air_index_drift") or e.get("variant") == "tracker knock":
+        return ("tracker", e.get("station"))
+    if c.name in ("thermal_drift", "thermal_temperature") and "target" in e:
+        return ("tracker", e.get("station")) if e["target"] == "tracker" else ("side", fx.SIDE[e["target"]])
+    if c.name == "side_expansion":
+        return ("side", e["side"])
+    if c.name in ("nest_knock", "nest_creep") or e.get("variant") == "re-seated nest":
+        return ("nest", e.get("point"))
+    return None
+
+
+def _overlap(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether ``c`` and ``o`` move mostly the same readings (at least half of the fewer they move): effects that
+    move different readings fit alike only through the base's freedoms (reflector positions, station alignments),
+    where the base's rules and same_fit_as decide."""
+    a, b = (np.any(x.G != 0, axis=(1, 2)) for x in (c, o))
+    return bool((a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0)
+
+
+def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> list[Step]:
+    """The significant named changes in time at other places (``sig``; _place) that fit the misfit ``v`` fits
+    about as well:
+    ``v``'s lead over them (its chi^2 reduction less theirs, in the residual variance, less twice the difference
+    in columns: Akaike's) below TIE_CHI2, and no longer significant beside ``v`` (the same misfit).  The pairs
+    of ORDERED are not tied."""
+    c, s2 = v.candidate, _s2(eng, v)
+    out, beside = [], None
+    for o in sig:
+        oc = o.candidate
+        if (None in (_place(c), _place(oc)) or _place(c) == _place(oc) or frozenset((c.name, oc.name)) in ORDERED
+                or not _overlap(c, oc)):
+            continue
+        lead = (v.score.delta - o.score.delta) / s2 - 2 * (v.score.k - o.score.k)
+        if lead >= TIE_CHI2:
+            continue
+        if beside is None:
+            beside = eng.copy()
+            beside.add(w(c))
+        sc = beside.score(w(oc))
+        if not (sc.separable and sc.logp + o.log_multiplicity < math.log(level)):
+            out.append(o)
+    return out
+
+
 NESTED = {"backlash_travel": "backlash"}  # a member -> the simpler member it contains (its value at g = 0)
+# pairs never tied (_tied): a member and the simpler one it contains (NESTED); one drift by either clock, the time or
+# a temperature that follows it (the name and its place are the data's, the clock is said in confounded_with); the
+# air's one column against a drift (_drift_fits_as_much)
+ORDERED = {frozenset(pair) for pair in [*NESTED.items(), ("thermal_drift", "thermal_temperature"),
+                                        ("air_index_drift", "thermal_drift")]}
 
 
 def _drift_fits_as_much(v: Step, sig: list[Step]) -> str | None:
