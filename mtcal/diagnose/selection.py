@@ -312,8 +312,8 @@ def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> li
     out, beside = [], None
     for o in sig:
         oc = o.candidate
-        if (None in (_place(c), _place(oc)) or _place(c) == _place(oc) or frozenset((c.name, oc.name)) in ORDERED
-                or not _overlap(c, oc)):
+        if (None in (_place(c), _place(oc)) or oc.family == c.family or frozenset((c.name, oc.name)) in ORDERED
+                or _place(c) == _place(oc) and _place(c)[0] != "tracker" or not _overlap(c, oc)):
             continue
         lead = (v.score.delta - o.score.delta) / s2 - 2 * (v.score.k - o.score.k)
         if lead >= TIE_CHI2:
