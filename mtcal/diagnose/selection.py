@@ -32,9 +32,9 @@ from mtcal.diagnose.prepare import Prepared
 CONFOUND_COS = 0.9
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
 ROUND_SPECIFIC = ("outlier", "offset")
-# two named effects of different physics fitting one misfit: one is named over the other only when the likelihood
-# ratio between them (equal columns; Akaike's penalty for a difference in columns) is at least 100, Jeffreys'
-# "decisive" -- else the mismatch is reported once, located, with both as what it may be (_tied)
+# two changes in time fitting one misfit: one is named over the other only when the likelihood ratio between them
+# (equal columns; Akaike's penalty for a difference in columns) is at least 100, Jeffreys' "decisive" -- else the
+# mismatch is reported once, located, with both as what it may be (_tied)
 TIE_CHI2 = 2 * math.log(100)
 # validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
 # alone absorbs most of a drift into its reflector positions)
@@ -262,20 +262,14 @@ def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, leve
 
 
 def _one_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
-    """``v``, or -- where named changes at other places fit the same misfit alike (_tied) -- one free form of them
-    all (mtcal.diagnose.places.tie): the mismatch located, with every name it may be, none of them named.  Its
-    evidence is ``v``'s test (the misfit is there; the free form's own test would spread it over every column)."""
-    rivals = _tied(eng, v, sig, w, level)
-    if not rivals:
+    """``v``, or -- where named changes in time at other places fit the same misfit alike (_tied) -- one free form
+    of them all (mtcal.diagnose.places.tie): the mismatch located, with every name it may be, none of them named.
+    Its evidence is ``v``'s test (the misfit is there; the free form's own test would spread it over every
+    column)."""
+    tied = _tied(eng, v, sig, w, level)
+    if not tied:
         return v
-    free = tie(v.candidate, [o.candidate for o in rivals],
-               [(v.score.delta - o.score.delta) / _s2(eng, v) for o in rivals])
-    return Step(free, v.score, v.logp_adj)
-
-
-def _s2(eng: Engine, v: Step) -> float:
-    """The residual variance (whitened) with ``v``'s columns fitted."""
-    return max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
+    return Step(tie(v.candidate, [o.candidate for o, _ in tied], [lead for _, lead in tied]), v.score, v.logp_adj)
 
 
 def _place(c: fx.Candidate) -> tuple | None:
@@ -294,36 +288,39 @@ def _place(c: fx.Candidate) -> tuple | None:
     return None
 
 
-def _overlap(c: fx.Candidate, o: fx.Candidate) -> bool:
-    """Whether ``c`` and ``o`` move mostly the same readings (at least half of the fewer they move): effects that
-    move different readings fit alike only through the base's freedoms (reflector positions, station alignments),
-    where the base's rules and same_fit_as decide."""
+def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether ``c`` and ``o`` are changes in time (_place) that may fit one misfit alike: of other families, not
+    a pair ORDERED, at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly
+    the same readings (at least half of the fewer they move: effects that move different readings fit alike only
+    through the base's freedoms, reflector positions and station alignments, where the base's rules and
+    same_fit_as decide)."""
+    pc, po = _place(c), _place(o)
+    if None in (pc, po) or o.family == c.family or frozenset((c.name, o.name)) in ORDERED:
+        return False
+    if pc == po and pc[0] != "tracker":
+        return False
     a, b = (np.any(x.G != 0, axis=(1, 2)) for x in (c, o))
     return bool((a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0)
 
 
-def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> list[Step]:
-    """The significant named changes in time at other places (``sig``; _place) that fit the misfit ``v`` fits
-    about as well:
-    ``v``'s lead over them (its chi^2 reduction less theirs, in the residual variance, less twice the difference
-    in columns: Akaike's) below TIE_CHI2, and no longer significant beside ``v`` (the same misfit).  The pairs
-    of ORDERED are not tied."""
-    c, s2 = v.candidate, _s2(eng, v)
+def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
+    """The significant candidates of ``sig`` that may tie with ``v`` (_may_tie) and fit its misfit about as well,
+    each with ``v``'s lead over it: its chi^2 reduction less theirs in the residual variance with ``v`` fitted,
+    less twice the difference in columns (Akaike's), below TIE_CHI2; the other no longer significant beside ``v``
+    (the same misfit)."""
+    c = v.candidate
+    s2 = max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
     out, beside = [], None
-    for o in sig:
-        oc = o.candidate
-        if (None in (_place(c), _place(oc)) or oc.family == c.family or frozenset((c.name, oc.name)) in ORDERED
-                or _place(c) == _place(oc) and _place(c)[0] != "tracker" or not _overlap(c, oc)):
-            continue
+    for o in (o for o in sig if _may_tie(c, o.candidate)):
         lead = (v.score.delta - o.score.delta) / s2 - 2 * (v.score.k - o.score.k)
         if lead >= TIE_CHI2:
             continue
         if beside is None:
             beside = eng.copy()
             beside.add(w(c))
-        sc = beside.score(w(oc))
+        sc = beside.score(w(o.candidate))
         if not (sc.separable and sc.logp + o.log_multiplicity < math.log(level)):
-            out.append(o)
+            out.append((o, lead))
     return out
 
 
