@@ -56,3 +56,37 @@ def test_a_spindle_warming_about_the_gauge_point_is_one_expansion(tmp_path):
     assert f["side"] == "tool" and "centre_from_centroid_mm" in f.to_dict(), f.to_dict()
     assert f["estimate"] > 0  # the nests move apart: a warming
     assert verdict.verdict == "right", verdict
+
+
+
+def test_a_drift_is_not_an_expansion_about_a_fitted_centre():
+    """A side's expansion about a fitted centre contains that side's drift with the same law (e = 0: its translation
+    alone); where the expansion adds nothing significant beside the drift, the drift is named (selection._simplest,
+    NESTED; on icelinker's base reflectors, drifting 56 um together, the expansion was named).  A spindle drifting
+    20 um along +X (tau 5000 s), no expansion planted: both scored on the diagnosis' null, the centre-fitted
+    expansion (the drift's columns and e) gives way to the drift; on c64bc20 it was kept."""
+    import math
+
+    import campaigns as C
+
+    from mtcal import load_machine
+    from mtcal.diagnose import effects as fx
+    from mtcal.diagnose.candidates import layout_offsets
+    from mtcal.diagnose.design import base_design, engine_for, family_degrees, whiten
+    from mtcal.diagnose.prepare import TIE_POSITIONS, prepare
+    from mtcal.diagnose.run import LEVEL, MAX_DEGREE
+    from mtcal.diagnose.selection import Columns, Step, _simplest
+    from mtcal.measurement.tracker import AT960
+
+    eff = [("thermal_drift", {"target": "spindle", "amplitude": 0.02, "direction": "+X", "tau_s": 5000.0})]
+    c = C.make(C.Design(rounds=3, axes=("X", "Y", "Z")), eff, 1)
+    prep = prepare(c.recording, load_machine("dmu50"), None, c.tracker, MAX_DEGREE, TIE_POSITIONS, AT960)
+    w = Columns(prep.W)
+    eng = engine_for(prep, base_design(prep, family_degrees(prep, MAX_DEGREE)), whiten(prep.W, prep.y))
+    g = prep.geometry
+    t0 = float(prep.rec.time_s[g.side == "tool"].min())
+    drift = fx.thermal_drift(g, "spindle", 5000.0, t0)
+    grown = fx.side_expansion(g, layout_offsets(prep), "tool", t0, 5000.0, centre=True)
+    steps = [Step(x, sc, sc.logp + math.log(2)) for x, sc in ((x, eng.score(w(x))) for x in (grown, drift))]
+    assert all(s.logp_adj < math.log(LEVEL) for s in steps)  # both significant on their own
+    assert _simplest(eng, steps[0], steps, w, LEVEL) is steps[1]

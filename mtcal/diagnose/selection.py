@@ -324,11 +324,13 @@ def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> li
     return out
 
 
-NESTED = {"backlash_travel": "backlash"}  # a member -> the simpler member it contains (its value at g = 0)
+# a member -> the simpler member it contains at the same axis and place: a backlash_travel at g = 0, a side's
+# expansion about a fitted centre at e = 0 (its translation with the expansion's law: the side's drift)
+NESTED = {"backlash_travel": "backlash", "side_expansion": "thermal_drift"}
 # pairs never tied (_tied): a member and the simpler one it contains (NESTED); one drift by either clock, the time or
 # a temperature that follows it (the name and its place are the data's, the clock is said in confounded_with); the
 # air's one column against a drift (_drift_fits_as_much)
-ORDERED = {frozenset(pair) for pair in [*NESTED.items(), ("thermal_drift", "thermal_temperature"),
+ORDERED = {frozenset(pair) for pair in [("backlash_travel", "backlash"), ("thermal_drift", "thermal_temperature"),
                                         ("air_index_drift", "thermal_drift")]}
 
 
@@ -348,11 +350,14 @@ def _drift_fits_as_much(v: Step, sig: list[Step]) -> str | None:
 
 
 def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
-    """``v``, or the simpler member it contains (NESTED, same axis, in ``sig``) where what ``v`` adds beside it is
-    not significant: beyond the float range of p, the chi^2 tail that orders the evidence favours the member with
-    more columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2 columns)."""
-    simple = NESTED.get(v.candidate.name)
-    o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == v.candidate.axis), None)
+    """``v``, or the simpler member it contains (NESTED, same axis and place, in ``sig``) where what ``v`` adds
+    beside it is not significant: beyond the float range of p, the chi^2 tail that orders the evidence favours the
+    member with more columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2
+    columns; icelinker's base reflectors drifting 56 um together were a tool side expanding about a fitted centre)."""
+    c = v.candidate
+    simple = NESTED.get(c.name) if c.extra.get("centre", True) else None
+    o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == c.axis
+              and _place(o.candidate) == _place(c)), None)
     if o is None:
         return v
     return v if _significant_beside(eng, w(o.candidate), w(v.candidate), level * math.exp(-v.log_multiplicity)) else o
