@@ -77,6 +77,27 @@ def tie(c: fx.Candidate, rivals: list[fx.Candidate], leads: list[float]) -> fx.C
                                     "physics outside the list may fit it as well"})
 
 
+def unsteady(knocks: list[fx.Candidate]) -> fx.Candidate:
+    """Several knocks of one station's tracker within one block of readings (an axis' round) as one free form: their
+    steps together (3 columns each, mm, machine frame) -- every reading of the station stepping again and again
+    within minutes (the tracker disturbed and settling, the machine's stops landing off: an axis repeating worse,
+    something in the beam), not a tracker knocked several times."""
+    x = knocks[0].extra
+    t0 = [k.extra["t0_s"] for k in knocks]
+    of = f" of station {x['station']}" if x.get("station") else ""
+    at = ", ".join(f"{t:.6g}" for t in t0)
+    return fx.Candidate(fx.UNEXPLAINED, x["from_axis"], f"every reading stepping at t = {at} s, within axis "
+                        f"{x['from_axis']} round {x['round']}", np.concatenate([k.G for k in knocks], axis=-1),
+                        [f"step {i + 1} {k} (mm)" for i in range(len(knocks)) for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place unsteady", extra={
+                            "kind": "place", "by": "time (station frame)", "place": f"the tracker{of}",
+                            "t0_s": min(t0), **({"station": x["station"]} if x.get("station") else {}),
+                            "note": f"the readings of the tracker{of} step {len(knocks)} times within axis "
+                                    f"{x['from_axis']} round {x['round']} (at {at} s): the tracker disturbed and "
+                                    "settling, the machine's stops landing off (an axis repeating worse), "
+                                    "something in the beam -- not a tracker knocked again and again"})
+
+
 def _words(c: fx.Candidate) -> str:
     """A named candidate in a few words: its name, axis and label."""
     return f"{c.name} {c.axis or ''} {c.label}".replace("  ", " ").strip()

@@ -21,6 +21,7 @@ from mtcal.diagnose.selection import (
     folds,
     forward,
     growing_confounds,
+    one_knock_per_block,
     select_degrees,
     with_steps,
 )
@@ -123,7 +124,7 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
         cands = screen(cands, notes, eng, w)
     say(f"{len(cands)} candidate effects; null model {eng.p} parameters, sigma ratio {eng.sigma:.3f}")
     steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
-    steps = backward(eng, steps, w, level, say)
+    steps = one_knock_per_block(backward(eng, steps, w, level, say), say)
     growing_confounds(prep, eng, steps, w)
     air_confounds(steps, notes)
     null = ("the given model" if prep.given_model else

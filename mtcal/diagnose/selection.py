@@ -26,7 +26,7 @@ from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
-from mtcal.diagnose.places import REVERSALS, place_of, tie
+from mtcal.diagnose.places import REVERSALS, place_of, tie, unsteady
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
@@ -632,6 +632,26 @@ def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
             say(f"backward: {gone.candidate.name} {gone.candidate.axis or ''} {gone.candidate.label} dropped "
                 f"(explained by the other effects)")
     return selected
+
+
+def one_knock_per_block(steps: list[Step], say: Callable[[str], None]) -> list[Step]:
+    """``steps`` with the tracker knocks of one station within one block of readings (an axis' round), where there
+    are several, replaced by one free form of their steps together (mtcal.diagnose.places.unsteady), with the
+    strongest one's evidence: a tracker knocked again within minutes is not what the data show, readings that step
+    again and again are (gen2 seed 3505 campaign 7: Y repeating worse, 3 um per stop, was two knocks 210 s apart in
+    Y's second round, +3.3 um then -7.0 um along Y)."""
+    blocks: dict[tuple, list[Step]] = {}
+    for s in steps:
+        x = s.candidate.extra
+        if x.get("variant") == "tracker knock":
+            blocks.setdefault((x.get("station"), x["from_axis"], x["round"]), []).append(s)
+    out = list(steps)
+    for group in (g for g in blocks.values() if len(g) > 1):
+        free = unsteady(sorted((s.candidate for s in group), key=lambda c: c.extra["t0_s"]))
+        strong = min(group, key=lambda s: s.logp_adj)
+        say(f"{len(group)} knocks in one block of readings: {free.label}")
+        out = [s for s in out if all(s is not k for k in group)] + [Step(free, strong.score, strong.logp_adj)]
+    return out
 
 
 def with_steps(eng: Engine, steps: Sequence[Step], w: Columns) -> Engine:
