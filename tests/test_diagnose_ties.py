@@ -104,3 +104,14 @@ def test_an_axis_repeating_worse_is_not_a_tracker_knocked_twice(tmp_path, how):
     assert [u.axis for u in steps] == ["Y"], [(u.axis, u.by, u.where) for u in d.unexplained]
     assert {u.axis for u in d.unexplained} == {"Y"}
     assert verdict.verdict == "right", verdict
+
+
+def test_effects_fitting_alike_are_located_where_they_all_move_the_readings(tmp_path):
+    """gen2 seed 3507 campaign 35 (three stations given): S3's tracker re-levelled before Z's third round.  A
+    settling of S3 and a knock of S3 at 12178 s fit it alike (behind by 5.9); 89032d8 located the misfit on X,
+    where the settling's fit was largest and the knock moves nothing -- on an axis where nothing planted shows.
+    It is located among the readings both move: on Z."""
+    d, verdict = _run(tmp_path, 3507, 35, "given")
+    assert _named(d) == [], _named(d)
+    assert [(u.axis, u.by) for u in d.unexplained] == [("Z", "effects fitting alike")], d.unexplained
+    assert verdict.verdict == "right", verdict
