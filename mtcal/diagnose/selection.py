@@ -306,8 +306,9 @@ def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
 def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
     """The significant candidates of ``sig`` that may tie with ``v`` (_may_tie) and fit its misfit about as well,
     each with ``v``'s lead over it: its chi^2 reduction less theirs in the residual variance with ``v`` fitted,
-    less twice the difference in columns (Akaike's), below TIE_CHI2; the other no longer significant beside ``v``
-    (the same misfit)."""
+    less twice the difference in columns (Akaike's), below TIE_CHI2; the other no longer significant beside ``v``,
+    or fitting less than WITHIN of what it fits alone (the same misfit: planted seed 7, a tracker settling 369.1
+    alone, 34.6 beside a spindle side's expansion that fits 367.1, was left significant and the expansion named)."""
     c = v.candidate
     s2 = max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
     out, beside = [], None
@@ -319,7 +320,7 @@ def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> li
             beside = eng.copy()
             beside.add(w(c))
         sc = beside.score(w(o.candidate))
-        if not (sc.separable and sc.logp + o.log_multiplicity < math.log(level)):
+        if not (sc.separable and sc.logp + o.log_multiplicity < math.log(level)) or sc.delta < WITHIN * o.score.delta:
             out.append((o, lead))
     return out
 
