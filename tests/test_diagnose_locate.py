@@ -67,3 +67,23 @@ def test_a_clean_campaign_of_two_rounds_locates_nothing(tmp_path):
     csv = next(tmp_path.glob("*.csv"))
     d = diagnose(read_recording(csv)).to_dict()
     assert d["unexplained"] == [] and not [e for e in d["effects"] if e["significant"]], d["unexplained"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("how", ["defaults", "given"])
+def test_a_nest_is_judged_by_its_own_scatter(tmp_path, how):
+    """gen2 seed 3513 campaign 17 (clean, one station, seven rounds, a 1 : 2.8 tracker whose law the rounds put at
+    1 : 4): on 079ca4d "unexplained C by round x point [5, P8]", a spread at p_adj 0.0017 at the defaults and 0.004
+    given -- P8's readings scatter 2.2 times the law's variance in round 5, and about as much in its other rounds.
+    A group's spread is now judged against the same reflectors' other readings (scans._spread_p): nothing located."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import parse_recording
+
+    R.generate(str(tmp_path), 1, 3513, 17, "outside")
+    path = tmp_path / "campaign_0017.csv"
+    (text,) = [t for h, t in R.cases(path.read_text()) if h == how]
+    d = diagnose(parse_recording(text, path.name)).to_dict()
+    assert d["unexplained"] == [] and not [e for e in d["effects"] if e["significant"]], d["unexplained"]
