@@ -106,7 +106,7 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
             cols[a] = np.flatnonzero(np.any(Qf[prep.rec.axis == a] != 0, axis=(0, 1)))
         tests = _group_tests(r[idx], Qf[idx][:, :, cols[a]], s2)
         p_shift = float(_tails.chi2_sf(*tests[0])) if tests[0][1] else 1.0
-        p_disp = _spread_p(prep, a, idx, tests[1], r, Qf[:, :, cols[a]], s2)
+        p_disp = _spread_p(prep, a, idx, tests[1], r, Qf[:, :, cols[a]], s2, level / count)
         padj = min(1.0, min(p_shift, p_disp) * count)
         if padj < level:
             (T, kt), (S, ks) = tests
@@ -152,25 +152,29 @@ GROUP_TOL = 1e-6  # a direction the fit holds to within this share of its varian
 
 
 def _spread_p(prep: Prepared, axis: str, idx: np.ndarray, spread: tuple[float, int], r: np.ndarray, Qa: np.ndarray,
-              s2: float) -> float:
+              s2: float, bound: float) -> float:
     """p of a group's spread (``spread``: S and its dof, _group_tests, in the residual variance ``s2``): against the
-    scatter of the same reflectors' other readings on the axis, an F test, where they have any (their own S and
-    dof, studentized together the same way: ``r`` (n, 3) the whitened residuals, ``Qa`` (n, 3, P) the fit's rows
-    on the axis' columns) -- a law estimated from the rounds is wrong nest by nest (its shape, its distance term),
-    and a nest whose scatter it understates then spreads in every round it is read (gen2 seed 3513 campaign 17,
-    clean, a 1 : 2.8 tracker read as 1 : 4: nest P8 in round 5 at p_adj 0.0017 against the law, 2.2 times its
-    variance; judged against P8's other rounds, as every nest by its own); else against the law (chi^2)."""
+    law (chi^2) and, where that is below ``bound`` (the level over the tests), also against the scatter of the same
+    reflectors' other readings on the axis, an F test (their own S and dof, studentized together the same way:
+    ``r`` (n, 3) the whitened residuals, ``Qa`` (n, 3, P) the fit's rows on the axis' columns); the larger p.  A law
+    estimated from the rounds is wrong nest by nest (its shape, its distance term), and a nest whose scatter it
+    understates spreads in every round it is read (gen2 seed 3513 campaign 17, clean, a 1 : 2.8 tracker read as
+    1 : 4: nest P8 in round 5 at p_adj 0.0017 against the law, 2.2 times its variance, and as much in its other
+    rounds)."""
     S, k = spread
     if not k:
         return 1.0
+    p_law = float(_tails.chi2_sf(S, k))
+    if p_law >= bound:
+        return p_law
     rec = prep.rec
     inside = np.zeros(len(rec), bool)
     inside[idx] = True
     ref = np.flatnonzero((rec.axis == axis) & np.isin(rec.point, rec.point[idx]) & ~inside)
     _, (S_ref, k_ref) = _group_tests(r[ref], Qa[ref], s2) if len(ref) >= 2 else (None, (0.0, 0))
     if k_ref < 2 or S_ref <= 0:
-        return float(_tails.chi2_sf(S, k))
-    return float(_tails.f_sf((S / k) / (S_ref / k_ref), k, k_ref))
+        return p_law
+    return max(p_law, float(_tails.f_sf((S / k) / (S_ref / k_ref), k, k_ref)))
 
 
 MAX_LEVELS = 3  # located levels of one factor on one axis beyond which they are one entry (collapsed)
