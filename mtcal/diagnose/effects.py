@@ -60,6 +60,11 @@ class Candidate:
     refine_range: tuple[float, float] | None = None
     refine_value: float | None = None
 
+    @property
+    def moved(self) -> np.ndarray:
+        """(n,) bool: the readings this effect displaces (a nonzero row of ``G``)."""
+        return np.any(self.G != 0, axis=(1, 2))
+
 
 @dataclass
 class Geometry:

@@ -67,7 +67,7 @@ def tie(c: fx.Candidate, rivals: list[fx.Candidate], leads: list[float]) -> fx.C
     its ``extra``: the readings every one of them moves, where they agree the misfit is."""
     names = [_words(x) for x in (c, *rivals)]
     alike = ", ".join(f"{n} (behind by {d:.1f})" for n, d in zip(names[1:], leads))
-    common = np.logical_and.reduce([np.any(x.G != 0, axis=(1, 2)) for x in (c, *rivals)])
+    common = np.logical_and.reduce([x.moved for x in (c, *rivals)])
     return fx.Candidate(fx.UNEXPLAINED, c.axis, f"{names[0]}, or {alike}",
                         np.concatenate([c.G] + [x.G for x in rivals], axis=-1),
                         [f"{x.name}: {p}" for x in (c, *rivals) for p in x.params],
@@ -194,7 +194,7 @@ def _nest_drifts(g, c: fx.Candidate) -> Place | None:
     the drifting readings scaling about their station with that law (ppm; each station its own, about the tracker
     given or estimated, else the readings' centroid: with the drift's translation beside it, a scale about any point
     is one about the station) -- the air's refractive index drifting, which moves each reading along its beam."""
-    moved = np.any(c.G != 0, axis=(1, 2))
+    moved = c.moved
     nests = sorted(set(zip(g.point[moved].tolist(), g.side[moved].tolist())))
     scale = _drift_scale(g, c, moved)
     if len(nests) < 2 and scale is None:

@@ -151,7 +151,7 @@ def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
             f"largest: reflector {point}, {comp} = {theta[k] * 1e3:.2f} +- {sd[k] * 1e3:.2f} um "
             "(reading(+ approach) - reading(- approach), the side's frame)")
     return Located(c.axis, "direction x point", c.label, float(-s.logp_adj / math.log(10)),
-                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(np.any(c.G != 0, axis=(1, 2)))), s.score.F,
+                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(c.moved)), s.score.F,
                    0.0, float(abs(theta[k])), note)
 
 
@@ -497,7 +497,7 @@ def selected_findings(prep: Prepared, eng: Engine, steps, w, cv, null_model: str
         details.update(_profiled(prep, eng, Gs[:i] + Gs[i + 1:], c, w, d, {**details, "estimate": est}))
         v = Gs[i] @ theta_all[off - k:off]
         f = Finding(c.name, c.axis, d, True, est, raw_sigma(prep, cum.r, cum.dof), ev, details,
-                    fitted=v - base.project(v[:, None])[:, 0], touched=np.any(c.G != 0, axis=(1, 2)),
+                    fitted=v - base.project(v[:, None])[:, 0], touched=c.moved,
                     candidate=c, theta=theta_all[off - k:off].copy())
         if s.confounded_with:
             details["confounded_with"] = s.confounded_with

@@ -299,7 +299,7 @@ def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
         return False
     if pc == po and pc[0] != "tracker":
         return False
-    a, b = (np.any(x.G != 0, axis=(1, 2)) for x in (c, o))
+    a, b = (x.moved for x in (c, o))
     return bool((a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0)
 
 
@@ -474,7 +474,7 @@ def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Col
     """Why a knocked nest is not one, or None: its displacement must persist beyond the sequence (axis, round,
     reflector) it starts in, in the same direction (else a one-off reading or a bump fits it, and a second "knock"
     would step the nest back)."""
-    on = np.any(c.G != 0, axis=(1, 2))
+    on = c.moved
     first = prep.seq[np.flatnonzero(on)[np.argmin(prep.order[on])]]
     late = on & (prep.seq != first)
     if not late.any():
@@ -499,7 +499,7 @@ def _drift_grows_with_position(prep: Prepared, eng: Engine, c: fx.Candidate, w: 
     (a ball screw warming, no temperature channel) it absorbs only in part (gen2 seed 17: growing scales of X named
     drifts of the spindle)."""
     g, rec = prep.geometry, prep.rec
-    moved = np.any(c.G != 0, axis=(1, 2))
+    moved = c.moved
     axes = [a for a in prep.axes if (moved & (g.axis == a)).any() and np.isfinite(g.time_s[g.axis == a]).all()
             and len(set(rec.round[g.axis == a].tolist())) >= 2]
     for a in axes:
@@ -517,7 +517,7 @@ def _knock_keeps_growing(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
     readings; F test at ``level``, the same direction as the step).  A drift, or an error motion growing while
     the axis is measured, seen from a reference position that is not its zero, is such a ramp."""
     rec, t0 = prep.rec, c.extra["t0_s"]
-    on = np.any(c.G != 0, axis=(1, 2))
+    on = c.moved
     first = np.flatnonzero(on)[np.argmin(rec.time_s[on])]
     block = on & (rec.axis == rec.axis[first])
     t = rec.time_s[block]
@@ -692,7 +692,7 @@ def select_degrees(prep: Prepared, wy: np.ndarray, largest: dict[str, int], say:
 def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
     """Held-out reading sets (bool (n,)) of the validation of ``c`` and their description."""
     rec = prep.rec
-    touched = np.any(c.G != 0, axis=(1, 2))
+    touched = c.moved
     rounds = sorted(set(rec.round[touched].tolist()))
     if c.name not in ALTERNATE_FOLDS and len(rounds) >= 2:
         return [rec.round == k for k in sorted(set(rec.round.tolist()))], "held-out rounds"
