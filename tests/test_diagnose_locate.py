@@ -87,3 +87,27 @@ def test_a_nest_is_judged_by_its_own_scatter(tmp_path, how):
     (text,) = [t for h, t in R.cases(path.read_text()) if h == how]
     d = diagnose(parse_recording(text, path.name)).to_dict()
     assert d["unexplained"] == [] and not [e for e in d["effects"] if e["significant"]], d["unexplained"]
+
+
+@pytest.mark.slow
+def test_a_station_is_judged_by_its_own_scatter(tmp_path):
+    """gen2 seed 3514 campaign 20 (the tracker of station S2 re-levelled before round 5 of B: 47 urad and 33 um,
+    tracker columns given): the re-levelling is named, but on 6410c10 S1's rounds of Y and B were located as
+    spreads (e.g. "unexplained Y by round 3", 1.8 times the pooled variance, p_adj 5e-5) -- S2's scale, taken from
+    rounds the step spread, is too large, and S1's readings stand out against the pool in every round.  A group's
+    spread is now judged against the same station's other readings (scans._spread_p): nothing located, and the
+    re-levelling of S2 still named at B's round 5."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import parse_recording
+
+    R.generate(str(tmp_path), 1, 3514, 20, "outside")
+    path = tmp_path / "campaign_0020.csv"
+    (text,) = [t for h, t in R.cases(path.read_text()) if h == "given"]
+    d = diagnose(parse_recording(text, path.name)).to_dict()
+    assert d["unexplained"] == [], d["unexplained"]
+    named = [e for e in d["effects"] if e["significant"]]
+    assert any(e["name"] == "tracker_relevel" and e["station"] == "S2" and "round 5 of axis B" in e["where"]
+               for e in named), [e["where"] for e in named]
