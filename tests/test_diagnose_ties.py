@@ -14,7 +14,7 @@ measured once, then became the work's cases); the others are mtcal's own (tests/
   nest P5;
 * 3504/25: the spindle side warming about the gauge point, 33 ppm by the end, two stations given; 4457c89 named the
   expansion about the reflectors' centroid and, beside it, a drift of the spindle: the same warming's translation;
-* 3505/7, 3507/35 and mtcal's planted campaign 7: in their tests.
+* 3505/7, 3507/35, 3515/0, 3515/12 and mtcal's planted campaign 7: in their tests.
 """
 from __future__ import annotations
 
@@ -100,12 +100,27 @@ def test_an_axis_repeating_worse_is_not_a_tracker_knocked_twice(tmp_path, how):
     """gen2 seed 3505 campaign 7: Y lands 3.1 um off at every stop, shared by the nests read there (gen2's
     "axis_scatter"; the per-stop test reads p_adj 0.0067 here, just above the level).  c64bc20 named two knocks of
     the tracker in Y's second round, 210 s apart (+3.3 um, then -7.0 um along Y); several knocks of one station in
-    one block of readings are now one located misfit on Y (selection.one_knock_per_block), nothing named."""
+    one block of readings are now one located misfit on Y (selection.one_knock_per_block; since the stops' free
+    form, places.stops_off, the first knock is already Y's stops landing off), nothing named."""
     d, verdict = _run(tmp_path, 3505, 7, how)
     assert _named(d) == [], _named(d)
-    steps = [u for u in d.unexplained if "stepping" in str(u.where)]
+    steps = [u for u in d.unexplained if "stepping" in str(u.where) or "landing off" in str(u.where)]
     assert [u.axis for u in steps] == ["Y"], [(u.axis, u.by, u.where) for u in d.unexplained]
     assert {u.axis for u in d.unexplained} == {"Y"}
+    assert verdict.verdict == "right", verdict
+
+
+@pytest.mark.parametrize("seed, index, how, axis", [(3515, 0, "given", "X"), (3515, 12, "defaults", "Y")])
+def test_a_few_stops_landing_off_are_not_a_tracker_knock(tmp_path, seed, index, how, axis):
+    """gen2 seed 3515 campaign 0 (two stations given; X lands 4.3 um off at every stop, too few rounds per station
+    for the per-stop test to test X) and campaign 12 (one station, estimated; Y 1.7 um per stop, the per-stop test
+    at p_adj 0.05): 6410c10 named a knock of S2's tracker along -X within X's third round (and on 12, one along +Y
+    within Y's fourth).  Each axis' stops on the shorter side of the step, each landing off along the motion on its
+    own (places.stops_off), fit as well by Akaike's measure: one located misfit on that axis, no knock named."""
+    d, verdict = _run(tmp_path, seed, index, how)
+    assert _named(d) == [], _named(d)
+    stops = [u for u in d.unexplained if "landing off" in str(u.where)]
+    assert stops and {u.axis for u in stops} == {axis}, [(u.axis, u.by, u.where) for u in d.unexplained]
     assert verdict.verdict == "right", verdict
 
 

@@ -67,7 +67,7 @@ def axis_scatter(prep: Prepared, level: float = LEVEL) -> NoiseModel:
     NoiseModel
         The noise model to weight the readings by.
     """
-    stop = _stop_ids(prep)
+    stop = stop_ids(prep)
     nests = np.bincount(stop)[stop]
     if np.median(nests) < 2:
         return _by_axes(prep, level)
@@ -169,7 +169,7 @@ def _round_scatter(prep: Prepared, axis: str) -> tuple[np.ndarray, int, np.ndarr
 
 
 # ------------------------------------------------------------------ several nests per stop
-def _stop_ids(prep: Prepared) -> np.ndarray:
+def stop_ids(prep: Prepared) -> np.ndarray:
     """(n,) index of every reading's stop: consecutive readings (in time) of one station, axis, round, position
     and direction -- the machine stood still while the nests were read in turn."""
     rec = prep.rec
