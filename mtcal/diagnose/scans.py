@@ -155,8 +155,9 @@ def _spread_p(prep: Prepared, axis: str, idx: np.ndarray, spread: tuple[float, i
               s2: float, bound: float) -> float:
     """p of a group's spread (``spread``: S and its dof, _group_tests, in the residual variance ``s2``): against the
     law (chi^2) and, where that is below ``bound`` (the level over the tests), also against the scatter of the same
-    reflectors' other readings on the axis from the same station(s), an F test (their own S and dof, studentized together the same way:
-    ``r`` (n, 3) the whitened residuals, ``Qa`` (n, 3, P) the fit's rows on the axis' columns); the larger p.  A law
+    reflectors' other readings on the axis from the same station(s), an F test (their own S and dof, studentized
+    together the same way: ``r`` (n, 3) the whitened residuals, ``Qa`` (n, 3, P) the fit's rows on the axis'
+    columns); the larger p.  A law
     estimated from the rounds is wrong nest by nest (its shape, its distance term), and a nest whose scatter it
     understates spreads in every round it is read (gen2 seed 3513 campaign 17, clean, a 1 : 2.8 tracker read as
     1 : 4: nest P8 in round 5 at p_adj 0.0017 against the law, 2.2 times its variance, and as much in its other
