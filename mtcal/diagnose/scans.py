@@ -157,14 +157,13 @@ def _spread_p(prep: Prepared, axis: str, idx: np.ndarray, spread: tuple[float, i
     law (chi^2) and, where that is below ``bound`` (the level over the tests), also against the scatter of the same
     reflectors' other readings on the axis from the same station(s), an F test (their own S and dof, studentized
     together the same way: ``r`` (n, 3) the whitened residuals, ``Qa`` (n, 3, P) the fit's rows on the axis'
-    columns); the larger p.  A law
-    estimated from the rounds is wrong nest by nest (its shape, its distance term), and a nest whose scatter it
-    understates spreads in every round it is read (gen2 seed 3513 campaign 17, clean, a 1 : 2.8 tracker read as
-    1 : 4: nest P8 in round 5 at p_adj 0.0017 against the law, 2.2 times its variance, and as much in its other
-    rounds).  The same station, because each station's scale is its own: one whose rounds a re-levelled tracker
-    spread is scaled up, which leaves the others' readings spread against the pooled variance in every round (gen2
-    seed 3514 campaign 20, tracker given: station S1's rounds of Y and B at 1.5 to 1.8 times it, none beyond the
-    others of S1)."""
+    columns); the larger p.  A law estimated from the rounds is wrong nest by nest (its shape, its distance term),
+    and a nest whose scatter it understates spreads in every round it is read (gen2 seed 3513 campaign 17, clean, a
+    1 : 2.8 tracker read as 1 : 4: nest P8 in round 5 at p_adj 0.0017 against the law, 2.2 times its variance, and
+    as much in its other rounds).  The same station, because each station's scale is its own: one whose rounds a
+    re-levelled tracker spread is scaled up, which leaves the others' readings spread against the pooled variance
+    in every round (gen2 seed 3514 campaign 20, tracker given: station S1's rounds of Y and B at 1.5 to 1.8 times
+    it, none beyond the others of S1)."""
     S, k = spread
     if not k:
         return 1.0

@@ -273,7 +273,7 @@ def _one_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -
 
 
 def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | None:
-    """A tracker knock whose shorter side lies within one linear axis' readings gives way to that axis' stops
+    """A tracker knock whose shorter side within its linear axis lies in one round gives way to those stops
     landing off (mtcal.diagnose.places.stops_off: a column per stop along the motion) where its chi^2 lead over
     them, less twice the difference in columns, is below TIE_CHI2 (the tie rule's): a step of a few stops along
     the motion is what a machine repeating worse there shows too (gen2 seed 3515 campaign 12: Y repeating worse,
