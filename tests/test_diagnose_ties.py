@@ -14,7 +14,7 @@ measured once, then became the work's cases); the others are mtcal's own (tests/
   nest P5;
 * 3504/25: the spindle side warming about the gauge point, 33 ppm by the end, two stations given; 4457c89 named the
   expansion about the reflectors' centroid and, beside it, a drift of the spindle: the same warming's translation;
-* 3505/7, 3507/35, 3515/0, 3515/12 and mtcal's planted campaign 7: in their tests.
+* 3505/7, 3507/35, 3515/0, 3515/12, 3520/19 and mtcal's planted campaign 7: in their tests.
 """
 from __future__ import annotations
 
@@ -121,6 +121,20 @@ def test_a_few_stops_landing_off_are_not_a_tracker_knock(tmp_path, seed, index, 
     assert _named(d) == [], _named(d)
     stops = [u for u in d.unexplained if "landing off" in str(u.where)]
     assert stops and {u.axis for u in stops} == {axis}, [(u.axis, u.by, u.where) for u in d.unexplained]
+    assert verdict.verdict == "right", verdict
+
+
+def test_a_rival_fitting_alike_ties_whether_or_not_it_is_significant_itself(tmp_path):
+    """gen2 seed 3520 campaign 19 (one station given, an isotropic tracker; X's straightness in Z bows with time,
+    9.2 um at mid-travel by the end): 2e2d3ff named a tracker re-levelled before X's third round (chi^2 reduction
+    24.4, two columns), while a knock of the tracker fitted 23.8 and a settling 27.8 -- not significant
+    themselves, the knock's t0 and the settling's tau scanned over many members.  A rival's multiplicity says how
+    hard it is to find, not how well it explains the misfit found: one located misfit on X listing them, nothing
+    named (selection._tied over every family's best)."""
+    d, verdict = _run(tmp_path, 3520, 19, "given")
+    assert _named(d) == [], _named(d)
+    assert [(u.axis, u.by) for u in d.unexplained] == [("X", "effects fitting alike")], d.unexplained
+    assert "tracker_relevel" in d.unexplained[0].where and "tracker_settling" in d.unexplained[0].where
     assert verdict.verdict == "right", verdict
 
 

@@ -193,7 +193,8 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
         sig = [v for v in last.values() if v.logp_adj < math.log(level)]
         if not sig:
             break
-        best = _strongest_adequate(prep, eng, sig, w, level, inadequate, {x.candidate.family for x in selected})
+        best = _strongest_adequate(prep, eng, sig, w, level, inadequate, {x.candidate.family for x in selected},
+                                   list(last.values()))
         if best is None:
             break
         c = best.candidate
@@ -212,7 +213,8 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
 
 
 def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns, level: float,
-                        inadequate: dict[str, Step], taken: set[str] = frozenset()) -> Step | None:
+                        inadequate: dict[str, Step], taken: set[str] = frozenset(),
+                        pool: list[Step] | None = None) -> Step | None:
     """The significant candidate with the strongest evidence (raw p) whose own model explains the pattern it
     fits (``inadequate_because``); the others are recorded in ``inadequate`` (by family, first reason kept).
     A candidate whose place's free form is still needed beside it gives way to that free form (place_needed),
@@ -244,7 +246,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
-                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level), sig, w, level)
+                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level),
+                                                                  sig if pool is None else pool, w, level)
             free, sc, why = place
             if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
                 fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
@@ -261,12 +264,13 @@ def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, leve
                if o.candidate.name != fx.UNEXPLAINED and o.candidate.name not in ROUND_SPECIFIC)
 
 
-def _one_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
-    """``v``, or -- where named changes in time at other places fit the same misfit alike (_tied) -- one free form
+def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> Step:
+    """``v``, or -- where named changes in time at other places (of ``pool``) fit the same misfit alike (_tied) --
+    one free form
     of them all (mtcal.diagnose.places.tie): the mismatch located, with every name it may be, none of them named.
     Its evidence is ``v``'s test (the misfit is there; the free form's own test would spread it over every
     column)."""
-    tied = _tied(eng, v, sig, w, level)
+    tied = _tied(eng, v, pool, w, level)
     if not tied:
         return v
     return Step(tie(v.candidate, [o.candidate for o, _ in tied], [lead for _, lead in tied]), v.score, v.logp_adj)
@@ -321,16 +325,20 @@ def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
     return bool((a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0)
 
 
-def _tied(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
-    """The significant candidates of ``sig`` that may tie with ``v`` (_may_tie) and fit its misfit about as well,
-    each with ``v``'s lead over it: its chi^2 reduction less theirs in the residual variance with ``v`` fitted,
-    less twice the difference in columns (Akaike's), below TIE_CHI2; the other no longer significant beside ``v``,
-    or fitting less than WITHIN of what it fits alone (the same misfit: planted seed 7, a tracker settling 369.1
-    alone, 34.6 beside a spindle side's expansion that fits 367.1, was left significant and the expansion named)."""
+def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
+    """The candidates of ``pool`` (every family's best on the current fit, significant or not: a rival's
+    multiplicity says how hard it is to find among its members, not how well it explains the misfit ``v`` found)
+    that may tie with ``v`` (_may_tie) and fit its misfit about as well, each with ``v``'s lead over it: its chi^2
+    reduction less theirs in the residual variance with ``v`` fitted, less twice the difference in columns
+    (Akaike's), below TIE_CHI2; the other not significant beside ``v``, or fitting less than WITHIN of what it fits
+    alone (the same misfit: planted seed 7, a tracker settling 369.1 alone, 34.6 beside a spindle side's expansion
+    that fits 367.1, was left significant and the expansion named).  gen2 seed 3520 campaign 19: X's straightness
+    bowing with time was a tracker re-levelled before X's third round (24.4), beside a knock of the tracker that
+    fitted 23.8 but, its t0 scanned, was not itself significant."""
     c = v.candidate
     s2 = max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
     out, beside = [], None
-    for o in (o for o in sig if _may_tie(c, o.candidate)):
+    for o in (o for o in pool if _may_tie(c, o.candidate)):
         lead = (v.score.delta - o.score.delta) / s2 - 2 * (v.score.k - o.score.k)
         if lead >= TIE_CHI2:
             continue
