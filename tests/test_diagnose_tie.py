@@ -109,7 +109,9 @@ def test_nest_creep_of_10_um_per_hour_is_found():
     """docs "Campaigns we did not make": 15 um over the 1.5 h record; per-axis positions absorbed it (F about 3,
     missed in 15 of 16 of these campaigns), the shared positions show it: found in 15 of 16 (seeds 500-507, the
     tracker told and not) at the level 0.01, 13 of 16 at the default level 0.005 (issue 24: p_adj 0.009 on seed
-    501 told), never anything else named alone."""
+    501 told), never anything else named alone: a creep the data cannot tell from a change at another place that
+    fits alike is one located misfit listing it (selection._tied; since ba9d6f8 also beside rivals not significant
+    themselves: 4 of the 13 found here), which names nothing in its place."""
     found = 0
     for seed in range(500, 508):
         for told in (True, False):
@@ -119,7 +121,8 @@ def test_nest_creep_of_10_um_per_hour_is_found():
             ok, msg = judge(d, c.expect)
             found += ok
             names = [f.name for f in d.effects if f.significant]
-            assert not names or "nest_creep" in names, (seed, told, names)
+            listed = any(u.by == "effects fitting alike" and "nest_creep" in u.where for u in d.unexplained)
+            assert not names or "nest_creep" in names or listed, (seed, told, names)
     assert found >= 13, found
 
 
