@@ -14,7 +14,7 @@ measured once, then became the work's cases); the others are mtcal's own (tests/
   nest P5;
 * 3504/25: the spindle side warming about the gauge point, 33 ppm by the end, two stations given; 4457c89 named the
   expansion about the reflectors' centroid and, beside it, a drift of the spindle: the same warming's translation;
-* 3505/7, 3507/35, 3515/0, 3515/12, 3520/19 and mtcal's planted campaign 7: in their tests.
+* 3505/7, 3507/35, 3515/0, 3515/12, 3520/19, 3525/11 and mtcal's planted campaign 7: in their tests.
 """
 from __future__ import annotations
 
@@ -110,13 +110,16 @@ def test_an_axis_repeating_worse_is_not_a_tracker_knocked_twice(tmp_path, how):
     assert verdict.verdict == "right", verdict
 
 
-@pytest.mark.parametrize("seed, index, how, axis", [(3515, 0, "given", "X"), (3515, 12, "defaults", "Y")])
+@pytest.mark.parametrize("seed, index, how, axis", [(3515, 0, "given", "X"), (3515, 12, "defaults", "Y"),
+                                                    (3525, 11, "defaults", "X")])
 def test_a_few_stops_landing_off_are_not_a_tracker_knock(tmp_path, seed, index, how, axis):
     """gen2 seed 3515 campaign 0 (two stations given; X lands 4.3 um off at every stop, too few rounds per station
     for the per-stop test to test X) and campaign 12 (one station, estimated; Y 1.7 um per stop, the per-stop test
     at p_adj 0.05): 6410c10 named a knock of S2's tracker along -X within X's third round (and on 12, one along +Y
-    within Y's fourth).  Each axis' stops on the shorter side of the step, each landing off along the motion on its
-    own (places.stops_off), fit as well by Akaike's measure: one located misfit on that axis, no knock named."""
+    within Y's fourth); campaign 11 of seed 3525 (one station, estimated, isotropic; X 6 rounds): f8e00fb named a
+    knock along -X within X's fifth round, its shorter side 18 stops over rounds 5 and 6.  Each axis' stops on the
+    shorter side of the step, each landing off along the motion on its own (places.stops_off), fit as well by
+    Akaike's measure: one located misfit on that axis, no knock named."""
     d, verdict = _run(tmp_path, seed, index, how)
     assert _named(d) == [], _named(d)
     stops = [u for u in d.unexplained if "landing off" in str(u.where)]

@@ -26,6 +26,7 @@ from mtcal.diagnose.scatter import stop_ids
 from mtcal.generated import signatures_numpy as S
 
 REVERSALS = ("backlash", "backlash_travel", "reversal_angular", "reversal_straightness")
+MAX_STOPS = 48  # stops the free form of stops landing off takes a column each for (stops_off)
 
 
 @dataclass
@@ -107,8 +108,8 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     after it: the base's offsets per axis take a step that is constant over an axis' readings, so the knock is
     seen as that split), the axis' positioning column on the nests read at it (mm along the motion,
     mtcal.diagnose.scatter.stop_ids' stops) -- what an axis repeating worse shows where a few of its stops land off
-    together; None for any other candidate, a rotary axis, or a shorter side beyond one round (icelinker's robot,
-    a pass a round: 454 "stops" that a drift of the base moves together)."""
+    together; None for any other candidate, a rotary axis, or a shorter side of more than MAX_STOPS stops
+    (icelinker's robot, a pass a round: 454 "stops" that a drift of the base moves together)."""
     x = c.extra
     if c.name != "offset" or x.get("variant") != "tracker knock":
         return None
@@ -119,25 +120,24 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     after = c.moved & rows
     before = rows & ~after
     short = after if after.sum() <= before.sum() else before
-    rounds = set(prep.rec.round[short].tolist())
-    if len(rounds) != 1:
-        return None
-    (rnd,) = rounds
     stop = stop_ids(prep)
-    col = g.col(prep.machine.positioning_errors[axis])
     ids = list(dict.fromkeys(stop[short].tolist()))
+    if not ids or len(ids) > MAX_STOPS:
+        return None
+    rnd = ", ".join(map(str, sorted(set(prep.rec.round[short].tolist()))))
+    col = g.col(prep.machine.positioning_errors[axis])
     G = np.zeros((len(g.axis), 3, len(ids)))
     for k, s in enumerate(ids):
         on = stop == s
         G[on, :, k] = col[on]
     of = f" of station {x['station']}" if x.get("station") else ""
-    return fx.Candidate(fx.UNEXPLAINED, axis, f"{len(ids)} stop(s) of axis {axis}{of} landing off (round {rnd}), "
+    return fx.Candidate(fx.UNEXPLAINED, axis, f"{len(ids)} stop(s) of axis {axis}{of} landing off (round(s) {rnd}), "
                         f"or the tracker{of} knocked at t0 = {x['t0_s']:.6g} s",
                         G, [f"stop {k + 1} along {axis} (mm)" for k in range(len(ids))],
                         family=f"{fx.UNEXPLAINED} place stops {axis}", extra={
                             "kind": "place", "by": "round x position", "place": f"axis {axis}'s stops",
                             **({"station": x["station"]} if x.get("station") else {}), "t0_s": x["t0_s"],
-                            "note": f"the readings of {len(ids)} stop(s) of axis {axis} in round {rnd} are off the "
+                            "note": f"the readings of {len(ids)} stop(s) of axis {axis} (round(s) {rnd}) are off the "
                                     "others along the axis' motion, about as well told by each stop landing off on "
                                     f"its own (the axis repeating worse) as by the tracker{of} knocked: the data do "
                                     "not say which"})
