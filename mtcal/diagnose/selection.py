@@ -217,6 +217,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
                         pool: list[Step] | None = None) -> Step | None:
     """The significant candidate with the strongest evidence (raw p) whose own model explains the pattern it
     fits (``inadequate_because``); the others are recorded in ``inadequate`` (by family, first reason kept).
+    ``pool``: every family's best on the current fit, the rivals a name may tie with (_one_name; ``sig`` if None).
     A candidate whose place's free form is still needed beside it gives way to that free form (place_needed),
     once: where it was selected already (``taken``: the families selected), the mismatch has its entry.
     A free-form candidate is taken only when the named effects it spans cannot explain what it fits.  Exact ties
@@ -266,10 +267,9 @@ def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, leve
 
 def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> Step:
     """``v``, or -- where named changes in time at other places (of ``pool``) fit the same misfit alike (_tied) --
-    one free form
-    of them all (mtcal.diagnose.places.tie): the mismatch located, with every name it may be, none of them named.
-    Its evidence is ``v``'s test (the misfit is there; the free form's own test would spread it over every
-    column)."""
+    one free form of them all (mtcal.diagnose.places.tie): the mismatch located, with every name it may be, none of
+    them named.  Its evidence is ``v``'s test (the misfit is there; the free form's own test would spread it over
+    every column)."""
     tied = _tied(eng, v, pool, w, level)
     if not tied:
         return v
@@ -277,9 +277,9 @@ def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) 
 
 
 def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | None:
-    """A tracker knock whose shorter side within its linear axis lies in one round gives way to those stops
-    landing off (mtcal.diagnose.places.stops_off: a column per stop along the motion) where its chi^2 lead over
-    them, less twice the difference in columns, is below TIE_CHI2 (the tie rule's): a step of a few stops along
+    """A tracker knock whose shorter side within its linear axis holds few stops gives way to those stops landing
+    off (mtcal.diagnose.places.stops_off: a column per stop along the motion) where its lead over them (_lead) is
+    below TIE_CHI2, the tie rule's measure: a step of a few stops along
     the motion is what a machine repeating worse there shows too (gen2 seed 3515 campaign 12: Y repeating worse,
     1.7 um per stop, a per-stop test at p_adj 0.05, was a tracker knocked along +Y within Y's fourth round).  The
     free form takes the knock's evidence; None when the knock stands."""
@@ -287,11 +287,14 @@ def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | Non
     if free is None:
         return None
     sc = eng.score(w(free))
-    if not sc.separable:
-        return None
+    return Step(free, v.score, v.logp_adj) if sc.separable and _lead(eng, v, sc) < TIE_CHI2 else None
+
+
+def _lead(eng: Engine, v: Step, other: Score) -> float:
+    """``v``'s lead over a rival scored ``other`` on the same fit ``eng``: their chi^2 reductions' difference in the
+    residual variance with ``v`` fitted, less twice the difference in columns (Akaike's penalty)."""
     s2 = max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
-    lead = (v.score.delta - sc.delta) / s2 - 2 * (v.score.k - sc.k)
-    return Step(free, v.score, v.logp_adj) if lead < TIE_CHI2 else None
+    return (v.score.delta - other.delta) / s2 - 2 * (v.score.k - other.k)
 
 
 def _place(c: fx.Candidate) -> tuple | None:
@@ -328,18 +331,16 @@ def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
 def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
     """The candidates of ``pool`` (every family's best on the current fit, significant or not: a rival's
     multiplicity says how hard it is to find among its members, not how well it explains the misfit ``v`` found)
-    that may tie with ``v`` (_may_tie) and fit its misfit about as well, each with ``v``'s lead over it: its chi^2
-    reduction less theirs in the residual variance with ``v`` fitted, less twice the difference in columns
-    (Akaike's), below TIE_CHI2; the other not significant beside ``v``, or fitting less than WITHIN of what it fits
+    that may tie with ``v`` (_may_tie) and fit its misfit about as well, each with ``v``'s lead over it (_lead)
+    below TIE_CHI2; the other not significant beside ``v``, or fitting less than WITHIN of what it fits
     alone (the same misfit: planted seed 7, a tracker settling 369.1 alone, 34.6 beside a spindle side's expansion
     that fits 367.1, was left significant and the expansion named).  gen2 seed 3520 campaign 19: X's straightness
     bowing with time was a tracker re-levelled before X's third round (24.4), beside a knock of the tracker that
     fitted 23.8 but, its t0 scanned, was not itself significant."""
     c = v.candidate
-    s2 = max(eng.rss - v.score.delta, 1e-300) / max(v.score.dof, 1)
     out, beside = [], None
     for o in (o for o in pool if _may_tie(c, o.candidate)):
-        lead = (v.score.delta - o.score.delta) / s2 - 2 * (v.score.k - o.score.k)
+        lead = _lead(eng, v, o.score)
         if lead >= TIE_CHI2:
             continue
         if beside is None:
