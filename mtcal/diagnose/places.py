@@ -116,7 +116,8 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     g, axis = prep.geometry, x["from_axis"]
     if not g.linear(axis):
         return None
-    rows = g.at(x.get("station"))[0] & (g.axis == axis)
+    rows, _, of = g.at(x.get("station"))
+    rows = rows & (g.axis == axis)
     after = c.moved & rows
     before = rows & ~after
     short = after if after.sum() <= before.sum() else before
@@ -130,7 +131,6 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     for k, s in enumerate(ids):
         on = stop == s
         G[on, :, k] = col[on]
-    of = f" of station {x['station']}" if x.get("station") else ""
     return fx.Candidate(fx.UNEXPLAINED, axis, f"{len(ids)} stop(s) of axis {axis}{of} landing off (round(s) {rnd}), "
                         f"or the tracker{of} knocked at t0 = {x['t0_s']:.6g} s",
                         G, [f"stop {k + 1} along {axis} (mm)" for k in range(len(ids))],

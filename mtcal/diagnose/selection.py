@@ -213,11 +213,10 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
 
 
 def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns, level: float,
-                        inadequate: dict[str, Step], taken: set[str] = frozenset(),
-                        pool: list[Step] | None = None) -> Step | None:
+                        inadequate: dict[str, Step], taken: set[str], pool: list[Step]) -> Step | None:
     """The significant candidate with the strongest evidence (raw p) whose own model explains the pattern it
     fits (``inadequate_because``); the others are recorded in ``inadequate`` (by family, first reason kept).
-    ``pool``: every family's best on the current fit, the rivals a name may tie with (_one_name; ``sig`` if None).
+    ``pool``: every family's best on the current fit, the rivals a name may tie with (_one_name).
     A candidate whose place's free form is still needed beside it gives way to that free form (place_needed),
     once: where it was selected already (``taken``: the families selected), the mismatch has its entry.
     A free-form candidate is taken only when the named effects it spans cannot explain what it fits.  Exact ties
@@ -247,8 +246,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
-                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level),
-                                                                  sig if pool is None else pool, w, level)
+                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level), pool, w,
+                                                                  level)
             free, sc, why = place
             if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
                 fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
@@ -279,10 +278,10 @@ def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) 
 def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | None:
     """A tracker knock whose shorter side within its linear axis holds few stops gives way to those stops landing
     off (mtcal.diagnose.places.stops_off: a column per stop along the motion) where its lead over them (_lead) is
-    below TIE_CHI2, the tie rule's measure: a step of a few stops along
-    the motion is what a machine repeating worse there shows too (gen2 seed 3515 campaign 12: Y repeating worse,
-    1.7 um per stop, a per-stop test at p_adj 0.05, was a tracker knocked along +Y within Y's fourth round).  The
-    free form takes the knock's evidence; None when the knock stands."""
+    below TIE_CHI2, the tie rule's measure: a step of a few stops along the motion is what a machine repeating
+    worse there shows too (gen2 seed 3515 campaign 12: Y repeating worse, 1.7 um per stop, a per-stop test at
+    p_adj 0.05, was a tracker knocked along +Y within Y's fourth round).  The free form takes the knock's
+    evidence; None when the knock stands."""
     free = stops_off(prep, v.candidate)
     if free is None:
         return None
