@@ -385,6 +385,18 @@ def repeated(g: Geometry, c: Candidate) -> Candidate:
                      S.outlier_signature(on.astype(float)), [], family="check")
 
 
+def same_stops(g: Geometry, c: Candidate, stop: np.ndarray) -> Candidate:
+    """The other readings of the stops of a scanned outlier (``stop``: every reading's stop,
+    mtcal.diagnose.scatter.stop_ids; the other nests read while the machine stood there), shifted by one 3-vector
+    (mm, machine frame): a displacement they share is the stop's (landing off, or the tracker moved), not a
+    reading's."""
+    rows = np.asarray(c.extra["rows"])
+    on = np.isin(stop, stop[rows])
+    on[rows] = False
+    return Candidate("outlier (same stops)", c.axis, "other nests, same stops",
+                     S.outlier_signature(on.astype(float)), [], family="check")
+
+
 def _per_position(g: Geometry, axis: str, errors: list[str]) -> np.ndarray:
     """(n, 3, len(errors) x positions): each error's Jacobian column where ``axis`` stands at each of its distinct
     positions, zero elsewhere (error-major)."""
