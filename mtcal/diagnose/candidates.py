@@ -178,7 +178,12 @@ def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
             continue
         for rank0, where in round_starts(prep, rows):
             t0 = float(rec.time_s[prep.order == rank0][0]) if np.isfinite(rec.time_s).all() else float("nan")
-            out.append(fx.tracker_relevel(g, prep.order >= rank0, t0, where, st))
+            after = prep.order >= rank0
+            out.append(fx.tracker_relevel(g, after, t0, where, st))
+            if np.isfinite(t0):
+                at = np.flatnonzero(rows & after)
+                knock = fx.tracker_knock(g, t0, {"from_axis": where["axis"], **where_of(prep, at)}, st)
+                out.append(fx.tracker_relevel(g, after, t0, where, st, knock))
     return out
 
 

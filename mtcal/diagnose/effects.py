@@ -59,6 +59,7 @@ class Candidate:
     refine: Callable[[float], "Candidate"] | None = None  # continuous parameter (tau, pitch) -> candidate
     refine_range: tuple[float, float] | None = None
     refine_value: float | None = None
+    nested: "Candidate | None" = None  # the simpler member it contains at its place (selection._simplest)
 
     @property
     def moved(self) -> np.ndarray:
@@ -470,20 +471,29 @@ def backlash_travel(g: Geometry, axis: str) -> Candidate:
                             "position_unit": qunit})
 
 
-def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, station: str | None = None
-                    ) -> Candidate:
+def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, station: str | None = None,
+                    knock: Candidate | None = None) -> Candidate:
     """The tracker (of ``station``) re-levelled between two rounds: every reading from the first of the round
     ``where`` names on (``after``, bool (n,)) turned about horizontal axes (x, y, machine frame) through the tracker
-    by w_x, w_y (rad) -- derive/grammar.py's rotation about the tracker x step."""
+    by w_x, w_y (rad) -- derive/grammar.py's rotation about the tracker x step.  With ``knock`` (the tracker knocked
+    at the same t0: ``tracker_knock`` on the same readings) also shifted by its vector (mm): a re-levelled head
+    seldom stays where it was (gen2 plants 0-40 um), and a turn about a station placed a few mm off is a turn about
+    the true one and a shift.  The knock is then its ``nested`` member: the turn is named only where the data need
+    it beside the shift (selection._simplest)."""
     rows, t, of = g.at(station)
     on = rows & after
     G = np.zeros((len(g.axis), 3, 2))
     G[on] = S.tracker_relevel_signature(g.xyz[on], t, 1.0)
-    return Candidate("tracker_relevel", None, f"tracker{of} re-levelled before round {where['round']} of axis "
-                     f"{where['axis']} (t0 = {t0:.6g} s, {int(on.sum())} reading(s) after)", G,
-                     ["w_x (rad)", "w_y (rad)"], family="tracker_relevel",
+    params = ["w_x (rad)", "w_y (rad)"]
+    if knock is not None:
+        G = np.concatenate([G, knock.G], axis=2)
+        params += knock.params
+    return Candidate("tracker_relevel", None, f"tracker{of} re-levelled {'and shifted ' if knock else ''}before "
+                     f"round {where['round']} of axis {where['axis']} (t0 = {t0:.6g} s, {int(on.sum())} reading(s) "
+                     "after)", G, params, family="tracker_relevel",
                      extra={"t0_s": float(t0), "round": int(where["round"]), "from_axis": str(where["axis"]),
-                            "tracker": [float(v) for v in t], **_tag(station)})
+                            "tracker": [float(v) for v in t], "shift": knock is not None, **_tag(station)},
+                     nested=knock)
 
 
 def air_index_drift(g: Geometry, t0: float, tau: float | None = None, station: str = "given") -> Candidate:

@@ -105,7 +105,11 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
         return [Effect(n, {"axis": c.axis, "amount": float(th[0]), "slope": float(th[1])})]
     if n == "tracker_relevel":
         angle, about = _vector(np.array([th[0], th[1], 0.0]))
-        return [Effect(n, {"axis": x["from_axis"], "round": x["round"], "angle_rad": angle, "about": about})]
+        out = [Effect(n, {"axis": x["from_axis"], "round": x["round"], "angle_rad": angle, "about": about})]
+        if x.get("shift"):  # its shift: the tracker knocked at the same t0
+            size, d = _vector(th[2:5])
+            out.append(Effect("offset", {"size": size, "direction": d, "t_from_s": x["t0_s"]}))
+        return out
     if n == "thermal_temperature":
         t_ref = float(prep.rec.temperature_c[np.argmin(prep.order)])
         if x.get("variant") == "expansion":

@@ -320,16 +320,26 @@ def _backlash_travel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -
 
 
 def _tracker_relevel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
-    """tracker_relevel: the size of the rotation step (rad) about the horizontal axis it turns about."""
-    size = float(np.linalg.norm(theta))
-    a = theta / size if size > 0 else np.array([1.0, 0.0])
-    _, u, ci = _linear(a, theta, cov)
+    """tracker_relevel: the size of the rotation step (rad) about the horizontal axis it turns about; with its
+    shift (``extra["shift"]``), the shift's vector (mm, machine frame) and its standard uncertainties too."""
+    w, wc = theta[:2], cov[:2, :2]
+    size = float(np.linalg.norm(w))
+    a = w / size if size > 0 else np.array([1.0, 0.0])
+    _, u, ci = _linear(a, w, wc)
     about = [float(a[0]), float(a[1]), 0.0]
+    shift = {}
+    words = ""
+    if c.extra.get("shift"):
+        v = theta[2:5]
+        shift = {"shift_mm": [float(x) for x in v],
+                 "shift_uncertainty_mm": [float(math.sqrt(max(x, 0.0))) for x in np.diag(cov)[2:5]]}
+        words = f", and shifted {np.linalg.norm(v) * 1e3:.2g} um ({', '.join(f'{x * 1e3:.2g}' for x in v)} um)"
     return {"estimate": size, "uncertainty": u, "unit": "rad", "interval_95": [max(ci[0], 0.0), ci[1]],
-            "rotation_vector": [float(theta[0]), float(theta[1]), 0.0], "about": about, "t0_s": c.extra["t0_s"],
+            "rotation_vector": [float(w[0]), float(w[1]), 0.0], "about": about, "t0_s": c.extra["t0_s"], **shift,
             "says": f"the tracker was re-levelled before round {c.extra['round']} of {c.extra['from_axis']}: every "
                     f"later reading turned {size * 1e6:.2g} urad (95 %: {max(ci[0], 0.0) * 1e6:.2g} to "
-                    f"{ci[1] * 1e6:.2g}) about the horizontal axis ({about[0]:.2f}, {about[1]:.2f}, 0) through it"}
+                    f"{ci[1] * 1e6:.2g}) about the horizontal axis ({about[0]:.2f}, {about[1]:.2f}, 0) through "
+                    f"it{words}"}
 
 
 def _air_index_drift_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:

@@ -378,14 +378,18 @@ def _drift_fits_as_much(v: Step, sig: list[Step]) -> str | None:
 
 
 def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
-    """``v``, or the simpler member it contains (NESTED, same axis and place, in ``sig``) where what ``v`` adds
-    beside it is not significant: beyond the float range of p, the chi^2 tail that orders the evidence favours the
-    member with more columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2
-    columns; icelinker's base reflectors drifting 56 um together were a tool side expanding about a fitted centre)."""
+    """``v``, or the simpler member it contains where what ``v`` adds beside it is not significant: its own
+    ``nested`` member (a re-levelling with its shift: the knock at its t0), or one of ``sig`` (NESTED, same axis and
+    place); beyond the float range of p, the chi^2 tail that orders the evidence favours the member with more
+    columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2 columns; icelinker's
+    base reflectors drifting 56 um together were a tool side expanding about a fitted centre)."""
     c = v.candidate
-    simple = NESTED.get(c.name) if c.extra.get("centre", True) else None
-    o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == c.axis
-              and _place(o.candidate) == _place(c)), None)
+    if c.nested is not None:
+        o = Step(c.nested, eng.score(w(c.nested)), v.logp_adj)
+    else:
+        simple = NESTED.get(c.name) if c.extra.get("centre", True) else None
+        o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == c.axis
+                  and _place(o.candidate) == _place(c)), None)
     if o is None:
         return v
     return v if _significant_beside(eng, w(o.candidate), w(v.candidate), level * math.exp(-v.log_multiplicity)) else o
