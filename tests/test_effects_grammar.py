@@ -143,9 +143,9 @@ def time_folds(monkeypatch):
                                                                           + fx.ALTERNATE_FOLDS)))
 
 
-def _diagnosed(effect: str, seed: int, axes: str = "XYC"):
+def _diagnosed(effect: str, seed: int, axes: str = "XYC", extra: tuple = ()):
     plan = {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in axes}, "rounds": 3}
-    rec, truth = mtcal.simulate(seed=seed, plan=plan, effects=[effect])
+    rec, truth = mtcal.simulate(seed=seed, plan=plan, effects=[effect, *extra])
     d = diagnose(rec, tracker=Plan().tracker)
     found = [f for f in d.effects if f.significant]
     assert len(found) == 1 and not d.unexplained, ([(f.name, f.axis, f.get("where")) for f in found],
@@ -186,6 +186,23 @@ def test_a_tracker_re_levelled_between_rounds_is_one_finding(time_folds):
     assert abs(f["rotation_vector"][0]) > 3 * math.hypot(0, f["uncertainty"])  # about x, well determined
     assert f["says"].startswith("the tracker was re-levelled before round 2 of Y")
     assert f.evidence["cv_gain"] > 0 and f["predictive_check"]["passes"]
+
+
+@pytest.mark.slow
+def test_a_tracker_re_levelled_and_shifted_is_one_finding(time_folds):
+    """The head moved 30 um along +Z as the tracker was re-levelled (30 urad about +X) before Y's second round: one
+    re-levelling with its shift (gen2's tracker_relevel plants both); 4814652 offered the turn alone, which cannot
+    take the shift: it named a knock of the tracker at the same t0 and left the turn a located misfit of Y
+    (position x time)."""
+    t0 = _diagnosed("tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X", 13)[1]["t0_s"]
+    f, truth = _diagnosed("tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X", 13, extra=[
+        f"offset:size=0.03,direction=+Z,t_from_s={t0 - 1e-3}"])
+    assert f.name == "tracker_relevel" and f["t0_s"] == truth["t0_s"] == t0
+    lo, hi = f["interval_95"]
+    assert lo < 30e-6 < hi, f["interval_95"]
+    shift, u = np.array(f["shift_mm"]), np.array(f["shift_uncertainty_mm"])
+    assert np.all(np.abs(shift - [0.0, 0.0, 0.03]) < 4 * u + 1e-9), (shift, u)
+    assert "and shifted" in f["says"] and f["predictive_check"]["passes"]
 
 
 def test_cli_round_trip_of_the_new_members(tmp_path, capsys):
