@@ -108,10 +108,11 @@ def test_base_design_shares_columns_and_per_axis_design_stays_per_axis():
 def test_nest_creep_of_10_um_per_hour_is_found():
     """docs "Campaigns we did not make": 15 um over the 1.5 h record; per-axis positions absorbed it (F about 3,
     missed in 15 of 16 of these campaigns), the shared positions show it: found in 15 of 16 (seeds 500-507, the
-    tracker told and not) at the level 0.01, 13 of 16 at the default level 0.005 (issue 24: p_adj 0.009 on seed
-    501 told), never anything else named alone: a creep the data cannot tell from a change at another place that
-    fits alike is one located misfit listing it (selection._tied; since ba9d6f8 also beside rivals not significant
-    themselves: 4 of the 13 found here), which names nothing in its place."""
+    tracker told and not) at the level 0.01, 13 of 16 at the level 0.005 (issue 24: p_adj 0.009 on seed 501 told),
+    12 of 16 at the default level 0.005 since it bounds the whole diagnosis (each stage at a third of it,
+    mtcal.diagnose.run.STAGES), never anything else named alone: a creep the data cannot tell from a change at
+    another place that fits alike is one located misfit listing it (selection._tied; since ba9d6f8 also beside
+    rivals not significant themselves: 4 of the 13 found here), which names nothing in its place."""
     found = 0
     for seed in range(500, 508):
         for told in (True, False):
@@ -123,7 +124,7 @@ def test_nest_creep_of_10_um_per_hour_is_found():
             names = [f.name for f in d.effects if f.significant]
             listed = any(u.by == "effects fitting alike" and "nest_creep" in u.where for u in d.unexplained)
             assert not names or "nest_creep" in names or listed, (seed, told, names)
-    assert found >= 13, found
+    assert found >= 12, found
 
 
 def test_cli_per_axis_positions(tmp_path, capsys):

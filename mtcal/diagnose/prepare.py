@@ -29,6 +29,7 @@ import numpy as np
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.noise import NoiseModel, noise_model, stations_model
 from mtcal.diagnose.prepared import Prepared
+from mtcal.diagnose.scatter import LEVEL as SCATTER_LEVEL
 from mtcal.diagnose.scatter import axis_scatter
 from mtcal.errors import InputError
 from mtcal.kinematics.machine import DEFAULT_MACHINE, Machine, load_machine
@@ -112,14 +113,15 @@ def axis_values(rec: Recording, m: Machine, axes: list[str]) -> np.ndarray:
 
 
 def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None, tracker=None,
-            max_degree: int = 3, tie_positions: bool = TIE_POSITIONS, tracker_model: TrackerSpec = AT960
-            ) -> Prepared:
+            max_degree: int = 3, tie_positions: bool = TIE_POSITIONS, tracker_model: TrackerSpec = AT960,
+            scatter_level: float = SCATTER_LEVEL) -> Prepared:
     """Nominal positions, point Jacobians and weights of every reading (see module docstring); ``tracker`` (3,)
     mm, a dict station label -> (3,) mm (several stations: the recording's station column labels the rows), or
     None (then the noise model is estimated from the scatter of the repeated rounds, mtcal.diagnose.noise, with
     the base family at ``max_degree``); ``tie_positions``: one reflector position shared by the axes measured
     from the same reference pose (module docstring), else one per (axis, reflector); ``tracker_model``: the prior
-    noise law (mtcal.measurement.tracker, default the AT960's)."""
+    noise law (mtcal.measurement.tracker, default the AT960's); ``scatter_level``: the family-wise level of the
+    per-stop scatter test (mtcal.diagnose.scatter)."""
     m = machine if isinstance(machine, Machine) else load_machine(machine)
     n = len(rec)
     if n == 0:
@@ -174,5 +176,5 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
                   else noise_model(prep, t, max_degree, tracker_model))
     if t is None and prep.noise.tracker is not None:
         prep.geometry.tracker = np.asarray(prep.noise.tracker, dtype=float)
-    prep.noise = axis_scatter(prep)  # one axis repeating worse than the others: its readings re-weighted
+    prep.noise = axis_scatter(prep, scatter_level)  # one axis repeating worse than the others: its readings re-weighted
     return prep

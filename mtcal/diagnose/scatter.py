@@ -39,7 +39,7 @@ import numpy as np
 from mtcal import _tails
 from mtcal.diagnose.prepared import NoiseModel, Prepared
 
-LEVEL = 0.005  # family-wise over the axes tested: the diagnosis' default level (mtcal.diagnose.run.LEVEL)
+LEVEL = 0.005 / 3  # family-wise over the axes tested: the diagnosis' share (mtcal.diagnose.run.LEVEL / STAGES)
 MIN_DOF = 10   # degrees of freedom an axis' round scatter needs to be tested (one nest per stop)
 MIN_PAIR_DOF = 4  # degrees of freedom the pairs of stops need, after the trim (several nests per stop)
 DRAWS = 4000   # null draws of the per-stop test (fixed seed: the same answer every run)
@@ -60,7 +60,8 @@ def axis_scatter(prep: Prepared, level: float = LEVEL) -> NoiseModel:
     prep : Prepared
         The prepared recording (its noise model, geometry and reference positions).
     level : float, optional
-        Family-wise level over the axes tested (default 0.005).
+        Family-wise level over the axes tested (default 0.005 / 3: the diagnosis' default, a third to each of its
+        stages, mtcal.diagnose.run.STAGES).
 
     Returns
     -------

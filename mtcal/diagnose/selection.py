@@ -315,17 +315,24 @@ def _place(c: fx.Candidate) -> tuple | None:
 
 def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
     """Whether ``c`` and ``o`` are changes in time (_place) that may fit one misfit alike: of other families, not
-    a pair ORDERED, at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly
-    the same readings (at least half of the fewer they move: effects that move different readings fit alike only
-    through the base's freedoms, reflector positions and station alignments, where the base's rules and
-    same_fit_as decide)."""
+    a pair ORDERED nor one nesting the other (_nests), at other places (at the tracker also two time laws: a knock,
+    a drift, the air), moving mostly the same readings (at least half of the fewer they move: effects that move
+    different readings fit alike only through the base's freedoms, reflector positions and station alignments,
+    where the base's rules and same_fit_as decide)."""
     pc, po = _place(c), _place(o)
-    if None in (pc, po) or o.family == c.family or frozenset((c.name, o.name)) in ORDERED:
+    if None in (pc, po) or o.family == c.family or frozenset((c.name, o.name)) in ORDERED or _nests(c, o):
         return False
     if pc == po and pc[0] != "tracker":
         return False
     a, b = (x.moved for x in (c, o))
     return bool((a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0)
+
+
+def _nests(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether one of ``c`` and ``o`` is the other's ``nested`` member (of its name, moving the same readings: a
+    re-levelling with its shift and the knock at its t0), which _simplest orders: the two are never tied."""
+    return any(x.nested is not None and y.name == x.nested.name and np.array_equal(y.moved, x.nested.moved)
+               for x, y in ((c, o), (o, c)))
 
 
 def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
