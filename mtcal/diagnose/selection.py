@@ -392,7 +392,8 @@ def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -
     base reflectors drifting 56 um together were a tool side expanding about a fitted centre)."""
     c = v.candidate
     if c.nested is not None:
-        o = Step(c.nested, eng.score(w(c.nested)), v.logp_adj)
+        sc = eng.score(w(c.nested))
+        o = Step(c.nested, sc, v.logp_adj) if sc.separable else None
     else:
         simple = NESTED.get(c.name) if c.extra.get("centre", True) else None
         o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == c.axis
