@@ -174,3 +174,22 @@ def test_a_drift_lists_the_air_where_the_station_is_not_determined():
                          "not_separable": NOT_SEPARABLE["air_index_drift station"]}])
     air_confounds([s], [])
     assert s.confounded_with == []
+
+
+@pytest.mark.slow
+def test_a_drift_lists_the_air_where_the_rounds_do_not_place_the_station(tmp_path):
+    """gen2 seed 3537 campaign 12 (one station, the tracker columns removed, an isotropic tracker: the rounds'
+    scatter has no shape to place the station; the air ramps to 5 ppm): the air cannot be offered, a drift of the
+    tracker along the beams is named.  4814652 named it alone (the note of an unplaced station was not the kind
+    air_confounds reads); the drift now lists the air beside it, with what separates them."""
+    path, truth = _gen2(tmp_path, 3537, 12)
+    assert [e["name"] for e in truth["effects"]] == ["air_temperature"]
+    rec = parse_recording(path.read_text(), path.name)
+    (text,) = [t for h, t in R.cases(path.read_text()) if h == "defaults"]
+    d = diagnose(parse_recording(text, path.name))
+    assert _named(d) == [("thermal_drift", None)], _named(d)
+    rivals = d.effects[0].to_dict().get("confounded_with") or []
+    air = [c for c in rivals if c["name"] == "air_index_drift"]
+    assert len(air) == 1, [c["name"] for c in rivals]
+    assert "not determined" in air[0]["where"] and air[0]["separate_by"].startswith("measure from a second station")
+    assert R.judge(d.to_dict(), R.planted_of(truth, rec)).verdict == "right"

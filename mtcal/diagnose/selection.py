@@ -623,12 +623,13 @@ def growing_confounds(prep: Prepared, eng: Engine, steps: list[Step], w: Columns
 
 
 def air_confounds(steps: list[Step], notes: list[dict]) -> None:
-    """Where the air's drift could not be tested because the station is not determined (a note of
-    mtcal.diagnose.candidates.air_index_drift), a selected drift (of a side or of the tracker) lists it in
+    """Where the air's drift could not be tested because the station is not determined or not placed at all (a
+    note of mtcal.diagnose.candidates.air_index_drift), a selected drift (of a side or of the tracker) lists it in
     ``confounded_with``: about a station the data do not place, a scale of the distances changing with time is a
     drift along the unknown beam with a remainder too small to tell apart, so the drift may be the air's (gen2 seed
     9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air came out as a
-    drift of the table alone)."""
+    drift of the table alone; seed 3537 campaign 12, an isotropic tracker whose rounds show no shape to place it: a
+    5 ppm ramp a drift of the tracker)."""
     why = next((n["not_separable"] for n in notes if n["name"] == "air_index_drift"
                 and n.get("kind") == "station undetermined"), None)
     if why is None:
