@@ -143,9 +143,12 @@ def time_folds(monkeypatch):
                                                                           + fx.ALTERNATE_FOLDS)))
 
 
+def _plan(axes: str = "XYC") -> dict:
+    return {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in axes}, "rounds": 3}
+
+
 def _diagnosed(effect: str, seed: int, axes: str = "XYC", extra: tuple = ()):
-    plan = {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in axes}, "rounds": 3}
-    rec, truth = mtcal.simulate(seed=seed, plan=plan, effects=[effect, *extra])
+    rec, truth = mtcal.simulate(seed=seed, plan=_plan(axes), effects=[effect, *extra])
     d = diagnose(rec, tracker=Plan().tracker)
     found = [f for f in d.effects if f.significant]
     assert len(found) == 1 and not d.unexplained, ([(f.name, f.axis, f.get("where")) for f in found],
@@ -194,9 +197,9 @@ def test_a_tracker_re_levelled_and_shifted_is_one_finding(time_folds):
     re-levelling with its shift (gen2's tracker_relevel plants both); 4814652 offered the turn alone, which cannot
     take the shift: it named a knock of the tracker at the same t0 and left the turn a located misfit of Y
     (position x time)."""
-    t0 = _diagnosed("tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X", 13)[1]["t0_s"]
-    f, truth = _diagnosed("tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X", 13, extra=[
-        f"offset:size=0.03,direction=+Z,t_from_s={t0 - 1e-3}"])
+    relevel = "tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X"
+    t0 = mtcal.simulate(seed=13, plan=_plan(), effects=[relevel])[1]["effects"][0]["t0_s"]
+    f, truth = _diagnosed(relevel, 13, extra=[f"offset:size=0.03,direction=+Z,t_from_s={t0 - 1e-3}"])
     assert f.name == "tracker_relevel" and f["t0_s"] == truth["t0_s"] == t0
     lo, hi = f["interval_95"]
     assert lo < 30e-6 < hi, f["interval_95"]
