@@ -143,12 +143,12 @@ def time_folds(monkeypatch):
                                                                           + fx.ALTERNATE_FOLDS)))
 
 
-def _plan(axes: str = "XYC") -> dict:
+def _rounds_plan(axes: str = "XYC") -> dict:
     return {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in axes}, "rounds": 3}
 
 
 def _diagnosed(effect: str, seed: int, axes: str = "XYC", extra: tuple = ()):
-    rec, truth = mtcal.simulate(seed=seed, plan=_plan(axes), effects=[effect, *extra])
+    rec, truth = mtcal.simulate(seed=seed, plan=_rounds_plan(axes), effects=[effect, *extra])
     d = diagnose(rec, tracker=Plan().tracker)
     found = [f for f in d.effects if f.significant]
     assert len(found) == 1 and not d.unexplained, ([(f.name, f.axis, f.get("where")) for f in found],
@@ -198,7 +198,7 @@ def test_a_tracker_re_levelled_and_shifted_is_one_finding(time_folds):
     take the shift: it named a knock of the tracker at the same t0 and left the turn a located misfit of Y
     (position x time)."""
     relevel = "tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X"
-    t0 = mtcal.simulate(seed=13, plan=_plan(), effects=[relevel])[1]["effects"][0]["t0_s"]
+    t0 = mtcal.simulate(seed=13, plan=_rounds_plan(), effects=[relevel])[1]["effects"][0]["t0_s"]
     f, truth = _diagnosed(relevel, 13, extra=[f"offset:size=0.03,direction=+Z,t_from_s={t0 - 1e-3}"])
     assert f.name == "tracker_relevel" and f["t0_s"] == truth["t0_s"] == t0
     lo, hi = f["interval_95"]
