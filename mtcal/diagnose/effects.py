@@ -378,24 +378,25 @@ def growing_free(g: Geometry, axis: str, full: bool = True) -> Candidate:
 def repeated(g: Geometry, c: Candidate) -> Candidate:
     """The readings at the places of a scanned outlier (axis, reflector, position, approach) in the other rounds,
     shifted by one 3-vector (mm, machine frame): a displacement found there too is not a one-off event."""
-    rows = np.asarray(c.extra["rows"])
     key = np.array([f"{a}|{p}|{q!r}|{d}" for a, p, q, d in zip(g.axis, g.point, g.position, g.direction)])
-    on = np.isin(key, key[rows])
-    on[rows] = False
-    return Candidate("outlier (other rounds)", c.axis, "same places, other rounds",
-                     S.outlier_signature(on.astype(float)), [], family="check")
+    return _others_shifted(c, key, "outlier (other rounds)", "same places, other rounds")
 
 
 def same_stops(g: Geometry, c: Candidate, stop: np.ndarray) -> Candidate:
     """The other readings of the stops of a scanned outlier (``stop``: every reading's stop,
-    mtcal.diagnose.scatter.stop_ids; the other nests read while the machine stood there), shifted by one 3-vector
-    (mm, machine frame): a displacement they share is the stop's (landing off, or the tracker moved), not a
-    reading's."""
+    mtcal.diagnose.prepared.Prepared.stop; the other nests read while the machine stood there), shifted by one
+    3-vector (mm, machine frame): a displacement they share is the stop's (landing off, or the tracker moved), not
+    a reading's."""
+    return _others_shifted(c, stop, "outlier (same stops)", "other nests, same stops")
+
+
+def _others_shifted(c: Candidate, key: np.ndarray, name: str, label: str) -> Candidate:
+    """The readings sharing a ``key`` (n,) with the rows of the scanned outlier ``c``, those rows left out,
+    shifted by one 3-vector (mm, machine frame): a check beside the outlier, not a candidate."""
     rows = np.asarray(c.extra["rows"])
-    on = np.isin(stop, stop[rows])
+    on = np.isin(key, key[rows])
     on[rows] = False
-    return Candidate("outlier (same stops)", c.axis, "other nests, same stops",
-                     S.outlier_signature(on.astype(float)), [], family="check")
+    return Candidate(name, c.axis, label, S.outlier_signature(on.astype(float)), [], family="check")
 
 
 def _per_position(g: Geometry, axis: str, errors: list[str]) -> np.ndarray:

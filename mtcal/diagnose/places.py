@@ -22,7 +22,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtcal.diagnose import effects as fx
-from mtcal.diagnose.scatter import stop_ids
 from mtcal.generated import signatures_numpy as S
 
 REVERSALS = ("backlash", "backlash_travel", "reversal_angular", "reversal_straightness")
@@ -106,9 +105,9 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     """A tracker knock within a linear axis' readings as the free form of that axis' stops landing off: one column
     per stop of the shorter side of the step within the axis (the station's readings of the axis before t0, or
     after it: the base's offsets per axis take a step that is constant over an axis' readings, so the knock is
-    seen as that split), the axis' positioning column on the nests read at it (mm along the motion,
-    mtcal.diagnose.scatter.stop_ids' stops) -- what an axis repeating worse shows where a few of its stops land off
-    together; None for any other candidate, a rotary axis, or a shorter side of more than MAX_STOPS stops
+    seen as that split), the axis' positioning column on the nests read at it (mm along the motion; the stops
+    are Prepared.stop's) -- what an axis repeating worse shows where a few of its stops land off together; None
+    for any other candidate, a rotary axis, or a shorter side of more than MAX_STOPS stops
     (icelinker's robot, a pass a round: 454 "stops" that a drift of the base moves together)."""
     x = c.extra
     if c.name != "offset" or x.get("variant") != "tracker knock":
@@ -121,7 +120,7 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     after = c.moved & rows
     before = rows & ~after
     short = after if after.sum() <= before.sum() else before
-    stop = stop_ids(prep)
+    stop = prep.stop
     ids = list(dict.fromkeys(stop[short].tolist()))
     if not ids or len(ids) > MAX_STOPS:
         return None

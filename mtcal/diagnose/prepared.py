@@ -4,6 +4,7 @@ mtcal.diagnose.prepare).  Units: mm, rad; machine frame."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -94,6 +95,22 @@ class Prepared:
     @property
     def weighted(self) -> bool:
         return self.noise.weighted
+
+    @cached_property
+    def stop(self) -> np.ndarray:
+        """(n,) index of every reading's stop: consecutive readings (in time) of one station, axis, round, position
+        and direction -- the machine stood still while the nests were read in turn (the per-stop scatter test,
+        the stops' free form, an outlier shared by its stop)."""
+        rec = self.rec
+        key = list(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist(), rec.position.tolist(),
+                       rec.direction.tolist()))
+        ids = np.empty(len(rec), int)
+        last, k = None, -1
+        for i in np.argsort(self.order, kind="stable"):
+            if key[i] != last:
+                k, last = k + 1, key[i]
+            ids[i] = k
+        return ids
 
     @property
     def stations(self) -> list[str]:

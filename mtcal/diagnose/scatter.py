@@ -68,7 +68,7 @@ def axis_scatter(prep: Prepared, level: float = LEVEL) -> NoiseModel:
     NoiseModel
         The noise model to weight the readings by.
     """
-    stop = stop_ids(prep)
+    stop = prep.stop
     nests = np.bincount(stop)[stop]
     if np.median(nests) < 2:
         return _by_axes(prep, level)
@@ -170,21 +170,6 @@ def _round_scatter(prep: Prepared, axis: str) -> tuple[np.ndarray, int, np.ndarr
 
 
 # ------------------------------------------------------------------ several nests per stop
-def stop_ids(prep: Prepared) -> np.ndarray:
-    """(n,) index of every reading's stop: consecutive readings (in time) of one station, axis, round, position
-    and direction -- the machine stood still while the nests were read in turn."""
-    rec = prep.rec
-    key = list(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist(), rec.position.tolist(),
-                   rec.direction.tolist()))
-    ids = np.empty(len(rec), int)
-    last, k = None, -1
-    for i in np.argsort(prep.order, kind="stable"):
-        if key[i] != last:
-            k, last = k + 1, key[i]
-        ids[i] = k
-    return ids
-
-
 def _by_stops(prep: Prepared, stop: np.ndarray, nests: np.ndarray, axes: list[str], level: float) -> NoiseModel:
     """Several nests per stop: each linear axis' stops against its nests' scatter within the stops (module
     docstring); the axis with the smallest p re-weighted when it is below ``level`` after Bonferroni."""

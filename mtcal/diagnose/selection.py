@@ -28,7 +28,6 @@ from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
 from mtcal.diagnose.places import REVERSALS, place_of, stops_off, tie, unsteady
 from mtcal.diagnose.prepare import Prepared
-from mtcal.diagnose.scatter import stop_ids
 
 CONFOUND_COS = 0.9
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
@@ -485,7 +484,7 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
         if sc is not None:
             return (f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
                     f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
-        sc = _same_way_beside(eng, w(c), w(fx.same_stops(prep.geometry, c, stop_ids(prep))), level)
+        sc = _same_way_beside(eng, w(c), w(fx.same_stops(prep.geometry, c, prep.stop)), level)
         if sc is not None:
             return (f"the other nests read at the same stop(s) are displaced the same way (F = {sc.F:.1f}, "
                     f"p = {math.exp(sc.logp):.2g}): the stop landed off or the tracker moved, not one reading")
