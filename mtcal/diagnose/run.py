@@ -11,6 +11,7 @@ from mtcal.diagnose.candidates import candidates, screen
 from mtcal.diagnose.design import base_design, engine_for, family_degrees, raw_sigma, whiten
 from mtcal.diagnose.predictive import predictive_checks
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
+from mtcal.diagnose.prepared import LEVEL, STAGES
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
 from mtcal.diagnose.scans import beyond_the_family, collapsed, locate
 from mtcal.diagnose.selection import (
@@ -33,13 +34,6 @@ from mtcal.measurement.slips import check_units_and_frame
 from mtcal.measurement.tracker import as_tracker_model
 
 log = logging.getLogger("mtcal.diagnose")
-LEVEL = 0.005  # the default family-wise level: it bounds the rate of false findings on a clean campaign by design,
-#              so it sits at half the 1 % the project promises (issue 24), the rest left to the noise model's error
-#              (gen2 at 0.01: findings of clean campaigns at p_adj 0.0057-0.0073, as often as the level allows)
-STAGES = 3  # the stages that claim something on their own -- the per-stop scatter (a noise model re-weighted), the
-#            selection of effects and the located misfits left beside them -- each test at level / STAGES
-#            (Bonferroni), so that the level bounds the whole diagnosis' false alarms, not each stage's: at 0.005
-#            each, gen2's clean campaigns were flagged 11 times in 916, 3-4 by each stage (docs/guide/diagnose.md)
 # BLAS_THREADS: the diagnosis is thousands of products and factorisations of a few hundred columns, where a second
 # BLAS thread costs more than it gives: `mtcal diagnose demo_campaign.csv` took 45 CPU-s (70 s wall) with
 # OpenBLAS's default threads on this 2-core machine at a load of 9, 4-5 CPU-s (6-8 s) on one thread

@@ -37,9 +37,10 @@ from dataclasses import replace
 import numpy as np
 
 from mtcal import _tails
-from mtcal.diagnose.prepared import NoiseModel, Prepared
+from mtcal.diagnose.prepared import LEVEL as DIAGNOSIS_LEVEL
+from mtcal.diagnose.prepared import STAGES, NoiseModel, Prepared
 
-LEVEL = 0.005 / 3  # family-wise over the axes tested: the diagnosis' share (mtcal.diagnose.run.LEVEL / STAGES)
+LEVEL = DIAGNOSIS_LEVEL / STAGES  # family-wise over the axes tested: the diagnosis' share of its default level
 MIN_DOF = 10   # degrees of freedom an axis' round scatter needs to be tested (one nest per stop)
 MIN_PAIR_DOF = 4  # degrees of freedom the pairs of stops need, after the trim (several nests per stop)
 DRAWS = 4000   # null draws of the per-stop test (fixed seed: the same answer every run)
@@ -61,7 +62,7 @@ def axis_scatter(prep: Prepared, level: float = LEVEL) -> NoiseModel:
         The prepared recording (its noise model, geometry and reference positions).
     level : float, optional
         Family-wise level over the axes tested (default 0.005 / 3: the diagnosis' default, a third to each of its
-        stages, mtcal.diagnose.run.STAGES).
+        stages, mtcal.diagnose.prepared.STAGES).
 
     Returns
     -------
