@@ -26,6 +26,7 @@ from mtcal.generated import signatures_numpy as S
 
 REVERSALS = ("backlash", "backlash_travel", "reversal_angular", "reversal_straightness")
 MAX_STOPS = 48  # stops the free form of stops landing off takes a column each for (stops_off)
+MAX_AXIS_STOPS = 400  # stops of one axis the split-plot test takes a column each for (stops_of)
 
 
 @dataclass
@@ -125,11 +126,7 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     if not ids or len(ids) > MAX_STOPS:
         return None
     rnd = ", ".join(map(str, sorted(set(prep.rec.round[short].tolist()))))
-    col = g.col(prep.machine.positioning_errors[axis])
-    G = np.zeros((len(g.axis), 3, len(ids)))
-    for k, s in enumerate(ids):
-        on = stop == s
-        G[on, :, k] = col[on]
+    G = _stop_columns(prep, axis, ids)
     return fx.Candidate(fx.UNEXPLAINED, axis, f"{len(ids)} stop(s) of axis {axis}{of} landing off (round(s) {rnd}), "
                         f"or the tracker{of} knocked at t0 = {x['t0_s']:.6g} s",
                         G, [f"stop {k + 1} along {axis} (mm)" for k in range(len(ids))],
@@ -140,6 +137,53 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
                                     "others along the axis' motion, about as well told by each stop landing off on "
                                     f"its own (the axis repeating worse) as by the tracker{of} knocked: the data do "
                                     "not say which"})
+
+
+def _stop_columns(prep, axis: str, ids: list[int]) -> np.ndarray:
+    """(n, 3, len(ids)): one column per stop ``ids`` (Prepared.stop) of the linear ``axis``, its positioning column
+    (mm along the motion) on the nests read at that stop."""
+    col = prep.geometry.col(prep.machine.positioning_errors[axis])
+    G = np.zeros((len(col), 3, len(ids)))
+    for k, s in enumerate(ids):
+        on = prep.stop == s
+        G[on, :, k] = col[on]
+    return G
+
+
+def stops_of(prep, c: fx.Candidate) -> fx.Candidate | None:
+    """The free form of the stops a named effect ``c`` moves whole: every stop of its linear axis landing off on
+    its own along the motion (one column each, _stop_columns), when each of ``c``'s columns moves every reading
+    along the axis' motion, by the same amount at every nest read at one stop (a backlash, a graded backlash, a
+    scale: functions of the stop's position and direction); None for any other candidate, a rotary axis, or an
+    axis of more than MAX_AXIS_STOPS stops.  The split-plot design: such an effect is a contrast between stops, so
+    where the stops scatter beyond the tracker's noise its error term is their scatter
+    (mtcal.diagnose.selection._against_the_stops)."""
+    g, axis = prep.geometry, c.axis
+    if axis is None or c.name == fx.UNEXPLAINED or not g.linear(axis):
+        return None
+    on = g.axis == axis
+    if np.any(c.G[~on]):
+        return None
+    col = g.col(prep.machine.positioning_errors[axis])[on]            # (m, 3)
+    Gc = c.G[on]                                                      # (m, 3, k)
+    along = np.einsum("mi,mik->mk", col, Gc) / np.einsum("mi,mi->m", col, col)[:, None]
+    scale = np.abs(Gc).max() or 1.0
+    if np.abs(Gc - col[:, :, None] * along[:, None, :]).max() > 1e-9 * scale:
+        return None                                                   # not along the motion
+    stop = prep.stop[on]
+    ids, inv = np.unique(stop, return_inverse=True)
+    if len(ids) > MAX_AXIS_STOPS:
+        return None
+    mean = np.zeros((len(ids), along.shape[1]))
+    np.add.at(mean, inv, along)
+    mean /= np.bincount(inv)[:, None]
+    if np.abs(along - mean[inv]).max() > 1e-9 * scale:
+        return None                                                   # differs between the nests of a stop
+    return fx.Candidate(fx.UNEXPLAINED, axis, f"every stop of axis {axis} landing off on its own",
+                        _stop_columns(prep, axis, ids.tolist()),
+                        [f"stop {k + 1} along {axis} (mm)" for k in range(len(ids))],
+                        family=f"{fx.UNEXPLAINED} place stops {axis}", extra={
+                            "kind": "place", "by": "round x position", "place": f"axis {axis}'s stops"})
 
 
 def _words(c: fx.Candidate) -> str:

@@ -22,11 +22,12 @@ from typing import Callable, Sequence
 import numpy as np
 from scipy import optimize
 
+from mtcal import _tails
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
-from mtcal.diagnose.places import REVERSALS, place_of, stops_off, tie, unsteady
+from mtcal.diagnose.places import REVERSALS, place_of, stops_of, stops_off, tie, unsteady
 from mtcal.diagnose.prepare import Prepared
 
 CONFOUND_COS = 0.9
@@ -249,6 +250,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
                 return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level), pool, w,
                                                                   level)
             free, sc, why = place
+            free, sc = _stops_instead(prep, eng, v, free, w, level) or (free, sc)
             if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
                 fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
         v.inadequate = why
@@ -287,6 +289,22 @@ def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | Non
         return None
     sc = eng.score(w(free))
     return Step(free, v.score, v.logp_adj) if sc.separable and _lead(eng, v, sc) < TIE_CHI2 else None
+
+
+def _stops_instead(prep: Prepared, eng: Engine, v: Step, free: fx.Candidate, w: Columns, level: float
+                   ) -> tuple[fx.Candidate, Score] | None:
+    """(stops, score): where a tracker knock's place (``free``: the station's rigid step, turning about the tracker)
+    is needed beside it, its stops of the linear axis landing off (mtcal.diagnose.places.stops_off) in its place
+    when the rigid step adds nothing significant beside them (F test at ``level``): the first stops of a round
+    landing off the rest fit a knock, and its turn then carries their scatter to the other axes (gen2 seed 3540
+    campaign 35: X repeating worse, reported as S1's frame stepping, largest on C).  None otherwise."""
+    stops = stops_off(prep, v.candidate)
+    if stops is None:
+        return None
+    sc = eng.score(w(stops))
+    if not sc.separable or _significant_beside(eng, w(stops), w(free), level) is not None:
+        return None
+    return stops, sc
 
 
 def _lead(eng: Engine, v: Step, other: Score) -> float:
@@ -454,7 +472,11 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     not be found, in the same direction, at the same places in the other rounds; a periodic error must leave no
     misfit of its error motion over the positions (the free shape beside it, F test); a knocked nest's displacement must
     persist beyond the sequence it starts in; a knock (of the tracker or of a nest) must be a step, not a change
-    that goes on growing after t0."""
+    that goes on growing after t0; an effect that moves whole stops of a linear axis must be significant against
+    the scatter of those stops where they scatter (_against_the_stops)."""
+    why = _against_the_stops(prep, eng, c, w, level)
+    if why:
+        return why
     if c.name in REVERSALS:
         sc = _reversal_misfit(prep, eng, c.axis, w, level)
         if sc is not None:
@@ -489,6 +511,37 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
             return (f"the other nests read at the same stop(s) are displaced the same way (F = {sc.F:.1f}, "
                     f"p = {math.exp(sc.logp):.2g}): the stop landed off or the tracker moved, not one reading")
     return None
+
+
+def _against_the_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    """Why ``c``, an effect that moves whole stops of a linear axis (places.stops_of), is not told from those stops
+    landing off at random, or None.  The split-plot F test: ``c`` is a contrast between the stops, so its error
+    term is their scatter -- its mean square over that of every stop landing off on its own beside it,
+    F(k_c, k_stops); where the stops scatter no more than the tracker's noise, this is the usual test with fewer
+    degrees of freedom in the denominator.  Where no stop is left to estimate their scatter (stops of the axis
+    already located as landing off), ``c`` is not told from them.  Against the tracker's noise alone a backlash of stops that scatter 4.4 um each is "found"
+    (gen2 seed 3542 campaign 30: X repeating worse in two rounds, backlash F = 17.5)."""
+    free = stops_of(prep, c)
+    if free is None:
+        return None
+    own = eng.score(w(c))
+    if not own.separable:
+        return None
+    e = eng.copy()
+    e.add(w(c))
+    between = e.score(w(free))
+    if not between.separable:  # the stops' free form is already fitted (stops located as landing off) but c's
+        return (f"the stops of {c.axis} left beside it do not estimate their scatter (stops of the axis are "
+                "located as landing off, and every other stop is taken by the base and by it): it is not told "
+                "from the stops landing off at random (the axis repeating worse)")
+    F = (own.delta / own.k) / (between.delta / between.k)
+    p = float(_tails.f_sf(F, own.k, between.k))
+    if p < level:
+        return None
+    return (f"against the scatter of the stops of {c.axis} (each stop landing off on its own, beside it: "
+            f"F = {between.F:.1f}, p = {math.exp(between.logp):.2g}) it is not "
+            f"significant (F = {F:.2g} on {own.k} and {between.k} degrees of freedom, p = {p:.2g}): the stops "
+            "landing off at random (the axis repeating worse) make it as well")
 
 
 def _significant_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
