@@ -519,8 +519,9 @@ def _against_the_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     term is their scatter -- its mean square over that of every stop landing off on its own beside it,
     F(k_c, k_stops); where the stops scatter no more than the tracker's noise, this is the usual test with fewer
     degrees of freedom in the denominator.  Where no stop is left to estimate their scatter (stops of the axis
-    already located as landing off), ``c`` is not told from them.  Against the tracker's noise alone a backlash of stops that scatter 4.4 um each is "found"
-    (gen2 seed 3542 campaign 30: X repeating worse in two rounds, backlash F = 17.5)."""
+    already located as landing off), ``c`` is not told from them.  Against the tracker's noise alone a backlash of
+    stops that scatter 4.4 um each is "found" (gen2 seed 3542 campaign 30: X repeating worse in two rounds,
+    backlash F = 17.5)."""
     free = stops_of(prep, c)
     if free is None:
         return None
