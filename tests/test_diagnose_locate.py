@@ -114,3 +114,26 @@ def test_a_station_is_judged_by_its_own_scatter(tmp_path):
     assert len(named) == 1 and named[0]["station"] == "S2", [e["where"] for e in named]
     assert ("round 5 of axis B" in named[0]["where"] if named[0]["name"] == "tracker_relevel" else
             named[0]["name"] == "offset" and "axis B round 5" in named[0]["where"]), named[0]["where"]
+
+
+def test_a_station_read_once_per_axis_is_judged_by_its_other_axes(tmp_path):
+    """gen2 seed 3543 campaign 18 (three stations given; S1's tracker re-levelled before round 2 of C): the
+    re-levelling is named, but on fb913ff "unexplained Z by round 5" was located beside it, a spread of 1.55 times
+    the pooled variance (p_adj 4.7e-6).  Round 5 is station S3's only round of Z, so the same station's other
+    readings of Z, the reference of the rule above, are none, and the spread was judged against the pool, which
+    S1's scale (raised by the re-levelling, 1.6 times) pulls down.  Where the axis has no other readings at the
+    station, the station's readings of its other axes are the reference: nothing located, the re-levelling named."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import parse_recording
+
+    R.generate(str(tmp_path), 1, 3543, 18, "outside")
+    path = tmp_path / "campaign_0018.csv"
+    (text,) = [t for h, t in R.cases(path.read_text()) if h == "given"]
+    d = diagnose(parse_recording(text, path.name)).to_dict()
+    assert d["unexplained"] == [], d["unexplained"]
+    named = [e for e in d["effects"] if e["significant"]]
+    assert [(e["name"], e["station"]) for e in named] == [("tracker_relevel", "S1")], [e["where"] for e in named]
+    assert "round 2 of axis C" in named[0]["where"], named[0]["where"]

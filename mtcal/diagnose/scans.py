@@ -92,7 +92,16 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
     raw = np.linalg.solve(prep.W, r[..., None])[..., 0]
     groups = [(a, by, where, np.flatnonzero(sel)) for a, by, where, sel in _groups(prep, pairs) if sel.sum() >= 2]
     count = 2 * len(groups)
-    Qf, cols = None, {}  # the full rows of Q and, per axis, its live columns (a group lies within one axis)
+    full: dict = {}  # the full rows of Q (computed when first needed) and, per axis, its live columns
+
+    def rows_of(b: str) -> np.ndarray:  # the fit's rows on the columns live on axis b (a group lies within one)
+        if "Q" not in full:
+            full["Q"] = eng.full_rows()
+        Q = full["Q"]
+        if b not in full:
+            full[b] = np.flatnonzero(np.any(Q[prep.rec.axis == b] != 0, axis=(0, 1)))
+        return Q[:, :, full[b]]
+
     out = []
     for a, by, where, idx in groups:
         ng = len(idx)
@@ -100,13 +109,9 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
         tests = [(float(mean @ mean) / (ng * s2), 3), (float(t2[idx].sum()), 3 * ng)]
         if min(_tails.chi2_sf(v, k) for v, k in tests) * count >= 1.0:
             continue
-        if Qf is None:
-            Qf = eng.full_rows()
-        if a not in cols:
-            cols[a] = np.flatnonzero(np.any(Qf[prep.rec.axis == a] != 0, axis=(0, 1)))
-        tests = _group_tests(r[idx], Qf[idx][:, :, cols[a]], s2)
+        tests = _group_tests(r[idx], rows_of(a)[idx], s2)
         p_shift = float(_tails.chi2_sf(*tests[0])) if tests[0][1] else 1.0
-        p_disp = _spread_p(prep, a, idx, tests[1], r, Qf[:, :, cols[a]], s2, level / count)
+        p_disp = _spread_p(prep, a, idx, tests[1], r, rows_of, s2, level / count)
         padj = min(1.0, min(p_shift, p_disp) * count)
         if padj < level:
             (T, kt), (S, ks) = tests
@@ -151,19 +156,22 @@ def _group_tests(rg: np.ndarray, Qg: np.ndarray, s2: float) -> tuple[tuple[float
 GROUP_TOL = 1e-6  # a direction the fit holds to within this share of its variance carries no residual
 
 
-def _spread_p(prep: Prepared, axis: str, idx: np.ndarray, spread: tuple[float, int], r: np.ndarray, Qa: np.ndarray,
-              s2: float, bound: float) -> float:
+def _spread_p(prep: Prepared, axis: str, idx: np.ndarray, spread: tuple[float, int], r: np.ndarray,
+              rows_of: Callable[[str], np.ndarray], s2: float, bound: float) -> float:
     """p of a group's spread (``spread``: S and its dof, _group_tests, in the residual variance ``s2``): against the
     law (chi^2) and, where that is below ``bound`` (the level over the tests), also against the scatter of the same
     reflectors' other readings on the axis from the same station(s), an F test (their own S and dof, studentized
-    together the same way: ``r`` (n, 3) the whitened residuals, ``Qa`` (n, 3, P) the fit's rows on the axis'
-    columns); the larger p.  A law estimated from the rounds is wrong nest by nest (its shape, its distance term),
+    together the same way: ``r`` (n, 3) the whitened residuals, ``rows_of(axis)`` (n, 3, P) the fit's rows on an
+    axis' columns); the larger p.  A law estimated from the rounds is wrong nest by nest (its shape, its distance term),
     and a nest whose scatter it understates spreads in every round it is read (gen2 seed 3513 campaign 17, clean, a
     1 : 2.8 tracker read as 1 : 4: nest P8 in round 5 at p_adj 0.0017 against the law, 2.2 times its variance, and
     as much in its other rounds).  The same station, because each station's scale is its own: one whose rounds a
     re-levelled tracker spread is scaled up, which leaves the others' readings spread against the pooled variance
     in every round (gen2 seed 3514 campaign 20, tracker given: station S1's rounds of Y and B at 1.5 to 1.8 times
-    it, none beyond the others of S1)."""
+    it, none beyond the others of S1).  Where the axis has no other readings of those reflectors at the station
+    (one round of it there), the station's readings of its other axes are the reference, each axis studentized on
+    its own columns (gen2 seed 3543 campaign 18: S3's only round of Z "spread" at 1.55 times the pool, which a
+    re-levelled S1 pulled down)."""
     S, k = spread
     if not k:
         return 1.0
@@ -174,8 +182,16 @@ def _spread_p(prep: Prepared, axis: str, idx: np.ndarray, spread: tuple[float, i
     inside = np.zeros(len(rec), bool)
     inside[idx] = True
     st = rec.stations()
-    ref = np.flatnonzero((rec.axis == axis) & np.isin(rec.point, rec.point[idx]) & np.isin(st, st[idx]) & ~inside)
-    _, (S_ref, k_ref) = _group_tests(r[ref], Qa[ref], s2) if len(ref) >= 2 else (None, (0.0, 0))
+    here = np.isin(st, st[idx]) & ~inside
+    ref = np.flatnonzero((rec.axis == axis) & np.isin(rec.point, rec.point[idx]) & here)
+    if len(ref) < 2:
+        ref = np.flatnonzero(here)
+    S_ref, k_ref = 0.0, 0
+    for b in dict.fromkeys(rec.axis[ref].tolist()):
+        rb = ref[rec.axis[ref] == b]
+        if len(rb) >= 2:
+            _, (S_b, k_b) = _group_tests(r[rb], rows_of(b)[rb], s2)
+            S_ref, k_ref = S_ref + S_b, k_ref + k_b
     if k_ref < 2 or S_ref <= 0:
         return p_law
     return max(p_law, float(_tails.f_sf((S / k) / (S_ref / k_ref), k, k_ref)))
