@@ -121,6 +121,29 @@ def test_columns_swapped_in_one_of_two_rounds_is_named_at_that_round_by_the_othe
         screen(rec, M.sides)
 
 
+def test_columns_swapped_in_one_of_a_stations_two_rounds_is_named_by_the_other_station(tmp_path):
+    """gen2 seed 3545 campaign 8 (outside mix): X and B read from two stations, X rounds 1 and 2 from S1 and round 3
+    from S2; columns x and y exchanged in every row of X round 2 (gen2's truth: CSV lines 68-133).  X is the only
+    axis of its side, so the side cannot say which of S1's two rounds holds the slip, and on fb913ff both were left
+    out as rounds that disagree, round 1 wrongly.  The other station reads the same passes in the same machine frame
+    (the stations' alignments differ by tens of um, far below PASS_FLOOR_MM): its round agrees with round 1 and not
+    with round 2, so round 2 alone is named and left out."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    R.generate(str(tmp_path), 1, 3545, 8, "outside")
+    csv = tmp_path / "campaign_0008.csv"
+    truth = __import__("json").loads(csv.with_suffix(".truth.json").read_text())
+    assert [(e["name"], e["axis"], e["where"]["round"]) for e in truth["effects"]] == [("columns_swapped", "X", 2)]
+    rec = parse_recording(csv.read_text(), csv.name)
+    s = screen(rec, M.sides, M)
+    assert {(p.kind, p.axis, p.round) for p in s.problems} == {("round_off_station", "X", 2)}, \
+        [p.text for p in s.problems]
+    lines = set(truth["effects"][0]["details"]["csv_lines"])
+    assert {int(rec.line[i]) for i in np.flatnonzero(~s.keep)} == lines
+    assert "other station" in s.problems[0].text
+
+
 @pytest.mark.slow
 def test_the_diagnosis_names_the_slip_not_an_outlier_or_a_reseated_nest():
     _, lines = _campaign(6)

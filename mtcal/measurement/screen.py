@@ -45,6 +45,7 @@ SAME_MM = 1e-6         # readings equal to this are one reading repeated
 class DataProblem:
     """One gross error: ``kind`` one of "label_swap", "far_reading", "pass_far", "rounds_disagree",
     "round_off_side" (of two rounds that disagree, the one the other axes of its side do not agree with),
+    "round_off_station" (of one station's two rounds that disagree, the one the other stations do not agree with),
     "duplicate_row"."""
 
     kind: str
@@ -118,6 +119,8 @@ def _merge(problems: list[DataProblem]) -> list[DataProblem]:
                 else f"{axis} round {rnd} disagrees with the other round" if kind == "rounds_disagree"
                 else f"{axis} round {rnd}: its nests lie far from where the other axes of its side read them (the "
                      f"axis' other round agrees with them)" if kind == "round_off_side"
+                else f"{axis} round {rnd}: its readings lie far from where the other station(s) read the same "
+                     f"passes (the axis' other round agrees with them)" if kind == "round_off_station"
                 else f"duplicated rows of {axis} round {rnd}")
         out.append(DataProblem(kind, axis, rnd, at[0], pts, lines, size,
                                f"{what} ({len(ps)} passes, at {at[0]:g} .. {at[-1]:g}; lines {lines[0]}-{lines[-1]}; "
@@ -279,7 +282,8 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
     rounds: two labels swapped (exchanging them brings both back), the whole pass moved (a wrong position or axis
     label), or single readings far off.  With two rounds only, the median cannot say which round is wrong: where
     the other axes of the side put the pass' nests (``nests``, _side_nests) one of the two agrees with and the
-    other does not, the other is left out; else both, as rounds that disagree."""
+    other does not, the other is left out; else, where the other stations read the same pass and one of the two
+    agrees with them (_off_the_stations), the other; else both, as rounds that disagree."""
     groups: dict[tuple, list[tuple]] = {}
     for key in passes:
         if key not in skip:
@@ -292,7 +296,10 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
                for p in {p for k in keys for p in passes[k]}}
         far = [k for k in keys if max(float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items())
                > PASS_FLOOR_MM]
-        off = _off_the_side(rec, axis, far, passes, nests or {}, machine) if len(keys) == 2 else None
+        off, by = (_off_the_side(rec, axis, far, passes, nests or {}, machine), "side") if len(keys) == 2 else \
+            (None, "")
+        if off is None and len(keys) == 2:
+            off, by = _off_the_stations(rec, far, passes, skip), "station"
         for k in far:
             dev = {p: float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items()}
             if off is None:
@@ -300,7 +307,7 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
                 out.problems.append(_cross_explain(rec, axis, k, passes[k], ref, dev, len(keys)))
             elif k in off:
                 bad.add(k)
-                out.problems.append(_off_explain(rec, axis, k, passes[k], off[k]))
+                out.problems.append(_off_explain(rec, axis, k, passes[k], off[k], by))
     return bad
 
 
@@ -322,13 +329,37 @@ def _off_the_side(rec: Recording, axis: str, far: list[tuple], passes: dict, nes
     return {wrong[0]: off[wrong[0]]} if len(wrong) == 1 else None
 
 
-def _off_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], size: float) -> DataProblem:
+def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[tuple]) -> dict[tuple, float] | None:
+    """Of the two passes ``far`` of one station's two rounds that disagree: {the one whose readings lie more than
+    PASS_FLOOR_MM from the same pass read from the other stations (their median; every station's readings are in
+    the machine's frame, their alignments tens of um apart): that distance, mm}, when the other lies within it;
+    else None (no other station reads the pass, or it cannot tell)."""
+    if len(far) != 2:
+        return None
+    others = [k for k in passes if k[0] != far[0][0] and k[2:] == far[0][2:] and k not in skip]
+    ref = {p: np.median([rec.xyz[passes[k][p]] for k in others if p in passes[k]], axis=0)
+           for p in {p for k in others for p in passes[k]}}
+    off = {}
+    for k in far:
+        pts = [p for p in passes[k] if p in ref]
+        if not pts:
+            return None
+        off[k] = max(float(np.linalg.norm(rec.xyz[passes[k][p]] - ref[p])) for p in pts)
+    wrong = [k for k in far if off[k] > PASS_FLOOR_MM]
+    return {wrong[0]: off[wrong[0]]} if len(wrong) == 1 else None
+
+
+def _off_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], size: float, by: str) -> DataProblem:
+    """A pass of two rounds that disagree, the one the other axes of its side (``by`` "side") or the other stations
+    (``by`` "station") do not agree with."""
     _, rnd, q, _ = key
     lines = tuple(sorted(int(rec.line[i]) for i in g.values()))
-    return DataProblem("round_off_side", axis, rnd, q, tuple(sorted(g)), lines, size,
-                       f"{axis} round {rnd} at {q:g}: its readings are {size:.3g} mm from where the other axes of "
-                       f"its side read the same nests (lines {lines[0]}-{lines[-1]}; the axis' other round agrees "
-                       "with them): a wrong label, a unit or columns slip?: pass left out")
+    whom = "the other axes of its side read the same nests" if by == "side" else \
+        "the other station(s) read the same pass"
+    return DataProblem(f"round_off_{by}", axis, rnd, q, tuple(sorted(g)), lines, size,
+                       f"{axis} round {rnd} at {q:g}: its readings are {size:.3g} mm from where {whom} (lines "
+                       f"{lines[0]}-{lines[-1]}; the axis' other round agrees with them): a wrong label, a unit or "
+                       "columns slip?: pass left out")
 
 
 def _cross_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], ref: dict, dev: dict,
