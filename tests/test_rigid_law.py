@@ -17,6 +17,7 @@ from mtcal.measurement import tracker as trk
 from mtcal.measurement.screen import screen
 from mtcal.measurement.tracker import AT960, TrackerSpec
 from mtcal.measurement.tracker_position import (
+    ACROSS,
     NU,
     T_CONSISTENCY,
     estimate_shape,
@@ -51,12 +52,17 @@ def test_the_law_from_the_mutual_distances_is_the_planted_one_whatever_moves_the
 
 
 def test_where_the_rounds_and_the_distances_agree_the_rounds_law_is_kept_and_nothing_is_said():
-    """No shared motion, no drift: both see the tracker's noise; the round scatter's law stays (cross_check)."""
+    """No shared motion, no drift: both see the tracker's noise; nothing is said (cross_check), the round scatter's
+    radial scale stays and the scale across the beams is the distances' (they determine it)."""
     rng = np.random.default_rng(5)
     x = np.repeat(REF[None], 300, axis=0)
     x = x + trk.sample(x, np.zeros(3), rng, SPEC)
     sh = estimate_shape(ri.to_recording(x), np.zeros(3), AT960)
-    assert sh.rigid["used"] == "round scatter" and sh.note is None and "cross_check" in sh.rigid
+    assert sh.rigid["used"] == ACROSS and sh.note is None and "cross_check" in sh.rigid
+    c_t = sh.rigid["transverse"]["factor"]
+    assert sh.spec.sigmas(2837.0)[1] == pytest.approx(c_t * AT960.sigmas(2837.0)[1], rel=1e-9)
+    assert sh.spec.sigmas(2837.0)[0] == pytest.approx(sh.rigid["round_scatter_factors"]["radial"]
+                                                      * AT960.sigmas(2837.0)[0], rel=1e-3)
 
 
 def test_the_t_fit_is_made_a_normal_sigma():
@@ -147,3 +153,34 @@ def test_the_profile_near_a_determined_station_is_read_from_the_estimate():
     out = station_interval(xyz, r, pos, logs, f)
     profile = dict(map(tuple, out["profile"]))
     assert out["determined"] and profile[3000.0] < 10.0 and 100.0 < profile[4000.6] < 1000.0, profile
+
+
+def test_the_scale_across_the_beams_is_the_distances_where_they_determine_it(tmp_path):
+    """gen2 seed 3546 campaign 28 (outside mix, tracker given; gen2's at960-like law, 13.2 um across the beams at
+    3.88 m, 1.0 um along): the tracker re-levelled before C's round 4 spreads the rounds' scatter across the beams
+    (0.97 times the AT960's transverse sigma), not the mutual distances (0.687, 95 % 0.669-0.706: 13.15 um).
+    On 9f55f98 the rounds' factors were used since the two agreed within 2x; their ratio (1.34 times the AT960's)
+    passed for the AT960's shape, the readings were weighted 2.5x too wide across the beams against along them,
+    and a free-form reversal of Z was located where nothing was planted (F = 3.6, p_adj 1.2e-4).  The distances
+    determine the transverse scale best (43 gen2 campaigns of seed 3601: all within 25 % of gen2's law, the
+    rounds' 93 %): it is theirs wherever determined, the radial the rounds'.  Now the data's shape weights the
+    readings, and the re-levelling is the one finding."""
+    import diagnose_gen2_rates as R
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import parse_recording
+
+    R.generate(str(tmp_path), 1, 3546, 28, "outside")
+    path = tmp_path / "campaign_0028.csv"
+    truth = __import__("json").loads(path.with_suffix(".truth.json").read_text())
+    rec = parse_recording(path.read_text(), path.name)
+    sh = estimate_shape(rec, rec.tracker_xyz[0], AT960)
+    n = truth["tracker"]["noise"]
+    L = sh.rigid["at_distance_m"]
+    s_t = n["a_t_um"] + n["b_t_um_per_m"] * L
+    used_t = 1e3 * sh.spec.sigmas(L * 1e3)[1]
+    assert used_t == pytest.approx(s_t, rel=0.1), (used_t, s_t)
+    assert sh.replaces_base, sh.to_dict()
+    d = diagnose(rec).to_dict()
+    assert d["unexplained"] == [], d["unexplained"]
+    assert [e["name"] for e in d["effects"] if e["significant"]] == ["tracker_relevel"], d["effects"]

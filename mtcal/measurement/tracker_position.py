@@ -352,15 +352,19 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     robust to outliers and to an effect of one nest; the distance law (a : b of each
     direction) stays the base's: one machine's readings span too short a range of distances to separate a and b.
     ``r``: (n, 3) mm scatter to use instead (a model's residuals where no reading is repeated at one station);
-    ``known``: ``t`` is given (False: estimated from the same scatter; only the wide band applies)."""
+    ``known``: ``t`` is given (False: estimated from the same scatter; only the wide band applies).  The scale
+    across the beams is the mutual distances' wherever they determine it (_cross_check)."""
     r = round_scatter(rec) if r is None else r
     rho, scale = shape_ratio(rec.xyz, r, t, base, rec.point)
-    rho_c, _ = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
+    rho_c, scale_c = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
     c = math.sqrt(scale)
     rigid = rigid_law(rec, t, base)
     fr, ft, rigid = _cross_check(c * rho, c, rigid, base)
     if rigid is not None and rigid["used"] == "mutual distances":
         rho = rho_c = fr / ft   # immune to a round's mean: both ratios are the distances'
+        scale, c = ft**2, ft
+    elif rigid is not None and rigid["used"] == ACROSS:
+        rho, rho_c = fr / ft, math.sqrt(scale_c) * rho_c / ft   # the rounds' radial over the distances' transverse
         scale, c = ft**2, ft
     return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known, rigid=rigid)
 
@@ -382,6 +386,8 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) ->
         elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi:
             out[k] = hi   # only an upper bound from the distances: the largest sigma they allow
         else:
+            if name == "transverse" and g["determined"]:
+                out[k] = g["factor"]  # the distances determine the scale across the beams best: theirs
             continue
         sig0 = g["sigma_um"] / g["factor"]
         say.append(f"{name} {f0 * sig0:.3g} um from the rounds against {out[k] * sig0:.3g} um from the distances"
@@ -390,11 +396,18 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) ->
             f"from the reflectors' mutual distances within each pass differ: {'; '.join(say)} -- the rounds count "
             "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not: the "
             "distances' law is used") if say else None
-    return out[0], out[1], {**rigid, "used": "mutual distances" if say else "round scatter",
+    across = rigid["transverse"]["determined"]
+    used = "mutual distances" if say else ACROSS if across else "round scatter"
+    return out[0], out[1], {**rigid, "used": used,
                             "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
                             **({"disagreement": text} if text else
                                {"cross_check": f"the round scatter agrees with the mutual distances within "
-                                               f"{RIGID_DISAGREE:g}x: its law is used"})}
+                                               f"{RIGID_DISAGREE:g}x: " + (
+                                                   "the distances' scale across the beams and the rounds' along "
+                                                   "them are used" if across else "its law is used")})}
+
+
+ACROSS = "mutual distances across the beams, round scatter along them"  # _cross_check's "used" where they agree
 
 
 RIGID_DISAGREE = 2.0    # the round scatter's sigma exceeds the mutual distances' by more than this: say so and weight
