@@ -353,13 +353,15 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     direction) stays the base's: one machine's readings span too short a range of distances to separate a and b.
     ``r``: (n, 3) mm scatter to use instead (a model's residuals where no reading is repeated at one station);
     ``known``: ``t`` is given (False: estimated from the same scatter; only the wide band applies).  The scale
-    across the beams is the mutual distances' wherever they determine it (_cross_check)."""
+    across the beams is the mutual distances' wherever they determine it (_cross_check), with the rounds' own
+    scatter: a model's residuals (``r``) are shrunk by the fit in both directions alike, so their ratio is kept."""
+    unbiased = r is None
     r = round_scatter(rec) if r is None else r
     rho, scale = shape_ratio(rec.xyz, r, t, base, rec.point)
     rho_c, scale_c = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
     c = math.sqrt(scale)
     rigid = rigid_law(rec, t, base)
-    fr, ft, rigid = _cross_check(c * rho, c, rigid, base)
+    fr, ft, rigid = _cross_check(c * rho, c, rigid, base, across=unbiased)
     if rigid is not None and rigid["used"] == "mutual distances":
         rho = rho_c = fr / ft   # immune to a round's mean: both ratios are the distances'
         scale, c = ft**2, ft
@@ -369,7 +371,8 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known, rigid=rigid)
 
 
-def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) -> tuple[float, float, dict | None]:
+def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, across: bool = True
+                 ) -> tuple[float, float, dict | None]:
     """The round scatter's factors (radial ``fr``, transverse ``ft`` against ``base``) checked against the mutual
     distances' (rigid_law): where the round scatter's sigma exceeds a determined sigma of the distances by more than
     RIGID_DISAGREE (or the distances' upper bound by as much), the round scatter
@@ -377,7 +380,8 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) ->
     and the disagreement said.  Where they agree, the scale across the beams is still the distances' wherever they
     determine it (the tighter of the two, blind to what moves a side; on 43 gen2 campaigns within 25 % of the
     generator's law in all, the rounds' in 93 %) and the radial one the rounds' (the distances' is poorly
-    conditioned where the pairs lie across the beams).  Returns the factors used and ``rigid`` with "used"
+    conditioned where the pairs lie across the beams); not with ``across`` False (a model's residuals, shrunk by
+    the fit in both directions alike: their ratio is kept).  Returns the factors used and ``rigid`` with "used"
     ("mutual distances", ACROSS or "round scatter") and "disagreement" or "cross_check"."""
     if rigid is None:
         return fr, ft, None
@@ -390,7 +394,7 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) ->
         elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi:
             out[k] = hi   # only an upper bound from the distances: the largest sigma they allow
         else:
-            if name == "transverse" and g["determined"]:
+            if name == "transverse" and g["determined"] and across:
                 out[k] = g["factor"]  # the distances determine the scale across the beams best: theirs
             continue
         sig0 = g["sigma_um"] / g["factor"]
@@ -400,7 +404,7 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec) ->
             f"from the reflectors' mutual distances within each pass differ: {'; '.join(say)} -- the rounds count "
             "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not: the "
             "distances' law is used") if say else None
-    across = rigid["transverse"]["determined"]
+    across = across and rigid["transverse"]["determined"]
     used = "mutual distances" if say else ACROSS if across else "round scatter"
     return out[0], out[1], {**rigid, "used": used,
                             "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
