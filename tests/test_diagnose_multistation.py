@@ -187,3 +187,29 @@ def test_a_knock_before_the_last_axis_is_named_from_two_stations_only():
     order = np.argsort(rec.stations() != SECOND, kind="stable")
     again = significant(diagnose(rec.select(order), machine=M))
     assert [(e["name"], e["direction"], e["t0_s"]) for e in again] == [("offset", "+X", sig[0]["t0_s"])]
+
+
+@pytest.mark.slow  # a whole diagnosis of three stations: 5-15 s
+def test_a_station_re_levelled_between_two_axes_blocks_is_named(tmp_path):
+    """gen2 seed 3536 campaign 28 (outside mix; Y and C, three stations one round each): S2's tracker re-levelled
+    between its block of Y and its block of C (78 urad, the work zone stepping 92 um).  No re-levelling was offered
+    at an axis' block start -- with one station the next axis' base would take it -- and a5c6622 named a settling of
+    S2 and a knock of S1 instead.  C is read from S1 and S3 too, so its base is theirs and S2's alignment is fixed
+    by its readings of Y before: the re-levelling of S2 before C's round 2 is offered there and is the one finding."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    from mtcal.measurement.recordings import parse_recording
+
+    R.generate(str(tmp_path), 1, 3536, 28, "outside")
+    path = tmp_path / "campaign_0028.csv"
+    truth = __import__("json").loads(path.with_suffix(".truth.json").read_text())
+    (e,) = truth["effects"]
+    assert e["name"] == "tracker_relevel" and e["details"]["last_block_before"]["axis"] == "Y"
+    d = diagnose(parse_recording(path.read_text(), path.name)).to_dict()
+    named = [x for x in d["effects"] if x["significant"]]
+    assert [(x["name"], x["station"]) for x in named] == [("tracker_relevel", "S2")], [x["where"] for x in named]
+    assert "before round 2 of axis C" in named[0]["where"] and not d["unexplained"], (named[0], d["unexplained"])

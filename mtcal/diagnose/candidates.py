@@ -219,13 +219,16 @@ def layout_offsets(prep: Prepared) -> np.ndarray:
 
 
 def round_starts(prep: Prepared, rows: np.ndarray) -> list[tuple[int, dict]]:
-    """The first reading (its rank in time) of every round of an axis among ``rows`` but the axis' first, with the
-    axis and round it starts: where a tracker may have been re-levelled between two rounds of an axis (the rounds
-    before and after show the step; at the start of an axis' block the base's positions and error functions of the
-    axes after it would take the rotation, and only the positions those axes share could show it: a quasi-static
-    misfit of the shared positions, not a re-levelling).  Only a start whose previous reading in time is of the same
-    axis counts: rounds numbered out of time order (gen2 held-out seed 3501: "before round 1 of axis B" at B's block
-    start on a clean campaign) open a block too."""
+    """The first reading (its rank in time) of every round of an axis among ``rows`` (one station's readings) but
+    the axis' first, with the axis and round it starts: where a tracker may have been re-levelled between two rounds
+    of an axis (the rounds before and after show the step; at the start of an axis' block the base's positions and
+    error functions of the axes after it would take the rotation, and only the positions those axes share could
+    show it: a quasi-static misfit of the shared positions, not a re-levelling).  Only a start whose previous
+    reading in time is of the same axis counts: rounds numbered out of time order (gen2 held-out seed 3501: "before
+    round 1 of axis B" at B's block start on a clean campaign) open a block too.  But where other stations read the
+    axis too, its base is theirs as well and the station's alignment is fixed by its readings before: a block's
+    start (not the station's first reading) counts there (gen2 seed 3536 campaign 28: S2 re-levelled between its
+    blocks of Y and C, found as a settling of S2 and a knock of S1)."""
     rec, first = prep.rec, {}
     for i in np.flatnonzero(rows):
         k = (str(rec.axis[i]), int(rec.round[i]))
@@ -233,12 +236,16 @@ def round_starts(prep: Prepared, rows: np.ndarray) -> list[tuple[int, dict]]:
     opening = {a: min(r for (b, _), r in first.items() if b == a) for a, _ in first}
     ranks = np.sort(prep.order[rows])
     axis_at = {int(prep.order[i]): str(rec.axis[i]) for i in np.flatnonzero(rows)}
+    elsewhere = {a: bool(np.any(~rows & (rec.axis == a))) for a in opening}
 
     def within_block(r: int) -> bool:  # the reading before it in time is of the same axis (not a block's start)
         k = int(np.searchsorted(ranks, r))
         return k > 0 and axis_at[int(ranks[k - 1])] == axis_at[int(r)]
 
-    return sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items() if r != opening[a] and within_block(r))
+    def counts(a: str, r: int) -> bool:
+        return r != opening[a] and within_block(r) or elsewhere[a] and r != ranks[0]
+
+    return sorted((r, {"axis": a, "round": n}) for (a, n), r in first.items() if counts(a, r))
 
 
 def onsets(rec, seen: np.ndarray) -> list[float]:
