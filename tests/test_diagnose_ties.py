@@ -157,14 +157,27 @@ def test_a_rival_fitting_alike_ties_whether_or_not_it_is_significant_itself(tmp_
     assert verdict.verdict == "right", verdict
 
 
-def test_effects_fitting_alike_are_located_where_they_all_move_the_readings(tmp_path):
-    """gen2 seed 3507 campaign 35 (three stations given): S3's tracker re-levelled before Z's third round.  A
-    settling of S3 and a knock of S3 at 12178 s fit it alike (behind by 5.9); 89032d8 located the misfit on X,
-    where the settling's fit was largest and the knock moves nothing -- on an axis where nothing planted shows.
-    It is located among the readings both move: on Z."""
+def test_a_re_levelling_at_a_stations_later_block_is_named_not_tied(tmp_path):
+    """gen2 seed 3507 campaign 35 (three stations given): S3's tracker re-levelled before Z's third round, S3's
+    first reading of Z.  A settling of S3 and a knock of S3 at 12178 s fit it alike (behind by 5.9); 89032d8
+    located the misfit on X, where the settling's fit was largest and the knock moves nothing, and 2e61bba among
+    the readings both move, on Z.  Z is read from the other stations too, so the re-levelling is now offered at
+    S3's block of Z (candidates.round_starts) and named: the truth, before Z's third round."""
     d, verdict = _run(tmp_path, 3507, 35, "given")
+    (f,) = [x for x in d.to_dict()["effects"] if x["significant"]]
+    assert (f["name"], f["station"]) == ("tracker_relevel", "S3") and "before round 3 of axis Z" in f["where"], f
+    assert d.unexplained == [] and verdict.verdict == "right", (d.unexplained, verdict)
+
+
+def test_effects_fitting_alike_are_located_where_their_fit_shows_most(tmp_path):
+    """gen2 seed 3553 campaign 21 (three stations given, an isotropic tracker): X's straightness bows with time
+    (3.5 um at mid-travel, a lag of 1.7 h).  A knock of S1 within X's second round and a re-levelling of S1 at Y's
+    block start fit it alike (behind by 6.7): one located misfit.  4052cbc put it among the readings both move,
+    on B (10.1 of the fit's squared whitened sum there), where nothing was planted; the fit shows most on X (44.9):
+    a step within an axis shows on both sides of it, before the knock as after."""
+    d, verdict = _run(tmp_path, 3553, 21, "given")
     assert _named(d) == [], _named(d)
-    assert [(u.axis, u.by) for u in d.unexplained] == [("Z", "effects fitting alike")], d.unexplained
+    assert [(u.axis, u.by) for u in d.unexplained] == [("X", "effects fitting alike")], d.unexplained
     assert verdict.verdict == "right", verdict
 
 

@@ -177,15 +177,16 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
 
 
 def _seen_most(prep: Prepared, eng: Engine, c: fx.Candidate, theta: np.ndarray, w) -> str:
-    """The axis whose readings show most of what the free form ``c`` fits (``theta``) beyond the base, among the
-    readings its named effects all move (``common``, where they agree the misfit is; all where none is): the sum
+    """The axis whose readings show most of what the free form ``c`` fits (``theta``) beyond the base: the sum
     over the axis' readings of the squared whitened fit after the base's projection (a step of every later
-    reading is mostly the base's offsets where it is constant, and seen where the base cannot take it)."""
+    reading is mostly the base's offsets where it is constant, and seen where the base cannot take it; a step
+    within an axis shows on both sides of it).  Not only among the readings every tied effect moves (the rule
+    before): gen2 3553/21, X's straightness bowing with time was a knock within X's second round tied with a
+    re-levelling at Y's block start, and was put on B (10.1 of the fit there, 44.9 on X)."""
     G = w(c)
     f = ((G - eng.copy_base().project(G)) @ theta).reshape(len(prep.rec), -1)
-    on = c.extra["common"] if c.extra["common"].any() else np.ones(len(prep.rec), bool)
-    axes = list(dict.fromkeys(prep.rec.axis[on].tolist()))
-    return max(axes, key=lambda a: float(np.sum(f[on & (prep.rec.axis == a)] ** 2)))
+    axes = list(dict.fromkeys(prep.rec.axis.tolist()))
+    return max(axes, key=lambda a: float(np.sum(f[prep.rec.axis == a] ** 2)))
 
 
 def _place_located(prep: Prepared, c: fx.Candidate, s, theta: np.ndarray, axis: str | None = None) -> Located:
