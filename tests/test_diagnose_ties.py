@@ -169,15 +169,19 @@ def test_a_re_levelling_at_a_stations_later_block_is_named_not_tied(tmp_path):
     assert d.unexplained == [] and verdict.verdict == "right", (d.unexplained, verdict)
 
 
-def test_effects_fitting_alike_are_located_where_their_fit_shows_most(tmp_path):
-    """gen2 seed 3553 campaign 21 (three stations given, an isotropic tracker): X's straightness bows with time
-    (3.5 um at mid-travel, a lag of 1.7 h).  A knock of S1 within X's second round and a re-levelling of S1 at Y's
-    block start fit it alike (behind by 6.7): one located misfit.  4052cbc put it among the readings both move,
-    on B (10.1 of the fit's squared whitened sum there), where nothing was planted; the fit shows most on X (44.9):
-    a step within an axis shows on both sides of it, before the knock as after."""
-    d, verdict = _run(tmp_path, 3553, 21, "given")
+@pytest.mark.parametrize("seed, index, axis", [(3553, 21, "X"), (3560, 32, "Z")])
+def test_effects_fitting_alike_are_located_where_the_leading_change_happens(tmp_path, seed, index, axis):
+    """Steps of a station's frame tied with another change in time are located at the axis of the leading step's
+    t0 (a step shows on either side of it, wherever the station's alignment puts it).  gen2 3553/21 (three
+    stations given, an isotropic tracker): X's straightness bows with time; a knock of S1 within X's second round
+    and a re-levelling of S1 at Y's block start fit it alike (behind by 6.7), and 4052cbc put the misfit among the
+    readings both move, on B, where nothing was planted.  gen2 3560/32 (three stations, a 1 : 4 tracker): S3
+    re-levelled between its blocks of Y and Z; a knock of S3 at Z's block start and a re-levelling there fit it
+    alike (behind by 3.7), and 95da35c, counting every reading, put it on X (S3's readings before the step show it
+    as much).  Now on X and on Z."""
+    d, verdict = _run(tmp_path, seed, index, "given")
     assert _named(d) == [], _named(d)
-    assert [(u.axis, u.by) for u in d.unexplained] == [("X", "effects fitting alike")], d.unexplained
+    assert [(u.axis, u.by) for u in d.unexplained] == [(axis, "effects fitting alike")], d.unexplained
     assert verdict.verdict == "right", verdict
 
 

@@ -65,15 +65,19 @@ def place_of(prep, c: fx.Candidate, named_reversals) -> Place | None:
 def tie(c: fx.Candidate, rivals: list[fx.Candidate], leads: list[float]) -> fx.Candidate:
     """The named effect ``c`` and the ``rivals`` of other physics that fit its misfit alike (``leads``: c's chi^2
     lead over each, in the residual variance; mtcal.diagnose.selection._tied) as one free form: their columns
-    together, reported as one located mismatch that may be any of them (the data do not say which)."""
+    together, reported as one located mismatch that may be any of them (the data do not say which); ``common`` in
+    its ``extra``: the readings every one of them moves, where they agree the misfit is; ``at_axis``: the axis
+    where ``c``'s change in time happens (its t0's), where one is named."""
     names = [_words(x) for x in (c, *rivals)]
     alike = ", ".join(f"{n} (behind by {d:.1f})" for n, d in zip(names[1:], leads))
+    common = np.logical_and.reduce([x.moved for x in (c, *rivals)])
     return fx.Candidate(fx.UNEXPLAINED, c.axis, f"{names[0]}, or {alike}",
                         np.concatenate([c.G] + [x.G for x in rivals], axis=-1),
                         [f"{x.name}: {p}" for x in (c, *rivals) for p in x.params],
                         family=f"{fx.UNEXPLAINED} tie {c.family}", extra={
                             "kind": "place", "by": "effects fitting alike", "place": "one misfit",
-                            "names": [x.name for x in (c, *rivals)],
+                            "names": [x.name for x in (c, *rivals)], "common": common,
+                            "at_axis": c.extra.get("from_axis"),
                             "note": f"one misfit that {' or '.join(names)} fit alike (chi^2 leads below "
                                     "2 ln 100, Jeffreys' decisive): the data do not say which, so none is named; "
                                     "physics outside the list may fit it as well"})

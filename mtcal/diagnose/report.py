@@ -141,7 +141,8 @@ def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
     if c.extra.get("kind") == "growing":
         return _growing_located(prep, eng, c, s, theta, w)
     if c.extra.get("kind") == "place":
-        return _place_located(prep, c, s, theta, _seen_most(prep, eng, c, theta, w) if "names" in c.extra else None)
+        return _place_located(prep, c, s, theta, (c.extra.get("at_axis") or _seen_most(prep, eng, c, theta, w))
+                              if "names" in c.extra else None)
     sd = np.sqrt(np.maximum(np.diag(cov), 1e-300))
     pick = np.abs(theta) * (np.abs(theta) > 3 * sd)
     k = int(np.argmax(pick if pick.any() else np.abs(theta)))
@@ -177,16 +178,19 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
 
 
 def _seen_most(prep: Prepared, eng: Engine, c: fx.Candidate, theta: np.ndarray, w) -> str:
-    """The axis whose readings show most of what the free form ``c`` fits (``theta``) beyond the base: the sum
+    """The axis whose readings show most of what the free form ``c`` fits (``theta``) beyond the base, among the
+    readings its named effects all move (``common``, where they agree the misfit is; all where none is): the sum
     over the axis' readings of the squared whitened fit after the base's projection (a step of every later
-    reading is mostly the base's offsets where it is constant, and seen where the base cannot take it; a step
-    within an axis shows on both sides of it).  Not only among the readings every tied effect moves (the rule
-    before): gen2 3553/21, X's straightness bowing with time was a knock within X's second round tied with a
-    re-levelling at Y's block start, and was put on B (10.1 of the fit there, 44.9 on X)."""
+    reading is mostly the base's offsets where it is constant, and seen where the base cannot take it).  Used
+    where the leading effect names no axis its change happens in (``at_axis``: a knock's, a re-levelling's is
+    where it is located, as a step at t0 shows on either side of it wherever the station's alignment puts it:
+    gen2 3553/21, a knock within X's second round tied with a re-levelling at Y's block start, was put on B among
+    the readings both move, and 3560/32, a knock and a re-levelling of S3 at Z's block start, on X among all)."""
     G = w(c)
     f = ((G - eng.copy_base().project(G)) @ theta).reshape(len(prep.rec), -1)
-    axes = list(dict.fromkeys(prep.rec.axis.tolist()))
-    return max(axes, key=lambda a: float(np.sum(f[prep.rec.axis == a] ** 2)))
+    on = c.extra["common"] if c.extra["common"].any() else np.ones(len(prep.rec), bool)
+    axes = list(dict.fromkeys(prep.rec.axis[on].tolist()))
+    return max(axes, key=lambda a: float(np.sum(f[on & (prep.rec.axis == a)] ** 2)))
 
 
 def _place_located(prep: Prepared, c: fx.Candidate, s, theta: np.ndarray, axis: str | None = None) -> Located:
