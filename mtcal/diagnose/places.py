@@ -158,8 +158,7 @@ def stops_of(prep, c: fx.Candidate) -> fx.Candidate | None:
     along the axis' motion, by the same amount at every nest read at one stop (a backlash, a graded backlash, a
     scale: functions of the stop's position and direction); None for any other candidate, a rotary axis, or an
     axis of more than MAX_AXIS_STOPS stops.  The split-plot design: such an effect is a contrast between stops, so
-    where the stops scatter beyond the tracker's noise its error term is their scatter
-    (mtcal.diagnose.selection._against_the_stops)."""
+    its error term is their scatter (mtcal.diagnose.selection._against_the_stops)."""
     g, axis = prep.geometry, c.axis
     if axis is None or c.name == fx.UNEXPLAINED or not g.linear(axis):
         return None
