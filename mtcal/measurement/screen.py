@@ -325,8 +325,7 @@ def _off_the_side(rec: Recording, axis: str, far: list[tuple], passes: dict, nes
             return None
         local = _local(rec, axis, np.array([passes[k][p] for p in pts]), np.full(len(pts), k[2]), machine)
         off[k] = max(float(np.linalg.norm(v - nests[(k[0], p)])) for p, v in zip(pts, local))
-    wrong = [k for k in far if off[k] > PASS_FLOOR_MM]
-    return {wrong[0]: off[wrong[0]]} if len(wrong) == 1 else None
+    return _the_one_off(off)
 
 
 def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[tuple]) -> dict[tuple, float] | None:
@@ -345,7 +344,13 @@ def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[
         if not pts:
             return None
         off[k] = max(float(np.linalg.norm(rec.xyz[passes[k][p]] - ref[p])) for p in pts)
-    wrong = [k for k in far if off[k] > PASS_FLOOR_MM]
+    return _the_one_off(off)
+
+
+def _the_one_off(off: dict[tuple, float]) -> dict[tuple, float] | None:
+    """{the one pass of two farther than PASS_FLOOR_MM from its referee: that distance, mm} (``off``: each pass'
+    largest distance from where the referee puts its readings), when the other lies within it; else None."""
+    wrong = [k for k, d in off.items() if d > PASS_FLOOR_MM]
     return {wrong[0]: off[wrong[0]]} if len(wrong) == 1 else None
 
 
