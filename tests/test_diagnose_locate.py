@@ -90,6 +90,20 @@ def test_a_nest_is_judged_by_its_own_scatter(tmp_path, how):
 
 
 @pytest.mark.slow
+def _given(tmp_path, seed: int, index: int) -> dict:
+    """The diagnosis (to_dict) of gen2's campaign ``index`` of ``seed`` (outside mix) with its tracker columns."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import parse_recording
+
+    R.generate(str(tmp_path), 1, seed, index, "outside")
+    path = tmp_path / f"campaign_{index:04d}.csv"
+    (text,) = [t for h, t in R.cases(path.read_text()) if h == "given"]
+    return diagnose(parse_recording(text, path.name)).to_dict()
+
+
 def test_a_station_is_judged_by_its_own_scatter(tmp_path):
     """gen2 seed 3514 campaign 20 (the tracker of station S2 re-levelled before round 5 of B: 47 urad and 33 um,
     tracker columns given): the re-levelling is named, but on 6410c10 S1's rounds of Y and B were located as
@@ -99,16 +113,7 @@ def test_a_station_is_judged_by_its_own_scatter(tmp_path):
     re-levelling of S2 still named at B's round 5 -- or, since a re-levelling may shift (its nested member, the knock
     at its t0, is named unless the turn is needed beside it), S2's tracker knocked there: gen2's judge takes either
     (its translation part)."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import diagnose_gen2_rates as R
-
-    from mtcal.diagnose import diagnose
-    from mtcal.measurement.recordings import parse_recording
-
-    R.generate(str(tmp_path), 1, 3514, 20, "outside")
-    path = tmp_path / "campaign_0020.csv"
-    (text,) = [t for h, t in R.cases(path.read_text()) if h == "given"]
-    d = diagnose(parse_recording(text, path.name)).to_dict()
+    d = _given(tmp_path, 3514, 20)
     assert d["unexplained"] == [], d["unexplained"]
     named = [e for e in d["effects"] if e["significant"]]
     assert len(named) == 1 and named[0]["station"] == "S2", [e["where"] for e in named]
@@ -123,16 +128,7 @@ def test_a_station_read_once_per_axis_is_judged_by_its_other_axes(tmp_path):
     readings of Z, the reference of the rule above, are none, and the spread was judged against the pool, which
     S1's scale (raised by the re-levelling, 1.6 times) pulls down.  Where the axis has no other readings at the
     station, the station's readings of its other axes are the reference: nothing located, the re-levelling named."""
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import diagnose_gen2_rates as R
-
-    from mtcal.diagnose import diagnose
-    from mtcal.measurement.recordings import parse_recording
-
-    R.generate(str(tmp_path), 1, 3543, 18, "outside")
-    path = tmp_path / "campaign_0018.csv"
-    (text,) = [t for h, t in R.cases(path.read_text()) if h == "given"]
-    d = diagnose(parse_recording(text, path.name)).to_dict()
+    d = _given(tmp_path, 3543, 18)
     assert d["unexplained"] == [], d["unexplained"]
     named = [e for e in d["effects"] if e["significant"]]
     assert [(e["name"], e["station"]) for e in named] == [("tracker_relevel", "S1")], [e["where"] for e in named]
