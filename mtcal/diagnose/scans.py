@@ -92,15 +92,15 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
     raw = np.linalg.solve(prep.W, r[..., None])[..., 0]
     groups = [(a, by, where, np.flatnonzero(sel)) for a, by, where, sel in _groups(prep, pairs) if sel.sum() >= 2]
     count = 2 * len(groups)
-    full: dict = {}  # the full rows of Q (computed when first needed) and, per axis, its live columns
+    Qf, cols = None, {}  # the full rows of Q (computed when first needed) and, per axis, its live columns
 
     def rows_of(b: str) -> np.ndarray:  # the fit's rows on the columns live on axis b (a group lies within one)
-        if "Q" not in full:
-            full["Q"] = eng.full_rows()
-        Q = full["Q"]
-        if b not in full:
-            full[b] = np.flatnonzero(np.any(Q[prep.rec.axis == b] != 0, axis=(0, 1)))
-        return Q[:, :, full[b]]
+        nonlocal Qf
+        if Qf is None:
+            Qf = eng.full_rows()
+        if b not in cols:
+            cols[b] = np.flatnonzero(np.any(Qf[prep.rec.axis == b] != 0, axis=(0, 1)))
+        return Qf[:, :, cols[b]]
 
     out = []
     for a, by, where, idx in groups:

@@ -284,11 +284,18 @@ def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | Non
     worse there shows too (gen2 seed 3515 campaign 12: Y repeating worse, 1.7 um per stop, a per-stop test at
     p_adj 0.05, was a tracker knocked along +Y within Y's fourth round).  The free form takes the knock's
     evidence; None when the knock stands."""
-    free = stops_off(prep, v.candidate)
-    if free is None:
+    stops = _knock_stops(prep, eng, v, w)
+    return Step(stops[0], v.score, v.logp_adj) if stops and _lead(eng, v, stops[1]) < TIE_CHI2 else None
+
+
+def _knock_stops(prep: Prepared, eng: Engine, v: Step, w: Columns) -> tuple[fx.Candidate, Score] | None:
+    """(stops, score on ``eng``): the stops of a tracker knock's linear axis landing off
+    (mtcal.diagnose.places.stops_off) where they are separable on ``eng``; else None."""
+    stops = stops_off(prep, v.candidate)
+    if stops is None:
         return None
-    sc = eng.score(w(free))
-    return Step(free, v.score, v.logp_adj) if sc.separable and _lead(eng, v, sc) < TIE_CHI2 else None
+    sc = eng.score(w(stops))
+    return (stops, sc) if sc.separable else None
 
 
 def _stops_instead(prep: Prepared, eng: Engine, v: Step, free: fx.Candidate, w: Columns, level: float
@@ -298,13 +305,10 @@ def _stops_instead(prep: Prepared, eng: Engine, v: Step, free: fx.Candidate, w: 
     when the rigid step adds nothing significant beside them (F test at ``level``): the first stops of a round
     landing off the rest fit a knock, and its turn then carries their scatter to the other axes (gen2 seed 3540
     campaign 35: X repeating worse, reported as S1's frame stepping, largest on C).  None otherwise."""
-    stops = stops_off(prep, v.candidate)
-    if stops is None:
+    stops = _knock_stops(prep, eng, v, w)
+    if stops is None or _significant_beside(eng, w(stops[0]), w(free), level) is not None:
         return None
-    sc = eng.score(w(stops))
-    if not sc.separable or _significant_beside(eng, w(stops), w(free), level) is not None:
-        return None
-    return stops, sc
+    return stops
 
 
 def _lead(eng: Engine, v: Step, other: Score) -> float:
@@ -473,7 +477,7 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
     misfit of its error motion over the positions (the free shape beside it, F test); a knocked nest's displacement must
     persist beyond the sequence it starts in; a knock (of the tracker or of a nest) must be a step, not a change
     that goes on growing after t0; an effect that moves whole stops of a linear axis must be significant against
-    the scatter of those stops where they scatter (_against_the_stops)."""
+    the scatter of those stops (_against_the_stops)."""
     why = _against_the_stops(prep, eng, c, w, level)
     if why:
         return why

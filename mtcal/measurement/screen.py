@@ -296,10 +296,11 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
                for p in {p for k in keys for p in passes[k]}}
         far = [k for k in keys if max(float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items())
                > PASS_FLOOR_MM]
-        off, by = (_off_the_side(rec, axis, far, passes, nests or {}, machine), "side") if len(keys) == 2 else \
-            (None, "")
-        if off is None and len(keys) == 2:
-            off, by = _off_the_stations(rec, far, passes, skip), "station"
+        off, by = None, ""
+        if len(keys) == 2:  # two rounds: the median cannot say which is wrong, the referees may
+            off, by = _off_the_side(rec, axis, far, passes, nests or {}, machine), "side"
+            if off is None:
+                off, by = _off_the_stations(rec, far, passes, skip), "station"
         for k in far:
             dev = {p: float(np.linalg.norm(rec.xyz[i] - ref[p])) for p, i in passes[k].items()}
             if off is None:

@@ -404,15 +404,15 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, ac
             f"from the reflectors' mutual distances within each pass differ: {'; '.join(say)} -- the rounds count "
             "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not: the "
             "distances' law is used") if say else None
-    across = across and rigid["transverse"]["determined"]
-    used = "mutual distances" if say else ACROSS if across else "round scatter"
+    theirs = across and rigid["transverse"]["determined"]  # the scale across the beams is the distances'
+    used = "mutual distances" if say else ACROSS if theirs else "round scatter"
     return out[0], out[1], {**rigid, "used": used,
                             "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
                             **({"disagreement": text} if text else
                                {"cross_check": f"the round scatter agrees with the mutual distances within "
                                                f"{RIGID_DISAGREE:g}x: " + (
                                                    "the distances' scale across the beams and the rounds' along "
-                                                   "them are used" if across else "its law is used")})}
+                                                   "them are used" if theirs else "its law is used")})}
 
 
 ACROSS = "mutual distances across the beams, round scatter along them"  # _cross_check's "used" where they agree
