@@ -62,3 +62,21 @@ def test_the_script_finds_the_planted_rows_the_drift_and_the_law(tmp_path):
     law, (s_r, s_t) = out["noise_law"]["mutual_distances"], (1e3 * s for s in SPEC.sigmas(2837.0))
     assert abs(law["transverse_sigma_um"] / s_t - 1) < 0.15, (law, s_t)
     assert law["radial_sigma_um"] < 1.5 * s_r < 1.5 * law["upper_bounds_um"]["radial"], (law, s_r)
+
+
+def test_a_knock_in_a_recording_of_one_reading_per_nest_and_round_has_a_held_out_gain():
+    """icelinker's layout (one pose a round, each base reflector read once in it: every (axis, round, point)
+    sequence is one reading) with the tracker knocked 30 um at pose 150 of 300.  The knock is named, and its
+    held-out gain is computed on alternate rounds of each nest: alternate readings within the one-reading
+    sequences leave one fold empty, and the knock was reported with no gain and a wrong reason ("the held-out folds
+    leave no residual", icelinker's every finding)."""
+    from mtcal.diagnose import diagnose
+
+    rng = np.random.default_rng(5)
+    n = 300
+    x = REF[None] + trk.sample(np.repeat(REF[None], n, axis=0), np.zeros(3), rng, SPEC)
+    x[150:] += np.array([0.03, -0.01, 0.0])
+    d = diagnose(ri.to_recording(x), tracker=np.zeros(3))
+    named = [f for f in d.effects if f.significant]
+    assert [f.get("variant") for f in named] == ["tracker knock"], [f.get("where") for f in named]
+    assert named[0].evidence["cv_gain"] > 0.5, named[0].evidence

@@ -799,11 +799,17 @@ def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
         return [rec.round == k for k in sorted(set(rec.round.tolist()))], "held-out rounds"
     if touched.sum() < 2:
         return [], "one reading: tested by its studentized displacement only"
+    # every sequence one reading (a pose a round, each nest read once in it: icelinker): alternate readings of each
+    # nest over the rounds instead, else one fold would hold every reading and the other none
+    single = np.bincount(prep.seq).max() < 2
+    key = [f"{s}|{a}|{p}" for s, a, p in zip(rec.stations(), rec.axis, rec.point)] if single else prep.seq
+    _, of = np.unique(np.asarray(key), return_inverse=True)
     rank = np.empty(len(rec), int)
-    for s in range(len(prep.seq_keys)):
-        idx = np.flatnonzero(prep.seq == s)
-        rank[idx[np.argsort(prep.order[idx])]] = np.arange(len(idx))
-    return [rank % 2 == 0, rank % 2 == 1], "held-out alternate readings"
+    for s in range(of.max() + 1):
+        idx = np.flatnonzero(of == s)
+        rank[idx[np.argsort(prep.order[idx], kind="stable")]] = np.arange(len(idx))
+    return [rank % 2 == 0, rank % 2 == 1], ("held-out alternate rounds of each nest (one reading a sequence)"
+                                            if single else "held-out alternate readings")
 
 
 def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray], G: np.ndarray,
@@ -818,6 +824,7 @@ def cv_gain(prep: Prepared, base: Base, wy: np.ndarray, others: list[np.ndarray]
     for te in held:
         tr = ~te
         if not te.any() or not tr.any():
+            skipped["the fold holds every reading or none"] += 1
             continue
         r3tr, r3te = np.repeat(tr, 3), np.repeat(te, 3)
         e_tr, e_te = engine_for(prep, base, wy, tr), engine_for(prep, base, wy, te)
