@@ -53,6 +53,11 @@ NOT_SEPARABLE = {
                                     "noise_model.station_interval): a scale of the distances about it would be "
                                     "about a guessed point; give the tracker's position (--tracker or the "
                                     "tracker_x,y,z columns) and log the air's temperature and pressure",
+    "tracker_settling undetermined": "the station is not determined by the data (its profile interval, "
+                                     "noise_model.station_interval): a turn about it would be about a guessed "
+                                     "point (a turn and a shift of the readings, which the drifts and knocks "
+                                     "offered are, need no station); give the tracker's position (--tracker or "
+                                     "the tracker_x,y,z columns)",
     "periodic": "the positions do not resolve a pitch shorter than the travel",
     "periodic few": "{n} positions leave {spare} shape(s) beside the fitted error function, fewer than {need}: any "
                     "misfit of the error function there is as periodic as a periodic error is; measure at more "
@@ -133,8 +138,11 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
             ts = float(np.min(rec.time_s[on]))
             if len(sides) > 1 or st is not None:  # one side, one station: the tracker's drift is the side's
                 out += [fx.thermal_drift(g, "tracker", tau, ts, st) for tau in fx.TAUS_S]
-            if tracker is not None:
+            if tracker is not None and not undetermined(prep):
                 out += [fx.tracker_settling(g, tau, ts, st) for tau in fx.TAUS_S]
+        if undetermined(prep):
+            notes.append({"name": "tracker_settling", "axis": None, "kind": "station undetermined",
+                          "not_separable": NOT_SEPARABLE["tracker_settling undetermined"]})
     else:
         notes += [{"name": nm, "axis": None, "not_separable": NOT_SEPARABLE[nm]}
                   for nm in ("thermal_drift", "nest_creep", "tracker_settling")]
@@ -179,12 +187,21 @@ def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
         for rank0, where in round_starts(prep, rows):
             t0 = float(rec.time_s[prep.order == rank0][0]) if np.isfinite(rec.time_s).all() else float("nan")
             after = prep.order >= rank0
-            out.append(fx.tracker_relevel(g, after, t0, where, st))
+            if not undetermined(prep):  # a turn alone is about the station; with its shift, about any point
+                out.append(fx.tracker_relevel(g, after, t0, where, st))
             if np.isfinite(t0):
                 at = np.flatnonzero(rows & after)
                 knock = fx.tracker_knock(g, t0, {"from_axis": where["axis"], **where_of(prep, at)}, st)
                 out.append(fx.tracker_relevel(g, after, t0, where, st, knock))
     return out
+
+
+def undetermined(prep: Prepared) -> bool:
+    """Whether the station was estimated from the rounds' scatter and the data do not determine it (its profile
+    interval, mtcal.diagnose.noise: noise_model.station_interval): then nothing is offered that turns or scales
+    the readings about it (a settling, a re-levelling without its shift, the air's drift)."""
+    interval = prep.noise.details.get("station_interval")
+    return interval is not None and not interval["determined"]
 
 
 def air_index_drift(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
@@ -196,8 +213,7 @@ def air_index_drift(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
     interval = prep.noise.details.get("station_interval")
     why = (NOT_SEPARABLE["thermal_drift"] if not np.isfinite(rec.time_s).all() else
            NOT_SEPARABLE["air_index_drift station"] if g.tracker is None and not g.trackers else
-           NOT_SEPARABLE["air_index_drift undetermined"] if interval is not None and not interval["determined"]
-           else None)
+           NOT_SEPARABLE["air_index_drift undetermined"] if undetermined(prep) else None)
     if why is not None:
         notes.append({"name": "air_index_drift", "axis": None, "not_separable": why,
                       **({"kind": "station undetermined"} if why != NOT_SEPARABLE["thermal_drift"] else {})})
