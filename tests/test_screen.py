@@ -144,6 +144,30 @@ def test_columns_swapped_in_one_of_a_stations_two_rounds_is_named_by_the_other_s
     assert "other station" in s.problems[0].text
 
 
+def test_columns_swapped_in_a_stations_only_round_is_named_by_the_other_stations(tmp_path):
+    """gen2 seed 3577 campaign 6 (outside mix): B and C read by S1 in rounds 1 and 2 and by S2 in round 3; y and z
+    exchanged in every row of B round 3 (gen2's truth: CSV lines 1324-1387), 55 to 290 mm off.  The distances
+    are unchanged (a reflection) and S2 reads B once, so no round of its own station disagrees: on e7c93b8 nothing
+    was screened, S2's law was scaled to the slip's scatter, and the diagnosis named a re-seated nest, two knocks
+    of S2 and a bump.  S1's two rounds read the same passes in the same machine frame and agree with each other:
+    the lone round is named against them and left out."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    R.generate(str(tmp_path), 1, 3577, 6, "outside")
+    csv = tmp_path / "campaign_0006.csv"
+    truth = __import__("json").loads(csv.with_suffix(".truth.json").read_text())
+    assert [(e["name"], e["axis"], e["where"]["round"]) for e in truth["effects"]] == [("columns_swapped", "B", 3)]
+    rec = parse_recording(csv.read_text(), csv.name)
+    s = screen(rec, M.sides, M)
+    assert {(p.kind, p.axis, p.round) for p in s.problems} == {("round_off_station", "B", 3)}, \
+        [p.text for p in s.problems]
+    lines = set(truth["effects"][0]["details"]["csv_lines"])
+    assert {int(rec.line[i]) for i in np.flatnonzero(~s.keep)} == lines
+    assert "reads the axis once, the other stations' rounds agree" in s.problems[0].text
+    assert all(p.size_mm > 50 for p in s.problems)
+
+
 @pytest.mark.slow
 def test_the_diagnosis_names_the_slip_not_an_outlier_or_a_reseated_nest():
     _, lines = _campaign(6)

@@ -10,7 +10,8 @@ far more than the noise is a data problem:
   target): "reading of P far from its nest";
 * a whole pass far from the same pass of the other rounds (a wrong position or axis label), or readings far from
   where the other rounds read the same reflector (with two rounds only, which round is wrong cannot be told:
-  both are left out);
+  both are left out, unless the other axes of the side or the other stations say which); a station's only round
+  far from where the other stations' rounds, agreeing, read the same pass;
 * a row repeated exactly (a duplicated export line).
 
 Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
@@ -45,7 +46,8 @@ SAME_MM = 1e-6         # readings equal to this are one reading repeated
 class DataProblem:
     """One gross error: ``kind`` one of "label_swap", "far_reading", "pass_far", "rounds_disagree",
     "round_off_side" (of two rounds that disagree, the one the other axes of its side do not agree with),
-    "round_off_station" (of one station's two rounds that disagree, the one the other stations do not agree with),
+    "round_off_station" (of one station's two rounds that disagree, the one the other stations do not agree with;
+    or a station's only round, where the other stations' rounds agree and it does not),
     "duplicate_row"."""
 
     kind: str
@@ -56,6 +58,7 @@ class DataProblem:
     lines: tuple[int, ...]
     size_mm: float
     text: str
+    why: str = ""  # what a round's passes are judged by, said once for the round (_merge)
 
     def to_dict(self) -> dict:
         return {"kind": self.kind, "axis": self.axis, "round": self.round, "position": self.position,
@@ -120,7 +123,7 @@ def _merge(problems: list[DataProblem]) -> list[DataProblem]:
                 else f"{axis} round {rnd}: its nests lie far from where the other axes of its side read them (the "
                      f"axis' other round agrees with them)" if kind == "round_off_side"
                 else f"{axis} round {rnd}: its readings lie far from where the other station(s) read the same "
-                     f"passes (the axis' other round agrees with them)" if kind == "round_off_station"
+                     f"passes ({ps[0].why})" if kind == "round_off_station"
                 else f"duplicated rows of {axis} round {rnd}")
         out.append(DataProblem(kind, axis, rnd, at[0], pts, lines, size,
                                f"{what} ({len(ps)} passes, at {at[0]:g} .. {at[-1]:g}; lines {lines[0]}-{lines[-1]}; "
@@ -283,7 +286,8 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
     label), or single readings far off.  With two rounds only, the median cannot say which round is wrong: where
     the other axes of the side put the pass' nests (``nests``, _side_nests) one of the two agrees with and the
     other does not, the other is left out; else, where the other stations read the same pass and one of the two
-    agrees with them (_off_the_stations), the other; else both, as rounds that disagree."""
+    agrees with them (_off_the_stations), the other; else both, as rounds that disagree.  A station's only round
+    of the axis is judged by the other stations' rounds of the same pass where they agree (_lone_round)."""
     groups: dict[tuple, list[tuple]] = {}
     for key in passes:
         if key not in skip:
@@ -291,6 +295,10 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
     bad: set[tuple] = set()
     for keys in groups.values():
         if len(keys) < 2:
+            off = _lone_round(rec, keys[0], passes, skip)
+            if off is not None:
+                bad.add(keys[0])
+                out.problems.append(_off_explain(rec, axis, keys[0], passes[keys[0]], off, "stations"))
             continue
         ref = {p: np.median([rec.xyz[passes[k][p]] for k in keys if p in passes[k]], axis=0)
                for p in {p for k in keys for p in passes[k]}}
@@ -348,6 +356,23 @@ def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[
     return _the_one_off(off)
 
 
+def _lone_round(rec: Recording, key: tuple, passes: dict, skip: set[tuple]) -> float | None:
+    """How far (mm) the pass ``key``, its station's only round of it, lies from the same pass read from the other
+    stations (their median, every station's readings in the machine's frame), where at least two such rounds agree
+    within PASS_FLOOR_MM and it does not; else None.  Columns exchanged in that round are a reflection: the
+    distances keep, and no round of its own station disagrees (gen2 seed 3577 campaign 6)."""
+    others = [k for k in passes if k[0] != key[0] and k[2:] == key[2:] and k not in skip]
+    pts = [p for p in passes[key] if sum(p in passes[k] for k in others) >= 2]
+    if len(others) < 2 or not pts:
+        return None
+    ref = {p: np.median([rec.xyz[passes[k][p]] for k in others if p in passes[k]], axis=0) for p in pts}
+    if max(float(np.linalg.norm(rec.xyz[passes[k][p]] - ref[p])) for k in others for p in pts
+           if p in passes[k]) > PASS_FLOOR_MM:
+        return None  # the other stations' rounds do not agree among themselves: no referee
+    off = max(float(np.linalg.norm(rec.xyz[passes[key][p]] - ref[p])) for p in pts)
+    return off if off > PASS_FLOOR_MM else None
+
+
 def _the_one_off(off: dict[tuple, float]) -> dict[tuple, float] | None:
     """{the one pass of two farther than PASS_FLOOR_MM from its referee: that distance, mm} (``off``: each pass'
     largest distance from where the referee puts its readings), when the other lies within it; else None."""
@@ -360,12 +385,13 @@ def _off_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], size:
     (``by`` "station") do not agree with."""
     _, rnd, q, _ = key
     lines = tuple(sorted(int(rec.line[i]) for i in g.values()))
-    whom = "the other axes of its side read the same nests" if by == "side" else \
-        "the other station(s) read the same pass"
-    return DataProblem(f"round_off_{by}", axis, rnd, q, tuple(sorted(g)), lines, size,
+    whom = {"side": "the other axes of its side read the same nests", "station": "the other station(s) read the "
+            "same pass", "stations": "the other stations' rounds read the same pass"}[by]
+    why = ("its station reads the axis once, the other stations' rounds agree" if by == "stations"
+           else "the axis' other round agrees with them")
+    return DataProblem(f"round_off_{by.rstrip('s')}", axis, rnd, q, tuple(sorted(g)), lines, size,
                        f"{axis} round {rnd} at {q:g}: its readings are {size:.3g} mm from where {whom} (lines "
-                       f"{lines[0]}-{lines[-1]}; the axis' other round agrees with them): a wrong label, a unit or "
-                       "columns slip?: pass left out")
+                       f"{lines[0]}-{lines[-1]}; {why}): a wrong label, a unit or columns slip?: pass left out", why)
 
 
 def _cross_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], ref: dict, dev: dict,
