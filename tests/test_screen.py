@@ -166,6 +166,16 @@ def test_columns_swapped_in_a_stations_only_round_is_named_by_the_other_stations
     assert {int(rec.line[i]) for i in np.flatnonzero(~s.keep)} == lines
     assert "reads the axis once, the other stations' rounds agree" in s.problems[0].text
     assert all(p.size_mm > 50 for p in s.problems)
+    # B round 2 taken away: each station reads B once, and the two disagree; C, on the same table, says which
+    text = csv.read_text().splitlines()
+    kept = [ln for ln in text[1:] if not ln.startswith("B,2,")]
+    rec = parse_recording("\n".join([text[0], *kept]), csv.name)
+    s = screen(rec, M.sides, M)
+    assert {(p.kind, p.axis, p.round) for p in s.problems} == {("round_off_side", "B", 3)}, \
+        [p.text for p in s.problems]
+    # without the machine no side can say it: both rounds are left out, and B with them (nothing sound is left)
+    with pytest.raises(InputError, match="B"):
+        screen(rec, M.sides)
 
 
 @pytest.mark.slow

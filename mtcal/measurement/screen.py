@@ -295,10 +295,10 @@ def _cross_round(rec: Recording, axis: str, passes: dict, skip: set[tuple], out:
     bad: set[tuple] = set()
     for keys in groups.values():
         if len(keys) < 2:
-            off = _lone_round(rec, keys[0], passes, skip)
-            if off is not None:
+            problem = _lone_round(rec, axis, keys[0], passes, skip, nests or {}, machine)
+            if problem is not None:
                 bad.add(keys[0])
-                out.problems.append(_off_explain(rec, axis, keys[0], passes[keys[0]], off, "stations"))
+                out.problems.append(problem)
             continue
         ref = {p: np.median([rec.xyz[passes[k][p]] for k in keys if p in passes[k]], axis=0)
                for p in {p for k in keys for p in passes[k]}}
@@ -356,21 +356,35 @@ def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[
     return _the_one_off(off)
 
 
-def _lone_round(rec: Recording, key: tuple, passes: dict, skip: set[tuple]) -> float | None:
-    """How far (mm) the pass ``key``, its station's only round of it, lies from the same pass read from the other
-    stations (their median, every station's readings in the machine's frame), where at least two such rounds agree
-    within PASS_FLOOR_MM and it does not; else None.  Columns exchanged in that round are a reflection: the
-    distances keep, and no round of its own station disagrees (gen2 seed 3577 campaign 6)."""
+def _lone_round(rec: Recording, axis: str, key: tuple, passes: dict, skip: set[tuple], nests: dict, machine
+                ) -> DataProblem | None:
+    """The pass ``key``, its station's only round of it, judged by the other stations' rounds of the same pass
+    (every station's readings in the machine's frame): where two or more agree within PASS_FLOOR_MM and it lies
+    farther from them (their median), it is off (round_off_station); where one other station's only round reads
+    the pass and the two disagree, the other axes of the side say which (round_off_side), else neither can be told
+    (rounds_disagree: each is left out by its own station's check).  Columns exchanged in a round are a
+    reflection: the distances keep, and no round of its own station disagrees (gen2 seed 3577 campaign 6)."""
     others = [k for k in passes if k[0] != key[0] and k[2:] == key[2:] and k not in skip]
-    pts = [p for p in passes[key] if sum(p in passes[k] for k in others) >= 2]
-    if len(others) < 2 or not pts:
+    pts = [p for p in passes[key] if any(p in passes[k] for k in others)]
+    if not pts:
         return None
     ref = {p: np.median([rec.xyz[passes[k][p]] for k in others if p in passes[k]], axis=0) for p in pts}
+    dev = {p: float(np.linalg.norm(rec.xyz[passes[key][p]] - ref[p])) for p in pts}
+    if max(dev.values()) <= PASS_FLOOR_MM:
+        return None
+    if len(others) == 1:
+        if sum(k[2:] == key[2:] and k[0] == others[0][0] for k in passes) > 1:
+            return None  # the other station reads the pass in several rounds: its own check judges it
+        off = _off_the_side(rec, axis, [key, others[0]], passes, nests, machine)
+        if off is None:
+            mid = {p: (rec.xyz[passes[key][p]] + ref[p]) / 2 for p in pts}
+            return _cross_explain(rec, axis, key, {p: passes[key][p] for p in pts}, mid,
+                                  {p: d / 2 for p, d in dev.items()}, 2)
+        return _off_explain(rec, axis, key, passes[key], off[key], "side") if key in off else None
     if max(float(np.linalg.norm(rec.xyz[passes[k][p]] - ref[p])) for k in others for p in pts
            if p in passes[k]) > PASS_FLOOR_MM:
         return None  # the other stations' rounds do not agree among themselves: no referee
-    off = max(float(np.linalg.norm(rec.xyz[passes[key][p]] - ref[p])) for p in pts)
-    return off if off > PASS_FLOOR_MM else None
+    return _off_explain(rec, axis, key, passes[key], max(dev.values()), "stations")
 
 
 def _the_one_off(off: dict[tuple, float]) -> dict[tuple, float] | None:
