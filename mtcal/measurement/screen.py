@@ -377,9 +377,7 @@ def _lone_round(rec: Recording, axis: str, key: tuple, passes: dict, skip: set[t
             return None  # the other station reads the pass in several rounds: its own check judges it
         off = _off_the_side(rec, axis, [key, others[0]], passes, nests, machine)
         if off is None:
-            mid = {p: (rec.xyz[passes[key][p]] + ref[p]) / 2 for p in pts}
-            return _cross_explain(rec, axis, key, {p: passes[key][p] for p in pts}, mid,
-                                  {p: d / 2 for p, d in dev.items()}, 2)
+            return _cross_explain(rec, axis, key, {p: passes[key][p] for p in pts}, ref, dev, 2)
         return _off_explain(rec, axis, key, passes[key], off[key], "side") if key in off else None
     if max(float(np.linalg.norm(rec.xyz[passes[k][p]] - ref[p])) for k in others for p in pts
            if p in passes[k]) > PASS_FLOOR_MM:
@@ -396,14 +394,16 @@ def _the_one_off(off: dict[tuple, float]) -> dict[tuple, float] | None:
 
 def _off_explain(rec: Recording, axis: str, key: tuple, g: dict[str, int], size: float, by: str) -> DataProblem:
     """A pass of two rounds that disagree, the one the other axes of its side (``by`` "side") or the other stations
-    (``by`` "station") do not agree with."""
+    (``by`` "station") do not agree with; or a station's only round of it, off the other stations' rounds that
+    agree (``by`` "stations", _lone_round)."""
     _, rnd, q, _ = key
     lines = tuple(sorted(int(rec.line[i]) for i in g.values()))
     whom = {"side": "the other axes of its side read the same nests", "station": "the other station(s) read the "
             "same pass", "stations": "the other stations' rounds read the same pass"}[by]
     why = ("its station reads the axis once, the other stations' rounds agree" if by == "stations"
            else "the axis' other round agrees with them")
-    return DataProblem(f"round_off_{by.rstrip('s')}", axis, rnd, q, tuple(sorted(g)), lines, size,
+    kind = "round_off_side" if by == "side" else "round_off_station"
+    return DataProblem(kind, axis, rnd, q, tuple(sorted(g)), lines, size,
                        f"{axis} round {rnd} at {q:g}: its readings are {size:.3g} mm from where {whom} (lines "
                        f"{lines[0]}-{lines[-1]}; {why}): a wrong label, a unit or columns slip?: pass left out", why)
 
