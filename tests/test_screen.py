@@ -121,6 +121,19 @@ def test_columns_swapped_in_one_of_two_rounds_is_named_at_that_round_by_the_othe
         screen(rec, M.sides)
 
 
+def _gen2_swap(tmp_path, seed: int, index: int, axis: str, rnd: int):
+    """(CSV path, recording, the truth's CSV lines) of gen2 campaign ``index`` of ``seed`` (outside mix), checked
+    to hold one slip: columns exchanged in ``axis`` round ``rnd``."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    import diagnose_gen2_rates as R
+
+    R.generate(str(tmp_path), 1, seed, index, "outside")
+    csv = tmp_path / f"campaign_{index:04d}.csv"
+    truth = __import__("json").loads(csv.with_suffix(".truth.json").read_text())
+    assert [(e["name"], e["axis"], e["where"]["round"]) for e in truth["effects"]] == [("columns_swapped", axis, rnd)]
+    return csv, parse_recording(csv.read_text(), csv.name), set(truth["effects"][0]["details"]["csv_lines"])
+
+
 def test_columns_swapped_in_one_of_a_stations_two_rounds_is_named_by_the_other_station(tmp_path):
     """gen2 seed 3545 campaign 8 (outside mix): X and B read from two stations, X rounds 1 and 2 from S1 and round 3
     from S2; columns x and y exchanged in every row of X round 2 (gen2's truth: CSV lines 68-133).  X is the only
@@ -128,18 +141,10 @@ def test_columns_swapped_in_one_of_a_stations_two_rounds_is_named_by_the_other_s
     out as rounds that disagree, round 1 wrongly.  The other station reads the same passes in the same machine frame
     (the stations' alignments differ by tens of um, far below PASS_FLOOR_MM): its round agrees with round 1 and not
     with round 2, so round 2 alone is named and left out."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import diagnose_gen2_rates as R
-
-    R.generate(str(tmp_path), 1, 3545, 8, "outside")
-    csv = tmp_path / "campaign_0008.csv"
-    truth = __import__("json").loads(csv.with_suffix(".truth.json").read_text())
-    assert [(e["name"], e["axis"], e["where"]["round"]) for e in truth["effects"]] == [("columns_swapped", "X", 2)]
-    rec = parse_recording(csv.read_text(), csv.name)
+    _, rec, lines = _gen2_swap(tmp_path, 3545, 8, "X", 2)
     s = screen(rec, M.sides, M)
     assert {(p.kind, p.axis, p.round) for p in s.problems} == {("round_off_station", "X", 2)}, \
         [p.text for p in s.problems]
-    lines = set(truth["effects"][0]["details"]["csv_lines"])
     assert {int(rec.line[i]) for i in np.flatnonzero(~s.keep)} == lines
     assert "other station" in s.problems[0].text
 
@@ -151,18 +156,10 @@ def test_columns_swapped_in_a_stations_only_round_is_named_by_the_other_stations
     was screened, S2's law was scaled to the slip's scatter, and the diagnosis named a re-seated nest, two knocks
     of S2 and a bump.  S1's two rounds read the same passes in the same machine frame and agree with each other:
     the lone round is named against them and left out."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    import diagnose_gen2_rates as R
-
-    R.generate(str(tmp_path), 1, 3577, 6, "outside")
-    csv = tmp_path / "campaign_0006.csv"
-    truth = __import__("json").loads(csv.with_suffix(".truth.json").read_text())
-    assert [(e["name"], e["axis"], e["where"]["round"]) for e in truth["effects"]] == [("columns_swapped", "B", 3)]
-    rec = parse_recording(csv.read_text(), csv.name)
+    csv, rec, lines = _gen2_swap(tmp_path, 3577, 6, "B", 3)
     s = screen(rec, M.sides, M)
     assert {(p.kind, p.axis, p.round) for p in s.problems} == {("round_off_station", "B", 3)}, \
         [p.text for p in s.problems]
-    lines = set(truth["effects"][0]["details"]["csv_lines"])
     assert {int(rec.line[i]) for i in np.flatnonzero(~s.keep)} == lines
     assert "reads the axis once, the other stations' rounds agree" in s.problems[0].text
     assert all(p.size_mm > 50 for p in s.problems)

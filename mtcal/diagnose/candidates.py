@@ -133,14 +133,15 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
                 out += [fx.thermal_drift(g, target, tau, onset) for tau in fx.TAUS_S]
         nests = sorted(set(zip(rec.point.tolist(), g.side.tolist())))   # a label may name a nest on each side
         out += [fx.nest_creep(g, label, side, t0) for label, side in nests]
+        guessed = undetermined(prep)
         for st in g.stations():  # a tracker's drift and settling start when that station is set up
             on, tracker, _ = g.at(st)
             ts = float(np.min(rec.time_s[on]))
             if len(sides) > 1 or st is not None:  # one side, one station: the tracker's drift is the side's
                 out += [fx.thermal_drift(g, "tracker", tau, ts, st) for tau in fx.TAUS_S]
-            if tracker is not None and not undetermined(prep):
+            if tracker is not None and not guessed:
                 out += [fx.tracker_settling(g, tau, ts, st) for tau in fx.TAUS_S]
-        if undetermined(prep):
+        if guessed:
             notes.append({"name": "tracker_settling", "axis": None, "kind": "station undetermined",
                           "not_separable": NOT_SEPARABLE["tracker_settling undetermined"]})
     else:

@@ -802,8 +802,10 @@ def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
     # every sequence one reading (a pose a round, each nest read once in it: icelinker): alternate readings of each
     # nest over the rounds instead, else one fold would hold every reading and the other none
     single = np.bincount(prep.seq).max() < 2
-    key = [f"{s}|{a}|{p}" for s, a, p in zip(rec.stations(), rec.axis, rec.point)] if single else prep.seq
-    _, of = np.unique(np.asarray(key), return_inverse=True)
+    of = prep.seq
+    if single:
+        _, of = np.unique([f"{s}|{a}|{p}" for s, a, p in zip(rec.stations(), rec.axis, rec.point)],
+                          return_inverse=True)
     rank = np.empty(len(rec), int)
     for s in range(of.max() + 1):
         idx = np.flatnonzero(of == s)

@@ -344,9 +344,7 @@ def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[
     else None (no other station reads the pass, or it cannot tell)."""
     if len(far) != 2:
         return None
-    others = [k for k in passes if k[0] != far[0][0] and k[2:] == far[0][2:] and k not in skip]
-    ref = {p: np.median([rec.xyz[passes[k][p]] for k in others if p in passes[k]], axis=0)
-           for p in {p for k in others for p in passes[k]}}
+    _, ref = _other_stations(rec, far[0], passes, skip)
     off = {}
     for k in far:
         pts = [p for p in passes[k] if p in ref]
@@ -354,6 +352,16 @@ def _off_the_stations(rec: Recording, far: list[tuple], passes: dict, skip: set[
             return None
         off[k] = max(float(np.linalg.norm(rec.xyz[passes[k][p]] - ref[p])) for p in pts)
     return _the_one_off(off)
+
+
+def _other_stations(rec: Recording, key: tuple, passes: dict, skip: set[tuple]) -> tuple[list[tuple], dict]:
+    """(the passes of the other stations at ``key``'s position and direction, not left out; per point they read,
+    the median of their readings, mm): the referee that the other stations are (every station's readings in the
+    machine's frame, their alignments tens of um apart)."""
+    others = [k for k in passes if k[0] != key[0] and k[2:] == key[2:] and k not in skip]
+    ref = {p: np.median([rec.xyz[passes[k][p]] for k in others if p in passes[k]], axis=0)
+           for p in {p for k in others for p in passes[k]}}
+    return others, ref
 
 
 def _lone_round(rec: Recording, axis: str, key: tuple, passes: dict, skip: set[tuple], nests: dict, machine
@@ -364,11 +372,10 @@ def _lone_round(rec: Recording, axis: str, key: tuple, passes: dict, skip: set[t
     the pass and the two disagree, the other axes of the side say which (round_off_side), else neither can be told
     (rounds_disagree: each is left out by its own station's check).  Columns exchanged in a round are a
     reflection: the distances keep, and no round of its own station disagrees (gen2 seed 3577 campaign 6)."""
-    others = [k for k in passes if k[0] != key[0] and k[2:] == key[2:] and k not in skip]
-    pts = [p for p in passes[key] if any(p in passes[k] for k in others)]
+    others, ref = _other_stations(rec, key, passes, skip)
+    pts = [p for p in passes[key] if p in ref]
     if not pts:
         return None
-    ref = {p: np.median([rec.xyz[passes[k][p]] for k in others if p in passes[k]], axis=0) for p in pts}
     dev = {p: float(np.linalg.norm(rec.xyz[passes[key][p]] - ref[p])) for p in pts}
     if max(dev.values()) <= PASS_FLOOR_MM:
         return None
