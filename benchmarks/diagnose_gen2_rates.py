@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import importlib.util
 import io
 import json
 import logging
@@ -35,6 +36,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from mtcal.diagnose import diagnose  # noqa: E402
+from mtcal.diagnose.design import base_design, engine_for, family_degrees, whiten  # noqa: E402
+from mtcal.diagnose.prepared import LEVEL, STAGES  # noqa: E402
+from mtcal.diagnose.run import MAX_DEGREE  # noqa: E402
 from mtcal.errors import InputError  # noqa: E402
 from mtcal.measurement.recordings import Recording, parse_recording  # noqa: E402
 from mtcal.measurement.screen import RIGID_FLOOR_MM  # noqa: E402
@@ -372,11 +376,54 @@ def cases(text: str) -> list[tuple[str, str]]:
     return out + ([("given", text)] if "tracker_x" in header else [])
 
 
-def answer_of(text: str, name: str) -> dict:
+def diagnosis_of(text: str, name: str) -> tuple[dict, object]:
+    """(answer, Diagnosis): mtcal's answer as a dict, and the Diagnosis itself (None where it refused)."""
     try:
-        return diagnose(parse_recording(text, name)).to_dict()
+        d = diagnose(parse_recording(text, name))
     except InputError as exc:
-        return {"refused": str(exc)}
+        return {"refused": str(exc)}, None
+    return d.to_dict(), d
+
+
+def answer_of(text: str, name: str) -> dict:
+    return diagnosis_of(text, name)[0]
+
+
+def _clean_fraction(mix: str) -> list[str]:
+    """gen2's --clean-fraction as :func:`generate` passes it (the outside mix: 0.3; else gen2's default)."""
+    return ["--clean-fraction", "0.3"] if mix == "outside" else []
+
+
+def _gen2_module(gen2: Path):
+    """The generator ``gen2`` imported as a module (its planted_displacement), None if it has none."""
+    spec = importlib.util.spec_from_file_location("gen2_generator", gen2)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod if hasattr(mod, "planted_displacement") else None
+
+
+def planted_reach(diagnosis, truth: dict, gen2) -> float | None:
+    """p of the planted physics' own F test: gen2's noise-free displacement of every reading by what was planted
+    (``planted_displacement``), whitened by the diagnosis' weights and added as one known column to the tests' null
+    (the quasi-static family at its largest degrees, mtcal.diagnose.run) -- the most any test of that shape can see.
+    Above the diagnosis' stage level (LEVEL / STAGES) the data cannot show it beside the base even knowing its
+    shape: a miss there is beyond the data, below it within reach.  None: no diagnosis, no generator function, or
+    a reading not matched to gen2's rows (by axis, round, nest and time)."""
+    if diagnosis is None or gen2 is None or diagnosis.prep is None:
+        return None
+    mix = truth.get("mix", "v2")
+    only = mix[len("only:"):].split(",") if mix.startswith("only:") else None
+    cf = float(_clean_fraction(mix)[1]) if _clean_fraction(mix) else 0.4
+    keys, delta = gen2.planted_displacement(truth["seed"], truth["index"], cf, "outside" if only else mix, only)
+    row = {(k["axis"], int(k["round"]), k["point"], float(k["time_s"])): i for i, k in enumerate(keys)}
+    prep = diagnosis.prep
+    rec = prep.rec
+    at = [row.get((a, int(r), pt, float(t))) for a, r, pt, t in zip(rec.axis, rec.round, rec.point, rec.time_s)]
+    if any(i is None for i in at):
+        return None
+    eng = engine_for(prep, base_design(prep, family_degrees(prep, MAX_DEGREE)), whiten(prep.W, prep.y))
+    s = eng.score(whiten(prep.W, delta[at])[:, None])
+    return float(np.exp(s.logp)) if s.separable and s.k else 1.0
 
 
 GEN2 = HERE / "gen2" / "gen2.py"
@@ -389,26 +436,29 @@ def generate(directory: str, n: int, seed: int, start: int = 0, mix: str = "v2",
     --only (class names planted in every campaign, or "none" for clean ones)."""
     subprocess.run([sys.executable, str(gen2), "--out", directory, "--n", str(n), "--seed",
                     str(seed), "--start", str(start)] + (["--mix", mix] if mix != "v2" else []) +
-                   (["--clean-fraction", "0.3"] if mix == "outside" else []) + (["--only", only] if only else []),
+                   _clean_fraction(mix) + (["--only", only] if only else []),
                    check=True, capture_output=True)
     return sorted(Path(directory).glob("campaign_*.csv"))
 
 
-def run_campaign(path: Path) -> list[dict]:
+def run_campaign(path: Path, gen2=None) -> list[dict]:
     """Every run of one campaign: {campaign, how, classes, stations, instrument, verdict, status, wrong, claims
-    (everything the answer claims: significant findings, unexplained, data problems), seconds}."""
+    (everything the answer claims: significant findings, unexplained, data problems), seconds, reach_p (where a
+    class outside mtcal's list was missed: :func:`planted_reach` with ``gen2``, the generator as a module)}."""
     truth = json.loads(path.with_suffix(".truth.json").read_text())
     text = path.read_text()
     planted = planted_of(truth, parse_recording(text, path.name))
     tracker, out = truth["tracker"], []
     for how, t in cases(text):
         t0 = time.perf_counter()
-        answer = answer_of(t, path.name)
+        answer, diagnosis = diagnosis_of(t, path.name)
         v = judge(answer, planted)
+        missed = v.verdict != "wrong" and any(v.status.get(c) == "missed" for c in OUTSIDE)
         out.append({"campaign": path.stem, "how": how, "classes": [p.cls for p in planted] or ["clean"],
                     "stations": len(tracker["stations"]), "instrument": tracker["noise"]["instrument"],
                     **asdict(v), "claims": [] if "refused" in answer else _clean_claims(answer),
-                    "seconds": round(time.perf_counter() - t0, 2)})
+                    "seconds": round(time.perf_counter() - t0, 2),
+                    "reach_p": planted_reach(diagnosis, truth, gen2) if missed else None})
     return out
 
 
@@ -416,13 +466,16 @@ def run(n: int = 200, seed: int = 7, start: int = 0, progress: bool = True, mix:
         gen2: Path = GEN2, only: str | None = None) -> list[dict]:
     logging.getLogger("mtcal").setLevel(logging.ERROR)  # data problems are in the answers
     runs: list[dict] = []
+    module = _gen2_module(gen2) if mix != "v2" or only else None
     with tempfile.TemporaryDirectory() as d:
         for path in generate(d, n, seed, start, mix, gen2, only):
-            for r in run_campaign(path):
+            for r in run_campaign(path, module):
                 runs.append(r)
                 if progress:
                     print(f"{r['campaign']} {r['how']:<8} {'+'.join(r['classes']):<32} {r['verdict']:<12} "
-                          f"{r['seconds']:5.1f} s {'; '.join(r['wrong'])[:100]}", file=sys.stderr, flush=True)
+                          f"{r['seconds']:5.1f} s {'; '.join(r['wrong'])[:100]}"
+                          + (f"planted shape's own p {r['reach_p']:.2g}" if r.get("reach_p") is not None else ""),
+                          file=sys.stderr, flush=True)
     return runs
 
 
@@ -487,10 +540,27 @@ def breakdown(runs: list[dict]) -> list[str]:
     and data problems only, no "unexplained"), and wrong runs by the number of stations."""
     clean = [r for r in runs if r["classes"] == ["clean"]]
     one, several = ([r for r in runs if (r["stations"] > 1) == k] for k in (False, True))
-    return [f"clean false alarms by a named finding or data problem (not unexplained only): defaults "
+    return [*_reach(runs), f"clean false alarms by a named finding or data problem (not unexplained only): defaults "
             f"{_share(clean, 'defaults', named)}, tracker given {_share(clean, 'given', named)}",
             f"wrong runs, one station: defaults {_share(one, 'defaults', wrong)}, tracker given "
             f"{_share(one, 'given', wrong)}; two or three stations (tracker given): {_share(several, 'given', wrong)}"]
+
+
+def _reach(runs: list[dict]) -> list[str]:
+    """The missed runs of physics outside mtcal's list split by :func:`planted_reach`: within the data's reach (the
+    planted displacement's own test below the stage level) or beyond it."""
+    level = LEVEL / STAGES
+    out = []
+    for how in HOWS:
+        ps = [r["reach_p"] for r in runs if r["how"] == how and "reach_p" in r and any(
+            r["status"].get(c) == "missed" for c in OUTSIDE) and r["verdict"] != "wrong"]
+        if ps:
+            known = [p for p in ps if p is not None]
+            out.append(f"missed runs of physics outside the list, {how}: {len(ps)}; within the data's reach (the "
+                       f"planted displacement's own F test, its shape known, p < {level:.2g} beside the tests' null) "
+                       f"{sum(p < level for p in known)}, beyond it {sum(p >= level for p in known)}"
+                       + (f", not judged {len(ps) - len(known)}" if len(known) < len(ps) else ""))
+    return out
 
 
 def wrong_runs(runs: list[dict]) -> list[str]:

@@ -634,26 +634,45 @@ def simulate(rng, geo, P, eff, noise, new=None):
 
 def fmt_pos(p): s = f"{p:.3f}".rstrip("0").rstrip("."); return s if s not in ("-0", "") else "0"
 
-def write_campaign(seed, idx, outdir, clean_fraction, mix="v2", only=None):
-    """mix v2 (the default) is the original generator, byte for byte. mix v3 / outside, or `only` (a list of class
-    names, or ["none"] for a forced clean campaign), draw the classes from their own stream [seed, idx, 3], the
-    tracker noise from [seed, idx, 1] and the export's draws from [seed, idx, 2]: for one (seed, idx) the
-    geometry, plan, noise law and noise samples are the same whatever classes are planted."""
+def draw_campaign(seed, idx, clean_fraction, mix="v2", only=None, noise_free=False):
+    """(geo, P, noise, eff, gross, v3eff, XYZ, rng): one campaign's draws as write_campaign makes them (its docstring),
+    rng the stream the export draws from next. noise_free: XYZ without the tracker's noise (the same draws else)."""
     rng = np.random.default_rng([seed, idx])
     geo = Geometry(rng); P = plan(rng); noise = make_noise(rng)
+    law = dict(noise, a_r_um=0.0, b_r_um_per_m=0.0, a_t_um=0.0, b_t_um_per_m=0.0) if noise_free else noise
     if mix == "v2" and only is None:
         clean = rng.random() < clean_fraction
         n = 0 if clean else int(rng.choice([1, 2], p=[0.6, 0.4]))
         eff, gross = choose_effects(rng, P, n)
         v3eff = []
-        XYZ = simulate(rng, geo, P, eff, noise)
+        XYZ = simulate(rng, geo, P, eff, law)
     else:
         rng3 = np.random.default_rng([seed, idx, 3])
         old, new_cls = pick_classes_v3(rng3, P, mix, clean_fraction, only)
         eff, gross = choose_effects(rng, P, len(old), forced=old)
         v3eff = choose_new(rng3, P, new_cls)
-        XYZ = simulate(np.random.default_rng([seed, idx, 1]), geo, P, eff, noise, {e["name"]: e for e in v3eff})
+        XYZ = simulate(np.random.default_rng([seed, idx, 1]), geo, P, eff, law, {e["name"]: e for e in v3eff})
         rng = np.random.default_rng([seed, idx, 2])
+    return geo, P, noise, eff, gross, v3eff, XYZ, rng
+
+
+def planted_displacement(seed, idx, clean_fraction, mix="v2", only=None):
+    """(keys, delta): what the planted physics moves every reading by, without the tracker's noise -- the campaign's
+    readings with its effects less the same campaign's without them (mm, machine frame, (n, 3)); keys: key(row) of
+    each (the rows as simulated: before the export's gross errors and careless slips)."""
+    geo, P, _, eff, _, v3eff, XYZ, _ = draw_campaign(seed, idx, clean_fraction, mix, only, noise_free=True)
+    still = dict(a_r_um=0.0, b_r_um_per_m=0.0, a_t_um=0.0, b_t_um_per_m=0.0)
+    rows = [{k: v for k, v in r.items() if k != "outlier"} for r in P["rows"]]
+    bare = simulate(np.random.default_rng(0), geo, dict(P, rows=rows), [], still, None)
+    return [key(r) for r in P["rows"]], XYZ - bare
+
+
+def write_campaign(seed, idx, outdir, clean_fraction, mix="v2", only=None):
+    """mix v2 (the default) is the original generator, byte for byte. mix v3 / outside, or `only` (a list of class
+    names, or ["none"] for a forced clean campaign), draw the classes from their own stream [seed, idx, 3], the
+    tracker noise from [seed, idx, 1] and the export's draws from [seed, idx, 2]: for one (seed, idx) the
+    geometry, plan, noise law and noise samples are the same whatever classes are planted."""
+    geo, P, noise, eff, gross, v3eff, XYZ, rng = draw_campaign(seed, idx, clean_fraction, mix, only)
     nst = len(P["stations"]); give_tracker = nst > 1 or rng.random() < 0.6
     given = [np.round(s["position_mm"] + rng.normal(0, 10, 3)) for s in P["stations"]]
     cols = ["axis", "round", "position", "point", "x", "y", "z", "time_s", "direction"]
