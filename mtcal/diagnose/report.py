@@ -21,6 +21,9 @@ from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import Located
 from mtcal.io import save_figure
 
+ALIKE = 0.9  # an error motion whose own growing member fits this share of the best one's: alike through the beams
+#             (an anisotropic tracker sees mostly the beam's component: gen2 3581/30, a straightness E_YZ of Z
+#             fitted as well by E_ZZ where the beams run along Y and Z)
 
 @dataclass
 class Finding:
@@ -162,14 +165,21 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
     the most of it is named in the note with what would name the physics."""
     disp = np.linalg.norm(np.einsum("nik,k->ni", c.G, theta), axis=1)
     errors = c.extra["errors"]
-    per = len(c.params) // len(errors)
-    share = [eng.score(w(fx.Candidate(c.name, c.axis, "", c.G[:, :, j * per:(j + 1) * per], []))).delta
-             for j in range(len(errors))]
+    if len(errors) == 1:  # one motion's member: the others' own members, as alike through these beams or not
+        errors = list(prep.machine.error_motions(c.axis))
+        share = [eng.score(w(fx.growing_free(prep.geometry, c.axis, motion=e))).delta for e in errors]
+    else:
+        per = len(c.params) // len(errors)
+        share = [eng.score(w(fx.Candidate(c.name, c.axis, "", c.G[:, :, j * per:(j + 1) * per], []))).delta
+                 for j in range(len(errors))]
     k = int(np.argmax(share))
     frac = share[k] / max(s.score.delta, 1e-300)
+    alike = [e for e, d in zip(errors, share) if e != errors[k] and d >= ALIKE * share[k]]
     note = (f"the error motions of axis {c.axis} change while it is measured (position x time: not a drift of a "
             f"side, which moves every position alike): up to {disp.max() * 1e3:.2f} um at a reading, mostly "
-            f"{errors[k]} ({min(frac, 1.0):.0%} of it alone); a scale or straightness growing with the machine's "
+            f"{errors[k]} ({min(frac, 1.0):.0%} of it alone"
+            + (f"; {' or '.join(alike)} fit{'s' if len(alike) == 1 else ''} it alike through these beams" if alike
+               else "") + "); a scale or straightness growing with the machine's "
             f"temperature (e.g. a ball screw warming): record a temperature channel (temperature_c) and the "
             f"diagnosis names it (thermal_temperature), or let the axis reach a steady temperature first")
     return Located(c.axis, "position x time", errors[k], float(-s.logp_adj / math.log(10)),
