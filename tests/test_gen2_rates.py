@@ -8,6 +8,7 @@ import re
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -230,8 +231,7 @@ def gen2():
     return R._gen2_module(R.GEN2)
 
 
-def _readings(directory: Path, seed: int, index: int, only: str) -> "np.ndarray":
-    import numpy as np
+def _readings(directory: Path, seed: int, index: int, only: str) -> np.ndarray:
     path = R.generate(str(directory), 1, seed, index, "outside", only=only)[0]
     return np.loadtxt(path, delimiter=",", skiprows=1, usecols=(4, 5, 6))
 
@@ -239,7 +239,6 @@ def _readings(directory: Path, seed: int, index: int, only: str) -> "np.ndarray"
 def test_the_planted_displacement_is_what_the_campaign_carries_beyond_its_clean_twin(gen2, tmp_path):
     """gen2 draws the noise of a (seed, index) whatever is planted (README, v3): the readings with a warming table
     less gen2's planted_displacement are the clean twin's readings, to the CSV's 0.1 um (seed 3580, campaign 8)."""
-    import numpy as np
     warm = _readings(tmp_path / "warm", 3580, 8, "table_warming")
     clean = _readings(tmp_path / "clean", 3580, 8, "none")
     keys, delta = gen2.planted_displacement(3580, 8, 0.4, "outside", ["table_warming"])

@@ -180,8 +180,8 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
             f"{errors[k]} ({min(frac, 1.0):.0%} of it alone"
             + (f"; {' or '.join(alike)} fit{'s' if len(alike) == 1 else ''} it alike through these beams" if alike
                else "") + "); a scale or straightness growing with the machine's "
-            f"temperature (e.g. a ball screw warming): record a temperature channel (temperature_c) and the "
-            f"diagnosis names it (thermal_temperature), or let the axis reach a steady temperature first")
+            "temperature (e.g. a ball screw warming): record a temperature channel (temperature_c) and the "
+            "diagnosis names it (thermal_temperature), or let the axis reach a steady temperature first")
     return Located(c.axis, "position x time", errors[k], float(-s.logp_adj / math.log(10)),
                    min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(disp > 0)), s.score.F, 0.0,
                    float(disp.max()), note)
