@@ -393,9 +393,9 @@ RANDOM = {"axis_scatter"}  # variance components: the planted displacement is th
 #                            knows; a test of it as a known shape would claim far more reach than the data give
 
 
-def _clean_fraction(mix: str) -> list[str]:
-    """gen2's --clean-fraction as :func:`generate` passes it (the outside mix: 0.3; else gen2's default)."""
-    return ["--clean-fraction", "0.3"] if mix == "outside" else []
+def _clean_fraction(mix: str) -> float:
+    """gen2's --clean-fraction as :func:`generate` passes it: 0.3 in the outside mix, else gen2's default 0.4."""
+    return 0.3 if mix == "outside" else 0.4
 
 
 def _gen2_module(gen2: Path):
@@ -416,9 +416,9 @@ def planted_reach(diagnosis, truth: dict, gen2) -> float | None:
     if diagnosis is None or gen2 is None or diagnosis.prep is None or RANDOM & {e["name"] for e in truth["effects"]}:
         return None
     mix = truth.get("mix", "v2")
-    only = mix[len("only:"):].split(",") if mix.startswith("only:") else None
-    cf = float(_clean_fraction(mix)[1]) if _clean_fraction(mix) else 0.4
-    keys, delta = gen2.planted_displacement(truth["seed"], truth["index"], cf, "outside" if only else mix, only)
+    only = mix[len("only:"):].split(",") if mix.startswith("only:") else None  # then any v3 mix draws the same
+    keys, delta = gen2.planted_displacement(truth["seed"], truth["index"], _clean_fraction(mix),
+                                            "outside" if only else mix, only)
     row = {(k["axis"], int(k["round"]), k["point"], float(k["time_s"])): i for i, k in enumerate(keys)}
     prep = diagnosis.prep
     rec = prep.rec
@@ -440,7 +440,7 @@ def generate(directory: str, n: int, seed: int, start: int = 0, mix: str = "v2",
     --only (class names planted in every campaign, or "none" for clean ones)."""
     subprocess.run([sys.executable, str(gen2), "--out", directory, "--n", str(n), "--seed",
                     str(seed), "--start", str(start)] + (["--mix", mix] if mix != "v2" else []) +
-                   _clean_fraction(mix) + (["--only", only] if only else []),
+                   ["--clean-fraction", str(_clean_fraction(mix))] + (["--only", only] if only else []),
                    check=True, capture_output=True)
     return sorted(Path(directory).glob("campaign_*.csv"))
 
