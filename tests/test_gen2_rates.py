@@ -251,13 +251,15 @@ def test_the_planted_displacement_is_what_the_campaign_carries_beyond_its_clean_
 def test_a_miss_is_split_by_what_the_planted_shape_itself_can_show(gen2, tmp_path):
     """planted_reach: the planted displacement's own F test beside the tests' null.  A warming table of 8.7 um by
     the end, 92 % inside the quasi-static family's span (gen2 3580/8): p 0.13, beyond the data, where mtcal rightly
-    names nothing; the same campaign's axis repeating worse 18 um (3580/0, found by mtcal): p below 1e-30."""
+    names nothing; a lost motion of 3.6 um growing along the travel (3580/22, found by mtcal): p below 1e-30; an
+    axis repeating worse (3580/0) is not judged: its displacement is its random draws, which no test knows."""
     import json
     out = {}
-    for index in (8, 0):
+    for index in (8, 22, 0):
         path = R.generate(str(tmp_path / str(index)), 1, 3580, index, "outside")[0]
         truth = json.loads(path.with_suffix(".truth.json").read_text())
         _, d = R.diagnosis_of(R.without_tracker(path.read_text()), path.name)
         out[index] = R.planted_reach(d, truth, gen2)
     assert 0.05 < out[8] < 0.3
-    assert out[0] < 1e-30
+    assert out[22] < 1e-30
+    assert out[0] is None
