@@ -25,6 +25,7 @@ ALIKE = 0.9  # an error motion whose own growing member fits this share of the b
 #             (an anisotropic tracker sees mostly the beam's component: gen2 3581/30, a straightness E_YZ of Z
 #             fitted as well by E_ZZ where the beams run along Y and Z)
 
+
 @dataclass
 class Finding:
     """One effect of the answer; ``details`` holds the effect-specific keys (estimate's unit, vector, where, ...).
