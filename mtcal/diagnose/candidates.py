@@ -116,7 +116,8 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         rounds = len(set(rec.round[on].tolist()))
         if np.isfinite(rec.time_s[on]).all() and rounds >= 2:  # a change over rounds: linear from two on
             out += [fx.growing_free(g, a, full) for full in ((False, True) if rounds > 2 else (False,))]
-            out += [fx.growing_free(g, a, motion=e) for e in prep.machine.error_motions(a)]
+            if rounds > 2:  # two rounds: one motion's bow changing between them is as much its stops' scatter
+                out += [fx.growing_free(g, a, motion=e) for e in prep.machine.error_motions(a)]  # (gen2 3502/16)
         for e in prep.machine.error_motions(a):
             out.append(fx.second_order(g, a, e))
         notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})

@@ -350,7 +350,7 @@ def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None =
     family's sharper test of the commonest case.  ``motion``: one error motion's shape along the travel growing
     steadily (s_1 tau_1 and s_2 tau_1 of that motion only: two columns), the sharpest test where one guideway
     bows or one screw grows as it warms (gen2 3589/16: a straightness E_XY bowing 8.9 um by the end, F = 4.7 on
-    the six linear columns, missed; its own shape p = 8e-9)."""
+    the six linear columns, missed; its own shape p = 8e-9); offered from three rounds (mtcal.diagnose.candidates)."""
     on = (g.axis == axis) & np.isfinite(g.time_s)  # the caller makes sure the axis' times are all known
     t = g.time_s[on]
     tau = np.zeros(len(g.axis))
