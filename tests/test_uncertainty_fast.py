@@ -206,7 +206,9 @@ def test_ctrl_c_with_dask_workers_is_one_line(rec_x, tmp_path):
         p = subprocess.Popen([sys.executable, "-m", "mtcal.cli", "uncertainty", str(f), "--tracker", "250,-1500,150",
                               "--workers", "2", "--exact", "--trials", "400", "--store", str(tmp_path / "s.npz"),
                               "-q"], stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-                             env={**os.environ, "MPLBACKEND": "Agg"}, start_new_session=True)
+                             env={**os.environ, "MPLBACKEND": "Agg"}, start_new_session=True,
+                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # as in a
+        #                    terminal, even where the suite runs as a background job (SIGINT ignored, inherited)
         t0 = time.monotonic()
         while not children(p.pid) and time.monotonic() - t0 < 120:
             time.sleep(0.2)
