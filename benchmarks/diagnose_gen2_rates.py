@@ -445,6 +445,11 @@ def generate(directory: str, n: int, seed: int, start: int = 0, mix: str = "v2",
     return sorted(Path(directory).glob("campaign_*.csv"))
 
 
+def _missed_outside(verdict: str, status: dict[str, str]) -> bool:
+    """A run not wrong in which a class outside mtcal's list was missed (the runs :func:`planted_reach` judges)."""
+    return verdict != "wrong" and any(status.get(c) == "missed" for c in OUTSIDE)
+
+
 def run_campaign(path: Path, gen2=None) -> list[dict]:
     """Every run of one campaign: {campaign, how, classes, stations, instrument, verdict, status, wrong, claims
     (everything the answer claims: significant findings, unexplained, data problems), seconds, reach_p (where a
@@ -457,7 +462,7 @@ def run_campaign(path: Path, gen2=None) -> list[dict]:
         t0 = time.perf_counter()
         answer, diagnosis = diagnosis_of(t, path.name)
         v = judge(answer, planted)
-        missed = v.verdict != "wrong" and any(v.status.get(c) == "missed" for c in OUTSIDE)
+        missed = _missed_outside(v.verdict, v.status)
         out.append({"campaign": path.stem, "how": how, "classes": [p.cls for p in planted] or ["clean"],
                     "stations": len(tracker["stations"]), "instrument": tracker["noise"]["instrument"],
                     **asdict(v), "claims": [] if "refused" in answer else _clean_claims(answer),
@@ -556,8 +561,8 @@ def _reach(runs: list[dict]) -> list[str]:
     level = LEVEL / STAGES
     out = []
     for how in HOWS:
-        ps = [r["reach_p"] for r in runs if r["how"] == how and "reach_p" in r and any(
-            r["status"].get(c) == "missed" for c in OUTSIDE) and r["verdict"] != "wrong"]
+        ps = [r["reach_p"] for r in runs if r["how"] == how and "reach_p" in r
+              and _missed_outside(r["verdict"], r["status"])]
         if ps:
             known = [p for p in ps if p is not None]
             out.append(f"missed runs of physics outside the list, {how}: {len(ps)}; within the data's reach (the "
