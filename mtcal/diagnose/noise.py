@@ -40,6 +40,7 @@ from mtcal.measurement.tracker_position import (
     round_scatter,
     shape_ratio,
     station_interval,
+    station_scatter,
 )
 
 ITERATIONS = 2          # refits of the base with the estimated weights
@@ -217,7 +218,8 @@ def _law(sh: ShapeEstimate | None, prior: TrackerSpec) -> dict:
 def _base_residuals(prep: Prepared, max_degree: int, prior: TrackerSpec, W: np.ndarray | None = None,
                     scatter: bool = True) -> np.ndarray:
     """(n, 3) residuals (mm) of the quasi-static base family (or the given model), fitted with the whitening W
-    (None: unweighted); ``scatter``: about the mean of each reading's cell over the rounds (round_scatter)."""
+    (None: unweighted); ``scatter``: about the mean of each reading's cell over the rounds, less each round's
+    mean (station_scatter: what places the station)."""
     n = len(prep.rec)
     if W is not None:
         prep = replace(prep, noise=NoiseModel(W, prior.label, ""))
@@ -225,7 +227,7 @@ def _base_residuals(prep: Prepared, max_degree: int, prior: TrackerSpec, W: np.n
     eng = engine_for(prep, base_design(prep, degrees), whiten(prep.W, prep.y))
     raw = np.linalg.solve(prep.W, eng.r.reshape(n, 3)[..., None])[..., 0]
     # about the cell means: a misfit that repeats every round stays out of the noise model
-    return round_scatter(prep.rec, raw) if scatter else raw
+    return station_scatter(prep.rec, raw) if scatter else raw
 
 
 def _groups(prep: Prepared):

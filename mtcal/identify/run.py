@@ -42,6 +42,7 @@ from mtcal.measurement.tracker_position import (
     estimate_position,
     estimate_shape,
     round_scatter,
+    station_scatter,
 )
 from mtcal.model.errormodel import ErrorModel
 
@@ -309,7 +310,7 @@ def estimate_station(rec: Recording, spec: trk.TrackerSpec = trk.AT960) -> tuple
         return None, "several stations without tracker_x,y,z columns"
     if len(set(rec.round.tolist())) < 2:
         return None, "one round: no repeated readings to show the beam directions"
-    r = round_scatter(rec)
+    r = station_scatter(rec)
     if not np.any(r):
         return None, "the rounds repeat exactly: no scatter (noise-free readings?)"
     groups = [sel for a in rec.axes() for p in np.unique(rec.point[rec.axis == a])

@@ -242,15 +242,31 @@ def round_scatter(rec: Recording, values: np.ndarray | None = None) -> np.ndarra
 
 
 def _round_centred(rec: Recording, r: np.ndarray) -> np.ndarray:
-    """The scatter with each (axis, round)'s mean removed (a drift moves a round as a whole)."""
+    """The scatter ``r`` with each (station, axis, round)'s mean removed (a drift moves a round as a whole),
+    scaled by sqrt(k / (k - 1)) for a round of k readings with scatter (unbiased)."""
     out = r.copy()
     live = np.any(r != 0, axis=1)
-    for a in np.unique(rec.axis):
-        for rnd in np.unique(rec.round[rec.axis == a]):
-            sel = (rec.axis == a) & (rec.round == rnd) & live
-            if sel.sum() > 1:
-                out[sel] -= r[sel].mean(axis=0)
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist()))
+    index = {k: i for i, k in enumerate(dict.fromkeys(keys))}
+    block = np.array([index[k] for k in keys])
+    for b in np.unique(block[live]):
+        sel = (block == b) & live
+        k = int(sel.sum())
+        if k > 1:
+            out[sel] = (r[sel] - r[sel].mean(axis=0)) * math.sqrt(k / (k - 1))
     return out
+
+
+def station_scatter(rec: Recording, values: np.ndarray | None = None) -> np.ndarray:
+    """(n, 3) mm: the scatter that places an unknown station -- round_scatter (of the readings, or of ``values``),
+    less the mean of each (station, axis, round) (_round_centred).  A motion that moves a whole round alike (the
+    tracker knocked or re-levelled between rounds, a drift, a robot's pose moving the base) is no noise of the
+    tracker: left in, its one direction is shared by every reading of the round and pulls the beam lines.  A
+    re-levelled tracker (gen2 3611/34: a 28 um shift before X round 3) put the station 6.6 m away on the far side
+    of the machine instead of 4.2 m on its own (the beam lines are the same lines either way; their directions
+    through the work zone are not), and the weights about it named a noise reading an outlier; the round means
+    removed, it is found 0.2 m from the truth.  Used by identify and the diagnosis alike."""
+    return _round_centred(rec, round_scatter(rec, values))
 
 
 def shape_ratio(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, base: TrackerSpec,
