@@ -185,17 +185,18 @@ def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
     out += air_index_drift(prep, notes)
     for st in g.stations():
         rows, tracker, _ = g.at(st)
-        if tracker is None:
-            continue
+        # a turn alone is about the station; with its shift, about any point: where no station is known (the
+        # readings weighted equally), the shifted turn about the readings' centre
+        pivot = None if tracker is not None else rec.xyz[rows].mean(axis=0)
         for rank0, where in round_starts(prep, rows):
             t0 = float(rec.time_s[prep.order == rank0][0]) if np.isfinite(rec.time_s).all() else float("nan")
             after = prep.order >= rank0
-            if not undetermined(prep):  # a turn alone is about the station; with its shift, about any point
+            if pivot is None and not undetermined(prep):
                 out.append(fx.tracker_relevel(g, after, t0, where, st))
             if np.isfinite(t0):
                 at = np.flatnonzero(rows & after)
                 knock = fx.tracker_knock(g, t0, {"from_axis": where["axis"], **where_of(prep, at)}, st)
-                out.append(fx.tracker_relevel(g, after, t0, where, st, knock))
+                out.append(fx.tracker_relevel(g, after, t0, where, st, knock, pivot))
     return out
 
 

@@ -478,15 +478,17 @@ def backlash_travel(g: Geometry, axis: str) -> Candidate:
 
 
 def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, station: str | None = None,
-                    knock: Candidate | None = None) -> Candidate:
+                    knock: Candidate | None = None, pivot: np.ndarray | None = None) -> Candidate:
     """The tracker (of ``station``) re-levelled between two rounds: every reading from the first of the round
     ``where`` names on (``after``, bool (n,)) turned about horizontal axes (x, y, machine frame) through the tracker
     by w_x, w_y (rad) -- derive/grammar.py's rotation about the tracker x step.  With ``knock`` (the tracker knocked
     at the same t0: ``tracker_knock`` on the same readings) also shifted by its vector (mm): a re-levelled head
     seldom stays where it was (gen2 plants 0-40 um), and a turn about a station placed a few mm off is a turn about
     the true one and a shift.  The knock is then its ``nested`` member: the turn is named only where the data need
-    it beside the shift (selection._simplest)."""
+    it beside the shift (selection._simplest).  ``pivot`` (mm; with ``knock`` only): the turn about it instead of
+    the tracker, where no station is known -- with its shift the same motion, the shift stated at the pivot."""
     rows, t, of = g.at(station)
+    t = t if pivot is None else np.asarray(pivot, dtype=float)
     on = rows & after
     G = np.zeros((len(g.axis), 3, 2))
     G[on] = S.tracker_relevel_signature(g.xyz[on], t, 1.0)
@@ -498,7 +500,9 @@ def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, stat
                      f"round {where['round']} of axis {where['axis']} (t0 = {t0:.6g} s, {int(on.sum())} reading(s) "
                      "after)", G, params, family="tracker_relevel",
                      extra={"t0_s": float(t0), "round": int(where["round"]), "from_axis": str(where["axis"]),
-                            "tracker": [float(v) for v in t], "shift": knock is not None, **_tag(station)},
+                            "tracker": [float(v) for v in t], "shift": knock is not None,
+                            **({} if pivot is None else {"pivot": "the readings' centre (no station known)"}),
+                            **_tag(station)},
                      nested=knock)
 
 

@@ -104,6 +104,8 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
     if n == "backlash_travel":
         return [Effect(n, {"axis": c.axis, "amount": float(th[0]), "slope": float(th[1])})]
     if n == "tracker_relevel":
+        if x.get("pivot"):
+            return "a turn about the readings' centre (no station known): the simulator turns about its tracker"
         angle, about = _vector(np.array([th[0], th[1], 0.0]))
         out = [Effect(n, {"axis": x["from_axis"], "round": x["round"], "angle_rad": angle, "about": about})]
         if x.get("shift"):  # its shift: the tracker knocked at the same t0

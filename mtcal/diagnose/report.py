@@ -350,12 +350,13 @@ def _tracker_relevel_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -
         shift = {"shift_mm": [float(x) for x in v],
                  "shift_uncertainty_mm": [float(math.sqrt(max(x, 0.0))) for x in np.diag(cov)[2:5]]}
         words = f", and shifted {np.linalg.norm(v) * 1e3:.2g} um ({', '.join(f'{x * 1e3:.2g}' for x in v)} um)"
+    through = "it" if "pivot" not in c.extra else "the readings' centre (no station known; the shift is at it)"
     return {"estimate": size, "uncertainty": u, "unit": "rad", "interval_95": [max(ci[0], 0.0), ci[1]],
             "rotation_vector": [float(w[0]), float(w[1]), 0.0], "about": about, "t0_s": c.extra["t0_s"], **shift,
             "says": f"the tracker was re-levelled before round {c.extra['round']} of {c.extra['from_axis']}: every "
                     f"later reading turned {size * 1e6:.2g} urad (95 %: {max(ci[0], 0.0) * 1e6:.2g} to "
                     f"{ci[1] * 1e6:.2g}) about the horizontal axis ({about[0]:.2f}, {about[1]:.2f}, 0) through "
-                    f"it{words}"}
+                    f"{through}{words}"}
 
 
 def _air_index_drift_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
