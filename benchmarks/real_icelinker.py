@@ -1,7 +1,7 @@
 """Real laser-tracker readings through mtcal's gross-error screen and noise-law estimate: the base reflectors of the
 public repository icelinker/Robot-Calibration-LaserTracker (docs/guide/real-data-tracker.md).
 
-    python benchmarks/real_icelinker.py FOLDER [--window 51] [--k 5]
+    python benchmarks/real_icelinker.py FOLDER [--window 51] [--k 5] [--diagnose]
 
 FOLDER holds ``measured_base_1.txt``, ``measured_base_2.txt``, ``measured_base_3.txt`` (mm, no header, one line
 per robot pose).  Optional, from the same folder: ``measured_SMR_*.txt`` (the robot's reflectors: what a stray
@@ -16,7 +16,8 @@ base_1..3; time_s = the reading index 3 (i - 1) + k - 1 (the files hold no time)
 tracker's frame, the FARO tracker at the origin (the files come straight from the tracker's API, and the mutual
 distance that lies along the beams scatters 3x less than the two across them).  Prints JSON: the screen's flags,
 an independent robust check, the drift, the motion shared by the three from pose to pose, the noise law (mtcal's
-estimate, an independent one from the mutual distances, the AT960's).
+estimate, an independent one from the mutual distances, the AT960's); with ``--diagnose``, mtcal's diagnosis without
+the tracker's position and with it at the origin (diagnosis_both).
 """
 from __future__ import annotations
 
@@ -32,7 +33,7 @@ from scipy.optimize import nnls
 from mtcal.measurement.recordings import Recording, make_recording
 from mtcal.measurement.screen import screen
 from mtcal.measurement.tracker import AT960
-from mtcal.measurement.tracker_position import estimate_position, estimate_shape, round_scatter
+from mtcal.measurement.tracker_position import estimate_position, estimate_shape, round_scatter, station_scatter
 
 NAMES = ("base_1", "base_2", "base_3")
 PAIRS = tuple(itertools.combinations(range(3), 2))
@@ -239,36 +240,92 @@ def at960_law(distance_m: float) -> dict:
 
 
 def mtcal_law(rec: Recording, t: np.ndarray, distance_m: float) -> dict:
-    """mtcal's shape estimate about t (mm) and its station estimate from the round scatter (um, mm)."""
+    """mtcal's shape estimate about t (mm) and its station estimate from the round scatter less each round's mean
+    (station_scatter, as identify and the diagnosis place it) (um, mm)."""
     sh = estimate_shape(rec, t)
     law = sh.law()
     at = {"radial": law["radial_um"] + law["radial_um_per_m"] * distance_m,
           "transverse": law["transverse_um"] + law["transverse_um_per_m"] * distance_m}
-    r = round_scatter(rec)
-    pos = estimate_position(rec.xyz, r, [rec.point == n for n in NAMES])
+    r, s = round_scatter(rec), station_scatter(rec)  # the station is placed from s, as identify does
+    pos = estimate_position(rec.xyz, s, [rec.point == n for n in NAMES])
     return {"estimate_shape": sh.to_dict(), "law_text": sh.law_text(),
             "sigma_at_distance_um": {k: round(v, 2) for k, v in at.items()},
             "round_scatter_sd_um": (r.std(axis=0) * 1e3).round(2).tolist(),
+            "station_scatter_sd_um": (s.std(axis=0) * 1e3).round(2).tolist(),
             "estimate_position": {"position_mm": pos.position.round(0).tolist(), "accepted": pos.accepted,
                                   "p_isotropic": round(pos.p_isotropic, 4), "scale_vs_at960": round(pos.scale, 2),
                                   "shape_vs_at960": round(pos.shape, 2)}}
 
 
-def run(folder: Path, window: int = 51, k: float = 5.0) -> dict:
-    """Everything the script prints (see module docstring)."""
+def findings(d) -> list[str]:
+    """The significant findings of a diagnosis ``d`` in words: the effect, its variant, where."""
+    return [" ".join(str(v) for v in (f.name, f.get("variant"), f.get("where")) if v) for f in d.effects
+            if f.significant]
+
+
+def same_as(f) -> str:
+    """What makes two runs' findings the same finding: the effect, its variant, its side and reflector, and the
+    round (pose) it starts in -- not its estimate, its time constant or t0 within the pose."""
+    d = f.to_dict()
+    return " ".join(f"{k}={d[k]}" for k in ("name", "variant", "side", "point", "round") if d.get(k) is not None)
+
+
+def predicted_pair_sd(W: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """The sd (um) of the three mutual distances that the whitening ``W`` ((3 n, 3, 3), 1/mm, the kept poses'
+    readings in file order) predicts: var(d_ab) = u^T (C_a + C_b) u, C = (W^T W)^-1, u the pair's direction
+    (``ref`` (3, 3) mm), averaged over the poses.  Station-free: it holds the weights to what is rigid whatever
+    station they were built about."""
+    C = np.linalg.inv(np.einsum("nji,njk->nik", W, W)).reshape(-1, 3, 3, 3)
+    out = []
+    for a, b in PAIRS:
+        u = (ref[b] - ref[a]) / np.linalg.norm(ref[b] - ref[a])
+        out.append(np.sqrt(np.mean(u @ (C[:, a] + C[:, b]) @ u)) * 1e3)
+    return np.array(out)
+
+
+def diagnosis_both(xyz: np.ndarray, good: np.ndarray, measured_sd: np.ndarray) -> dict:
+    """mtcal's diagnosis of the recording without the tracker's position and with it at the files' origin: the
+    findings of each, those of one only, the station's status, and the mutual distances' sd (um) that each
+    run's weights predict against ``measured_sd`` (the pairs' robust sd: the law within 2x of what is rigid)."""
+    from mtcal.diagnose import diagnose
+
+    rec, ref = to_recording(xyz), np.median(xyz[good], axis=0)
+    out = {}
+    for label, t in (("without_tracker", None), ("tracker_at_origin", np.zeros(3))):
+        d = diagnose(rec, tracker=t)
+        sd = predicted_pair_sd(d.noise.W, ref) if len(d.noise.W) == 3 * good.sum() else None
+        station = d.noise.details.get("station_interval")
+        out[label] = {"findings": findings(d), "same_as": [same_as(f) for f in d.effects if f.significant],
+                      "noise_model": d.noise.kind,
+                      "station": None if station is None else {k: station[k] for k in ("distance_mm",
+                                                                                         "interval_95_mm",
+                                                                                         "determined")},
+                      "pairs_sd_predicted_um": None if sd is None else sd.round(2).tolist(),
+                      "predicted_over_measured": None if sd is None else (sd / measured_sd).round(2).tolist()}
+    a, b = (set(out[k]["same_as"]) for k in out)
+    out["in_both"] = sorted(a & b)
+    out["only_without_tracker"], out["only_with_tracker"] = sorted(a - b), sorted(b - a)
+    return out
+
+
+def run(folder: Path, window: int = 51, k: float = 5.0, with_diagnosis: bool = False) -> dict:
+    """Everything the script prints (see module docstring); ``with_diagnosis``: also diagnosis_both."""
     xyz = load(folder)
     rec = to_recording(xyz)
     scr, keep = screen_report(rec, xyz, load_smr(folder, len(xyz)))
     good = keep.all(axis=1)
     t = np.zeros(3)  # assumed: the tracker's frame
     law = pair_law(xyz, good, window, t)
-    return {"poses": len(xyz), "readings": int(xyz.size // 3), "tracker_assumed_at_mm": t.tolist(),
+    out = {"poses": len(xyz), "readings": int(xyz.size // 3), "tracker_assumed_at_mm": t.tolist(),
             "screen": scr, "independent_check": {"k_sigmas": k, "window_poses": window,
                                                  "kept_but_suspicious": independent_check(xyz, good, window, k)},
             "drift": drift(xyz, good, window),
             "shared_motion": shared_motion(xyz, good, window, load_joints(folder, len(xyz))),
             "noise_law": {"mtcal": mtcal_law(rec.select(keep.ravel()), t, law["at_distance_m"]),
                           "mutual_distances": law, "at960": at960_law(law["at_distance_m"])}}
+    if with_diagnosis:
+        out["diagnosis"] = diagnosis_both(xyz, good, np.array([v["sd_um"] for v in law["pairs"].values()]))
+    return out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -276,8 +333,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("folder", type=Path, help="folder with measured_base_{1,2,3}.txt (4-DataProcess/Input)")
     ap.add_argument("--window", type=int, default=51, help="running-median window, poses (default 51)")
     ap.add_argument("--k", type=float, default=5.0, help="robust sigmas of the independent check (default 5)")
+    ap.add_argument("--diagnose", action="store_true",
+                    help="also diagnose the recording without and with the tracker's position (about 30 s)")
     a = ap.parse_args(argv)
-    print(json.dumps(run(a.folder, a.window, a.k), indent=1))
+    print(json.dumps(run(a.folder, a.window, a.k, a.diagnose), indent=1))
     return 0
 
 

@@ -51,7 +51,7 @@ def _folder(tmp_path: Path, n: int = 1000) -> Path:
 
 @pytest.mark.slow
 def test_the_script_finds_the_planted_rows_the_drift_and_the_law(tmp_path):
-    out = ri.run(_folder(tmp_path))
+    out = ri.run(_folder(tmp_path), with_diagnosis=True)
     flagged = {(r["line"], ri.NAMES.index(r["file"][9:-4]), r["looks_like"].split(":")[0].split(",")[0])
                for r in out["screen"]["flagged"]}
     assert flagged == ({(ln, k, "no target") for ln, k in NO_TARGET} | {(ln, k, "another target") for ln, k in OTHER})
@@ -62,6 +62,11 @@ def test_the_script_finds_the_planted_rows_the_drift_and_the_law(tmp_path):
     law, (s_r, s_t) = out["noise_law"]["mutual_distances"], (1e3 * s for s in SPEC.sigmas(2837.0))
     assert abs(law["transverse_sigma_um"] / s_t - 1) < 0.15, (law, s_t)
     assert law["radial_sigma_um"] < 1.5 * s_r < 1.5 * law["upper_bounds_um"]["radial"], (law, s_r)
+    # --diagnose: both runs' weights hold the mutual distances' scatter within 2x, the planted drift named in both
+    d = out["diagnosis"]
+    for how in ("without_tracker", "tracker_at_origin"):
+        assert all(0.5 < v < 2.0 for v in d[how]["predicted_over_measured"]), (how, d[how])
+    assert "name=thermal_drift variant=ramp over the record" in d["in_both"], d
 
 
 def test_a_knock_in_a_recording_of_one_reading_per_nest_and_round_has_a_held_out_gain():

@@ -6,8 +6,9 @@ are named (``tracker_model``); with the tracker position given (``--tracker``), 
 weights the readings, unless the repeated rounds' scatter is shaped otherwise (estimate_shape, a ratio test against
 the prior law): then the data's law, said. Without it, the position is estimated from the scatter of the repeated
 rounds: the residuals of the quasi-static base family (unweighted) at every reflector have their smallest spread
-along the beam; each reading's residual is taken about the mean of its cell over the rounds
-(tracker_position.round_scatter), so a misfit that repeats every round stays out of the noise model; (1) each
+along the beam; each reading's residual is taken about the mean of its cell over the rounds, less each round's mean
+(tracker_position.station_scatter), so a misfit that repeats every round and a motion of a whole round stay out
+of the noise model; (1) each
 reflector's residual scatter (3x3, pooled over its readings) gives a beam line through the reflector along its
 least-spread direction, (2) the point closest to all beam lines starts (3) a maximum-likelihood fit of the tracker
 position together with the prior law's radial and transverse scales (the data's shape; the transverse scale near 1,
