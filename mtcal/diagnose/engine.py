@@ -177,8 +177,29 @@ class Engine:
         if not ok.any():
             return Score(False, sep)
         b = U[:, ok].T @ (T.T @ (G.T @ self.r))
-        delta = float(np.sum(b**2 / mu[ok]))
-        k = int(ok.sum())
+        return self._f_test(float(np.sum(b**2 / mu[ok])), int(ok.sum()), sep)
+
+    def score_blocks(self, blocks: list[tuple[np.ndarray, np.ndarray]]) -> Score:
+        """score of columns that live on disjoint blocks of rows, without forming them as one matrix: ``blocks``
+        holds, per block, its rows (of the whitened vector) and an orthonormal basis (rows, k_b) of its columns
+        (every stop's own rigid motion: thousands of columns on a robot's recording).  With H the block-diagonal
+        basis and B = Q^T H, the columns after the fit have the Gram I - B^T B, and what they explain of the
+        residual is h^T (I - B^T B)^+ h, h = H^T r; directions of H within ALIAS_TOL of the fit are dropped."""
+        Q = self.full_rows().reshape(self.N, -1)
+        B = np.hstack([Q[rows].T @ H for rows, H in blocks])
+        h = np.concatenate([H.T @ self.r[rows] for rows, H in blocks])
+        _, sv, Vt = np.linalg.svd(B, full_matrices=False)
+        a = Vt @ h
+        mu = 1.0 - sv**2  # the Gram's eigenvalues along V; 1 on the rest of H's span
+        ok = mu > ALIAS_TOL**2
+        k = len(h) - int((~ok).sum())
+        if k == 0:
+            return Score(False, 0.0)
+        delta = float(h @ h - a @ a + np.sum(a[ok] ** 2 / mu[ok]))
+        return self._f_test(delta, k, math.sqrt(max(float(mu.min(initial=1.0)), 0.0)))
+
+    def _f_test(self, delta: float, k: int, sep: float) -> Score:
+        """The F test of ``k`` added columns that explain ``delta`` of the residual sum of squares."""
         dof = max(self.dof - k, 1)
         rss1 = max(self.rss - delta, 1e-300)
         F = (delta / k) / (rss1 / dof)

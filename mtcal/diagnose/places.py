@@ -141,6 +141,30 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
                                     "not say which"})
 
 
+def stop_motions(prep, W: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Every stop's own rigid motion (Prepared.stop: the nests read while the machine stood still) as the blocks of
+    Engine.score_blocks: the stop's rows of the whitened vector (``W``, (n, 3, 3)) and an orthonormal basis of its
+    translation (outlier_signature: I3 on its readings) and its turn about its own centre (tracker_settling_signature's
+    ramp column u x (point - centre) with dt 1), six columns, fewer for a stop of fewer than three nests -- the stops
+    moving together at random from one to the next (a robot moving the base, the machine landing off in every
+    direction, the tracker disturbed between them), of which a step of the tracker's frame between stops is one
+    contrast (mtcal.diagnose.selection._stops_move_together)."""
+    g, stop = prep.geometry, prep.stop
+    order = np.argsort(stop, kind="stable")
+    out = []
+    for rows in np.split(order, np.flatnonzero(np.diff(stop[order])) + 1):
+        m = len(rows)
+        xyz = g.xyz[rows]
+        centre = xyz.mean(axis=0)
+        turn = np.stack([S.tracker_settling_signature(xyz, centre, u, np.ones(m), 1.0)[:, :, 0] for u in np.eye(3)],
+                        axis=-1)
+        G = np.concatenate([S.outlier_signature(np.ones(m)), turn], axis=-1)      # (m, 3, 6) mm, mm/rad
+        Gw = np.einsum("mij,mjk->mik", W[rows], G).reshape(3 * m, 6)
+        u, sv, _ = np.linalg.svd(Gw, full_matrices=False)
+        out.append(((3 * rows[:, None] + np.arange(3)).ravel(), u[:, sv > 1e-9 * sv[0]]))
+    return out
+
+
 def _stop_columns(prep, axis: str, ids: list[int]) -> np.ndarray:
     """(n, 3, len(ids)): one column per stop ``ids`` (Prepared.stop) of the linear ``axis``, its positioning column
     (mm along the motion) on the nests read at that stop."""
