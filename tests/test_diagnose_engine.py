@@ -48,3 +48,26 @@ def test_many_located_levels_of_one_factor_are_one_entry():
     assert one.where == {"levels": [1, 2, 3, 4, 5]} and one.shift_mm == 0.005 and one.readings == 15
     assert one.p_adjusted == 1e-15 and "5 levels of round of axis X" in one.note
     assert sorted(u.where for u in out if u.by == "position") == [100.0, 200.0]
+
+
+def test_columns_on_disjoint_blocks_score_as_the_same_columns_formed_whole():
+    """Engine.score_blocks (every stop's own rigid motion: thousands of columns on a robot's recording) gives the
+    F test of Engine.score on the same columns formed as one matrix, where together the blocks span a fitted column
+    (each holds a constant on its rows; their sum is the base's offset: one direction dropped)."""
+    rng = np.random.default_rng(3)
+    n = 90
+    X = np.hstack([np.ones((n, 1)), rng.normal(size=(n, 2))])
+    eng = Engine([(np.arange(n), X)], rng.normal(size=n))
+    eng.add(rng.normal(size=(n, 1)))
+    blocks, dense = [], []
+    for start in range(0, n, 6):  # fifteen blocks of six rows, two or three columns each
+        rows = np.arange(start, start + 6)
+        G = np.hstack([np.ones((6, 1)), rng.normal(size=(6, 1 + start % 12 // 6))])
+        blocks.append((rows, np.linalg.qr(G)[0]))
+        D = np.zeros((n, G.shape[1]))
+        D[rows] = G
+        dense.append(D)
+    dense = np.hstack(dense)
+    a, b = eng.score_blocks(blocks), eng.score(dense)
+    assert a.k == b.k == dense.shape[1] - 1, (a.k, b.k)
+    assert abs(a.delta - b.delta) < 1e-9 * b.delta and abs(a.logp - b.logp) < 1e-9 * abs(b.logp), (a, b)
