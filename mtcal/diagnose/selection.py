@@ -243,8 +243,9 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
                 return v  # the named reversal effects of the axis cannot explain it
             continue
-        why = (inadequate_because(prep, eng, v.candidate, w, level) or _drift_fits_as_much(v, sig)
-               or _stops_move_together(prep, eng, v, w, level))
+        why = inadequate_because(prep, eng, v.candidate, w, level) or _drift_fits_as_much(v, sig)
+        if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and fallback is None:
+            fallback = _stops_landing_off(prep, eng, v, w, level, taken)  # the mismatch, where the step was
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
@@ -580,6 +581,18 @@ def _stops_move_together(prep: Prepared, eng: Engine, v: Step, w: Columns, level
             f"{between.k} degrees of freedom, p = {math.exp(logp):.2g} before its multiplicity): the readings of "
             "each stop move together from one stop to the next (a robot or the machine moving the side, the "
             "tracker disturbed), and such a motion makes the step as well")
+
+
+def _stops_landing_off(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float, taken: set[str]
+                       ) -> Step | None:
+    """A step that the stops' own motion makes as well (_stops_move_together), located as the stops on its shorter
+    side landing off (places.stops_off) where they are significant at the step's multiplicity; else None."""
+    free = stops_off(prep, v.candidate)
+    if free is None or free.family in taken:
+        return None
+    sc = eng.score(w(free))
+    ok = sc.separable and sc.logp + v.log_multiplicity < math.log(level)
+    return Step(free, sc, sc.logp + v.log_multiplicity) if ok else None
 
 
 def _significant_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
