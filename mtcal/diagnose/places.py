@@ -155,10 +155,7 @@ def stop_motions(prep, W: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     for rows in np.split(order, np.flatnonzero(np.diff(stop[order])) + 1):
         m = len(rows)
         xyz = g.xyz[rows]
-        centre = xyz.mean(axis=0)
-        turn = np.stack([S.tracker_settling_signature(xyz, centre, u, np.ones(m), 1.0)[:, :, 0] for u in np.eye(3)],
-                        axis=-1)
-        G = np.concatenate([S.outlier_signature(np.ones(m)), turn], axis=-1)      # (m, 3, 6) mm, mm/rad
+        G = np.concatenate([S.outlier_signature(np.ones(m)), _turn_about(xyz, xyz.mean(axis=0))], axis=-1)  # (m, 3, 6)
         Gw = np.einsum("mij,mjk->mik", W[rows], G).reshape(3 * m, 6)
         u, sv, _ = np.linalg.svd(Gw, full_matrices=False)
         out.append(((3 * rows[:, None] + np.arange(3)).ravel(), u[:, sv > 1e-9 * sv[0]]))
@@ -270,9 +267,15 @@ def _turn(g, tracker: np.ndarray, on: np.ndarray) -> np.ndarray:
     """(n, 3, 3) mm per rad: the readings ``on`` (bool (n,)) turned about the tracker (mm, machine frame) by a
     rotation vector's x, y, z components -- tracker_settling_signature's ramp column u x (point - T) with dt 1."""
     turn = np.zeros((len(on), 3, 3))
-    turn[on] = np.stack([S.tracker_settling_signature(g.xyz[on], tracker, u, np.ones(int(on.sum())), 1.0)[:, :, 0]
-                         for u in np.eye(3)], axis=-1)
+    turn[on] = _turn_about(g.xyz[on], tracker)
     return turn
+
+
+def _turn_about(xyz: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """(m, 3, 3) mm per rad: the points ``xyz`` (m, 3) mm turned about ``centre`` by a rotation vector's x, y, z
+    components -- tracker_settling_signature's ramp column u x (point - centre) with dt 1."""
+    return np.stack([S.tracker_settling_signature(xyz, centre, u, np.ones(len(xyz)), 1.0)[:, :, 0]
+                     for u in np.eye(3)], axis=-1)
 
 
 def _side_nests(g, c: fx.Candidate) -> Place | None:

@@ -244,17 +244,16 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
                 return v  # the named reversal effects of the axis cannot explain it
             continue
         why = inadequate_because(prep, eng, v.candidate, w, level) or _drift_fits_as_much(v, sig)
-        if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and fallback is None:
-            fallback = _stops_landing_off(prep, eng, v, w, level, taken)  # the mismatch, where the step was
+        if why is None and (why := _stops_move_together(prep, eng, v, w, level)):
+            fallback = fallback or _in_place(_knock_stops(prep, eng, v, w), v, level, taken)  # its stops landing off
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
                 return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level), pool, w,
                                                                   level)
             free, sc, why = place
-            free, sc = _stops_instead(prep, eng, v, free, w, level) or (free, sc)
-            if fallback is None and free.family not in taken and sc.logp + v.log_multiplicity < math.log(level):
-                fallback = Step(free, sc, sc.logp + v.log_multiplicity)  # the mismatch, once, where the name was
+            fallback = fallback or _in_place(_stops_instead(prep, eng, v, free, w, level) or (free, sc), v, level,
+                                             taken)
         v.inadequate = why
         inadequate.setdefault(v.candidate.family, v)
     return fallback
@@ -277,6 +276,18 @@ def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) 
     if not tied:
         return v
     return Step(tie(v.candidate, [o.candidate for o, _ in tied], [lead for _, lead in tied]), v.score, v.logp_adj)
+
+
+def _in_place(found: tuple[fx.Candidate, Score] | None, v: Step, level: float, taken: set[str]) -> Step | None:
+    """A free form ``found`` (candidate, its score on the current fit) as the mismatch, once, where ``v``'s name
+    was, at v's multiplicity: None where there is none, where its family has its entry already (``taken``), or
+    where it is not significant at ``level``."""
+    if found is None:
+        return None
+    free, sc = found
+    if free.family in taken or sc.logp + v.log_multiplicity >= math.log(level):
+        return None
+    return Step(free, sc, sc.logp + v.log_multiplicity)
 
 
 def _stops_alike(prep: Prepared, eng: Engine, v: Step, w: Columns) -> Step | None:
@@ -566,7 +577,7 @@ def _stops_move_together(prep: Prepared, eng: Engine, v: Step, w: Columns, level
     stop, moved = prep.stop, c.moved
     if np.any(np.bincount(stop, moved) % np.bincount(stop)):  # a stop moved in part
         return None
-    own = eng.score(w(c))
+    own = v.score  # c on this fit
     e = eng.copy()
     e.add(w(c))
     between = e.score_blocks(stop_motions(prep, w.W))
@@ -581,18 +592,6 @@ def _stops_move_together(prep: Prepared, eng: Engine, v: Step, w: Columns, level
             f"{between.k} degrees of freedom, p = {math.exp(logp):.2g} before its multiplicity): the readings of "
             "each stop move together from one stop to the next (a robot or the machine moving the side, the "
             "tracker disturbed), and such a motion makes the step as well")
-
-
-def _stops_landing_off(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float, taken: set[str]
-                       ) -> Step | None:
-    """A step that the stops' own motion makes as well (_stops_move_together), located as the stops on its shorter
-    side landing off (places.stops_off) where they are significant at the step's multiplicity; else None."""
-    free = stops_off(prep, v.candidate)
-    if free is None or free.family in taken:
-        return None
-    sc = eng.score(w(free))
-    ok = sc.separable and sc.logp + v.log_multiplicity < math.log(level)
-    return Step(free, sc, sc.logp + v.log_multiplicity) if ok else None
 
 
 def _significant_beside(eng: Engine, Gc: np.ndarray, G: np.ndarray, level: float) -> Score | None:
