@@ -20,6 +20,7 @@ import traceback
 from pathlib import Path
 
 import pytest
+from test_cli_errors import _default_sigint
 
 from mtcal.cli import main
 
@@ -235,10 +236,10 @@ def _run_signal(case, case_dir):
         return proc.returncode, "", err.decode(errors="replace")
     sig = getattr(signal, case["signal"]["sig"])
     # SIGINT at its default in the child even where the suite runs as a background job (started with SIGINT
-    # ignored, which a child inherits and Python then keeps: tests/test_cli_errors.py's _default_sigint)
+    # ignored, which a child inherits and Python then keeps)
     proc = subprocess.Popen([sys.executable, "-m", "mtcal.cli", *case["argv"]], cwd=case_dir,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+                            preexec_fn=_default_sigint)
     t0 = time.monotonic()
     if case["signal"]["when"] == "temp":
         # signal while the temporary output is being written (it exists and has content)

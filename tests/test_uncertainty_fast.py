@@ -11,6 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from test_cli_errors import _default_sigint
 
 import mtcal
 from mtcal.cli import main
@@ -208,7 +209,7 @@ def test_ctrl_c_with_dask_workers_is_one_line(rec_x, tmp_path):
                               "--workers", "2", "--exact", "--trials", "4000", "--store", str(tmp_path / "s.npz"),
                               "-q"], stderr=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
                              env={**os.environ, "MPLBACKEND": "Agg"}, start_new_session=True,
-                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # as in a
+                             preexec_fn=_default_sigint)  # as in a
         #                    terminal, even where the suite runs as a background job (SIGINT ignored, inherited)
         t0 = time.monotonic()
         while not children(p.pid) and time.monotonic() - t0 < 120:
