@@ -285,8 +285,9 @@ def predicted_pair_sd(W: np.ndarray, ref: np.ndarray) -> np.ndarray:
 
 def diagnosis_both(xyz: np.ndarray, good: np.ndarray, measured_sd: np.ndarray) -> dict:
     """mtcal's diagnosis of the recording without the tracker's position and with it at the files' origin: the
-    findings of each, those of one only, the station's status, and the mutual distances' sd (um) that each
-    run's weights predict against ``measured_sd`` (the pairs' robust sd: the law within 2x of what is rigid)."""
+    findings of each (and the mismatches each located without a name), those of one only, the station's status,
+    and the mutual distances' sd (um) that each run's weights predict against ``measured_sd`` (the pairs' robust
+    sd: the law within 2x of what is rigid)."""
     from mtcal.diagnose import diagnose
 
     rec, ref = to_recording(xyz), np.median(xyz[good], axis=0)
@@ -296,6 +297,7 @@ def diagnosis_both(xyz: np.ndarray, good: np.ndarray, measured_sd: np.ndarray) -
         sd = predicted_pair_sd(d.noise.W, ref) if len(d.noise.W) == 3 * good.sum() else None
         station = d.noise.details.get("station_interval")
         out[label] = {"findings": findings(d), "same_as": [same_as(f) for f in d.effects if f.significant],
+                      "located": [f"{u.by}: {u.where}"[:160] for u in d.unexplained],
                       "noise_model": d.noise.kind,
                       "station": None if station is None else {k: station[k] for k in ("distance_mm",
                                                                                          "interval_95_mm",

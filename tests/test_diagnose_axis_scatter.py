@@ -157,7 +157,10 @@ def test_a_backlash_is_named_beside_stops_landing_off_only_against_their_scatter
     tracker's noise): the difference of the two directions' stops, which scatter 4.4 um each.  An effect that moves
     whole stops of a linear axis is tested against the scatter of that axis' stops where they scatter (the
     split-plot F test: the stops' free form beside it is the denominator), and a backlash of 24 random stops is
-    not significant there: the stops are located, nothing named beside them."""
+    not significant there: the stops are located, nothing named beside them.  Since a step of the tracker's frame is
+    tested against the stops' scatter along its own direction (selection._split_plot), the stops located first take
+    the backlash's fit too: it is not even significant beside them (p_adj 1), where it was significant and then
+    rejected against the stops."""
     logging.getLogger("mtcal").setLevel(logging.ERROR)
     rec, truth = _gen2(tmp_path, 3542, 30, "--mix", "outside", "--clean-fraction", "0.3")
     (e,) = truth["effects"]
@@ -166,7 +169,8 @@ def test_a_backlash_is_named_beside_stops_landing_off_only_against_their_scatter
     assert not [x["name"] for x in d["effects"] if x.get("significant")], d["effects"]
     assert d["unexplained"] and {u["axis"] for u in d["unexplained"]} == {"X"}, d["unexplained"]
     (bl,) = [x for x in d["effects"] if x["name"] == "backlash" and x.get("axis") == "X"]
-    assert "stops" in (bl.get("inadequate") or ""), bl
+    assert not bl["significant"] and ("stops" in (bl.get("inadequate") or "")
+                                      or bl["evidence"]["p_adjusted"] > 0.005), bl
 
 
 @pytest.mark.slow  # a whole diagnosis of two stations: 10-20 s
@@ -176,12 +180,16 @@ def test_stops_landing_off_early_in_a_round_are_not_a_step_of_the_tracker(tmp_pa
     (the rigid step of S1's frame, turning about the tracker) is needed beside it, and on 3883bd9 that step was
     reported, its largest displacement on C (12.7 um, where nothing was planted).  Its 7 stops of X landing off fit
     more (chi^2 348 on 7 columns against 305 on 6), and the rigid step adds nothing beside them (F = 0.37): the
-    mismatch is located on X's stops, nowhere else."""
+    mismatch is located on X's stops, nowhere else.  The second station's knock in X's second round (t0 = 8236.9 s),
+    tested against the stops' scatter along its own direction (F = 9.7, not significant at its multiplicity; it was
+    against every rigid motion of the stops pooled, F = 13.7), gives way: its misfit is located on X as well, as
+    one that a drift of S2 or that knock fit alike."""
     logging.getLogger("mtcal").setLevel(logging.ERROR)
     rec, truth = _gen2(tmp_path, 3540, 35, "--mix", "outside", "--clean-fraction", "0.3")
     (e,) = truth["effects"]
     assert e["name"] == "axis_scatter" and e["where"]["axis"] == "X"
     d = diagnose(rec).to_dict()  # the stations' tracker columns
     assert not [x["name"] for x in d["effects"] if x.get("significant")], d["effects"]
-    assert d["unexplained"] and {(u["axis"], u["by"]) for u in d["unexplained"]} == {("X", "round x position")}, \
-        d["unexplained"]
+    assert d["unexplained"] and d["unexplained"][0]["by"] == "round x position", d["unexplained"]
+    kinds = {(u["axis"], u["by"]) for u in d["unexplained"]}
+    assert kinds <= {("X", "round x position"), ("X", "effects fitting alike")}, d["unexplained"]

@@ -77,7 +77,10 @@ class Geometry:
     direction: np.ndarray   # (n,) +1 / -1 / 0
     time_s: np.ndarray      # (n,) s, NaN when absent
     side: np.ndarray        # (n,) "tool" / "table"
-    xyz: np.ndarray         # (n, 3) mm
+    xyz: np.ndarray         # (n, 3) mm, each reading's nominal position (its reflector's reference position moved
+    #                         by the nominal kinematics): the lever arm of a turn or a scale, free of the reading's
+    #                         noise (columns built on the readings themselves fit the residual through their
+    #                         differences: icelinker's sigma ratio 9.0 -> 1.8 from a tie's eight columns)
     J: np.ndarray           # (n, 3, n_errors) point Jacobian of the errors at zero error
     machine: Machine
     tracker: np.ndarray | None
@@ -224,7 +227,7 @@ def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
     G = S.outlier_signature(on)
     return Candidate("offset", str(g.axis[rows[0]]), f"round {where['round']} point {where['point']}", G,
                      ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family=f"offset {g.axis[rows[0]]}",
-                     extra={"variant": "re-seated nest", **where})
+                     extra={"variant": "re-seated nest", "rows": [int(r) for r in rows], **where})
 
 
 def tracker_knock(g: Geometry, t0: float, where: dict, station: str | None = None) -> Candidate:
@@ -388,7 +391,7 @@ def repeated(g: Geometry, c: Candidate) -> Candidate:
 
 
 def same_stops(g: Geometry, c: Candidate, stop: np.ndarray) -> Candidate:
-    """The other readings of the stops of a scanned outlier (``stop``: every reading's stop,
+    """The other readings of the stops of a scanned outlier or a re-seated nest (``stop``: every reading's stop,
     mtcal.diagnose.prepared.Prepared.stop; the other nests read while the machine stood there), shifted by one
     3-vector (mm, machine frame): a displacement they share is the stop's (landing off, or the tracker moved), not
     a reading's."""
@@ -396,7 +399,7 @@ def same_stops(g: Geometry, c: Candidate, stop: np.ndarray) -> Candidate:
 
 
 def _others_shifted(c: Candidate, key: np.ndarray, name: str, label: str) -> Candidate:
-    """The readings sharing a ``key`` (n,) with the rows of the scanned outlier ``c``, those rows left out,
+    """The readings sharing a ``key`` (n,) with the rows (``extra``) of ``c``, those rows left out,
     shifted by one 3-vector (mm, machine frame): a check beside the outlier, not a candidate."""
     rows = np.asarray(c.extra["rows"])
     on = np.isin(key, key[rows])

@@ -20,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.interpolate import BSpline
 
 from mtcal.diagnose import effects as fx
 from mtcal.generated import signatures_numpy as S
@@ -59,6 +60,8 @@ def place_of(prep, c: fx.Candidate, named_reversals) -> Place | None:
         return _side_nests(g, c)
     if c.name == "thermal_drift":
         return _nest_drifts(g, c)
+    if c.name == "side_expansion":
+        return _side_layout(g, c)
     return None
 
 
@@ -104,6 +107,73 @@ def unsteady(knocks: list[fx.Candidate]) -> fx.Candidate:
                                     "something in the beam -- not a tracker knocked again and again"})
 
 
+PATH_SPANS = 12  # spans of a path (frame_path, nest_path): cubic B-splines, knots even in the readings' order
+
+
+def _smooth_order(prep, rows: np.ndarray) -> np.ndarray:
+    """A smooth basis of the reading order at every reading, (n, PATH_SPANS + 3): cubic B-splines of the readings'
+    rank in time (Prepared.order) on PATH_SPANS spans evenly spaced from the first to the last of ``rows`` (zero off
+    them), each less its value at the first (the motion there is the base's).  Smooth through every knot, a path
+    cannot take a step at one; smooth in the order of the readings, not in the clock, it cannot hide a step in a
+    pause between rounds either (a tracker re-levelled while the machine stood, gen2 3611/18, was fitted as well
+    by a path of the clock rising in the pause)."""
+    k = prep.order.astype(float)
+    k0, k1 = float(np.min(k[rows])), float(np.max(k[rows]))
+    inner = np.linspace(k0, k1, PATH_SPANS + 1)
+    knots = np.r_[[k0] * 3, inner, [k1] * 3]
+    B = np.zeros((len(k), PATH_SPANS + 3))
+    B[rows] = BSpline.design_matrix(k[rows], knots, 3).toarray() - BSpline.design_matrix([k0], knots, 3).toarray()
+    return B
+
+
+def frame_path(prep, c: fx.Candidate) -> fx.Candidate:
+    """The frame of ``c``'s station moving smoothly with time: a rigid motion (a translation, mm, machine frame, and
+    a turn, rad, about the tracker, else the readings' centre: with the translation beside it, a turn about any
+    point is the same motion) smooth in the order of the readings (_smooth_order: cubic B-splines), relative to the
+    first reading (the frame's alignment is the base's).  A step of the frame (a knock, a re-levelling) gives way
+    where this path is still needed beside it (selection._path_instead)."""
+    g = prep.geometry
+    station = c.extra.get("station")
+    rows, tracker, of = g.at(station)
+    centre = tracker if tracker is not None else g.xyz[rows].mean(axis=0)
+    basis = _smooth_order(prep, rows)
+    motion = np.zeros((len(rows), 3, 6))
+    motion[rows] = np.concatenate([S.outlier_signature(np.ones(int(rows.sum()))), _turn_about(g.xyz[rows], centre)],
+                                  axis=-1)
+    return fx.Candidate(fx.UNEXPLAINED, None, f"the tracker{of}'s frame moving smoothly with time",
+                        np.concatenate([motion * b[:, None, None] for b in basis.T], axis=-1),
+                        [f"{p} (spline {k + 1})" for k in range(basis.shape[1]) for p in
+                         ("x (mm)", "y (mm)", "z (mm)", "w_x (rad)", "w_y (rad)", "w_z (rad)")],
+                        family=f"{fx.UNEXPLAINED} place path{of}", extra={
+                            "kind": "place", "by": "time (station frame)", "place": f"the tracker{of}",
+                            **({"station": station} if station else {}),
+                            "note": f"every reading of the tracker{of} moves together, smoothly with time, not in "
+                                    "one step: the tracker's stand or the measured side drifting or wandering (with "
+                                    "the temperature, with a robot's or the machine's pose) -- a step at one time "
+                                    "fits it no better"})
+
+
+def nest_path(prep, c: fx.Candidate) -> fx.Candidate:
+    """The nest of a nest knock ``c`` moving smoothly with time: a translation (mm, its side's frame: the creep's
+    generated signature with a smooth function of the readings' order, _smooth_order), relative to the first
+    reading.  A nest's step gives way where this path is still needed beside it (selection._path_instead): a base
+    reflector of icelinker's replica wandering 10-15 um against the other two was named knocked one to three
+    times (tests/test_real_icelinker.py)."""
+    g, x = prep.geometry, c.extra
+    on = (g.point == x["point"]) & (g.side == x["side"]) & np.isfinite(g.time_s)
+    basis = _smooth_order(prep, np.ones(len(on), bool))
+    rot = g.rotation.reshape(-1, 9)
+    return fx.Candidate(fx.UNEXPLAINED, None, f"point {x['point']} ({x['side']} side) moving smoothly with time",
+                        np.concatenate([S.nest_creep_signature(rot, b * on) for b in basis.T], axis=-1),
+                        [f"{k} (mm, spline {j + 1})" for j in range(basis.shape[1]) for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place path {x['side']} {x['point']}", extra={
+                            "kind": "place", "by": f"time ({x['side']} side's frame)",
+                            "place": f"the nest of {x['point']}", "side": x["side"], "points": [x["point"]],
+                            "note": f"the reflector {x['point']} moves in its nest on the {x['side']} side smoothly "
+                                    "with time, not in one step: the nest or the side under it creeping, warming "
+                                    "or settling -- a step at one time fits it no better"})
+
+
 def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
     """A tracker knock within a linear axis' readings as the free form of that axis' stops landing off: one column
     per stop of the shorter side of the step within the axis (the station's readings of the axis before t0, or
@@ -141,24 +211,39 @@ def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
                                     "not say which"})
 
 
-def stop_motions(prep, W: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Every stop's own rigid motion (Prepared.stop: the nests read while the machine stood still) as the blocks of
-    Engine.score_blocks: the stop's rows of the whitened vector (``W``, (n, 3, 3)) and an orthonormal basis of its
-    translation (outlier_signature: I3 on its readings) and its turn about its own centre (tracker_settling_signature's
-    ramp column u x (point - centre) with dt 1), six columns, fewer for a stop of fewer than three nests -- the stops
-    moving together at random from one to the next (a robot moving the base, the machine landing off in every
-    direction, the tracker disturbed between them), of which a step of the tracker's frame between stops is one
-    contrast (mtcal.diagnose.selection._stops_move_together)."""
-    g, stop = prep.geometry, prep.stop
+def stop_motions(prep, W: np.ndarray, pattern: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Every stop (Prepared.stop: the nests read while the machine stood still) moving on its own by the
+    displacement ``pattern`` ((n, 3) mm, machine frame: a step's fitted motion at every reading, zero where it does
+    not act), each by its own amount, as the blocks of Engine.score_blocks: the stop's rows of the whitened vector
+    (``W``, (n, 3, 3)) and its one whitened column, normalised (none for a stop the pattern does not move) -- the
+    stops moving together at random from one to the next in the step's own way (a robot moving the base, the
+    machine landing off, the tracker disturbed between them), of which the step between stops is one contrast
+    (mtcal.diagnose.selection._split_plot).  The step's own direction, not every rigid motion of a stop: where the
+    stops move more one way than another (icelinker's base: 14 um along Y from pose to pose, 2 um along Z), the
+    scatter of every way pooled is not the step's error."""
+    stop = prep.stop
     order = np.argsort(stop, kind="stable")
     out = []
     for rows in np.split(order, np.flatnonzero(np.diff(stop[order])) + 1):
-        m = len(rows)
-        xyz = g.xyz[rows]
-        G = np.concatenate([S.outlier_signature(np.ones(m)), _turn_about(xyz, xyz.mean(axis=0))], axis=-1)  # (m, 3, 6)
-        Gw = np.einsum("mij,mjk->mik", W[rows], G).reshape(3 * m, 6)
-        u, sv, _ = np.linalg.svd(Gw, full_matrices=False)
-        out.append(((3 * rows[:, None] + np.arange(3)).ravel(), u[:, sv > 1e-9 * sv[0]]))
+        col = np.einsum("mij,mj->mi", W[rows], pattern[rows]).reshape(-1, 1)
+        size = float(np.linalg.norm(col))
+        if size > 0:
+            out.append(((3 * rows[:, None] + np.arange(3)).ravel(), col / size))
+    return out
+
+
+def step_pattern(prep, c: fx.Candidate, theta: np.ndarray) -> np.ndarray:
+    """(n, 3) mm, machine frame: the motion the step of a station's frame ``c`` with parameters ``theta`` (a
+    knock: a shift, mm; a re-levelling: a turn about the tracker, rad, and its shift) would give every reading of
+    its station, before its t0 as well as after."""
+    g = prep.geometry
+    rows, _, _ = g.at(c.extra.get("station"))
+    out = np.zeros((len(rows), 3))
+    shift = theta
+    if c.name == "tracker_relevel":
+        out[rows] = S.tracker_relevel_signature(g.xyz[rows], np.asarray(c.extra["tracker"]), 1.0) @ theta[:2]
+        shift = theta[2:] if c.extra["shift"] else np.zeros(3)
+    out[rows] += shift
     return out
 
 
@@ -300,6 +385,40 @@ def _side_nests(g, c: fx.Candidate) -> Place | None:
                                        "moving apart) or distorting"})
     return Place(free, [c], f"the other nests of the {side} side move too (the same {what} at each beside it: "
                  "F = {F}, p = {p}): a motion or growth of the side, not of one nest")
+
+
+def _side_layout(g, c: fx.Candidate) -> Place:
+    """Each nest of the expanding side moving on its own with the expansion's law (a translation each, the side's
+    frame: derive/grammar.py's expansion at unit offsets, ppm mm or ppm/h mm), which spans the expansion about any
+    centre: the side's nests moving apart unevenly (one nest creeping, the side warping), which a growth alike is
+    not.  icelinker's base: one mutual distance grows 7.9 um while the other two shrink 1.5 and 3.9 um, and the
+    side was named expanding 25 ppm per hour about a centre fitted 2.5 m away."""
+    x = c.extra
+    side = x["side"]
+    on = (g.side == side) & np.isfinite(g.time_s)
+    nests = sorted(set(g.point[on].tolist()))
+    dt = np.where(on, np.maximum(g.time_s - x["t0_s"], 0.0), 0.0)
+    R = g.rotation.reshape(-1, 9)
+    cols = []
+    for p in nests:
+        sel = on & (g.point == p)
+        for u in np.eye(3):
+            col = np.zeros((len(on), 3))
+            unit = np.broadcast_to(u, (int(sel.sum()), 3))
+            col[sel] = (S.side_expansion_ramp_signature(R[sel], unit, dt[sel]) if x["law"] == "ramp" else
+                        S.side_expansion_lag_signature(R[sel], unit, dt[sel], x["tau_s"]))
+            cols.append(col)
+    law = "ramp" if x["law"] == "ramp" else f"lag, tau={x['tau_s']:.0f} s"
+    free = fx.Candidate(fx.UNEXPLAINED, None, f"every nest of the {side} side (its own motion, {law})",
+                        np.stack(cols, axis=-1), [f"{p} {k}" for p in nests for k in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place side {side}",
+                        extra={"kind": "place", "by": f"nest x time ({side} side)", "place": f"the {side} side",
+                               "side": side, "t0_s": x["t0_s"], "points": nests,
+                               "note": f"the nests of the {side} side move apart with time unevenly, each its own "
+                                       "way (a growth alike about any centre does not explain it): the side warping "
+                                       "or distorting, one nest creeping in its seat"})
+    return Place(free, [c], f"the nests of the {side} side do not move apart alike (each nest's own motion with the "
+                 "same law beside the growth: F = {F}, p = {p}): a distortion of the side, not an expansion")
 
 
 def _nest_drifts(g, c: fx.Candidate) -> Place | None:

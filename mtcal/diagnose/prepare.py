@@ -165,7 +165,7 @@ def prepare(rec: Recording, machine: Machine | str = DEFAULT_MACHINE, model=None
     y = rec.xyz - nominal
     several = isinstance(tracker, dict)
     t = None if tracker is None or several else np.asarray(tracker, dtype=float).reshape(3)
-    g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, rec.xyz, J, m, t,
+    g = fx.Geometry(rec.axis, rec.point, rec.position, rec.direction, rec.time_s, side, nominal, J, m, t,
                     rotation=Aoff, temperature_c=rec.temperature_c)
     if several:
         g.station = rec.stations()
