@@ -51,7 +51,7 @@ def test_many_located_levels_of_one_factor_are_one_entry():
 
 
 def test_columns_on_disjoint_blocks_score_as_the_same_columns_formed_whole():
-    """Engine.score_blocks (every stop's own rigid motion: thousands of columns on a robot's recording) gives the
+    """Engine.score_blocks (every stop moving on its own: a thousand columns on a robot's recording) gives the
     F test of Engine.score on the same columns formed as one matrix, where together the blocks span a fitted column
     (each holds a constant on its rows; their sum is the base's offset: one direction dropped)."""
     rng = np.random.default_rng(3)

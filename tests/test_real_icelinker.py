@@ -193,7 +193,8 @@ def test_the_lever_arms_are_the_nests_not_the_readings():
     """A turn or a scale of the readings is built on each reading's nominal position (effects.Geometry.xyz), which
     every reading of a nest at one pose shares: built on the readings, a column carries their noise, and a few
     nearly equal columns fit the residual through their differences (icelinker with the tracker given: a tie of
-    eight columns took the sigma ratio from 9.0 to 1.8, the engine's rank 103 where the columns' own is 81)."""
+    eight columns took the sigma ratio from 9.0 to 1.8, through combinations of the columns 1e-5 from the span of
+    the others)."""
     from mtcal.diagnose.prepare import prepare
     from mtcal.kinematics.machine import load_machine
 

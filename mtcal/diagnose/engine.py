@@ -182,9 +182,10 @@ class Engine:
     def score_blocks(self, blocks: list[tuple[np.ndarray, np.ndarray]]) -> Score:
         """score of columns that live on disjoint blocks of rows, without forming them as one matrix: ``blocks``
         holds, per block, its rows (of the whitened vector) and an orthonormal basis (rows, k_b) of its columns
-        (every stop's own rigid motion: thousands of columns on a robot's recording).  With H the block-diagonal
-        basis and B = Q^T H, the columns after the fit have the Gram I - B^T B, and what they explain of the
-        residual is h^T (I - B^T B)^+ h, h = H^T r; directions of H within ALIAS_TOL of the fit are dropped."""
+        (every stop moving on its own as a step moves it: a thousand columns on a robot's recording).  With H the
+        block-diagonal basis and B = Q^T H, the columns after the fit have the Gram I - B^T B, and what they explain
+        of the residual is h^T (I - B^T B)^+ h, h = H^T r; directions of H within ALIAS_TOL of the fit are
+        dropped."""
         Q = self.full_rows().reshape(self.N, -1)
         B = np.hstack([Q[rows].T @ H for rows, H in blocks])
         h = np.concatenate([H.T @ self.r[rows] for rows, H in blocks])
