@@ -28,7 +28,8 @@ from mtcal.measurement.tracker_position import (
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import real_icelinker as ri  # noqa: E402
-from test_real_icelinker import OUTLIER, REF, SPEC, _readings  # noqa: E402
+from test_real_icelinker import REF, SPEC, _planted, _readings  # noqa: E402
+from test_real_icelinker import _replica as _replica_readings  # noqa: E402
 
 
 def _replica(n=400, seed=3):
@@ -236,10 +237,7 @@ def test_without_the_tracker_the_weights_hold_the_mutual_distances_and_only_the_
     the poses' shared motion, significant against the readings' noise, not against the poses' own motion) are
     not (selection._stops_move_together)."""
     from mtcal.diagnose import diagnose
-    x, _ = _readings(300, np.random.default_rng(seed))
-    ok = np.all(np.abs(x) > 1.0, axis=(1, 2))  # the replica's planted gross errors left out
-    x = x[ok]
-    planted_round = int(np.flatnonzero(ok).tolist().index(OUTLIER[0] - 1)) + 1
+    x, planted_round = _replica_readings(seed)
     law = ri.pair_law(x, np.ones(len(x), bool), 51, np.zeros(3))
     measured = np.array([v["sd_um"] for v in law["pairs"].values()])
     without = diagnose(ri.to_recording(x))
@@ -249,5 +247,4 @@ def test_without_the_tracker_the_weights_hold_the_mutual_distances_and_only_the_
     for d in (without, given):
         named = [ri.same_as(f) for f in d.effects if f.significant]
         assert "name=thermal_drift variant=ramp over the record" in named, named
-        assert set(named) <= {"name=thermal_drift variant=ramp over the record",
-                              f"name=offset variant=re-seated nest point=base_1 round={planted_round}"}, named
+        assert set(named) <= _planted(planted_round), named

@@ -399,18 +399,15 @@ def _side_layout(g, c: fx.Candidate) -> Place:
     nests = sorted(set(g.point[on].tolist()))
     dt = np.where(on, np.maximum(g.time_s - x["t0_s"], 0.0), 0.0)
     R = g.rotation.reshape(-1, 9)
-    cols = []
-    for p in nests:
-        sel = on & (g.point == p)
-        for u in np.eye(3):
-            col = np.zeros((len(on), 3))
-            unit = np.broadcast_to(u, (int(sel.sum()), 3))
-            col[sel] = (S.side_expansion_ramp_signature(R[sel], unit, dt[sel]) if x["law"] == "ramp" else
-                        S.side_expansion_lag_signature(R[sel], unit, dt[sel], x["tau_s"]))
-            cols.append(col)
+    shift = np.zeros((len(on), 3, 3))  # the side moving along its x, y, z with the expansion's law
+    for k, u in enumerate(np.eye(3)):
+        unit = np.broadcast_to(u, (int(on.sum()), 3))
+        shift[on, :, k] = (S.side_expansion_ramp_signature(R[on], unit, dt[on]) if x["law"] == "ramp" else
+                           S.side_expansion_lag_signature(R[on], unit, dt[on], x["tau_s"]))
     law = "ramp" if x["law"] == "ramp" else f"lag, tau={x['tau_s']:.0f} s"
     free = fx.Candidate(fx.UNEXPLAINED, None, f"every nest of the {side} side (its own motion, {law})",
-                        np.stack(cols, axis=-1), [f"{p} {k}" for p in nests for k in "xyz"],
+                        np.concatenate([shift * (g.point == p)[:, None, None] for p in nests], axis=-1),
+                        [f"{p} {k}" for p in nests for k in "xyz"],
                         family=f"{fx.UNEXPLAINED} place side {side}",
                         extra={"kind": "place", "by": f"nest x time ({side} side)", "place": f"the {side} side",
                                "side": side, "t0_s": x["t0_s"], "points": nests,

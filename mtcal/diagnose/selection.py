@@ -602,7 +602,7 @@ def _stops_move_together(prep: Prepared, eng: Engine, v: Step, w: Columns, level
     c = v.candidate
     if not (_frame_step(c) and _whole_stops(prep, c)):
         return None
-    found = _split_plot(prep, eng, c, w)
+    found = _split_plot(prep, eng, c, v.score, w)
     if found is None:
         return None
     F, logp, between = found
@@ -625,14 +625,15 @@ def _whole_stops(prep: Prepared, c: fx.Candidate) -> bool:
     return not np.any(np.bincount(prep.stop, c.moved) % np.bincount(prep.stop))
 
 
-def _split_plot(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns) -> tuple[float, float, Score] | None:
+def _split_plot(prep: Prepared, eng: Engine, c: fx.Candidate, own: Score, w: Columns
+                ) -> tuple[float, float, Score] | None:
     """The split-plot F test of a step of a station's frame ``c`` (_frame_step), a contrast between whole stops:
-    its mean square on ``eng`` over that of every stop moving on its own the way the step moves it (places.
+    its mean square on ``eng`` (``own``: its score there) over that of every stop moving on its own the way the
+    step moves it (places.
     stop_motions with step_pattern, Engine.score_blocks): (F, its log p, the stops' motion's score); None where
     either is not separable.  The step's direction is read from the data, so it keeps its own degrees of freedom;
     against the stops' scatter along that direction the test is conservative (Hotelling's T^2 takes the scatter in
     every direction)."""
-    own = eng.score(w(c))
     e = eng.copy()
     e.add(w(c))
     theta, *_ = np.linalg.lstsq(w(c) - eng.project(w(c)), eng.r, rcond=None)
