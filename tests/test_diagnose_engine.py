@@ -71,3 +71,27 @@ def test_columns_on_disjoint_blocks_score_as_the_same_columns_formed_whole():
     a, b = eng.score_blocks(blocks), eng.score(dense)
     assert a.k == b.k == dense.shape[1] - 1, (a.k, b.k)
     assert abs(a.delta - b.delta) < 1e-9 * b.delta and abs(a.logp - b.logp) < 1e-9 * abs(b.logp), (a, b)
+
+
+def test_columns_beside_disjoint_blocks_score_as_beside_the_same_columns_formed_whole():
+    """Engine.score_beside_blocks (a nest's step beside every stop moving rigidly: six columns a stop) gives the F
+    test of Engine.score after the same block columns are added as one matrix: the same reduction, degrees of
+    freedom and p, to round-off."""
+    rng = np.random.default_rng(4)
+    n = 90
+    eng = Engine([(np.arange(n), np.hstack([np.ones((n, 1)), rng.normal(size=(n, 2))]))], rng.normal(size=n))
+    blocks, dense = [], np.zeros((n, 0))
+    for start in range(0, 60, 6):  # ten blocks of six rows, three columns each; the last 30 rows free
+        rows = np.arange(start, start + 6)
+        H = np.linalg.qr(rng.normal(size=(6, 3)))[0]
+        blocks.append((rows, H))
+        D = np.zeros((n, 3))
+        D[rows] = H
+        dense = np.hstack([dense, D])
+    G = rng.normal(size=(n, 2))
+    a = eng.score_beside_blocks(G, blocks)
+    whole = eng.copy()
+    whole.add(dense)
+    b = whole.score(G)
+    assert (a.k, a.dof) == (b.k, b.dof) == (2, n - 3 - 30 - 2), (a, b)
+    assert abs(a.delta - b.delta) < 1e-9 * b.delta and abs(a.logp - b.logp) < 1e-9 * abs(b.logp), (a, b)

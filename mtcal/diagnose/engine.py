@@ -199,6 +199,21 @@ class Engine:
         delta = float(h @ h - a @ a + np.sum(a[ok] ** 2 / mu[ok]))
         return self._f_test(delta, k, math.sqrt(max(float(mu.min(initial=1.0)), 0.0)))
 
+    def score_beside_blocks(self, G: np.ndarray, blocks: list[tuple[np.ndarray, np.ndarray]]) -> Score:
+        """F test of adding the columns G (N, k) to the fit with the block columns ``blocks`` (as score_blocks:
+        disjoint rows, an orthonormal basis each) fitted beside them, without forming the blocks as one matrix
+        (Frisch-Waugh: the residual, the fit's basis and G with each block's span projected out, the blocks'
+        columns counted in the degrees of freedom)."""
+        def off(X: np.ndarray) -> np.ndarray:
+            X = X.copy()
+            for rows, H in blocks:
+                X[rows] -= H @ (H.T @ X[rows])
+            return X
+
+        e = Engine([(np.arange(self.N), off(self.full_rows().reshape(self.N, -1)))], off(self.r[:, None])[:, 0])
+        e.p += sum(H.shape[1] for _, H in blocks)
+        return e.score(off(G))
+
     def _f_test(self, delta: float, k: int, sep: float) -> Score:
         """The F test of ``k`` added columns that explain ``delta`` of the residual sum of squares."""
         dof = max(self.dof - k, 1)

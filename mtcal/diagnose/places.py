@@ -98,13 +98,19 @@ def unsteady(knocks: list[fx.Candidate]) -> fx.Candidate:
     return fx.Candidate(fx.UNEXPLAINED, x["from_axis"], f"every reading stepping at t = {at} s, within axis "
                         f"{x['from_axis']} round {x['round']}", np.concatenate([k.G for k in knocks], axis=-1),
                         [f"step {i + 1} {k} (mm)" for i in range(len(knocks)) for k in "xyz"],
-                        family=f"{fx.UNEXPLAINED} place unsteady", extra={
-                            "kind": "place", "by": "time (station frame)", "place": f"the tracker{of}",
-                            "t0_s": min(t0), **({"station": x["station"]} if x.get("station") else {}),
-                            "note": f"the readings of the tracker{of} step {len(knocks)} times within axis "
-                                    f"{x['from_axis']} round {x['round']} (at {at} s): the tracker disturbed and "
-                                    "settling, the machine's stops landing off (an axis repeating worse), "
-                                    "something in the beam -- not a tracker knocked again and again"})
+                        family=f"{fx.UNEXPLAINED} place unsteady", extra=_at_the_tracker(x.get("station"), (
+                            f"the readings of the tracker{of} step {len(knocks)} times within axis "
+                            f"{x['from_axis']} round {x['round']} (at {at} s): the tracker disturbed and settling, "
+                            "the machine's stops landing off (an axis repeating worse), something in the beam -- "
+                            "not a tracker knocked again and again"), t0_s=min(t0)))
+
+
+def _at_the_tracker(station: str | None, note: str, **more) -> dict:
+    """The ``extra`` of a free form located at the tracker of ``station`` (its readings moving together in time):
+    where, along what (``by``), the words (``note``) and ``more`` (e.g. t0_s)."""
+    of = f" of station {station}" if station else ""
+    return {"kind": "place", "by": "time (station frame)", "place": f"the tracker{of}", **more,
+            **({"station": station} if station else {}), "note": note}
 
 
 PATH_SPANS = 12  # spans of a path (frame_path, nest_path): cubic B-splines, knots even in the readings' order
@@ -126,6 +132,20 @@ def _smooth_order(prep, rows: np.ndarray) -> np.ndarray:
     return B
 
 
+FRAME_MOTION = ("x (mm)", "y (mm)", "z (mm)", "w_x (rad)", "w_y (rad)", "w_z (rad)")  # a frame's rigid motion
+
+
+def _frame_motion(g, station: str | None, on: np.ndarray) -> np.ndarray:
+    """(n, 3, 6): the readings ``on`` (bool (n,), of ``station``) moved rigidly with the station's frame -- a
+    translation (mm, machine frame) and a turn (rad) about the tracker, else about the station's readings' centre
+    (with the translation beside it, a turn about any point is the same motion); zero elsewhere."""
+    rows, tracker, _ = g.at(station)
+    centre = tracker if tracker is not None else g.xyz[rows].mean(axis=0)
+    out = np.zeros((len(rows), 3, 6))
+    out[on] = np.concatenate([S.outlier_signature(np.ones(int(on.sum()))), _turn_about(g.xyz[on], centre)], axis=-1)
+    return out
+
+
 def frame_path(prep, c: fx.Candidate) -> fx.Candidate:
     """The frame of ``c``'s station moving smoothly with time: a rigid motion (a translation, mm, machine frame, and
     a turn, rad, about the tracker, else the readings' centre: with the translation beside it, a turn about any
@@ -134,23 +154,16 @@ def frame_path(prep, c: fx.Candidate) -> fx.Candidate:
     where this path is still needed beside it (selection._path_instead)."""
     g = prep.geometry
     station = c.extra.get("station")
-    rows, tracker, of = g.at(station)
-    centre = tracker if tracker is not None else g.xyz[rows].mean(axis=0)
+    rows, _, of = g.at(station)
     basis = _smooth_order(prep, rows)
-    motion = np.zeros((len(rows), 3, 6))
-    motion[rows] = np.concatenate([S.outlier_signature(np.ones(int(rows.sum()))), _turn_about(g.xyz[rows], centre)],
-                                  axis=-1)
+    motion = _frame_motion(g, station, rows)
     return fx.Candidate(fx.UNEXPLAINED, None, f"the tracker{of}'s frame moving smoothly with time",
                         np.concatenate([motion * b[:, None, None] for b in basis.T], axis=-1),
-                        [f"{p} (spline {k + 1})" for k in range(basis.shape[1]) for p in
-                         ("x (mm)", "y (mm)", "z (mm)", "w_x (rad)", "w_y (rad)", "w_z (rad)")],
-                        family=f"{fx.UNEXPLAINED} place path{of}", extra={
-                            "kind": "place", "by": "time (station frame)", "place": f"the tracker{of}",
-                            **({"station": station} if station else {}),
-                            "note": f"every reading of the tracker{of} moves together, smoothly with time, not in "
-                                    "one step: the tracker's stand or the measured side drifting or wandering (with "
-                                    "the temperature, with a robot's or the machine's pose) -- a step at one time "
-                                    "fits it no better"})
+                        [f"{p} (spline {k + 1})" for k in range(basis.shape[1]) for p in FRAME_MOTION],
+                        family=f"{fx.UNEXPLAINED} place path{of}", extra=_at_the_tracker(station, (
+                            f"every reading of the tracker{of} moves together, smoothly with time, not in one step: "
+                            "the tracker's stand or the measured side drifting or wandering (with the temperature, "
+                            "with a robot's or the machine's pose) -- a step at one time fits it no better")))
 
 
 def nest_path(prep, c: fx.Candidate) -> fx.Candidate:
@@ -232,19 +245,82 @@ def stop_motions(prep, W: np.ndarray, pattern: np.ndarray) -> list[tuple[np.ndar
     return out
 
 
-def step_pattern(prep, c: fx.Candidate, theta: np.ndarray) -> np.ndarray:
-    """(n, 3) mm, machine frame: the motion the step of a station's frame ``c`` with parameters ``theta`` (a
-    knock: a shift, mm; a re-levelling: a turn about the tracker, rad, and its shift) would give every reading of
-    its station, before its t0 as well as after."""
+def step_rows(prep, c: fx.Candidate) -> np.ndarray:
+    """(n,) bool: the readings of the place of a step ``c`` -- its station's (a knock, a re-levelling) or its nest's
+    (a nest knock) -- before its t0 as well as after."""
     g = prep.geometry
-    rows, _, _ = g.at(c.extra.get("station"))
+    if c.name == "nest_knock":
+        return (g.point == c.extra["point"]) & (g.side == c.extra["side"]) & np.isfinite(g.time_s)
+    return g.at(c.extra.get("station"))[0]
+
+
+def stops_rigid(prep, W: np.ndarray, of: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Every stop (Prepared.stop) that reads one of the readings ``of`` (bool (n,)) moving rigidly on its own -- a
+    translation (mm) and a turn about its nests' centre (rad), machine frame -- as the blocks of
+    Engine.score_blocks: the stop's rows of the whitened vector (``W``, (n, 3, 3)) and an orthonormal basis of its
+    whitened columns (rank 3 for one nest, 5 for two, 6 for more).  What a nest's step must be seen beside where
+    the stops move at random (a robot's base tilting from pose to pose): the step's share that is a rigid motion of
+    its stop is not told from it, only its share that changes the stop's layout (selection._against_stops)."""
+    g, stop = prep.geometry, prep.stop
+    out = []
+    for s in np.unique(stop[of]):
+        rows = np.flatnonzero(stop == s)
+        xyz = g.xyz[rows]
+        motion = np.concatenate([np.broadcast_to(np.eye(3), (len(rows), 3, 3)), _turn_about(xyz, xyz.mean(axis=0))],
+                                axis=-1)
+        u, sv, _ = np.linalg.svd(np.einsum("mij,mjk->mik", W[rows], motion).reshape(-1, 6), full_matrices=False)
+        out.append(((3 * rows[:, None] + np.arange(3)).ravel(), u[:, sv > 1e-9 * sv[0]]))
+    return out
+
+
+def step_pattern(prep, c: fx.Candidate, theta: np.ndarray) -> np.ndarray:
+    """(n, 3) mm, machine frame: the motion the step ``c`` with parameters ``theta`` (a knock: a shift, mm; a
+    re-levelling: a turn about the tracker, rad, and its shift; a nest knock: a shift, mm, in its side's frame) would
+    give every reading of its place (step_rows), before its t0 as well as after."""
+    g = prep.geometry
+    rows = step_rows(prep, c)
     out = np.zeros((len(rows), 3))
+    if c.name == "nest_knock":
+        out[rows] = np.einsum("nij,j->ni", S.nest_creep_signature(g.rotation.reshape(-1, 9)[rows],
+                                                                   np.ones(int(rows.sum()))), theta)
+        return out
     shift = theta
     if c.name == "tracker_relevel":
         out[rows] = S.tracker_relevel_signature(g.xyz[rows], np.asarray(c.extra["tracker"]), 1.0) @ theta[:2]
         shift = theta[2:] if c.extra["shift"] else np.zeros(3)
     out[rows] += shift
     return out
+
+
+def bump(prep, c: fx.Candidate, inside: np.ndarray) -> fx.Candidate:
+    """The place of a step ``c`` (its station's frame, or its nest) displaced during a while and back: the readings
+    ``inside`` (bool (n,), the place's readings between the two change points) moved together -- the frame by a
+    rigid motion (a translation, mm, machine frame, and a turn, rad, about the tracker, else the readings' centre),
+    the nest by a translation in its side's frame, mm -- and every other reading not at all.  A step that a second
+    step along its own motion takes back gives way to it (selection._comes_back): icelinker's base reflector base_2
+    was named knocked at pose 573 and again at 595, the base tilted for 22 poses."""
+    g, x, rec = prep.geometry, c.extra, prep.rec
+    first, last = (int(i) for i in np.flatnonzero(inside)[np.argsort(prep.order[inside])[[0, -1]]])
+    span = (f"from axis {rec.axis[first]} round {int(rec.round[first])} to round {int(rec.round[last])} "
+            f"(t = {rec.time_s[first]:.6g} s to {rec.time_s[last]:.6g} s, {int(inside.sum())} readings)")
+    if c.name == "nest_knock":
+        G = S.nest_creep_signature(g.rotation.reshape(-1, 9), inside.astype(float))
+        return fx.Candidate(fx.UNEXPLAINED, None, f"point {x['point']} ({x['side']} side) displaced {span} and back",
+                            G, ["x (mm)", "y (mm)", "z (mm)"], family=f"{fx.UNEXPLAINED} place bump {x['side']} "
+                            f"{x['point']}", extra={
+                                "kind": "place", "by": f"time ({x['side']} side's frame)",
+                                "place": f"the nest of {x['point']}", "side": x["side"], "points": [x["point"]],
+                                "note": f"the reflector {x['point']} on the {x['side']} side is displaced for a while "
+                                        "and comes back: the nest bumped and re-seated, or its side tilted for a "
+                                        "while -- not a knock, which stays"})
+    station = x.get("station")
+    of = g.at(station)[2]
+    return fx.Candidate(fx.UNEXPLAINED, None, f"the tracker{of}'s frame displaced {span} and back",
+                        _frame_motion(g, station, inside), list(FRAME_MOTION),
+                        family=f"{fx.UNEXPLAINED} place bump{of}", extra=_at_the_tracker(station, (
+                            f"every reading of the tracker{of} moves together for a while and comes back: the "
+                            "tracker's stand or the measured side bumped or tilted for a while (a robot's pose, a "
+                            "load on the table) -- not a knock or a re-levelling, which stays")))
 
 
 def _stop_columns(prep, axis: str, ids: list[int]) -> np.ndarray:
@@ -338,12 +414,10 @@ def _tracker_place(g, c: fx.Candidate) -> Place | None:
     free = fx.Candidate(fx.UNEXPLAINED, None, f"rigid step of the tracker{of}'s frame at t0 = "
                         f"{c.extra['t0_s']:.6g} s", np.concatenate([c.G, turn], axis=-1),
                         list(c.params) + ["w_x (rad)", "w_y (rad)", "w_z (rad)"],
-                        family=f"{fx.UNEXPLAINED} place tracker", extra={
-                            "kind": "place", "by": "time (station frame)", "place": f"the tracker{of}",
-                            "t0_s": c.extra["t0_s"], **({"station": station} if station else {}),
-                            "note": f"every reading of the tracker{of} from t0 = {c.extra['t0_s']:.6g} s on moves "
-                                    "by a step that also turns about the tracker: the tracker re-levelled or turned "
-                                    "on its stand (a knock alone translates)"})
+                        family=f"{fx.UNEXPLAINED} place tracker", extra=_at_the_tracker(station, (
+                            f"every reading of the tracker{of} from t0 = {c.extra['t0_s']:.6g} s on moves by a step "
+                            "that also turns about the tracker: the tracker re-levelled or turned on its stand (a "
+                            "knock alone translates)"), t0_s=c.extra["t0_s"]))
     return Place(free, [c], "the step at t0 also turns the readings about the tracker (a turn beside the knock's "
                  "translation: F = {F}, p = {p}): the tracker re-levelled or turned, not knocked")
 

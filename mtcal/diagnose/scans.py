@@ -329,6 +329,33 @@ def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None,
             "before_s": float(t[jj - 1]), "after_s": float(t[jj])}, int(ok.sum())
 
 
+def return_scan(prep: Prepared, eng: Engine, rows: np.ndarray, pattern: np.ndarray) -> tuple[dict | None, int]:
+    """Second change point of a step along its own motion: of the readings ``rows`` (bool (n,), the step's place)
+    in time order, every reading from t1 on moved by ``pattern`` ((n, 3) mm, machine frame: the step's fitted
+    motion at every reading), one amount; t1 scanned over the gaps between distinct reading times, each one-column
+    step scored on ``eng`` (the step fitted) by running sums in time order (as knock_scan).  Returns (best {"delta",
+    "rows": the readings from t1 on}, number of separable change points scanned)."""
+    n = len(prep.rec)
+    o = np.argsort(prep.order)
+    o = o[rows[o]]
+    t = prep.rec.time_s[o]
+    j = np.flatnonzero(np.diff(t) > 0) + 1
+    if len(j) == 0:
+        return None, 0
+    g = np.einsum("nij,nj->ni", prep.W[o], pattern[o])                             # whitened column, (m, 3)
+    A = np.cumsum(np.einsum("ni,ni->n", g, g)[::-1])[::-1]                            # G^T G
+    B = np.cumsum(np.einsum("nkp,nk->np", eng.full_rows()[o], g)[::-1], axis=0)[::-1]  # Q^T G
+    b = np.cumsum(np.einsum("ni,ni->n", g, eng.r.reshape(n, 3)[o])[::-1])[::-1]       # G^T r
+    M = A[j] - np.einsum("np,np->n", B[j], B[j])
+    ok = M > ALIAS_TOL**2 * A[j]
+    if not ok.any():
+        return None, 0
+    delta = np.full(len(j), -np.inf)
+    delta[ok] = b[j][ok] ** 2 / M[ok]
+    k = int(np.argmax(delta))
+    return {"delta": float(delta[k]), "rows": o[j[k]:]}, int(ok.sum())
+
+
 def where_of(prep: Prepared, rows: np.ndarray) -> dict:
     rec = prep.rec
     i = rows[np.argmin(prep.order[rows])]

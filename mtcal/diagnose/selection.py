@@ -29,17 +29,21 @@ from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
 from mtcal.diagnose.places import (
     REVERSALS,
+    bump,
     frame_path,
     nest_path,
     place_of,
     step_pattern,
+    step_rows,
     stop_motions,
     stops_of,
     stops_off,
+    stops_rigid,
     tie,
     unsteady,
 )
 from mtcal.diagnose.prepare import Prepared
+from mtcal.diagnose.scans import return_scan
 
 CONFOUND_COS = 0.9
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
@@ -255,12 +259,15 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
                 return v  # the named reversal effects of the axis cannot explain it
             continue
         why = inadequate_because(prep, eng, v.candidate, w, level) or _drift_fits_as_much(v, sig)
-        if why is None and (why := _stops_move_together(prep, eng, v, w, level)):
+        if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and _frame_step(v.candidate):
             fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), _path(prep, eng, v, w)], v,
                                                        level, taken)
         if why is None and (found := _path_instead(prep, eng, v, w, level)):
             why, path = found
             fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), path], v, level, taken)
+        if why is None and (found := _comes_back(prep, eng, v, w, level)):
+            why, back = found
+            fallback = fallback or _in_place(back, v, level, taken)
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
@@ -591,28 +598,62 @@ def _against_the_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
 
 
 def _stops_move_together(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float) -> str | None:
-    """Why a step of the tracker's frame (a knock, a re-levelling) between stops is not told from the stops moving
-    together at random, or None.  The step moves whole stops rigidly, so it is a contrast between them and its
-    error term is their scatter: the split-plot F test of its mean square over that of every stop moving on its
-    own the way the step moves it (_split_plot), F(k, k_stops), at ``level`` over the step's own multiplicity.
-    Where the stops move no more than the tracker's noise this is the usual test.  icelinker's replica
-    (tests/test_real_icelinker.py: the three reflectors moving together 8 um / 4 urad from pose to pose, no knock)
-    had tracker knocks named at F = 11.6 (seed 7, p_adj 2e-3), 3.6e-5 against the poses' motion, 0.4 with the
-    scan's multiplicity.  A step that splits a stop is not such a contrast (None)."""
+    """Why a step of the tracker's frame (a knock, a re-levelling) or of a nest (a nest knock) is not told from its
+    stops moving at random, or None: set against their own motion (_against_stops), it is not significant at
+    ``level`` over the step's own multiplicity."""
     c = v.candidate
-    if not (_frame_step(c) and _whole_stops(prep, c)):
+    if not (_frame_step(c) or c.name == "nest_knock"):
         return None
-    found = _split_plot(prep, eng, c, v.score, w)
-    if found is None:
+    found = _against_stops(prep, eng, c, w(c), c.moved, v.score, _fitted_motion(prep, eng, c, w), w, level)
+    if found is None or found[0] + v.log_multiplicity < math.log(level):
         return None
-    F, logp, between = found
-    if logp + v.log_multiplicity < math.log(level):
+    return found[1]
+
+
+def _against_stops(prep: Prepared, eng: Engine, c: fx.Candidate, G: np.ndarray, moved: np.ndarray, own: Score,
+                   pattern: np.ndarray, w: Columns, level: float) -> tuple[float, str] | None:
+    """A step of the place of ``c`` (its station's frame or its nest) -- whitened columns ``G`` on ``eng``
+    (``own``: their score there) that move the readings ``moved`` (bool (n,)) -- set against its stops' own motion:
+    (its log p there, the words for a step not significant so), or None where its usual test holds.
+
+    A frame's step between whole stops is a contrast between them, so its error term is their scatter: the
+    split-plot F test of its mean square over that of every stop moving on its own the way the step moves it
+    (``pattern``, (n, 3) mm: the step's fitted motion at every reading; _split_plot), F(k, k_stops).  icelinker's
+    replica (tests/test_real_icelinker.py: the three reflectors moving together 8 um / 4 urad from pose to pose,
+    no knock) had tracker knocks named at F = 11.6 (seed 7, p_adj 2e-3), 3.6e-5 against the poses' motion, 0.4
+    with the scan's multiplicity.  A step that splits a stop is not such a contrast (None).
+
+    A nest's step, where the stops that read the nest move rigidly beyond the noise (each stop's translation and
+    turn, places.stops_rigid, significant beside it at ``level``), is the nest's own only by its share that
+    changes the stops' layout: its F test beside every stop's rigid motion (Engine.score_beside_blocks; its error
+    the stops' residual layout, which their motion does not touch).  A nest moved at right angles to the line
+    through two others is, to first order, the three turning about that line: icelinker's base_2 "knocked" at
+    pose 595 (the base moving from pose to pose 9 times the noise), its mutual distances moving -0.7 +- 0.4,
+    -0.3 +- 0.8 and +1.2 +- 0.8 um over poses 573-594 against the 40 either side."""
+    if _frame_step(c):
+        found = _split_plot(prep, eng, G, own, pattern, w) if _whole_stops(prep, moved) else None
+        if found is None:
+            return None
+        F, logp, between = found
+        return logp, (f"against the stops moving together at random (each stop moving on its own as the step moves "
+                      f"it, beside it: F = {between.F:.1f}, p = {math.exp(between.logp):.2g}) it is not significant "
+                      f"(F = {F:.2g} on {own.k} and {between.k} degrees of freedom, p = {math.exp(logp):.2g} before "
+                      "its multiplicity): the readings of each stop move together from one stop to the next (a robot "
+                      "or the machine moving the side, the tracker disturbed), and such a motion makes the step as "
+                      "well")
+    blocks = stops_rigid(prep, w.W, step_rows(prep, c))
+    e = eng.copy()
+    e.add(G)
+    moving = e.score_blocks(blocks)
+    if not moving.separable or moving.logp >= math.log(level):
         return None
-    return (f"against the stops moving together at random (each stop moving on its own as the step moves it, "
-            f"beside it: F = {between.F:.1f}, p = {math.exp(between.logp):.2g}) it is not significant (F = {F:.2g} "
-            f"on {v.score.k} and {between.k} degrees of freedom, p = {math.exp(logp):.2g} before its multiplicity): "
-            "the readings of each stop move together from one stop to the next (a robot or the machine moving the "
-            "side, the tracker disturbed), and such a motion makes the step as well")
+    sc = eng.score_beside_blocks(G, blocks)
+    return (sc.logp if sc.separable else 0.0), (
+        f"beside its stops moving rigidly at random (each stop's translation and turn: F = {moving.F:.1f}, "
+        f"p = {math.exp(moving.logp):.2g}) it is not significant"
+        + (f" (F = {sc.F:.2g}, p = {math.exp(sc.logp):.2g} before its multiplicity)" if sc.separable else "")
+        + ": it does not change the layout of the nests read with it, and the stops tilting or shifting from one to "
+        "the next make it as well")
 
 
 def _frame_step(c: fx.Candidate) -> bool:
@@ -620,24 +661,22 @@ def _frame_step(c: fx.Candidate) -> bool:
     return c.name == "tracker_relevel" or (c.name == "offset" and c.extra.get("variant") == "tracker knock")
 
 
-def _whole_stops(prep: Prepared, c: fx.Candidate) -> bool:
-    """Whether ``c`` moves whole stops (Prepared.stop), none in part."""
-    return not np.any(np.bincount(prep.stop, c.moved) % np.bincount(prep.stop))
+def _whole_stops(prep: Prepared, moved: np.ndarray) -> bool:
+    """Whether the readings ``moved`` (bool (n,)) are whole stops (Prepared.stop), none in part."""
+    return not np.any(np.bincount(prep.stop, moved) % np.bincount(prep.stop))
 
 
-def _split_plot(prep: Prepared, eng: Engine, c: fx.Candidate, own: Score, w: Columns
+def _split_plot(prep: Prepared, eng: Engine, G: np.ndarray, own: Score, pattern: np.ndarray, w: Columns
                 ) -> tuple[float, float, Score] | None:
-    """The split-plot F test of a step of a station's frame ``c`` (_frame_step), a contrast between whole stops:
-    its mean square on ``eng`` (``own``: its score there) over that of every stop moving on its own the way the
-    step moves it (places.
-    stop_motions with step_pattern, Engine.score_blocks): (F, its log p, the stops' motion's score); None where
-    either is not separable.  The step's direction is read from the data, so it keeps its own degrees of freedom;
-    against the stops' scatter along that direction the test is conservative (Hotelling's T^2 takes the scatter in
-    every direction)."""
+    """The split-plot F test of a step of a station's frame (whitened columns ``G``), a contrast between whole
+    stops: its mean square on ``eng`` (``own``: its score there) over that of every stop moving on its own the way
+    the step moves it (``pattern``: places.stop_motions, Engine.score_blocks): (F, its log p, the stops' motion's
+    score); None where either is not separable.  The step's direction is read from the data, so it keeps its own
+    degrees of freedom; against the stops' scatter along that direction the test is conservative (Hotelling's T^2
+    takes the scatter in every direction)."""
     e = eng.copy()
-    e.add(w(c))
-    theta, *_ = np.linalg.lstsq(w(c) - eng.project(w(c)), eng.r, rcond=None)
-    between = e.score_blocks(stop_motions(prep, w.W, step_pattern(prep, c, theta)))
+    e.add(G)
+    between = e.score_blocks(stop_motions(prep, w.W, pattern))
     if not (own.separable and between.separable) or between.delta <= 0:
         return None
     F = (own.delta / own.k) / (between.delta / between.k)
@@ -667,6 +706,59 @@ def _path_instead(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
     return (f"{what} moves smoothly beyond the step (a smooth path in the order of the readings beside it: "
             f"F = {sc.F:.2g}, p = {math.exp(sc.logp):.2g}): a drift or wander, not one step",
             _path(prep, eng, v, w, path))
+
+
+BACK = 0.5  # a step comes back when what is left of it after the second step is less than this share of it
+
+
+def _comes_back(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
+                ) -> tuple[str, tuple[fx.Candidate, Score]] | None:
+    """Why a step of a station's frame (a knock, a re-levelling) or of a nest (a nest knock) is not what happened,
+    with the free form of its place displaced for a while and back (places.bump) and that form's score on the
+    current fit, or None: a second step of the place along the first one's own motion (scans.return_scan, its
+    change point scanned before t0 and after) is significant beside it (F test at ``level`` over the change points
+    scanned) and takes it back (less than BACK of the displacement is left outside the two).  A knock stays; a
+    place displaced for a while and back is outside the grammar (a side tilted, a nest bumped and re-seated).
+    icelinker with the tracker at the origin (docs/guide/real-data-tracker.md) had base_2 named knocked at pose 573
+    and again, back, at 595 (p_adj 0.013 and 0.009), without the tracker nothing; the replica with its base tilted
+    for 22 poses had a re-levelling or a nest knock named (tests/test_real_icelinker.py)."""
+    c = v.candidate
+    if not (_frame_step(c) or c.name == "nest_knock"):
+        return None
+    pattern = _fitted_motion(prep, eng, c, w)
+    e = eng.copy()
+    e.add(w(c))
+    found, count = return_scan(prep, e, step_rows(prep, c), pattern)
+    if found is None:
+        return None
+    later = np.zeros(len(pattern), bool)
+    later[found["rows"]] = True
+    steps = [fx.Candidate("step", None, "", (pattern * on[:, None])[:, :, None], ["s"]) for on in (c.moved, later)]
+    sc = e.score(w(steps[1]))
+    if not sc.separable:
+        return None
+    against = _against_stops(prep, e, c, w(steps[1]), later, sc, pattern, w, level)
+    logp = against[0] if against else sc.logp
+    if logp + math.log(count) >= math.log(level):
+        return None
+    A = np.hstack([w(x) for x in steps])
+    first, second = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)[0]
+    after = first if c.moved[later].all() else second  # the displacement between the two change points
+    if abs(first + second) >= BACK * abs(after):
+        return None
+    back = bump(prep, c, c.moved ^ later)
+    return (f"a second step along its own motion takes it back ({abs(first + second) / abs(after):.0%} of it left "
+            f"after; p = {math.exp(logp):.2g} over {count} change points"
+            + (", against its stops' own motion" if against else "") + "): displaced for a while and back, not a "
+            "step that stays", (back, eng.score(w(back))))
+
+
+def _fitted_motion(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns) -> np.ndarray:
+    """(n, 3) mm: the motion the step ``c``, fitted on ``eng``, gives every reading of its place
+    (places.step_pattern)."""
+    Gc = w(c)
+    theta, *_ = np.linalg.lstsq(Gc - eng.project(Gc), eng.r, rcond=None)
+    return step_pattern(prep, c, theta)
 
 
 def _path(prep: Prepared, eng: Engine, v: Step, w: Columns, path: fx.Candidate | None = None
