@@ -293,12 +293,12 @@ def step_pattern(prep, c: fx.Candidate, theta: np.ndarray) -> np.ndarray:
 
 
 def bump(prep, c: fx.Candidate, inside: np.ndarray) -> fx.Candidate:
-    """The place of a step ``c`` (its station's frame, or its nest) displaced during a while and back: the readings
+    """The place of a step ``c`` (its station's frame, or its nest) displaced for a while and back: the readings
     ``inside`` (bool (n,), the place's readings between the two change points) moved together -- the frame by a
     rigid motion (a translation, mm, machine frame, and a turn, rad, about the tracker, else the readings' centre),
     the nest by a translation in its side's frame, mm -- and every other reading not at all.  A step that a second
-    step along its own motion takes back gives way to it (selection._comes_back): icelinker's base reflector base_2
-    was named knocked at pose 573 and again at 595, the base tilted for 22 poses."""
+    step along its own motion takes back gives way to it (selection._comes_back): icelinker's replica with base_2
+    64 um off for poses 101-125 had base_2 named knocked at 101 and again at 126 (tests/test_real_icelinker.py)."""
     g, x, rec = prep.geometry, c.extra, prep.rec
     first, last = (int(i) for i in np.flatnonzero(inside)[np.argsort(prep.order[inside])[[0, -1]]])
     span = (f"from axis {rec.axis[first]} round {int(rec.round[first])} to round {int(rec.round[last])} "

@@ -719,9 +719,9 @@ def _comes_back(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
     change point scanned before t0 and after) is significant beside it (F test at ``level`` over the change points
     scanned) and takes it back (less than BACK of the displacement is left outside the two).  A knock stays; a
     place displaced for a while and back is outside the grammar (a side tilted, a nest bumped and re-seated).
-    icelinker with the tracker at the origin (docs/guide/real-data-tracker.md) had base_2 named knocked at pose 573
-    and again, back, at 595 (p_adj 0.013 and 0.009), without the tracker nothing; the replica with its base tilted
-    for 22 poses had a re-levelling or a nest knock named (tests/test_real_icelinker.py)."""
+    icelinker's replica (tests/test_real_icelinker.py) with base_2 64 um off for poses 101-125 had base_2 named
+    knocked at 101 and again, back, at 126 in three runs of four; with its base tilted for 22 poses, a re-levelling
+    or a nest knock in three of six."""
     c = v.candidate
     if not (_frame_step(c) or c.name == "nest_knock"):
         return None
