@@ -113,6 +113,12 @@ def _at_the_tracker(station: str | None, note: str, **more) -> dict:
             **({"station": station} if station else {}), "note": note}
 
 
+def _at_the_nest(x: dict, note: str) -> dict:
+    """The ``extra`` of a free form located at the nest of a nest knock (its ``extra`` ``x``: point, side)."""
+    return {"kind": "place", "by": f"time ({x['side']} side's frame)", "place": f"the nest of {x['point']}",
+            "side": x["side"], "points": [x["point"]], "note": note}
+
+
 PATH_SPANS = 12  # spans of a path (frame_path, nest_path): cubic B-splines, knots even in the readings' order
 
 
@@ -136,13 +142,12 @@ FRAME_MOTION = ("x (mm)", "y (mm)", "z (mm)", "w_x (rad)", "w_y (rad)", "w_z (ra
 
 
 def _frame_motion(g, station: str | None, on: np.ndarray) -> np.ndarray:
-    """(n, 3, 6): the readings ``on`` (bool (n,), of ``station``) moved rigidly with the station's frame -- a
-    translation (mm, machine frame) and a turn (rad) about the tracker, else about the station's readings' centre
-    (with the translation beside it, a turn about any point is the same motion); zero elsewhere."""
+    """(n, 3, 6): the readings ``on`` (bool (n,), of ``station``) moved rigidly with the station's frame
+    (_rigid_motion) about the tracker, else about the station's readings' centre (with the translation beside it, a
+    turn about any point is the same motion); zero elsewhere."""
     rows, tracker, _ = g.at(station)
-    centre = tracker if tracker is not None else g.xyz[rows].mean(axis=0)
     out = np.zeros((len(rows), 3, 6))
-    out[on] = np.concatenate([S.outlier_signature(np.ones(int(on.sum()))), _turn_about(g.xyz[on], centre)], axis=-1)
+    out[on] = _rigid_motion(g.xyz[on], tracker if tracker is not None else g.xyz[rows].mean(axis=0))
     return out
 
 
@@ -173,18 +178,16 @@ def nest_path(prep, c: fx.Candidate) -> fx.Candidate:
     reflector of icelinker's replica wandering 10-15 um against the other two was named knocked one to three
     times (tests/test_real_icelinker.py)."""
     g, x = prep.geometry, c.extra
-    on = (g.point == x["point"]) & (g.side == x["side"]) & np.isfinite(g.time_s)
+    on = step_rows(prep, c)
     basis = _smooth_order(prep, np.ones(len(on), bool))
     rot = g.rotation.reshape(-1, 9)
     return fx.Candidate(fx.UNEXPLAINED, None, f"point {x['point']} ({x['side']} side) moving smoothly with time",
                         np.concatenate([S.nest_creep_signature(rot, b * on) for b in basis.T], axis=-1),
                         [f"{k} (mm, spline {j + 1})" for j in range(basis.shape[1]) for k in "xyz"],
-                        family=f"{fx.UNEXPLAINED} place path {x['side']} {x['point']}", extra={
-                            "kind": "place", "by": f"time ({x['side']} side's frame)",
-                            "place": f"the nest of {x['point']}", "side": x["side"], "points": [x["point"]],
-                            "note": f"the reflector {x['point']} moves in its nest on the {x['side']} side smoothly "
-                                    "with time, not in one step: the nest or the side under it creeping, warming "
-                                    "or settling -- a step at one time fits it no better"})
+                        family=f"{fx.UNEXPLAINED} place path {x['side']} {x['point']}", extra=_at_the_nest(x, (
+                            f"the reflector {x['point']} moves in its nest on the {x['side']} side smoothly with "
+                            "time, not in one step: the nest or the side under it creeping, warming or settling -- a "
+                            "step at one time fits it no better")))
 
 
 def stops_off(prep, c: fx.Candidate) -> fx.Candidate | None:
@@ -266,8 +269,7 @@ def stops_rigid(prep, W: np.ndarray, of: np.ndarray) -> list[tuple[np.ndarray, n
     for s in np.unique(stop[of]):
         rows = np.flatnonzero(stop == s)
         xyz = g.xyz[rows]
-        motion = np.concatenate([np.broadcast_to(np.eye(3), (len(rows), 3, 3)), _turn_about(xyz, xyz.mean(axis=0))],
-                                axis=-1)
+        motion = _rigid_motion(xyz, xyz.mean(axis=0))
         u, sv, _ = np.linalg.svd(np.einsum("mij,mjk->mik", W[rows], motion).reshape(-1, 6), full_matrices=False)
         out.append(((3 * rows[:, None] + np.arange(3)).ravel(), u[:, sv > 1e-9 * sv[0]]))
     return out
@@ -307,12 +309,10 @@ def bump(prep, c: fx.Candidate, inside: np.ndarray) -> fx.Candidate:
         G = S.nest_creep_signature(g.rotation.reshape(-1, 9), inside.astype(float))
         return fx.Candidate(fx.UNEXPLAINED, None, f"point {x['point']} ({x['side']} side) displaced {span} and back",
                             G, ["x (mm)", "y (mm)", "z (mm)"], family=f"{fx.UNEXPLAINED} place bump {x['side']} "
-                            f"{x['point']}", extra={
-                                "kind": "place", "by": f"time ({x['side']} side's frame)",
-                                "place": f"the nest of {x['point']}", "side": x["side"], "points": [x["point"]],
-                                "note": f"the reflector {x['point']} on the {x['side']} side is displaced for a while "
-                                        "and comes back: the nest bumped and re-seated, or its side tilted for a "
-                                        "while -- not a knock, which stays"})
+                            f"{x['point']}", extra=_at_the_nest(x, (
+                                f"the reflector {x['point']} on the {x['side']} side is displaced for a while and "
+                                "comes back: the nest bumped and re-seated, or its side tilted for a while -- not a "
+                                "knock, which stays")))
     station = x.get("station")
     of = g.at(station)[2]
     return fx.Candidate(fx.UNEXPLAINED, None, f"the tracker{of}'s frame displaced {span} and back",
@@ -428,6 +428,12 @@ def _turn(g, tracker: np.ndarray, on: np.ndarray) -> np.ndarray:
     turn = np.zeros((len(on), 3, 3))
     turn[on] = _turn_about(g.xyz[on], tracker)
     return turn
+
+
+def _rigid_motion(xyz: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """(m, 3, 6): the points ``xyz`` (m, 3) mm moved rigidly -- a translation (outlier_signature: I3, mm) and a
+    turn about ``centre`` (_turn_about, mm per rad) -- FRAME_MOTION's six parameters."""
+    return np.concatenate([S.outlier_signature(np.ones(len(xyz))), _turn_about(xyz, centre)], axis=-1)
 
 
 def _turn_about(xyz: np.ndarray, centre: np.ndarray) -> np.ndarray:

@@ -602,7 +602,7 @@ def _stops_move_together(prep: Prepared, eng: Engine, v: Step, w: Columns, level
     stops moving at random, or None: set against their own motion (_against_stops), it is not significant at
     ``level`` over the step's own multiplicity."""
     c = v.candidate
-    if not (_frame_step(c) or c.name == "nest_knock"):
+    if not _place_step(c):
         return None
     found = _against_stops(prep, eng, c, w(c), c.moved, v.score, _fitted_motion(prep, eng, c, w), w, level)
     if found is None or found[0] + v.log_multiplicity < math.log(level):
@@ -661,6 +661,11 @@ def _frame_step(c: fx.Candidate) -> bool:
     return c.name == "tracker_relevel" or (c.name == "offset" and c.extra.get("variant") == "tracker knock")
 
 
+def _place_step(c: fx.Candidate) -> bool:
+    """Whether ``c`` is a step of a place: of a station's frame (_frame_step) or of a nest (a nest knock)."""
+    return _frame_step(c) or c.name == "nest_knock"
+
+
 def _whole_stops(prep: Prepared, moved: np.ndarray) -> bool:
     """Whether the readings ``moved`` (bool (n,)) are whole stops (Prepared.stop), none in part."""
     return not np.any(np.bincount(prep.stop, moved) % np.bincount(prep.stop))
@@ -694,7 +699,7 @@ def _path_instead(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
     docs/guide/real-data-tracker.md) had four tracker knocks named without the tracker's position and three with
     it, two of them the same."""
     c = v.candidate
-    if not (_frame_step(c) or c.name == "nest_knock"):
+    if not _place_step(c):
         return None
     path = frame_path(prep, c) if _frame_step(c) else nest_path(prep, c)
     e = eng.copy()
@@ -723,7 +728,7 @@ def _comes_back(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
     knocked at 101 and again, back, at 126 in three runs of four; with its base tilted for 22 poses, a re-levelling
     or a nest knock in three of six."""
     c = v.candidate
-    if not (_frame_step(c) or c.name == "nest_knock"):
+    if not _place_step(c):
         return None
     pattern = _fitted_motion(prep, eng, c, w)
     e = eng.copy()
