@@ -13,8 +13,8 @@ ROOT = Path(__file__).resolve().parents[1] / "mtcal"
 
 # Bottom to top.  A package may import its own modules and any package listed before it.
 LAYERS = ["errors", "_tails", "io", "_gensupport", "_verb", "generated", "kinematics", "nc", "model", "measurement",
-          "campaign", "identify", "planning", "compensate", "export", "plate", "iso230_2", "diagnose", "check",
-          "uncertainty", "history", "report", "data", "demo", "api", "cli"]
+          "thermal", "campaign", "identify", "planning", "compensate", "export", "plate", "iso230_2", "diagnose",
+          "check", "uncertainty", "history", "report", "data", "demo", "api", "cli"]
 
 
 def _module(path: Path) -> str:
