@@ -4,10 +4,10 @@
   temperature rise of a tracker recording's ``temperature_c`` (thermal_temperature);
 * ``warm_up(dt_s, tau_s)``: the warm-up step response 1 - exp(-dt/tau), the generated
   ``thermal_drift_signature`` (derive/; the diagnosis' thermal_drift);
-* ``first_order_lag(time_s, x, tau_s)``: x through a first-order lag of time constant tau, each step of x
-  followed by ``warm_up`` (exact for an input held between readings): y_i = y_(i-1) + w(t_i - t_(i-1)) (x_i -
-  y_(i-1)), y_0 = x_0 -- the body warming towards the temperature a sensor reads, or towards the heat the spindle
-  speed puts in;
+* ``first_order_lag(time_s, x, tau_s)``: x through a first-order lag of time constant tau, each reading held over
+  the interval that ends at it and followed by ``warm_up`` (what a controller that reads the input once a period
+  and updates its state does): y_i = y_(i-1) + w(t_i - t_(i-1)) (x_i - y_(i-1)), y_0 = x_0 -- the body warming
+  towards the temperature a sensor reads, or towards the heat the spindle speed puts in;
 * ``Term``: one input column of a model: a sensor's dT, its lag, or the lagged spindle speed (krpm).
 """
 from __future__ import annotations

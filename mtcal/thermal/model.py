@@ -354,11 +354,13 @@ def _channel(test: ThermalTest, name: str, y: np.ndarray, terms: list[Term], F: 
     rmse = lambda r: float(np.sqrt(np.mean(r ** 2)))  # noqa: E731
     pc, pt = (better_than(e, e_c), better_than(e, e_t)) if sel else (1.0, 1.0)
     ok = bool(sel) and pc < level and pt < level
-    reason = (f"predictable: better than the constant (p = {pc:.2g}) and the time-only warm-up (p = {pt:.2g}) "
-              f"out of sample, each below {level:.2g}" if ok else
-              "not predictable: no term improves the rolling-origin validation on the constant" if not sel else
-              f"not predictable: not shown better out of sample than the constant (p = {pc:.2g}) and the time-only "
-              f"warm-up (p = {pt:.2g}), each needing p < {level:.2g}; no compensation offered")
+    failed = [f"the {b} (p = {v:.2g})" for b, v in (("constant", pc), ("time-only warm-up", pt)) if v >= level]
+    reason = (f"predictable: better out of sample than the constant (p = {pc:.2g}) and the time-only warm-up "
+              f"(p = {pt:.2g}), each below {level:.2g}" if ok else
+              "not predictable: no term improves the rolling-origin validation on the constant; no compensation "
+              "offered" if not sel else
+              f"not predictable: not shown better out of sample than {' nor '.join(failed)} at {level:.2g}; "
+              f"no compensation offered")
     ss = float(np.sum((y[h] - y[h].mean()) ** 2))
     return ChannelModel(name, test.directions.get(name, ""), [terms[c] for c in sel], [float(v) for v in p[1:]],
                         float(p[0]), rmse(e), 1.0 - float(np.sum(e ** 2)) / ss if ss > 0 else float("nan"),

@@ -38,7 +38,7 @@ UNITS = {  # unit word (lower case) -> (quantity, factor to the internal unit: s
     "k": ("temperature", "K"),
 }
 TEMPERATURE_C = (-20.0, 120.0)  # a reading of a machine under test, degC; outside: K or F read as C
-ROOM_F = (59.0, 95.0)  # every sensor's median here (15..35 C in F): a room in degrees Fahrenheit
+ROOM_F = (59.0, 95.0)  # the median sensor's median here (15..35 C in F): a room in degrees Fahrenheit
 STUCK_SHARE = 0.5  # a sensor repeating one value over this share of the test (and STUCK_MIN readings) is stuck
 STUCK_MIN = 10
 DIRECTIONS = ("X1", "X2", "Y1", "Y2", "X", "Y", "Z")
@@ -273,10 +273,12 @@ def _celsius(v: np.ndarray, unit: str, name: str, src: str, lines: np.ndarray, n
 
 
 def _check_room_f(temps: dict[str, np.ndarray], src: str) -> None:
-    med = {n: float(np.median(v)) for n, v in temps.items()}
-    if len(med) >= 2 and all(ROOM_F[0] <= m <= ROOM_F[1] for m in med.values()):
-        raise InputError(f"every temperature's median is {min(med.values()):.1f}..{max(med.values()):.1f} "
-                         f"'degC': a room in degrees Fahrenheit? (say degF in the header if so)", src, 1)
+    """The median sensor reading 59..95 (a room of 15..35 C in degrees Fahrenheit) is refused."""
+    med = sorted(float(np.median(v)) for v in temps.values())
+    if len(med) >= 2 and ROOM_F[0] <= float(np.median(med)) <= ROOM_F[1]:
+        raise InputError(f"the temperatures' median reading is {np.median(med):.1f} 'degC' (sensors' medians "
+                         f"{med[0]:.1f}..{med[-1]:.1f}): a room in degrees Fahrenheit? (say degF in the header if "
+                         f"so)", src, 1)
 
 
 def _check_stuck(name: str, v: np.ndarray, src: str, lines: np.ndarray) -> None:
