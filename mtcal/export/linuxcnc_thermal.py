@@ -70,10 +70,11 @@ def render(model, placed, machine, model_path: str, period_s: float, name: str) 
     hal = [f"# mtcal thermal export {model_path} --format linuxcnc: connect the inputs to your sensors' pins",
            f"loadrt {COMP}", f"addf {COMP}.0 servo-thread"]
     hal += [f"# net <your-signal> => {COMP}.0.{_pin(k).replace('_', '-')}" for k in inputs]
+    hal += [f"setp {COMP}.0.scale {_g(SCALE)}"]
     for p in placed:
         a, pin = p.axis.lower(), f"{COMP}.0.counts-{p.axis.lower()}"
-        hal += [f"setp axis.{a}.eoffset-scale {_g(SCALE)}", f"setp {COMP}.0.scale {_g(SCALE)}",
-                f"net thermal-{a} {pin} => axis.{a}.eoffset-counts", f"setp axis.{a}.eoffset-enable 1"]
+        hal += [f"setp axis.{a}.eoffset-scale {_g(SCALE)}", f"net thermal-{a} {pin} => axis.{a}.eoffset-counts",
+                f"setp axis.{a}.eoffset-enable 1"]
     ini = ["# mtcal thermal export: add to each compensated axis' section"]
     ini += [f"[AXIS_{p.axis}]\nOFFSET_AV_RATIO = 0.1" for p in placed]
     return {f"{COMP}.comp": "\n".join(src), f"{COMP}.hal": "\n".join(hal) + "\n", f"{COMP}.ini": "\n".join(ini) + "\n"}
