@@ -1632,6 +1632,69 @@ def cases_history_and_report(C: Corpus):
           [err("m.json", None, "input", "overwrite", "same")])
 
 
+def thermal_rows(n=400, step_s=60.0):
+    """A spindle thermal test (issue 56): time, speed stages, three drift channels that follow lagged temperatures,
+    three temperatures; numbers as a logger writes them (deterministic)."""
+    rows, lag, T = [], [0.0, 0.0], [22.0, 24.0, 23.0]
+    for i in range(n):
+        t = i * step_s
+        rpm = (0, 3000, 0, 6000)[(i * 4 // n) % 4]
+        T = [22.0 + 0.4 * math.sin(t / 5000.0), T[1] + (24.0 + 0.002 * rpm - T[1]) * 0.03,
+             T[2] + (23.0 + 0.001 * rpm - T[2]) * 0.01]
+        lag = [lag[0] + (T[1] - 24.0 - lag[0]) * 0.05, lag[1] + (T[2] - 23.0 - lag[1]) * 0.02]
+        ch = [3.0 * lag[0] + 0.1 * math.sin(i), -5.0 * lag[1] + 0.1 * math.cos(i), 0.2 * math.sin(i * 0.7)]
+        rows.append([f"{t:g}", str(rpm)] + [f"{v:.4f}" for v in ch] + [f"{v:.3f}" for v in T])
+    return rows
+
+
+THERMAL_HEAD = ["time (s)", "spindle (rpm)", "ch1 (um)", "ch2 (um)", "ch3 (um)", "t1 (degC)", "t2 (degC)",
+                "t3 (degC)"]
+
+
+def cases_issue56(C: Corpus):
+    """Issue 56: a thermal test read without options (the contract's header), `thermal fit --json` and `iso230-3`;
+    bad thermal tests refused with file, line and problem: time not increasing, a stuck or missing sensor,
+    temperatures in F or K said to be degC, channels without directions, a test too short for its lags, a hold-out
+    too short to judge."""
+    rows = thermal_rows()
+    good = rows_to_csv(THERMAL_HEAD, rows)
+    C.add("thermal56_fit_valid", "thermal", "thermal test CSV", ["fit", "t.csv", "--holdout", "0.4", "--json"],
+          {"t.csv": good}, [ok({"kind": "stdout_json", "keys": ["channels"]})])
+    C.add("thermal56_fit_model_written", "thermal", "thermal test CSV", ["fit", "t.csv", "-o", "m.json"],
+          {"t.csv": good}, [ok({"kind": "exists", "paths": ["m.json"]})])
+    C.add("thermal56_iso230_3_valid", "iso230-3", "thermal test CSV", ["t.csv", "--json"], {"t.csv": good},
+          [ok({"kind": "stdout_json", "keys": ["figures", "clause"]})])
+    C.add("thermal56_iso230_3_report", "iso230-3", "thermal test CSV", ["t.csv", "-o", "rep"], {"t.csv": good},
+          [ok({"kind": "png", "dir": "rep", "min": 2})])
+    back = [r[:] for r in rows]
+    back[30][0] = back[28][0]
+    stuck = [r[:6] + (["23.500"] if 100 <= i < 330 else r[6:7]) + r[7:] for i, r in enumerate(rows)]
+    missing = [r[:] for r in rows]
+    missing[57][7] = ""
+    kelvin = [r[:7] + [f"{float(r[7]) + 273.15:.3f}"] for r in rows]
+    fahrenheit = [r[:5] + [f"{float(v) * 1.8 + 32:.3f}" for v in r[5:]] for r in rows]
+    for cid, data, line, words in [("time_back", back, 32, ["time not increasing"]),
+                                   ("stuck_sensor", stuck, 102, ["stuck"]),
+                                   ("missing_sensor", missing, 59, ["missing"]),
+                                   ("kelvin_as_celsius", kelvin, 2, ["K or degF"]),
+                                   ("fahrenheit_as_celsius", fahrenheit, 1, ["Fahrenheit"])]:
+        for cmd, argv in (("thermal", ["fit", "t.csv", "-o", "m.json"]), ("iso230-3", ["t.csv", "-o", "rep"])):
+            C.add(f"thermal56_{cmd.replace('-', '_')}_{cid}", cmd, "thermal test CSV", argv,
+                  {"t.csv": rows_to_csv(THERMAL_HEAD, data)}, [err("t.csv", line, *words)])
+    C.add("thermal56_no_unit", "thermal", "thermal test CSV", ["fit", "t.csv"],
+          {"t.csv": rows_to_csv(THERMAL_HEAD[:-1] + ["t3"], rows)}, [err("t.csv", 1, "no unit")])
+    C.add("thermal56_directions_missing", "iso230-3", "thermal test CSV",
+          ["t.csv", "--directions", "ch1=X1,ch2=X2", "-o", "rep"], {"t.csv": good},
+          [err("t.csv", None, "without a direction")])
+    C.add("thermal56_too_short_for_lags", "thermal", "thermal test CSV", ["fit", "t.csv", "--lags", "20000"],
+          {"t.csv": good}, [err("t.csv", None, "too short for lag")])
+    C.add("thermal56_holdout_too_short", "thermal", "thermal test CSV", ["fit", "t.csv", "--holdout", "0.05"],
+          {"t.csv": good}, [err("t.csv", None, "hold-out too short")])
+    C.add("thermal56_export_not_a_model", "thermal", "thermal model", ["export", "m.json", "--format", "siemens",
+                                                                       "-o", "T.SPF"],
+          {"m.json": jdump({"channels": []})}, [err("m.json", None, "not a thermal model")])
+
+
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
     C = Corpus(root)
@@ -1655,6 +1718,7 @@ def build(root: Path) -> list[dict]:
     cases_checks(C)
     cases_uncertainty(C)
     cases_issue35(C)
+    cases_issue56(C)
 
     cases_history_and_report(C)
     C.write()
