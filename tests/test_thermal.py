@@ -221,3 +221,26 @@ def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, what, ho
     assert len(err) == 1 and words in err[0], err
     assert f"{p}:{line}:" in err[0] if line else str(p) in err[0]
     assert not out.exists() and sorted(x.name for x in tmp_path.iterdir()) == ["bad.csv"]
+
+
+def test_a_tracker_recordings_temperature_is_read_with_the_same_model(tmp_path, fl):
+    """One thermal vocabulary: a model fitted on a thermal test whose sensor is the recording's temperature_c
+    predicts a tracker recording's readings from its time_s and temperature_c, as it predicts the test's."""
+    from mtcal.errors import InputError
+    from mtcal.measurement.recordings import make_recording
+    from mtcal.thermal import recording_rise
+    p = tmp_path / "one.csv"
+    p.write_text("time_s,spindle_rpm,ch3_um,temperature_c (degC)\n" + "\n".join(
+        f"{r[0]:g},{r[1]:g},{r[4]:.3f},{r[10]:.3f}" for r in fl) + "\n")
+    test = read_thermal_test(p)
+    model = fit_thermal(test, 0.4, lags_s=(1800.0,))
+    ch = model.channel("ch3")
+    assert ch.terms and {t.input for t in ch.terms} <= {"temperature_c", "spindle"}
+    n = len(fl)
+    rec = make_recording(["X"] * n, [1] * n, np.arange(n), ["p"] * n, np.zeros((n, 3)), time_s=fl[:, 0],
+                         temperature_c=fl[:, 10])
+    t, rise = recording_rise(rec)
+    np.testing.assert_allclose(ch.predict(t, {"temperature_c": rise}, test.spindle_rpm), ch.fitted_um, atol=1e-6)
+    rec.temperature_c[7] = np.nan
+    with pytest.raises(InputError, match=r":9: a thermal model needs time_s and temperature_c"):
+        recording_rise(rec)

@@ -8,6 +8,8 @@
   the interval that ends at it and followed by ``warm_up`` (what a controller that reads the input once a period
   and updates its state does): y_i = y_(i-1) + w(t_i - t_(i-1)) (x_i - y_(i-1)), y_0 = x_0 -- the body warming
   towards the temperature a sensor reads, or towards the heat the spindle speed puts in;
+* ``recording_rise(rec)``: a tracker recording's (mtcal.measurement.recordings) ``temperature_c`` as dT, the input
+  a thermal model (or the diagnosis' thermal_temperature) reads it with;
 * ``Term``: one input column of a model: a sensor's dT, its lag, or the lagged spindle speed (krpm).
 """
 from __future__ import annotations
@@ -34,6 +36,18 @@ def temperature_rise(time_s: np.ndarray, temperature_c: np.ndarray, reference_c:
         raise InputError("a temperature reading is not finite")
     ref = T[int(np.argmin(time_s))] if reference_c is None else reference_c
     return T - ref
+
+
+def recording_rise(rec, reference_c: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(time_s, dT in K) of a tracker recording's ``temperature_c``, dT = T - T_ref: T_ref the first reading in
+    time (the diagnosis' dT), or a model's ``reference_c`` of that sensor (to compensate with it); refused, naming
+    the first reading without one, when a reading has no time or no temperature."""
+    t, T = np.asarray(rec.time_s, float), np.asarray(rec.temperature_c, float)
+    bad = np.flatnonzero(~(np.isfinite(t) & np.isfinite(T)))
+    if bad.size:
+        raise InputError("a thermal model needs time_s and temperature_c on every reading", rec.source,
+                         int(rec.line[bad[0]]))
+    return t, temperature_rise(t, T, reference_c)
 
 
 def first_order_lag(time_s: np.ndarray, x: np.ndarray, tau_s: float, start: float | None = None) -> np.ndarray:
