@@ -20,6 +20,7 @@ from mtcal.export import linuxcnc_thermal, siemens_temp
 from mtcal.io import atomic_write_text, refuse_overwrite
 from mtcal.model.plausibility import translation_bound
 from mtcal.thermal.model import ThermalModel
+from mtcal.thermal.readings import parse_mapping
 
 THERMAL_FORMATS = {"siemens": siemens_temp, "linuxcnc": linuxcnc_thermal}
 
@@ -53,19 +54,6 @@ class ThermalExportResult:
     channels: list[dict]
     sign: str
     warnings: list[str] = field(default_factory=list)
-
-
-def parse_axes(text: str | dict | None) -> dict[str, str]:
-    """``ch3=Z,ch4=-X`` (or a dict) -> {channel: signed axis}."""
-    if text is None or isinstance(text, dict):
-        return dict(text or {})
-    out = {}
-    for part in text.split(","):
-        if "=" not in part:
-            raise InputError(f"`axes`: expected CHANNEL=[-]AXIS[,...], got {part!r}")
-        k, v = part.split("=", 1)
-        out[k.strip()] = v.strip()
-    return out
 
 
 def _placed(model: ThermalModel, axes: dict[str, str], machine) -> list[Placed]:
@@ -149,7 +137,7 @@ def export_thermal(model: ThermalModel, fmt: str, out: str | Path, machine, axes
         raise InputError(f"unknown thermal format {fmt!r}; known: {', '.join(THERMAL_FORMATS)}")
     if not (math.isfinite(period_s) and period_s > 0):
         raise InputError(f"`period_s` must be a positive number of seconds, got {period_s!r}")
-    placed = _placed(model, parse_axes(axes), machine)
+    placed = _placed(model, parse_mapping(axes, "axes"), machine)
     warnings = _guard(placed, machine, force, model_path)
     mod = THERMAL_FORMATS[fmt]
     files = mod.render(model, placed, machine, model_path, period_s, Path(out).name)

@@ -34,7 +34,6 @@ machine, and from hours that followed the training ones: a different duty cycle 
 """
 from __future__ import annotations
 
-import hashlib
 import math
 from dataclasses import dataclass, field
 
@@ -42,6 +41,7 @@ import numpy as np
 from scipy import stats
 
 from mtcal.errors import InputError
+from mtcal.io import file_sha256
 from mtcal.thermal.features import SPEED, Term, first_order_lag, temperature_rise, warm_up
 from mtcal.thermal.readings import ThermalTest
 
@@ -240,9 +240,8 @@ def fit_thermal(test: ThermalTest, holdout: float = 0.4, lags_s: tuple[float, ..
     chans = [_channel(test, name, y, terms, F, n_train, alpha) for name, y in test.channels.items()]
     notes.append(f"decision at alpha {alpha:g} per channel against each baseline; hold-out in {HOLDOUT_BLOCKS} "
                  f"blocks of about {(n - n_train) // HOLDOUT_BLOCKS} readings")
-    with open(test.source, "rb") as fh:
-        sha = hashlib.sha256(fh.read()).hexdigest()
-    return ThermalModel(test.source, sha, holdout, float(test.time_s[n_train]), ref, chans, alpha, notes)
+    return ThermalModel(test.source, file_sha256(test.source), holdout, float(test.time_s[n_train]), ref, chans,
+                        alpha, notes)
 
 
 def _check_split(test: ThermalTest, n_train: int) -> None:

@@ -130,7 +130,7 @@ def read_thermal_test(path: str | Path, columns: dict | str | None = None, direc
     """
     src = str(path)
     header, body = _table(path)
-    header = [_rename(h, _mapping(columns, "columns")) for h in header]
+    header = [_rename(h, parse_mapping(columns, "columns")) for h in header]
     roles = _roles(header, src)
     data = _numbers(body, header, src)
     lines = np.array([i for i, _ in body])
@@ -152,7 +152,7 @@ def read_thermal_test(path: str | Path, columns: dict | str | None = None, direc
     for name, v in {**ch, **temps}.items():
         _check_stuck(name, v, src, lines)
     test = ThermalTest(src, t, rpm, ch, temps, lines=lines, notes=notes)
-    test.directions = _directions(test, _mapping(directions, "directions"), src)
+    test.directions = _directions(test, parse_mapping(directions, "directions"), src)
     test.spacing_mm = spacing_mm
     return test
 
@@ -194,7 +194,7 @@ def _xlsx_rows(path: str | Path) -> list[tuple[int, list[str]]]:
     return out
 
 
-def _mapping(value: dict | str | None, what: str) -> dict[str, str]:
+def parse_mapping(value: dict | str | None, what: str) -> dict[str, str]:
     """A ``{key: value}`` option as given: a dict, ``KEY=VALUE,...`` text, or a JSON file of an object."""
     if value is None or isinstance(value, dict):
         return dict(value or {})
