@@ -10,6 +10,7 @@ readings in the machine frame; docs/design.md):
     mtcal.export_model(res.model, mtcal.load_machine(), "linuxcnc", "comp/")   # controller tables
     d = mtcal.diagnose(rec, tracker=(250, -1500, 150))               # what the model leaves out
     ev = mtcal.evaluate_iso230_2(rec, "X")                           # ISO 230-2 A, E, M, R, B
+    tm = mtcal.fit_thermal(mtcal.read_thermal_test("thermal.csv"))   # thermal model, judged out of sample
 
 Imports are lazy: ``import mtcal`` loads only what a name asks for.
 """
@@ -48,12 +49,17 @@ _API = {  # name -> (module, attribute)
     "evaluate_check": ("mtcal.check.evaluate", "evaluate_check"),
     "verify": ("mtcal.check.verify", "verify"),
     "write_report": ("mtcal.report.run", "write_report"),
+    "read_thermal_test": ("mtcal.thermal.readings", "read_thermal_test"),
+    "fit_thermal": ("mtcal.thermal.model", "fit_thermal"),
+    "evaluate_iso230_3": ("mtcal.thermal.iso230_3", "evaluate_iso230_3"),
+    "export_thermal": ("mtcal.export.thermal", "export_thermal"),
 }
 __all__ = ["__version__", "Machine", "load_machine", "available_machines", "Recording", "read_recording", "ErrorModel",
            "load_model", "save_model", "identify", "IdentifyResult", "plan_uncertainty", "simulate",
            "compensate_program", "export_model", "diagnose", "fit_plate", "evaluate_iso230_2", "Compensator",
            "monte_carlo", "CircleSetup", "predict_circular", "RTestSetup", "predict_rtest", "read_check",
-           "evaluate_check", "verify", "write_report"]
+           "evaluate_check", "verify", "write_report",
+           "read_thermal_test", "fit_thermal", "evaluate_iso230_3", "export_thermal"]
 
 if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on first use (__getattr__)
     from mtcal.campaign.simulate import simulate
@@ -66,6 +72,7 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on f
     from mtcal.compensate.solver import Compensator
     from mtcal.diagnose.run import diagnose
     from mtcal.export import export_model
+    from mtcal.export.thermal import export_thermal
     from mtcal.identify.results import IdentifyResult
     from mtcal.identify.run import identify
     from mtcal.iso230_2.evaluation import evaluate as evaluate_iso230_2
@@ -75,6 +82,9 @@ if TYPE_CHECKING:  # for type checkers and IDEs; at run time the names load on f
     from mtcal.planning.plan import plan_uncertainty
     from mtcal.plate.reversal import fit_plate
     from mtcal.report.run import write_report
+    from mtcal.thermal.iso230_3 import evaluate_iso230_3
+    from mtcal.thermal.model import fit_thermal
+    from mtcal.thermal.readings import read_thermal_test
     from mtcal.uncertainty.run import monte_carlo
 
 

@@ -34,6 +34,7 @@ machine, and from hours that followed the training ones: a different duty cycle 
 """
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass, field
 
@@ -56,6 +57,7 @@ MIN_BLOCK_READINGS = 5
 MIN_TRAINING_READINGS = 50
 ALPHA = 0.05
 KIND = "mtcal thermal model"
+log = logging.getLogger("mtcal.thermal")
 
 
 @dataclass
@@ -237,7 +239,13 @@ def fit_thermal(test: ThermalTest, holdout: float = 0.4, lags_s: tuple[float, ..
     ref = {k: float(v[0]) for k, v in test.temperatures.items()}
     rise = {k: temperature_rise(test.time_s, v, ref[k]) for k, v in test.temperatures.items()}
     terms, F = candidates(test.time_s, rise, test.spindle_rpm, lags)
-    chans = [_channel(test, name, y, terms, F, n_train, alpha) for name, y in test.channels.items()]
+    log.info("%d candidate terms, training on %d readings, judging on %d", len(terms), n_train, n - n_train)
+    chans = []
+    for name, y in test.channels.items():
+        chans.append(_channel(test, name, y, terms, F, n_train, alpha))
+        c = chans[-1]
+        log.info("%s: %s: RMSE %.3g um out of sample (constant %.3g, time only %.3g): %s", name, c.model, c.rmse_um,
+                 c.constant_rmse_um, c.time_only_rmse_um, "predictable" if c.predictable else "not predictable")
     notes.append(f"decision at alpha {alpha:g} per channel against each baseline; hold-out in {HOLDOUT_BLOCKS} "
                  f"blocks of about {(n - n_train) // HOLDOUT_BLOCKS} readings")
     return ThermalModel(test.source, file_sha256(test.source), holdout, float(test.time_s[n_train]), ref, chans,
