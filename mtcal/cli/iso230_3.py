@@ -23,14 +23,14 @@ def reader_arguments(p: argparse.ArgumentParser) -> None:
                                                "spindle_rpm, ch1_um, ..., t1_c")
     p.add_argument("--columns", metavar="HEADER=NAME (UNIT),...|MAP.json",
                    help="rename headers that do not say their unit, e.g. 'Zeit=time (s),Fühler 1=t1 (degC)'")
+    p.add_argument("--directions", metavar="CH=DIR,...|MAP.json",
+                   help="each displacement channel's direction in the five-sensor set-up: X1, X2, Y1, Y2 (pairs along "
+                        "the mandrel, 1 nearer the spindle nose), Z, or X, Y (e.g. ch1=X1,ch2=X2,ch3=Y1,ch4=Y2,ch5=Z); "
+                        "default: channels named by their direction, else none (no tilt; export needs --axes)")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     reader_arguments(p)
-    p.add_argument("--directions", metavar="CH=DIR,...|MAP.json",
-                   help="each displacement channel's direction in the five-sensor set-up: X1, X2, Y1, Y2 (pairs along "
-                        "the mandrel, 1 nearer the spindle nose), Z, or X, Y (e.g. ch1=X1,ch2=X2,ch3=Y1,ch4=Y2,ch5=Z); "
-                        "default: channels named by their direction, else each channel on its own and no tilt")
     p.add_argument("--spacing", type=positive, metavar="MM", help="distance between the two sensors of a pair "
                                                                   "along the mandrel (mm): gives the tilts")
     p.add_argument("--sensor", metavar="NAME", help="the temperature of the drift-against-temperature plot "

@@ -70,7 +70,7 @@ def _fit(args: argparse.Namespace) -> int:
     from mtcal.thermal.model import fit_thermal
     from mtcal.thermal.readings import read_thermal_test
     refuse_overwrite([args.output, args.plot], args.test)
-    test = read_thermal_test(args.test, args.columns)
+    test = read_thermal_test(args.test, args.columns, args.directions)
     log.info("%s: %d readings over %.1f h, %d channels, %d temperatures%s", args.test, len(test),
              (test.time_s[-1] - test.time_s[0]) / 3600, len(test.channels), len(test.temperatures),
              "" if test.spindle_rpm is not None else ", no spindle speed")

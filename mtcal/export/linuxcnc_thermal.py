@@ -12,6 +12,8 @@ offset of -d. Units: the machine's linear units (mm unless ``[TRAJ]LINEAR_UNITS`
 """
 from __future__ import annotations
 
+import re
+
 from mtcal.thermal.features import SPEED
 
 NAME = "linuxcnc"
@@ -29,7 +31,7 @@ def _g(v: float) -> str:
 
 
 def _pin(inp: str) -> str:
-    return "spindle_rpm" if inp == SPEED else f"temp_{inp.replace('-', '_').replace('.', '_').lower()}"
+    return "spindle_rpm" if inp == SPEED else "temp_" + re.sub(r"\W", "_", inp, flags=re.ASCII).lower()
 
 
 def _var(t) -> str:
