@@ -3,7 +3,9 @@
 Data: tests/data/fl_thermal/fl_thermal_2min.csv (every 8th row of CAIVIAC/FL_THERMAL data/data.xlsx, MIT).
 Figures: per channel the model's out-of-sample RMSE and R^2, the constant and time-only baselines' RMSE (fitted on
 the same first 60 %), predictable (1/0); beside them, computed here independently with numpy, the issue's
-sixteen-sensor OLS on the first 60 %; and the CPU seconds of the fit (selection of all five channels).
+sixteen-sensor OLS on the first 60 %; the CPU seconds of the fit (selection of all five channels); and, on the same
+temperatures and speed, 40 random walks without a thermal cause: how many beat the constant's RMSE on the
+hold-out by chance and how many the test declares predictable (the false compensations).
 Run alone: ``python benchmarks/bench_thermal.py`` (prints the JSON), or through benchmarks/run.py.
 """
 from __future__ import annotations
@@ -44,7 +46,18 @@ def run() -> dict:
                     f"{key}_time_only_rmse_um": c.time_only_rmse_um, f"{key}_predictable": int(c.predictable),
                     f"{key}_u95_um": c.u95_um})
     out.update({f"thermal_fl_{ch}_ols16_rmse_um": v for ch, v in ols16().items()})
-    return out
+    return {**out, **random_walks()}
+
+
+def random_walks(k: int = 40, seed: int = 2026) -> dict:
+    """Channels without a thermal cause (random walks, 0.5 um steps) on FL_THERMAL's temperatures and speed."""
+    t = read_thermal_test(CSV)
+    rng = np.random.default_rng(seed)
+    t.channels = {f"w{i}": np.cumsum(rng.normal(0.0, 0.5, len(t))) for i in range(k)}
+    m = fit_thermal(t, HOLDOUT)
+    return {"thermal_random_walks": k,
+            "thermal_random_walks_beat_constant": sum(c.rmse_um < c.constant_rmse_um for c in m.channels),
+            "thermal_random_walks_predictable": sum(c.predictable for c in m.channels)}
 
 
 if __name__ == "__main__":
