@@ -91,6 +91,8 @@ from typing import Any, Callable, Iterable, Mapping
 
 import numpy as np
 
+from mtcal.campaign import planted
+from mtcal.campaign.planted import unit
 from mtcal.errors import InputError
 from mtcal.generated import signatures_numpy as S
 
@@ -119,14 +121,6 @@ def _dir(v) -> str | tuple[float, float, float]:
     if a.lstrip("+-") not in ("X", "Y", "Z"):
         raise InputError(f"direction must be X, Y, Z, -X, -Y, -Z or a vector a;b;c, got {v!r}")
     return a if a[0] in "+-" else "+" + a
-
-
-def _unit(direction) -> np.ndarray:
-    if not isinstance(direction, str):
-        return np.asarray(direction, dtype=float)
-    u = np.zeros(3)
-    u["XYZ".index(direction[1])] = -1.0 if direction[0] == "-" else 1.0
-    return u
 
 
 def _in(lo: float, hi: float, what: str = "") -> Callable[[str], float]:
@@ -364,7 +358,7 @@ class Effect:
         if self.name == "side_expansion":
             pts = (points or {}).get(p["side"]) or dict(machine.campaign["reflectors"][p["side"]])
             centroid = np.mean(np.asarray(list(pts.values()), dtype=float), axis=0)
-        if self.name == "tracker_relevel" and abs(_unit(p["about"])[2]) > 1e-9:
+        if self.name == "tracker_relevel" and abs(unit(p["about"])[2]) > 1e-9:
             raise InputError(f"effect tracker_relevel: about must be horizontal (a re-levelling turns about "
                              f"horizontal axes through the tracker: X, Y or a;b;0), got {p['about']!r}")
         if self.name == "outlier" and p["point"] is None:
@@ -385,78 +379,24 @@ class Effect:
         raise InputError(f"effect {self.name}: {key} must be one of {', '.join(options)} (this machine's"
                          f"{' campaign' if key == 'point' else ''}), got {value!r}")
 
-    # -------------------------------------------------------------- errors (mm, rad) per reading
+    # -------------------------------------------------------------- what the effect does (mtcal.campaign.planted)
     def add_errors(self, rows: Rows, errors: np.ndarray, machine) -> None:
         """Add this (bound) effect's error contribution in place to ``errors`` (n, n_errors) of ``machine``."""
-        p, n = self.params, self.name
-        idx = {e: i for i, e in enumerate(machine.error_names)}
-
-        def q_of(axis: str) -> np.ndarray:
-            return rows.axes[:, machine.index(axis)]
-
-        def q_si(axis: str) -> np.ndarray:  # mm, or rad for rotary
-            q = q_of(axis)
-            return np.deg2rad(q) if machine.kind(axis) == "rotary" else q
-
-        # the increments of the error functions are the generated models of derive/signatures.py (whose
-        # derivatives are the diagnosis' signatures): each effect is written once
-        if n == "backlash":
-            on = rows.axis == p["axis"]
-            errors[on, idx[self.error]] += S.backlash_model(rows.direction[on].astype(float), [p["amount"]])[:, 0]
-        elif n == "periodic":
-            ph = np.deg2rad(p["phase_deg"])
-            amp = [p["amplitude"] * np.cos(ph), p["amplitude"] * np.sin(ph)]  # a sin(x + ph) = a_s sin x + a_c cos x
-            errors[:, idx[self.error]] += S.periodic_model(q_of(p["axis"]), float(p["pitch"]), amp)[:, 0]
-        elif n == "scale":
-            errors[:, idx[self.error]] += S.scale_model(q_si(p["axis"]), [p["ppm"]])[:, 0]
-        elif n in ("squareness", "rotary_location"):
-            errors[:, idx[p["error"]]] += p["value"]
-        elif n == "cross_axis":
-            own = p["error"][-1]
-            errors[:, idx[p["error"]]] += S.cross_axis_model(q_of(own), q_of(p["on"]), [p["coefficient"]])[:, 0]
-        elif n == "second_order":
-            errors[:, idx[p["error"]]] += S.second_order_model(q_of(p["error"][-1]), [p["coefficient"]])[:, 0]
-        elif n == "reversal_angular":  # the approach direction is that of the measured axis
-            on = rows.axis == p["error"][-1]
-            errors[on, idx[p["error"]]] += S.reversal_angular_model(rows.direction[on].astype(float),
-                                                                    [p["amount"]])[:, 0]
-        elif n == "thermal_temperature":
-            errors[:, idx[self.error]] += S.thermal_temperature_model(q_of(p["axis"]), self.delta_t(rows),
-                                                                      [p["ppm_per_k"]])[:, 0]
-        elif n == "axis_scatter":  # a variance component: the positioning repeats worse by sd at every reading
-            on = rows.axis == p["axis"]
-            errors[on, idx[self.error]] += np.random.default_rng(p["seed"]).normal(0.0, p["sd"], int(on.sum()))
-        elif n == "backlash_travel":  # the grammar's direction x position (derive/grammar.py)
-            on = rows.axis == p["axis"]
-            d, q = rows.direction[on].astype(float), q_of(p["axis"])[on]
-            errors[on, idx[self.error]] += S.backlash_travel_model(d, q, [p["amount"], p["slope"]])[:, 0]
+        planted.add_errors(self, rows, errors, machine)
 
     def move_nests(self, rows: Rows, local: np.ndarray) -> None:
-        """nest_creep, nest_knock: add the nest's creep or step to the reflector's local coordinates (n, 3) mm in
-        place, before the exact kinematics carry them to the machine frame."""
-        if self.name == "side_expansion":
-            self._expand(rows, local)
-        if self.name not in ("nest_creep", "nest_knock"):
-            return
-        p = self.params
-        on = (rows.point == p["point"]) & (rows.side == p["side"])
-        if self.name == "nest_knock":  # the creep's model with a step for the time: displacement * [t >= t0]
-            after = (rows.time_s[on] >= self.knock_time(rows)).astype(float)
-            local[on] += S.nest_creep_model(p["size"] * _unit(p["direction"]), after)
-            return
-        dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
-        local[on] += S.nest_creep_model(p["rate_mm_s"] * _unit(p["direction"]), dt)
+        """nest_creep, nest_knock, side_expansion: move the reflectors' local coordinates (n, 3) mm in place."""
+        planted.move_nests(self, rows, local)
 
-    def _expand(self, rows: Rows, local: np.ndarray) -> None:
-        """side_expansion: the side's reflectors move apart about their layout's centroid (the side's local frame,
-        mm), 1e-6 ppm_per_h (t - t0_s) / 3600 s (ramp) or 1e-6 ppm (1 - exp(-(t - t0_s) / tau_s)) (lag)."""
-        p = self.params
-        on = rows.side == p["side"]
-        dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
-        off = local[on] - self.centroid
-        local[on] += (S.side_expansion_ramp_model(off, dt, [p["ppm_per_h"]]) if p["law"] == "ramp" else
-                      S.side_expansion_lag_model(off, dt, p["tau_s"], [p["ppm"]]))
+    def apply_readings(self, rows: Rows, xyz: np.ndarray, tracker: np.ndarray) -> None:
+        """Modify the readings (n, 3) in place."""
+        planted.apply_readings(self, rows, xyz, tracker)
 
+    def truth(self, rows: Rows | None = None) -> dict:
+        """The planted truth: parameters, the affected error / axis, and derived values."""
+        return planted.truth(self, rows)
+
+    # -------------------------------------------------------------- times and values the models use
     def relevel_time(self, rows: Rows) -> float:
         """tracker_relevel: time (s) of the first reading of ``round`` of ``axis`` (the first re-levelled)."""
         p = self.params
@@ -471,7 +411,6 @@ class Effect:
         ref = self.params["t_ref_c"]
         return t - (t[0] if math.isnan(ref) else ref)
 
-    # -------------------------------------------------------------- readings (mm)
     def tracker_ppm(self) -> float:
         p = self.params
         if not math.isnan(p["ppm"]):
@@ -498,34 +437,6 @@ class Effect:
             return np.array([first])
         later = np.flatnonzero(sel & (rows.time_s >= rows.time_s[first]))
         return later
-
-    def apply_readings(self, rows: Rows, xyz: np.ndarray, tracker: np.ndarray) -> None:
-        """Modify the readings (n, 3) in place."""
-        p, n = self.params, self.name
-        if n == "thermal_drift":
-            side = {"spindle": "tool", "table": "table"}.get(p["target"])
-            on = np.ones(len(rows), bool) if p["target"] == "tracker" else rows.side == side
-            dt = np.maximum(rows.time_s[on] - p["t0_s"], 0.0)
-            xyz[on] += S.thermal_drift_displacement(p["amplitude"] * _unit(p["direction"]), dt, p["tau_s"])
-        elif n == "outlier":
-            xyz[self.outlier_rows(rows)] += p["size"] * _unit(p["direction"])
-        elif n == "offset":
-            xyz[rows.time_s >= self.offset_time(rows)] += p["size"] * _unit(p["direction"])
-        elif n == "tracker_scale":
-            xyz[:] = S.tracker_scale_reading(xyz, tracker, self.tracker_ppm())
-        elif n == "thermal_temperature":
-            on = rows.side == {"spindle": "tool", "table": "table"}[p["target"]]
-            xyz[on] += S.thermal_temperature_displacement(p["drift_mm_per_k"] * _unit(p["direction"]),
-                                                          self.delta_t(rows)[on])
-        elif n == "tracker_settling":
-            xyz[:] = S.tracker_settling_reading(xyz, tracker, _unit(p["about"]), self.settling_angle(rows.time_s))
-        elif n == "air_index_drift":
-            dt = np.maximum(rows.time_s - p["t0_s"], 0.0)
-            xyz += (S.air_index_drift_ramp_model(xyz, tracker, dt, [p["ppm_per_h"]]) if p["law"] == "ramp" else
-                    S.air_index_drift_lag_model(xyz, tracker, dt, p["tau_s"], [p["ppm"]]))
-        elif n == "tracker_relevel":  # a rotation step about the tracker (exact), from the round's first reading
-            on = rows.time_s >= self.relevel_time(rows)
-            xyz[on] = S.tracker_settling_reading(xyz[on], tracker, _unit(p["about"]), p["angle_rad"])
 
     def settling_angle(self, t: np.ndarray) -> np.ndarray:
         """tracker_settling: tilt (rad) of the tracker at times t (s)."""
@@ -555,91 +466,6 @@ class Effect:
             return np.zeros(np.shape(t))
         p = self.params
         return warm_up_rise(t, p["temperature_rise_c"], p["tau_s"], p["t0_s"])
-
-    # -------------------------------------------------------------- truth
-    def truth(self, rows: Rows | None = None) -> dict:
-        """The planted truth: parameters, the affected error / axis, and derived values."""
-        p, n = self.params, self.name
-        out: dict[str, Any] = {"name": n, "params": {k: (None if isinstance(v, float) and math.isnan(v) else
-                                                          list(v) if isinstance(v, tuple) else v)
-                                                      for k, v in p.items()}}
-        if n in ("backlash", "periodic", "scale"):
-            out.update(axis=p["axis"], error=self.error)
-            if n == "backlash":
-                out["reversal"] = p["amount"]
-        elif n in ("squareness", "rotary_location"):
-            out.update(error=p["error"], value=p["value"],
-                       axis=p["error"][-1] if n == "squareness" else p["error"][-1])
-        elif n in ("cross_axis", "second_order"):
-            out.update(error=p["error"], axis=p["error"][-1])
-        elif n == "thermal_drift":
-            out.update(direction=p["direction"], amplitude=p["amplitude"])
-        elif n == "outlier":
-            out.update(axis=p["axis"], direction=p["direction"])
-            if rows is not None:
-                i = self.outlier_rows(rows)
-                out["rows"] = [{"axis": str(rows.axis[k]), "round": int(rows.round[k]),
-                                "position": float(rows.position[k]), "point": str(rows.point[k]),
-                                "direction": int(rows.direction[k])} for k in i]
-        elif n == "tracker_scale":
-            out["ppm"] = self.tracker_ppm()
-        elif n == "reversal_angular":
-            out.update(error=p["error"], axis=p["error"][-1], reversal=p["amount"])
-        elif n == "nest_creep":
-            out.update(point=p["point"], side=p["side"], rate_mm_s=p["rate_mm_s"], rate_um_h=p["rate_mm_s"] * 3.6e6,
-                       direction=_unit(p["direction"]).tolist())
-            if rows is not None:  # the creep over the record (no extrapolation beyond it)
-                on = (rows.point == p["point"]) & (rows.side == p["side"])
-                span = float(np.maximum(rows.time_s[on] - p["t0_s"], 0.0).max()) if on.any() else 0.0
-                out["displacement_mm"] = p["rate_mm_s"] * span
-        elif n == "nest_knock":
-            out.update(point=p["point"], side=p["side"], size=p["size"], direction=_unit(p["direction"]).tolist())
-            if rows is not None:
-                t = self.knock_time(rows)
-                on = (rows.point == p["point"]) & (rows.side == p["side"]) & (rows.time_s >= t)
-                out.update(t0_s=t, readings_after=int(on.sum()),
-                           from_axis=str(rows.axis[on][np.argmin(rows.time_s[on])]) if on.any() else None)
-        elif n == "tracker_settling":
-            out.update(about=_unit(p["about"]).tolist())
-            if rows is not None:
-                out["angle_at_end_rad"] = float(self.settling_angle(rows.time_s.max()))
-        elif n == "thermal_temperature":
-            out.update(axis=p["axis"], error=self.error, ppm_per_k=p["ppm_per_k"], drift_mm_per_k=p["drift_mm_per_k"])
-            if rows is not None and rows.temperature_c is not None:
-                dT = self.delta_t(rows)
-                out.update(t_ref_c=float(rows.temperature_c[0] if math.isnan(p["t_ref_c"]) else p["t_ref_c"]),
-                           delta_t_range_k=[float(dT.min()), float(dT.max())])
-        elif n == "side_expansion":
-            out.update(side=p["side"], law=p["law"], centroid_local_mm=[float(v) for v in self.centroid])
-        elif n == "air_index_drift":
-            out.update(law=p["law"])
-            if rows is not None:  # the scale at the last reading, ppm
-                dt = max(float(rows.time_s.max()) - p["t0_s"], 0.0)
-                out["ppm_at_end"] = (p["ppm_per_h"] * dt / 3600.0 if p["law"] == "ramp" else
-                                     p["ppm"] * (1.0 - math.exp(-dt / p["tau_s"])))
-        elif n == "axis_scatter":
-            out.update(axis=p["axis"], error=self.error)
-        elif n == "backlash_travel":
-            out.update(axis=p["axis"], error=self.error)
-            if rows is not None:
-                q = rows.position[rows.axis == p["axis"]]
-                if len(q):
-                    ends = [float(q.min()), float(q.max())]
-                    out.update(travel=ends, reversal_at_ends=[p["amount"] + p["slope"] * v for v in ends])
-        elif n == "tracker_relevel":
-            out.update(about=_unit(p["about"]).tolist(), angle_rad=p["angle_rad"])
-            if rows is not None:
-                out["t0_s"] = self.relevel_time(rows)
-        elif n == "offset":
-            out.update(direction=p["direction"], size=p["size"])
-            if rows is not None:
-                t = self.offset_time(rows)
-                i = np.flatnonzero(rows.time_s >= t)
-                out["t_from_s"] = t
-                if len(i):
-                    out["first_row"] = {"axis": str(rows.axis[i[0]]), "round": int(rows.round[i[0]]),
-                                        "position": float(rows.position[i[0]]), "point": str(rows.point[i[0]])}
-        return out
 
 
 def parse_items(text: str, what: str) -> dict[str, str]:

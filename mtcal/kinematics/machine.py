@@ -43,51 +43,22 @@ def _check_stale(here: Path | None = None) -> None:
                       StaleGeneratedCodeWarning, stacklevel=3)
 
 
-class Machine:
-    """Kinematics of one machine, on the code derive/ generated from its spec (derive/machines/<name>.toml).
+class MachineSpec:
+    """The facts of one machine spec and the checks of its inputs: axes, their kinds, units, limits and sides, the
+    ISO 230-1 error names (generated from derive/machines/<name>.toml).
 
-    Use ``load_machine(name)`` (one instance per process).  Axis vectors are (..., n_axes) in the spec's axis order,
-    mm (linear) and deg (rotary); error vectors (..., n_errors) in the order of ``error_names``, mm and rad; a pose
-    is (..., 6) = [x, y, z (mm), i, j, k] of the tool tip in the workpiece frame.  ``forward``,
-    ``forward_with_jacobian``, ``jacobian_axes``, ``jacobian_errors`` and ``inverse`` evaluate the kinematics.
+    ``Machine`` adds the kinematics; use ``load_machine(name)``.  Axis vectors are (..., n_axes) in the spec's axis
+    order, mm (linear) and deg (rotary); error vectors (..., n_errors) in the order of ``error_names``, mm and rad.
 
     Parameters
     ----------
     name : str
-        The spec's name (``available_machines()``: ``dmu50``, ``headbc``, ``xyzac``).
-
-    Attributes
-    ----------
-    name : str
-        The spec's name.
-    title : str
-        What the machine is.
-    axes : tuple of str
-        Axis names in axis-vector order.
-    axis_kinds : tuple of str
-        ``"linear"`` or ``"rotary"`` per axis.
-    limits : tuple
-        Per axis (low, high) in mm or deg, or None (unlimited).
-    error_names : tuple of str
-        ISO 230-1 names of the error vector, in order.
-    sides : dict of str to str
-        Per axis ``"tool"`` (it moves the spindle) or ``"table"`` (the workpiece).
-    campaign : dict
-        The spec's default measurement campaign (positions, reflectors, rounds, tracker stations).
+        The spec's name (``available_machines()``).
 
     Raises
     ------
     mtcal.errors.InputError
         An unknown machine name.
-
-    Examples
-    --------
-    >>> import mtcal
-    >>> m = mtcal.load_machine("dmu50")
-    >>> m.axes, len(m.error_names)
-    (('X', 'Y', 'Z', 'B', 'C'), 41)
-    >>> m.forward([[100.0, 20.0, 50.0, 0.0, 0.0]]).round(3)
-    array([[100.,  20.,  50.,   0.,   0.,   1.]])
     """
 
     def __init__(self, name: str):
@@ -151,53 +122,6 @@ class Machine:
             out[..., self.index(a)] = v
         return out
 
-    # ------------------------------------------------------------------ geometry of measured points
-    def _side_of(self, axis_or_side: str) -> str:
-        return axis_or_side if axis_or_side in ("tool", "table") else self.side(axis_or_side)
-
-    def points(self, axis_or_side: str, axes, local, errors=None) -> np.ndarray:
-        """Machine-frame positions (..., 3) mm of reflectors ``local`` (..., 3) fixed to the spindle ("tool":
-        mm relative to the spindle gauge point) or the table ("table": workpiece coordinates), at axis positions
-        (..., n_axes); exact error-inclusive with ``errors`` (..., n_errors), nominal without.  ``axis_or_side``:
-        "tool", "table" or an axis (its side).  Positions are not limit-checked (campaigns stay inside)."""
-        a, p = np.asarray(axes, dtype=float), np.asarray(local, dtype=float)
-        e = np.zeros(len(self.error_names)) if errors is None else np.asarray(errors, dtype=float)
-        side = self._side_of(axis_or_side)
-        return (self._np.tool_point if side == "tool" else self._np.table_point)(a, e, p)
-
-    def point_jacobian_errors(self, axis_or_side: str, axes, local) -> np.ndarray:
-        """d points / d errors at zero error (..., 3, n_errors), mm per mm and mm per rad."""
-        side = self._side_of(axis_or_side)
-        fn = self._np.tool_point_jacobian_errors if side == "tool" else self._np.table_point_jacobian_errors
-        return fn(np.asarray(axes, dtype=float), np.asarray(local, dtype=float))
-
-    def rigid_motion(self, axis_or_side: str, axes) -> tuple[np.ndarray, np.ndarray]:
-        """(b (..., 3), R (..., 3, 3)): the nominal map local -> machine frame x = b + R local of the spindle or
-        table side at axis positions (..., n_axes), read off exactly from the images of 0 and the unit vectors."""
-        a = np.asarray(axes, dtype=float)
-        basis = self.points(axis_or_side, a[..., None, :], np.vstack([np.zeros(3), np.eye(3)]))  # (..., 4, 3)
-        b = basis[..., 0, :]
-        return b, np.swapaxes(basis[..., 1:, :] - b[..., None, :], -1, -2)
-
-    def axis_frame(self, axis: str, axes) -> tuple[np.ndarray, np.ndarray]:
-        """(R (..., 3, 3), o (..., 3) mm): the frame in which the error motion of ``axis`` acts, in the machine
-        frame at axis positions (..., n_axes): a linear axis' frame after its nominal translation, a rotary
-        axis' stator frame (z along its nominal rotation axis); generated by derive/threepoint.py."""
-        from mtcal.generated import threepoint_numpy as tp
-        key = f"{self.name}_{axis}"
-        if key not in tp.FRAMES:
-            raise InputError(f"no axis frame derived for axis {axis} of machine {self.name}: run `python -m derive`")
-        f = getattr(tp, tp.FRAMES[key])(np.asarray(axes, dtype=float))
-        return f[..., :3], f[..., 3]
-
-    def __repr__(self) -> str:
-        return f"Machine({self.name!r}: {self.title})"
-
-    @cached_property
-    def casadi(self):
-        """The generated CasADi module (functions return casadi.Function objects)."""
-        return importlib.import_module(f"mtcal.generated.{self.name}_casadi")
-
     # ------------------------------------------------------------------ input checks
     def check_axes(self, axes) -> np.ndarray:
         """(..., n_axes) float array; NaN, wrong shapes and positions outside the limits are errors."""
@@ -244,6 +168,101 @@ class Machine:
         if not np.isfinite(e).all():
             raise InputError("error values contain NaN/inf")
         return e
+
+    def __repr__(self) -> str:
+        return f"Machine({self.name!r}: {self.title})"
+
+
+class Machine(MachineSpec):
+    """Kinematics of one machine, on the code derive/ generated from its spec (derive/machines/<name>.toml).
+
+    Use ``load_machine(name)`` (one instance per process).  Axis vectors are (..., n_axes) in the spec's axis order,
+    mm (linear) and deg (rotary); error vectors (..., n_errors) in the order of ``error_names``, mm and rad; a pose
+    is (..., 6) = [x, y, z (mm), i, j, k] of the tool tip in the workpiece frame.  ``forward``,
+    ``forward_with_jacobian``, ``jacobian_axes``, ``jacobian_errors`` and ``inverse`` evaluate the kinematics.
+
+    Parameters
+    ----------
+    name : str
+        The spec's name (``available_machines()``: ``dmu50``, ``headbc``, ``xyzac``).
+
+    Attributes
+    ----------
+    name : str
+        The spec's name.
+    title : str
+        What the machine is.
+    axes : tuple of str
+        Axis names in axis-vector order.
+    axis_kinds : tuple of str
+        ``"linear"`` or ``"rotary"`` per axis.
+    limits : tuple
+        Per axis (low, high) in mm or deg, or None (unlimited).
+    error_names : tuple of str
+        ISO 230-1 names of the error vector, in order.
+    sides : dict of str to str
+        Per axis ``"tool"`` (it moves the spindle) or ``"table"`` (the workpiece).
+    campaign : dict
+        The spec's default measurement campaign (positions, reflectors, rounds, tracker stations).
+
+    Raises
+    ------
+    mtcal.errors.InputError
+        An unknown machine name.
+
+    Examples
+    --------
+    >>> import mtcal
+    >>> m = mtcal.load_machine("dmu50")
+    >>> m.axes, len(m.error_names)
+    (('X', 'Y', 'Z', 'B', 'C'), 41)
+    >>> m.forward([[100.0, 20.0, 50.0, 0.0, 0.0]]).round(3)
+    array([[100.,  20.,  50.,   0.,   0.,   1.]])
+    """
+
+    # ------------------------------------------------------------------ geometry of measured points
+    def _side_of(self, axis_or_side: str) -> str:
+        return axis_or_side if axis_or_side in ("tool", "table") else self.side(axis_or_side)
+
+    def points(self, axis_or_side: str, axes, local, errors=None) -> np.ndarray:
+        """Machine-frame positions (..., 3) mm of reflectors ``local`` (..., 3) fixed to the spindle ("tool":
+        mm relative to the spindle gauge point) or the table ("table": workpiece coordinates), at axis positions
+        (..., n_axes); exact error-inclusive with ``errors`` (..., n_errors), nominal without.  ``axis_or_side``:
+        "tool", "table" or an axis (its side).  Positions are not limit-checked (campaigns stay inside)."""
+        a, p = np.asarray(axes, dtype=float), np.asarray(local, dtype=float)
+        e = np.zeros(len(self.error_names)) if errors is None else np.asarray(errors, dtype=float)
+        side = self._side_of(axis_or_side)
+        return (self._np.tool_point if side == "tool" else self._np.table_point)(a, e, p)
+
+    def point_jacobian_errors(self, axis_or_side: str, axes, local) -> np.ndarray:
+        """d points / d errors at zero error (..., 3, n_errors), mm per mm and mm per rad."""
+        side = self._side_of(axis_or_side)
+        fn = self._np.tool_point_jacobian_errors if side == "tool" else self._np.table_point_jacobian_errors
+        return fn(np.asarray(axes, dtype=float), np.asarray(local, dtype=float))
+
+    def rigid_motion(self, axis_or_side: str, axes) -> tuple[np.ndarray, np.ndarray]:
+        """(b (..., 3), R (..., 3, 3)): the nominal map local -> machine frame x = b + R local of the spindle or
+        table side at axis positions (..., n_axes), read off exactly from the images of 0 and the unit vectors."""
+        a = np.asarray(axes, dtype=float)
+        basis = self.points(axis_or_side, a[..., None, :], np.vstack([np.zeros(3), np.eye(3)]))  # (..., 4, 3)
+        b = basis[..., 0, :]
+        return b, np.swapaxes(basis[..., 1:, :] - b[..., None, :], -1, -2)
+
+    def axis_frame(self, axis: str, axes) -> tuple[np.ndarray, np.ndarray]:
+        """(R (..., 3, 3), o (..., 3) mm): the frame in which the error motion of ``axis`` acts, in the machine
+        frame at axis positions (..., n_axes): a linear axis' frame after its nominal translation, a rotary
+        axis' stator frame (z along its nominal rotation axis); generated by derive/threepoint.py."""
+        from mtcal.generated import threepoint_numpy as tp
+        key = f"{self.name}_{axis}"
+        if key not in tp.FRAMES:
+            raise InputError(f"no axis frame derived for axis {axis} of machine {self.name}: run `python -m derive`")
+        f = getattr(tp, tp.FRAMES[key])(np.asarray(axes, dtype=float))
+        return f[..., :3], f[..., 3]
+
+    @cached_property
+    def casadi(self):
+        """The generated CasADi module (functions return casadi.Function objects)."""
+        return importlib.import_module(f"mtcal.generated.{self.name}_casadi")
 
     # ------------------------------------------------------------------ kinematics
     # ``check=False`` skips the input checks (limits, NaN, error names) for batch code that checked its input
@@ -336,51 +355,10 @@ class Machine:
         hint's rotary angle (hint default: all zero); ``tool_length`` (mm) as in ``forward`` (it matters when the
         tilt axis is on the head).  At the singularity (tool axis parallel to the rotary axis, |u_xy| <
         ``singular_tol``) the rotary angle is taken from the hint.  The tool axis must be a unit vector within
-        1e-3 (it is then normalised); k outside the reachable range is an error.
+        1e-3 (it is then normalised); k outside the reachable range is an error (``mtcal.kinematics.inverse``).
         """
-        p = np.asarray(pose, dtype=float)
-        if p.ndim == 0 or p.shape[-1] != 6:
-            raise InputError(f"pose must have shape (..., 6) = [x, y, z, i, j, k], got {p.shape}")
-        if not np.isfinite(p).all():
-            raise InputError(f"pose contains NaN/inf at index {tuple(np.argwhere(~np.isfinite(p))[0])}")
-        n = p[..., 3:]
-        norm = np.linalg.norm(n, axis=-1)
-        if np.any(np.abs(norm - 1) > 1e-3):
-            idx = tuple(int(i) for i in np.argwhere(np.abs(norm - 1) > 1e-3)[0])
-            raise InputError(f"tool axis at index {idx} has length {norm[idx]:.6g}, expected a unit vector")
-        n = n / norm[..., None]
-        info = self.ik_info
-        ti, ri = self.axes.index(info["tilt_axis"]), self.axes.index(info["rotary_axis"])
-        h = np.zeros(len(self.axes)) if hint is None else np.asarray(hint, dtype=float)
-        h = np.broadcast_to(h, p.shape[:-1] + (len(self.axes),))
-        k = n[..., 2]
-        lo, hi = info["k_range"]
-        if np.any((k < lo - 1e-12) | (k > hi + 1e-12)):
-            idx = tuple(int(i) for i in np.argwhere((k < lo - 1e-12) | (k > hi + 1e-12))[0])
-            raise InputError(f"tool axis k = {k[idx]:.9g} at index {idx} is unreachable: "
-                             f"{self.name} reaches k in [{lo:g}, {hi:g}]")
-        n = np.concatenate([n[..., :2], np.clip(k, lo, hi)[..., None]], axis=-1)  # only rounding (<= 1e-12)
-        cand = self._np.ik_tilt(n)  # (..., 2): [phi + t, phi - t]
-        if info["preferred_branch"] < 0:
-            cand = cand[..., ::-1]
-        lim = self.limits[ti] or (-np.inf, np.inf)
-        ok = (cand >= lim[0] - 1e-9) & (cand <= lim[1] + 1e-9)
-        if not ok.any(axis=-1).all():
-            idx = tuple(int(i) for i in np.argwhere(~ok.any(axis=-1))[0])
-            raise InputError(f"no {info['tilt_axis']} within {lim} reaches the tool axis at index {idx} "
-                             f"(candidates {cand[idx]})")
-        closer = np.abs(cand[..., 1] - h[..., ti]) < np.abs(cand[..., 0] - h[..., ti])
-        pick_second = ~ok[..., 0] | (ok[..., 1] & closer & (hint is not None))
-        tilt = np.clip(np.where(pick_second, cand[..., 1], cand[..., 0]), *lim)
-        rc = self._np.ik_rotary(tilt, n[..., :2])
-        rot, sing = rc[..., 0], rc[..., 1] < singular_tol
-        rot = np.where(sing, h[..., ri], rot + 360.0 * np.round((h[..., ri] - rot) / 360.0))
-        lin = self._np.ik_linear(np.stack([tilt, rot], axis=-1), p[..., :3], tool_length)
-        out = np.empty(p.shape[:-1] + (len(self.axes),))
-        li = [i for i, kd in enumerate(self.axis_kinds) if kd == "linear"]
-        out[..., li] = lin
-        out[..., ti], out[..., ri] = tilt, rot
-        return out
+        from mtcal.kinematics.inverse import inverse_kinematics
+        return inverse_kinematics(self, pose, hint, singular_tol, tool_length)
 
 
 def _generated_dir() -> Path:

@@ -582,6 +582,42 @@ def _check_turns(data: PlateData, turns: list[float], exact: bool | None, nom: t
                              data.source)
 
 
+def _exact_needed(data: PlateData, turns, nom, offsets: bool, sigma1: float, notes: list[str]) -> bool:
+    """Whether the exact model is needed (``exact=None``): a turn more than FIRST_ORDER_TURN from nominal, or the
+    first-order model's neglected terms (beta^2 R / 2) above half of sigma; the reason goes into ``notes``."""
+    if any(abs(_wrap(t - nom[k])) > FIRST_ORDER_TURN for k, t in enumerate(turns, 1)):
+        notes.append(f"turn(s) {', '.join(f'{math.degrees(t):.3f}' for t in turns)} deg are more than "
+                     f"{math.degrees(FIRST_ORDER_TURN):g} deg from nominal: exact fit used")
+        return True
+    worst = 0.0
+    for k in range(1, len(data.positions)):
+        pk = data.positions[k]
+        rad = np.max(np.hypot(*(pk - (pk.mean(axis=0) if offsets else 0.0)).T))
+        beta = _wrap(turns[k - 1] - nom[k])
+        worst = max(worst, 0.5 * beta**2 * rad)
+    if worst > 0.5 * sigma1:
+        notes.append(f"first-order model error beta^2 R / 2 = {worst:.3g} exceeds sigma / 2 = "
+                     f"{0.5 * sigma1:.3g} (turn off 90 deg by "
+                     f"{math.degrees(abs(_wrap(turns[0] - nom[1]))) * 3600:.1f} "
+                     "arcsec; the paper asks for about 10 arcsec): exact fit used")
+        return True
+    return False
+
+
+def _estimate(data: PlateData, pp: np.ndarray, metric: str, method: str, nom, w: float) -> np.ndarray:
+    """The corrected coordinates (eq. 20): the mean of the estimates from every position (``pp``: each position's
+    parameters); gamma not applied for metric "none"."""
+    if metric == "none":
+        pp[:, 2] = 0.0
+    est_fn = G.estimate_exact if method == "exact" else G.estimate_first_order
+    p1par = pp[0].copy()
+    p1par[1] = 0.0
+    est = est_fn(data.positions[0], p1par, 0.0, w)
+    for k in range(1, len(data.positions)):
+        est = est + est_fn(data.positions[k], pp[k - 1], nom[k], w)
+    return est / len(data.positions)
+
+
 def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exact: bool | None = None,
               origin: str | None = None, align: str | None = None, align_axis: str = "x",
               level: float = 0.01, translate: bool = True, scale: bool = True) -> PlateFit:
@@ -657,23 +693,8 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     dof = J.shape[0] * J.shape[1] - len(names)
     sigma1 = math.sqrt(float(np.sum(R**2)) / dof) if dof > 0 else 0.0
     method = "first_order"
-    if exact is None and any(abs(_wrap(t - nom[k])) > FIRST_ORDER_TURN for k, t in enumerate(turns, 1)):
-        exact = True
-        notes.append(f"turn(s) {', '.join(f'{math.degrees(t):.3f}' for t in turns)} deg are more than "
-                     f"{math.degrees(FIRST_ORDER_TURN):g} deg from nominal: exact fit used")
     if exact is None:
-        worst = 0.0
-        for k in range(1, kk):
-            pk = data.positions[k]
-            rad = np.max(np.hypot(*(pk - (pk.mean(axis=0) if offsets else 0.0)).T))
-            beta = _wrap(turns[k - 1] - nom[k])
-            worst = max(worst, 0.5 * beta**2 * rad)
-        if worst > 0.5 * sigma1:
-            exact = True
-            notes.append(f"first-order model error beta^2 R / 2 = {worst:.3g} exceeds sigma / 2 = "
-                         f"{0.5 * sigma1:.3g} (turn off 90 deg by "
-                         f"{math.degrees(abs(_wrap(turns[0] - nom[1]))) * 3600:.1f} "
-                         "arcsec; the paper asks for about 10 arcsec): exact fit used")
+        exact = _exact_needed(data, turns, nom, offsets, sigma1, notes)
     if exact:
         start = values.copy()
         for k in range(1, kk):  # start each beta at the measured turn (first order is wrong for large beta)
@@ -687,17 +708,7 @@ def fit_plate(data: PlateData, metric: str = "split", offsets: bool = True, exac
     flagged = [f for f in flagged if max(abs(v) for v in f["residual"]) > floor]  # not numerical / rounding noise
     rule += f"; and a residual above the data's resolution ({floor:.3g})"
 
-    # corrected coordinates (eq. 20): mean of the estimates from every position; gamma not applied for "none"
-    pp = _position_params(values, cols)
-    if metric == "none":
-        pp[:, 2] = 0.0
-    est_fn = G.estimate_exact if method == "exact" else G.estimate_first_order
-    p1par = pp[0].copy()
-    p1par[1] = 0.0
-    est = est_fn(data.positions[0], p1par, 0.0, w)
-    for k in range(1, kk):
-        est = est + est_fn(data.positions[k], pp[k - 1], nom[k], w)
-    est /= kk
+    est = _estimate(data, _position_params(values, cols), metric, method, nom, w)
     corrected, o, a, ax = _gage_frame(est, data.ids, origin, align, align_axis, translate)
     return PlateFit(data, metric, offsets, method, names, values, cov, sigma, dof, R, J,
                     [math.degrees(t) for t in turns], corrected, o, a, ax, flagged, rule, notes)
