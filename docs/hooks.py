@@ -1,13 +1,30 @@
-"""MkDocs hooks: the CLI reference (docs/cli.md) generated from the parsers at build time, and benchmark figures
-(``[[bench KEY FORMAT]]``) read from benchmarks/results.json, so neither can drift from what the code does."""
+"""MkDocs hooks: the CLI reference (docs/cli.md) generated from the parsers at build time, and every benchmark figure
+the docs quote checked against benchmarks/results.json, so neither can drift from what the code does.
+
+A quoted figure is written as plain text followed by a marker that names its key and format, so the markdown reads
+as it is on GitHub and in the built site alike (an HTML comment shows in neither)::
+
+    the demo campaign is diagnosed in 2.80 s<!-- bench diagnose_demo_s .2f -->
+
+The number right before the marker (its last number on the line; ``*`` and a unit between them allowed) must equal
+``format(results[KEY], FORMAT)`` (a ``%`` format compares the percentage: ``84 %`` for ``.0%`` of 0.844); a text
+figure (``machine``, ``date``) must end the text before the marker.  The build fails on a figure that differs or a
+key that is missing (tests/test_docs_figures.py checks the same in the suite).  After
+``python benchmarks/run.py --save``, ``python docs/hooks.py README.md docs/**/*.md`` rewrites every quoted figure
+from the file.
+"""
 from __future__ import annotations
 
 import json
 import os
 import re
+import sys
 from pathlib import Path
 
 MARK = "<!-- cli-reference -->"
+RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results.json"
+QUOTE = re.compile(r"<!-- bench (\w+)(?: ([^ ]+))? -->")
+NUMBER = re.compile(r"-?\d[\d,]*(?:\.\d+)?")
 
 
 def cli_reference() -> str:
@@ -26,24 +43,72 @@ def cli_reference() -> str:
     return "\n".join(parts)
 
 
-BENCH = re.compile(r"\[\[bench (\w+)(?: ([^\]]+))?\]\]")
-RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results.json"
+def results() -> dict:
+    return json.loads(RESULTS.read_text())
 
 
-def bench_figures(markdown: str) -> str:
-    """``[[bench KEY FORMAT]]`` -> the figure KEY of benchmarks/results.json in FORMAT (a missing key fails)."""
-    results = json.loads(RESULTS.read_text())
+def expected(key: str, spec: str | None, figures: dict) -> str:
+    """The text of figure ``key`` in ``spec`` (a ``%`` spec without its sign); KeyError names a missing key."""
+    if key not in figures:
+        raise KeyError(f"benchmarks/results.json has no figure {key!r}: run python benchmarks/run.py --save")
+    value = figures[key]
+    return (format(value, spec) if spec else str(value)).rstrip("%")
 
-    def one(m: re.Match) -> str:
-        if m.group(1) not in results:
-            raise KeyError(f"benchmarks/results.json has no figure {m.group(1)!r}: run python benchmarks/run.py --save")
-        value = results[m.group(1)]
-        return format(value, m.group(2)) if m.group(2) else str(value)
 
-    return BENCH.sub(one, markdown)
+def quoted(before: str) -> re.Match | None:
+    """The number a marker quotes: the last one in the text before it on its line (None when there is none)."""
+    found = list(NUMBER.finditer(before.split("\n")[-1]))
+    return found[-1] if found else None
+
+
+def check(markdown: str, figures: dict | None = None) -> list[str]:
+    """Every quoted figure of a page that differs from benchmarks/results.json: ``line: quoted ... , file ...``."""
+    figures = results() if figures is None else figures
+    problems = []
+    for m in QUOTE.finditer(markdown):
+        line = markdown.count("\n", 0, m.start()) + 1
+        want = expected(m.group(1), m.group(2), figures)
+        before = markdown[:m.start()]
+        if not isinstance(figures[m.group(1)], (int, float)):
+            if not before.rstrip("* ").endswith(want):
+                problems.append(f"line {line}: {m.group(1)} should read {want!r}")
+            continue
+        got = quoted(before)
+        if got is None or got.group(0) != want:
+            problems.append(f"line {line}: {m.group(1)} quoted as {got and got.group(0)!r}, results.json gives {want}")
+    return problems
+
+
+def update(markdown: str, figures: dict | None = None) -> str:
+    """The page with every quoted number rewritten from benchmarks/results.json (text figures are not)."""
+    figures = results() if figures is None else figures
+    out, last = [], 0
+    for m in QUOTE.finditer(markdown):
+        got = quoted(markdown[:m.start()])
+        if got is None or not isinstance(figures.get(m.group(1)), (int, float)):
+            continue
+        start = m.start() - len(markdown[:m.start()].split("\n")[-1]) + got.start()
+        end = start + len(got.group(0))
+        out += [markdown[last:start], expected(m.group(1), m.group(2), figures)]
+        last = end
+    return "".join(out) + markdown[last:]
 
 
 def on_page_markdown(markdown: str, page, config, files) -> str:
+    problems = check(markdown)
+    if problems:
+        raise ValueError(f"{page.file.src_path}: figures that differ from benchmarks/results.json:\n" +
+                         "\n".join(problems))
     if MARK in markdown:
         markdown = markdown.replace(MARK, cli_reference())
-    return bench_figures(markdown)
+    return markdown
+
+
+if __name__ == "__main__":
+    for arg in sys.argv[1:]:
+        p = Path(arg)
+        text = p.read_text()
+        new = update(text)
+        if new != text:
+            p.write_text(new)
+            print(f"{arg}: figures rewritten from {RESULTS.name}")

@@ -7,8 +7,8 @@ from pathlib import Path
 from mtcal.cli._options import machine_argument
 
 NAME = "demo"
-HELP = ("the main job on bundled data: identify, plan, compensate, diagnose, plate reversal; "
-        "PNG plots and report.md in DIR")
+HELP = ("the main job on bundled data: identify, plan, compensate, check, diagnose, plate reversal, a calibration "
+        "history; PNG plots, report.md and report.html in DIR")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
