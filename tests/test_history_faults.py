@@ -424,3 +424,29 @@ def test_what_mtcal_check_writes_passes_the_checks_and_reports(tmp_path, capsys,
     assert code == 0, err
     code, out, err = run(capsys, "report", "M1", "-o", str(tmp_path / "r.html"), "--db", db)
     assert code == 0, err
+
+
+def test_postgresql_a_role_that_may_only_read(pg, tmp_path, capsys):
+    """docs/guide/history.md: a role granted SELECT only runs the read commands; its add is one line."""
+    url = fresh_database(pg, "mtcal_reader")
+    add(write(tmp_path / "m.json", model_doc()), "M1", dt.date(2024, 1, 1), url)
+    _pg_exec(url, "DROP ROLE IF EXISTS reader; CREATE ROLE reader LOGIN; "
+                  "GRANT SELECT ON ALL TABLES IN SCHEMA public TO reader")
+    base, _, query = url.partition("?")
+    reader = base.replace("postgres@", "reader@", 1) + "?" + query
+    code, out, err = run(capsys, "history", "list", "--db", reader)
+    assert code == 0 and out.startswith("M1"), err
+    err = refused(capsys, "history", "add", str(write(tmp_path / "n.json", model_doc(noise=1, seed=3))),
+                  "--machine", "M1", "--db", reader)
+    assert "is read-only (permission denied for table" in err, err
+    assert len(show("M1", url)) == 1
+
+
+@pytest.mark.parametrize("column,value,words", [("kind", "spreadsheet", "not a kind of result"),
+                                                ("date", "yesterday", "yesterday"),
+                                                ("document", "{not json", "Expecting property name")])
+def test_a_stored_row_changed_by_hand_is_one_line(hist, tmp_path, capsys, column, value, words):
+    with sqlite3.connect(hist) as c:
+        c.execute(f"UPDATE results SET {column} = ? WHERE id = 2", (value,))
+    err = refused(capsys, "report", "M1", "-o", str(tmp_path / "r.html"), "--db", str(hist), untouched=(hist,))
+    assert str(hist) in err and "#2 of" in err and words in err, err

@@ -64,6 +64,8 @@ SCHEMAS = {
 def checked_document(kind: str, doc: Any, source: str) -> dict:
     """``doc`` checked against the schema of ``kind`` (module docstring), with null read back as NaN where a
     number is read; an InputError names ``source`` and the field."""
+    if kind not in SCHEMAS:
+        raise InputError(f"not a kind of result the history keeps: {kind!r} (kinds: {', '.join(SCHEMAS)})", source)
     out = _checked(doc, SCHEMAS[kind], "", source)
     if kind == "iso230-2":
         for ax, ev in out["axes"].items():

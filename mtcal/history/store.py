@@ -63,6 +63,7 @@ quantities = sa.Table("quantities", meta, sa.Column("id", sa.Integer, primary_ke
                       sa.Column("unit", sa.String(16)))
 owner = sa.Table("mtcal_owner", meta, sa.Column("owner", sa.String(64), primary_key=True))
 TABLES = (machines, results, quantities)
+DATE_TEXT = sa.type_coerce(results.c.date, sa.String).label("date")  # parsed by _as_date, which names a bad one
 
 
 @dataclass
@@ -248,7 +249,8 @@ class Store:
                 raise InputError(f"the history database {self.shown} is empty (nothing added yet: `mtcal history "
                                  "add` creates the history)")
             return None
-        first = revision == REVISIONS[0] and all(set(t.c.keys()) <= tables.get(t.name, set()) for t in TABLES)
+        ours = [t for t in TABLES if t.name in tables]  # the first revision's tables, each with its columns
+        first = revision == REVISIONS[0] and bool(ours) and all(set(t.c.keys()) <= tables[t.name] for t in ours)
         if not (marked or first):  # another program's database: never add mtcal's tables to it
             names = sorted(tables)
             alembic = f", at another program's Alembic revision {revision!r}" if revision else ""
@@ -261,8 +263,7 @@ class Store:
                              "it")
         for t in TABLES:
             if t.name not in tables:
-                raise InputError(f"the history database {self.shown}: the table '{t.name}' is missing (dropped, or "
-                                 "damaged by another program); nothing was written")
+                raise InputError(_missing(self.shown, t.name))
         return revision
 
     def _writer(self):
@@ -282,16 +283,16 @@ class Store:
             if row is not None and row.spec and result.spec and row.spec != result.spec:
                 raise InputError(f"{result.source}: a result of machine spec {result.spec!r}, but the history of "
                                  f"{machine} holds results of spec {row.spec!r}; a machine ID names one machine")
-            latest = _as_date(conn.execute(sa.select(sa.func.max(results.c.date)).where(
-                results.c.machine_id == machine)).scalar())
+            latest = _as_date(conn.execute(sa.select(sa.func.max(DATE_TEXT)).where(
+                results.c.machine_id == machine)).scalar(), self.shown)
             if latest is not None and date < latest:
                 raise InputError(f"{result.source}: date {date.isoformat()} is before the previous calibration of "
                                  f"{machine} ({latest.isoformat()}); results are added in the order they were made")
-            dup = conn.execute(sa.select(results.c.date, results.c.kind).where(
+            dup = conn.execute(sa.select(DATE_TEXT, results.c.kind).where(
                 (results.c.machine_id == machine) & (results.c.file_sha256 == result.file_sha256))).first()
             if dup is not None:
                 raise InputError(f"{result.source}: already in the history of {machine} (the {dup.kind} of "
-                                 f"{_as_date(dup.date).isoformat()}); nothing added")
+                                 f"{_as_date(dup.date, self.shown).isoformat()}); nothing added")
             if row is None:
                 conn.execute(machines.insert().values(id=machine, spec=result.spec, created_at=now))
             elif not row.spec and result.spec:
@@ -318,7 +319,7 @@ class Store:
     def machines(self) -> list[dict]:
         """Every machine of the history: its ID, spec, number of results, first and last date, results per kind."""
         q = (sa.select(machines.c.id, machines.c.spec, results.c.kind, sa.func.count(results.c.id),
-                       sa.func.min(results.c.date), sa.func.max(results.c.date))
+                       sa.func.min(DATE_TEXT), sa.func.max(DATE_TEXT))
              .select_from(machines.outerjoin(results, results.c.machine_id == machines.c.id))
              .group_by(machines.c.id, machines.c.spec, results.c.kind).order_by(machines.c.id, results.c.kind))
         out: dict[str, dict] = {}
@@ -328,7 +329,7 @@ class Store:
                                          "kinds": {}})
                 if kind is None:
                     continue
-                first, last = _as_date(first).isoformat(), _as_date(last).isoformat()
+                first, last = _as_date(first, self.shown).isoformat(), _as_date(last, self.shown).isoformat()
                 m["results"] += n
                 m["kinds"][kind] = n
                 m["first"] = min(m["first"] or first, first)
@@ -347,7 +348,7 @@ class Store:
                 known = [r.id for r in conn.execute(sa.select(machines.c.id).order_by(machines.c.id))]
                 raise InputError(f"no machine {machine!r} in the history {self.shown} (machines: "
                                  f"{', '.join(known) or 'none yet'})")
-            cols = [c for c in results.c if with_documents or c.name != "document"]
+            cols = [DATE_TEXT if c.name == "date" else c for c in results.c if with_documents or c.name != "document"]
             q = sa.select(*cols).where(results.c.machine_id == machine)
             if kind:
                 q = q.where(results.c.kind == kind)
@@ -358,23 +359,7 @@ class Store:
                 for r in conn.execute(sa.select(quantities).where(quantities.c.result_id.in_(ids))
                                       .order_by(quantities.c.id)):
                     qs[r.result_id].append(Quantity(r.name, r.value, r.unit, r.axis, r.position, r.u95, r.dof))
-        recs = [self._record(r, machine, qs[r.id], with_documents) for r in rows]
-        return recs
-
-    def _record(self, r, machine: str, qs: list[Quantity], with_document: bool) -> Record:
-        """A stored row as a Record; with its document, checked (``records``)."""
-        date = _as_date(r.date)
-        what = f"the {r.kind} #{r.id} of {date.isoformat()} ({r.source})"
-        try:
-            env = json.loads(r.environment or "{}")
-            doc = checked_document(r.kind, json.loads(r.document), what) if with_document else None
-            if r.spec:
-                check_spec(r.spec, what)
-        except (InputError, ValueError) as exc:
-            raise InputError(f"the history database {self.shown}: {exc}; this stored result cannot be read (written "
-                             "before mtcal checked what it adds, or changed since)") from None
-        return Record(r.id, machine, r.kind, date, r.added_at, r.spec, r.source, r.file_sha256, r.recording_sha256,
-                      r.model_sha256, r.tool_version, r.instrument, env, doc, qs)
+        return [_record(r, machine, qs[r.id], with_documents, self.shown) for r in rows]
 
     def spec_of(self, machine: str) -> str | None:
         with self._faults(), self.engine.connect() as conn:
@@ -399,6 +384,26 @@ class _Writer:
         return self.cm.__exit__(*exc)
 
 
+def _record(r, machine: str, qs: list[Quantity], with_document: bool, shown: str) -> Record:
+    """A stored row of the database ``shown`` as a Record; with its document, checked (Store.records)."""
+    what = f"the {r.kind} #{r.id} of {str(r.date)[:10]} ({r.source})"
+    try:
+        date = dt.date.fromisoformat(str(r.date)[:10])
+        env = json.loads(r.environment or "{}")
+        doc = checked_document(r.kind, json.loads(r.document), what) if with_document else None
+        if r.spec:
+            check_spec(r.spec, what)
+    except InputError as exc:  # it names the result
+        problem = str(exc)
+    except ValueError as exc:  # a date or JSON that is none
+        problem = f"{what}: {exc}"
+    else:
+        return Record(r.id, machine, r.kind, date, r.added_at, r.spec, r.source, r.file_sha256, r.recording_sha256,
+                      r.model_sha256, r.tool_version, r.instrument, env, doc, qs)
+    raise InputError(f"the history database {shown}: {problem}; this stored result cannot be read (written before "
+                     "mtcal checked what it adds, or changed since)")
+
+
 def _schema_state(conn: sa.Connection) -> tuple[str | None, bool, dict[str, set[str]]]:
     """(Alembic's revision or None, whether mtcal's marker is there, every table with its columns)."""
     insp = sa.inspect(conn)
@@ -421,13 +426,17 @@ def _is_fault(exc: sa.exc.DBAPIError) -> bool:
     return getattr(exc.orig, "sqlstate", None) in _PG_FAULTS
 
 
+def _missing(shown: str, table: str) -> str:
+    return (f"the history database {shown}: the table '{table}' is missing (dropped, or damaged by another "
+            "program); nothing was written")
+
+
 def _fault(exc: sa.exc.DBAPIError, shown: str) -> str:
     """One line for a fault of the database ``shown``."""
     text = _first_line(exc)
     table = re.search(r'no such table: "?(\w+)|relation "(\w+)" does not exist', text)
     if table:
-        return (f"the history database {shown}: the table '{table.group(1) or table.group(2)}' is missing "
-                "(dropped, or damaged by another program); nothing was written")
+        return _missing(shown, table.group(1) or table.group(2))
     if "readonly" in text or "read-only" in text or "permission denied" in text:
         return f"the history database {shown} is read-only ({text}); nothing was written"
     if "locked" in text:
@@ -437,10 +446,16 @@ def _fault(exc: sa.exc.DBAPIError, shown: str) -> str:
     return f"the history database {shown}: {text}"
 
 
-def _as_date(v: Any) -> dt.date | None:
+def _as_date(v: Any, shown: str) -> dt.date | None:
+    """A stored date (a date, or its ISO text as SQLite keeps it); one that is neither is an InputError naming the
+    database ``shown``."""
     if v is None or isinstance(v, dt.date):
         return v
-    return dt.date.fromisoformat(str(v)[:10])
+    try:
+        return dt.date.fromisoformat(str(v)[:10])
+    except ValueError:
+        raise InputError(f"the history database {shown}: a stored date {str(v)[:40]!r} is not a date "
+                         "(YYYY-MM-DD); changed by another program?") from None
 
 
 def _first_line(exc: BaseException) -> str:
