@@ -377,8 +377,8 @@ def test_postgresql_newer_schema_refused(pg, tmp_path):
         show("M1", url)
 
 
-@pytest.mark.parametrize("argv", [["history"], ["history", "add"], ["history", "show"], ["history", "compare"],
-                                  ["history", "trend"], ["report"]])
+@pytest.mark.parametrize("argv", [["history"], ["history", "add"], ["history", "list"], ["history", "show"],
+                                  ["history", "compare"], ["history", "trend"], ["report"]])
 def test_help_of_every_action(argv, capsys):
     """`--help` of the command and of each action prints and exits 0 (a bare % in a help text breaks argparse)."""
     code, out, err = run(capsys, *argv, "--help")

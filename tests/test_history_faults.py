@@ -241,7 +241,9 @@ BAD = [(_iso_without_targets, "axes.X.targets", "missing"),
        (_law_as_text, "noise_law.radial_um", "not a number"),
        (lambda: dict(verify_doc(), errors=[{"name": "E_XX"}]), "errors[0].text", "missing"),
        (lambda: dict(diagnose_doc(), base_sigma_ratio="1.4"), "base_sigma_ratio", "not a number"),
-       (lambda: dict(uncertainty_doc(), volumetric={"u95_max_mm": [1]}), "volumetric.u95_max_mm", "not a number")]
+       (lambda: dict(uncertainty_doc(), volumetric={"u95_max_mm": [1]}), "volumetric.u95_max_mm", "not a number"),
+       (lambda: dict(diagnose_doc(), effects=[dict(diagnose_doc()["effects"][0], interval_95=[0.005])]),
+        "effects[0].interval_95", "1 values, not two")]
 
 
 @pytest.mark.parametrize("make,field,words", BAD, ids=[b[1] for b in BAD])

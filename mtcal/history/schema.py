@@ -73,6 +73,9 @@ def checked_document(kind: str, doc: Any, source: str) -> dict:
                 if len(ev["targets"][k]) != len(ev["positions"]):
                     _refuse(f"axes.{ax}.targets.{k}", f"{len(ev['targets'][k])} values for "
                                                       f"{len(ev['positions'])} positions", source)
+    for i, e in enumerate(out["effects"] if kind == "diagnose" else []):
+        if e.get("interval_95") is not None and len(e["interval_95"]) != 2:
+            _refuse(f"effects[{i}].interval_95", f"{len(e['interval_95'])} values, not two (low, high)", source)
     for path, check in (("", out if kind == "check" else None), ("check.", out.get("check") if kind == "verify"
                                                                    else None)):
         if check:
