@@ -452,3 +452,30 @@ def test_a_stored_row_changed_by_hand_is_one_line(hist, tmp_path, capsys, column
         c.execute(f"UPDATE results SET {column} = ? WHERE id = 2", (value,))
     err = refused(capsys, "report", "M1", "-o", str(tmp_path / "r.html"), "--db", str(hist), untouched=(hist,))
     assert str(hist) in err and "#2 of" in err and words in err, err
+
+
+KILLED = """
+import datetime as dt, sys, time
+from mtcal.history import add, store
+def stall():  # the result row is written, its quantities not yet: say so and wait for the kill
+    print("inside", flush=True)
+    time.sleep(600)
+store.quantities.insert = stall
+add(sys.argv[2], "M1", dt.date(2024, 11, 25), sys.argv[1])
+"""
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
+def test_a_read_after_a_killed_write_sees_the_history_as_before(hist, tmp_path, capsys):
+    """A writer killed inside its transaction leaves its journal beside the file: the next read command, read-only,
+    reads the history as it was (the journal of an add that spilled pages into the file before its commit, a hot
+    one, is not made here: SQLite would need to roll it back, which a read-only connection cannot)."""
+    import signal
+    new = write(tmp_path / "new.json", model_doc(noise=1, seed=9))
+    p = subprocess.Popen([sys.executable, "-c", KILLED, str(hist), str(new)], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "inside"
+    p.send_signal(signal.SIGKILL)
+    p.wait(timeout=60)
+    assert Path(f"{hist}-journal").exists()
+    code, out, err = run(capsys, "history", "show", "M1", "--db", str(hist))
+    assert code == 0 and len(out.splitlines()) == 2, err
