@@ -15,8 +15,10 @@ import sys
 from pathlib import Path
 
 import pytest
+import test_history
 from history_data import check_doc, diagnose_doc, iso_doc, model_doc, uncertainty_doc, verify_doc, write
-from pg_server import fresh_database, private_server
+from pg_server import fresh_database
+from test_history import KILLED
 
 from mtcal.cli import main
 from mtcal.errors import InputError
@@ -333,12 +335,7 @@ def test_two_processes_adding_the_same_file_at_once_land_once(tmp_path, n):
 
 
 # ----------------------------------------------------------------------------- PostgreSQL
-@pytest.fixture(scope="module")
-def pg():
-    with private_server() as (url, why):
-        if url is None:
-            pytest.skip(f"PostgreSQL cannot start here: {why}")
-        yield url
+pg = test_history.pg  # the private server's fixture (tests/pg_server.py)
 
 
 def _pg_tables(url: str) -> list[str]:
@@ -453,16 +450,6 @@ def test_a_stored_row_changed_by_hand_is_one_line(hist, tmp_path, capsys, column
     err = refused(capsys, "report", "M1", "-o", str(tmp_path / "r.html"), "--db", str(hist), untouched=(hist,))
     assert str(hist) in err and "#2 of" in err and words in err, err
 
-
-KILLED = """
-import datetime as dt, sys, time
-from mtcal.history import add, store
-def stall():  # the result row is written, its quantities not yet: say so and wait for the kill
-    print("inside", flush=True)
-    time.sleep(600)
-store.quantities.insert = stall
-add(sys.argv[2], "M1", dt.date(2024, 11, 25), sys.argv[1])
-"""
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
