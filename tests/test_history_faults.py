@@ -455,8 +455,7 @@ def test_a_stored_row_changed_by_hand_is_one_line(hist, tmp_path, capsys, column
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
 def test_a_read_after_a_killed_write_sees_the_history_as_before(hist, tmp_path, capsys):
     """A writer killed inside its transaction leaves its journal beside the file: the next read command, read-only,
-    reads the history as it was (the journal of an add that spilled pages into the file before its commit, a hot
-    one, is not made here: SQLite would need to roll it back, which a read-only connection cannot)."""
+    reads the history as it was (a hot journal, of pages already spilled into the file: the next test)."""
     import signal
     new = write(tmp_path / "new.json", model_doc(noise=1, seed=9))
     p = subprocess.Popen([sys.executable, "-c", KILLED, str(hist), str(new)], stdout=subprocess.PIPE, text=True)
@@ -466,3 +465,32 @@ def test_a_read_after_a_killed_write_sees_the_history_as_before(hist, tmp_path, 
     assert Path(f"{hist}-journal").exists()
     code, out, err = run(capsys, "history", "show", "M1", "--db", str(hist))
     assert code == 0 and len(out.splitlines()) == 2, err
+
+
+SPILLED = """
+import sqlite3, sys, time
+c = sqlite3.connect(sys.argv[1], isolation_level=None)
+c.execute("PRAGMA cache_size = 2")  # a small page cache: the transaction's pages spill into the file
+c.execute("BEGIN IMMEDIATE")
+for i in range(50):
+    c.execute("INSERT INTO quantities (result_id, name, value, unit) VALUES (1, ?, 0, 'mm')", ("E" * 20000,))
+print("inside", flush=True)
+time.sleep(600)
+"""
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGKILL")
+def test_a_read_after_a_killed_write_that_spilled_into_the_file(hist, capsys):
+    """A writer killed after its pages spilled into the file leaves a hot journal, which a read-only connection
+    cannot roll back (SQLITE_READONLY_ROLLBACK): the read command lets SQLite roll it back first, and the file is
+    byte for byte what it was before the transaction."""
+    import signal
+    before = sha(hist)
+    p = subprocess.Popen([sys.executable, "-c", SPILLED, str(hist)], stdout=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "inside"
+    p.send_signal(signal.SIGKILL)
+    p.wait(timeout=60)
+    assert sha(hist) != before and Path(f"{hist}-journal").stat().st_size > 0  # a hot journal
+    code, out, err = run(capsys, "history", "show", "M1", "--db", str(hist))
+    assert code == 0 and len(out.splitlines()) == 2, err
+    assert sha(hist) == before

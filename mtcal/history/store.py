@@ -8,8 +8,9 @@ through psycopg (``pip install mtcal[postgres]``).
 Every write is one transaction (a killed write leaves nothing); writers are serialised (SQLite: ``BEGIN
 IMMEDIATE`` with a busy timeout; PostgreSQL: a transaction-scoped advisory lock), so two processes adding at once
 both land, and the date rule (never before the machine's previous calibration) and the duplicate rule are checked
-inside the writer's transaction.  Reads never write: SQLite is opened read-only (``mode=ro``), PostgreSQL in
-read-only transactions, and only ``add`` creates or upgrades the schema.
+inside the writer's transaction.  Reads never write: SQLite is opened read-only (``mode=ro``; a killed writer's
+hot journal is first rolled back by SQLite itself, which restores the file as it was), PostgreSQL in read-only
+transactions, and only ``add`` creates or upgrades the schema.
 
 A database is mtcal's by mtcal's own marker (the table ``mtcal_owner``, revision 0002), or, written before the
 marker, by the first revision's tables with their columns; anything else (another program's database, even an
@@ -506,12 +507,30 @@ def _sqlite_engine(u: sa.engine.URL, shown: str, write: bool) -> sa.Engine:
         eng = sa.create_engine(u, poolclass=NullPool, connect_args={"timeout": 60})
         sa.event.listen(eng, "begin", lambda conn: conn.exec_driver_sql("BEGIN IMMEDIATE"))
     else:
+        _roll_back_interrupted(path)
         uri = path.absolute().as_uri() + "?mode=ro"
         eng = sa.create_engine("sqlite://", poolclass=NullPool,
                                creator=lambda: sqlite3.connect(uri, uri=True, timeout=60, check_same_thread=False))
         sa.event.listen(eng, "begin", lambda conn: conn.exec_driver_sql("BEGIN"))
     sa.event.listen(eng, "connect", _sqlite_connect)
     return eng
+
+
+def _roll_back_interrupted(path: Path) -> None:
+    """A writer killed inside its transaction may leave a hot journal beside the file (its pages already in the
+    file), which only a writable connection can roll back; let SQLite do so before a read-only open, so that the
+    file is again what it was before that transaction (nothing of the reader's is written).  Where the file cannot
+    be opened for writing, the read-only open then says so."""
+    journal = Path(f"{path}-journal")
+    if not (journal.is_file() and journal.stat().st_size > 0 and os.access(path, os.W_OK)):
+        return
+    conn = sqlite3.connect(path, timeout=60)
+    try:
+        conn.execute("SELECT COUNT(*) FROM sqlite_master").fetchone()  # SQLite rolls a hot journal back here
+    except sqlite3.DatabaseError:
+        pass  # not a database, or damaged: the read-only open names it
+    finally:
+        conn.close()
 
 
 def _sqlite_connect(dbapi_conn, record) -> None:
