@@ -494,3 +494,12 @@ def test_a_read_after_a_killed_write_that_spilled_into_the_file(hist, capsys):
     code, out, err = run(capsys, "history", "show", "M1", "--db", str(hist))
     assert code == 0 and len(out.splitlines()) == 2, err
     assert sha(hist) == before
+
+
+def test_a_name_longer_than_the_history_keeps(hist, tmp_path, capsys):
+    """A check figure named with 40 characters: PostgreSQL refuses it (a DataError, exit 1 on main), SQLite kept it;
+    both refuse it in one line before anything is written."""
+    name = "G_" + "x" * 38
+    f = write(tmp_path / "c.json", dict(check_doc(), measured={name: 0.004}, predicted={name: 0.004}))
+    err = refused(capsys, "history", "add", str(f), "--machine", "M1", "--db", str(hist), untouched=(hist,))
+    assert "c.json" in err and "has 40 characters; the history keeps at most 32" in err, err

@@ -278,6 +278,7 @@ class Store:
         already in its history."""
         check_machine_id(machine)
         check_date(date)
+        _fits(result)
         now = dt.datetime.now(dt.timezone.utc).isoformat(timespec="seconds")
         with self._faults(), self._writer() as conn:
             row = conn.execute(sa.select(machines).where(machines.c.id == machine)).first()
@@ -403,6 +404,17 @@ def _record(r, machine: str, qs: list[Quantity], with_document: bool, shown: str
                       r.model_sha256, r.tool_version, r.instrument, env, doc, qs)
     raise InputError(f"the history database {shown}: {problem}; this stored result cannot be read (written before "
                      "mtcal checked what it adds, or changed since)")
+
+
+def _fits(result: Result) -> None:
+    """Every quantity's name, axis and unit within its column's length (PostgreSQL refuses a longer one, SQLite
+    would keep it): an InputError naming the value."""
+    for q in result.quantities:
+        for col in ("name", "axis", "unit"):
+            v, n = getattr(q, col), quantities.c[col].type.length
+            if v is not None and len(v) > n:
+                raise InputError(f"the {col} {v[:40]!r}{'...' if len(v) > 40 else ''} has {len(v)} characters; the "
+                                 f"history keeps at most {n}", result.source)
 
 
 def _schema_state(conn: sa.Connection) -> tuple[str | None, bool, dict[str, set[str]]]:
