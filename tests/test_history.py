@@ -184,21 +184,39 @@ def test_another_programs_database_or_a_file_that_is_none_is_refused_untouched(t
         assert db.read_bytes() == before
 
 
-def test_the_store_knows_its_head_and_migrates_an_empty_database(tmp_path):
+def test_the_store_knows_its_revisions_and_migrates_an_empty_database(tmp_path):
     from alembic.config import Config
     from alembic.script import ScriptDirectory
 
     from mtcal.history import store
     cfg = Config()
     cfg.set_main_option("script_location", str(store.MIGRATIONS))
-    assert store.HEAD == ScriptDirectory.from_config(cfg).get_current_head()
-    sqlite3.connect(tmp_path / "empty.db").close()  # an existing, empty file: migrated to HEAD on open
-    with store.Store(str(tmp_path / "empty.db")) as s:
+    script = ScriptDirectory.from_config(cfg)
+    assert store.HEAD == script.get_current_head()
+    assert list(store.REVISIONS) == [r.revision for r in reversed(list(script.walk_revisions()))]
+    assert store.OWNER == script.get_revision("0002").module.OWNER
+    sqlite3.connect(tmp_path / "empty.db").close()  # an existing, empty file: migrated to HEAD when opened to write
+    with store.Store(str(tmp_path / "empty.db"), write=True) as s:
         assert s.revision == store.HEAD
     with sqlite3.connect(tmp_path / "empty.db") as c:
         assert c.execute("SELECT version_num FROM alembic_version").fetchone() == (store.HEAD,)
+        assert c.execute("SELECT owner FROM mtcal_owner").fetchall() == [(store.OWNER,)]
         assert {r[0] for r in c.execute("SELECT name FROM sqlite_master WHERE type = 'table'")} >= {
             "machines", "results", "quantities"}
+
+
+def test_a_history_of_the_first_revision_is_read_and_upgraded(hist, capsys):
+    """A history written before the owner's marker (revision 0001, its tables): read as it is, upgraded by add."""
+    db, files = hist
+    with sqlite3.connect(db) as c:
+        c.execute("DROP TABLE mtcal_owner")
+        c.execute("UPDATE alembic_version SET version_num = '0001'")
+    before = db.read_bytes()
+    assert len(show("M1", str(db))) == 3 and db.read_bytes() == before
+    add(write(files[0].parent / "new.json", model_doc(noise=1, seed=9)), "M1", None, str(db))
+    with sqlite3.connect(db) as c:
+        assert c.execute("SELECT version_num FROM alembic_version").fetchone() == ("0002",)
+        assert c.execute("SELECT COUNT(*) FROM mtcal_owner").fetchone() == (1,)
 
 
 def test_a_newer_schema_is_refused(hist, capsys):
@@ -206,7 +224,8 @@ def test_a_newer_schema_is_refused(hist, capsys):
     with sqlite3.connect(db) as c:
         c.execute("UPDATE alembic_version SET version_num = '0099_from_the_future'")
     err = _refused(capsys, db, "history", "show", "M1", "--db", str(db))
-    assert "schema revision '0099_from_the_future', newer than this mtcal knows (its newest is '0001')" in err
+    from mtcal.history.store import HEAD
+    assert f"schema revision '0099_from_the_future', newer than this mtcal knows (its newest is '{HEAD}')" in err
     m = write(files[0].parent / "new.json", model_doc(noise=1, seed=9))
     _refused(capsys, db, "history", "add", str(m), "--machine", "M1", "--db", str(db))
 
@@ -358,8 +377,8 @@ def test_postgresql_newer_schema_refused(pg, tmp_path):
         show("M1", url)
 
 
-@pytest.mark.parametrize("argv", [["history"], ["history", "add"], ["history", "show"], ["history", "compare"],
-                                  ["history", "trend"], ["report"]])
+@pytest.mark.parametrize("argv", [["history"], ["history", "add"], ["history", "list"], ["history", "show"],
+                                  ["history", "compare"], ["history", "trend"], ["report"]])
 def test_help_of_every_action(argv, capsys):
     """`--help` of the command and of each action prints and exits 0 (a bare % in a help text breaks argparse)."""
     code, out, err = run(capsys, *argv, "--help")

@@ -1,4 +1,4 @@
-"""`mtcal history add|show|compare|trend`: a machine's calibration history in a database (mtcal.history; this
+"""`mtcal history add|list|show|compare|trend`: a machine's calibration history in a database (mtcal.history; this
 module parses arguments and formats)."""
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from mtcal.io import dumps
 
 NAME = "history"
 HELP = ("a machine's calibration history: add a result (model, uncertainty, ISO 230-2, check, verify, diagnose), "
-        "show it, compare calibrations against their uncertainty, an error's trend (SQLite ./mtcal-history.db, "
-        "$MTCAL_HISTORY_DB or --db URL)")
+        "list the machines, show one's results, compare calibrations against their uncertainty, an error's trend "
+        "(SQLite ./mtcal-history.db, $MTCAL_HISTORY_DB or --db URL)")
 
 
 def date(text: str) -> dt.date:
@@ -46,6 +46,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                                                           "uncertainty, iso230-2, check evaluate, verify, diagnose")
     a.add_argument("--machine", required=True, metavar="ID", help="the machine's ID (letters, digits, . _ -)")
     a.add_argument("--date", type=date, metavar="YYYY-MM-DD", help="the calibration's date (default today)")
+    lst = sub.add_parser("list", help="the machines of the history: spec, results, first and last date")
     s = sub.add_parser("show", help="a machine's results, one line each")
     s.add_argument("machine", metavar="ID")
     c = sub.add_parser("compare", help="changes between consecutive calibrations (or two dates) beyond their "
@@ -59,12 +60,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     t.add_argument("--position", type=finite, metavar="P", help="an error function's position (mm or deg; default: "
                                                                "where its latest value is largest in size)")
     t.add_argument("--plot", metavar="FILE.png", help="write the trend as a picture")
-    for q in (a, s, c, t):
+    for q in (a, lst, s, c, t):
         _common(q)
 
 
 def run(args: argparse.Namespace) -> int:
-    return {"add": _add, "show": _show, "compare": _compare, "trend": _trend}[args.action](args)
+    return {"add": _add, "list": _list, "show": _show, "compare": _compare, "trend": _trend}[args.action](args)
 
 
 def _add(args: argparse.Namespace) -> int:
@@ -74,6 +75,21 @@ def _add(args: argparse.Namespace) -> int:
         print(dumps(r.to_dict()))
     else:
         print(f"{r.machine}: added the {r.kind} {r.source} of {r.date.isoformat()} ({len(r.quantities)} values)")
+    return 0
+
+
+def _list(args: argparse.Namespace) -> int:
+    from mtcal.history import machines
+    ms = machines(args.db)
+    if args.json:
+        print(dumps({"machines": ms}))
+        return 0
+    wid, wspec = (max([len(str(m[k] or "-")) for m in ms] + [1]) for k in ("machine", "spec"))
+    for m in ms:
+        n = m["results"]
+        kinds = ", ".join(f"{k} {v}" for k, v in m["kinds"].items())
+        print(f"{m['machine']:<{wid}}  {m['spec'] or '-':<{wspec}}  {n} result{'s' if n != 1 else ' '}  "
+              + (f"{m['first']} .. {m['last']}  ({kinds})" if n else "no results"))
     return 0
 
 
@@ -106,8 +122,10 @@ def _compare(args: argparse.Namespace) -> int:
 
 def _trend(args: argparse.Namespace) -> int:
     from mtcal.history import trend_of
+    from mtcal.history.store import refuse_database_output
     from mtcal.io import refuse_overwrite
     if args.plot:
+        refuse_database_output([args.plot], args.db)
         refuse_overwrite(args.plot)
     t = trend_of(args.machine, args.error, args.position, args.db)
     out = t.to_dict()

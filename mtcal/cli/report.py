@@ -18,7 +18,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from mtcal.history.store import refuse_database_output
     from mtcal.report import write_report
+    refuse_database_output([args.output], args.db)  # never the history, whatever --force
     out = write_report(args.target, args.output, args.db)
     if args.json:
         print(dumps(out))

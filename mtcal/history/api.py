@@ -4,10 +4,9 @@ from __future__ import annotations
 import datetime as dt
 from pathlib import Path
 
-from mtcal.errors import InputError
 from mtcal.history.compare import LEVEL, Comparison, Trend, compare, trend
 from mtcal.history.results import read_result
-from mtcal.history.store import Record, Store, check_machine_id
+from mtcal.history.store import Record, Store, check_date, check_machine_id
 
 
 def tool_version() -> str:
@@ -30,7 +29,7 @@ def add(path: str | Path, machine: str, date: dt.date | None = None, db: str | N
     machine : str
         The machine's ID: letters, digits, '.', '_', '-' (at most 64).
     date : datetime.date, optional
-        The calibration's date (default today); never in the future, never before the machine's previous one.
+        The calibration's date (default today); from 1970-01-01 to today, never before the machine's previous one.
     db : str, optional
         The database (mtcal.history.store.database_url: a SQLite path or postgresql://...).
 
@@ -42,8 +41,10 @@ def add(path: str | Path, machine: str, date: dt.date | None = None, db: str | N
     Raises
     ------
     InputError
-        A file that is not an mtcal result, a bad machine ID, an unreachable or newer database, a date in the
-        future or before the previous calibration, another machine spec, a file already in the history.
+        A file that is not an mtcal result or a field of it that is not what mtcal writes (mtcal.history.schema),
+        an unknown machine spec or another one than the machine's, a bad machine ID, a date before 1970, in the
+        future or before the previous calibration, a file already in the history; a fault of the database
+        (unreachable, empty URL, another program's, newer, malformed, a missing table, read-only).
 
     Examples
     --------
@@ -56,19 +57,23 @@ def add(path: str | Path, machine: str, date: dt.date | None = None, db: str | N
     ('model', '2026-01-15')
     """
     check_machine_id(machine)
-    today = dt.date.today()
-    date = date or today
-    if date > today:
-        raise InputError(f"date {date.isoformat()} is in the future (today is {today.isoformat()})")
+    date = check_date(date or dt.date.today())
     result = read_result(path)
-    with Store(db, create=True) as store:
+    with Store(db, write=True) as store:
         return store.add(result, machine, date, tool_version())
 
 
 def show(machine: str, db: str | None = None) -> list[Record]:
-    """``machine``'s results, oldest first."""
+    """``machine``'s results, oldest first (read-only)."""
     with Store(db) as store:
         return store.records(machine)
+
+
+def machines(db: str | None = None) -> list[dict]:
+    """Every machine of the history ``db`` (read-only): {"machine", "spec", "results", "first", "last", "kinds"}
+    (dates ISO; ``kinds``: results per kind)."""
+    with Store(db) as store:
+        return store.machines()
 
 
 def compare_history(machine: str, date_from: dt.date | None = None, date_to: dt.date | None = None,

@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import csv
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from mtcal import _tails
-from mtcal.errors import InputError
+from mtcal.errors import InputError, InputWarning
+from mtcal.history.schema import checked_document
 from mtcal.io import dumps, file_sha256, read_json
 
 KINDS = ("model", "uncertainty", "iso230-2", "check", "verify", "diagnose")
@@ -81,13 +83,25 @@ def kind_of(doc: Any, source: str) -> str:
 
 
 def read_result(path: str | Path) -> Result:
-    """Read a result file (module docstring): its kind, spec, quantities and provenance; bad files are InputError."""
+    """Read a result file (module docstring): its kind, spec, quantities and provenance, every field the history's
+    readers read checked (mtcal.history.schema) and the machine spec it names known; bad files are InputError."""
     p = Path(path)
     doc = read_json(p, "result")
     kind = kind_of(doc, str(p))
-    res = Result(kind, str(p), doc, None, file_sha256(p))
+    res = Result(kind, str(p), checked_document(kind, doc, str(p)), None, file_sha256(p))
     _READERS[kind](res, p)
+    if res.spec is not None:
+        check_spec(res.spec, str(p))
     return res
+
+
+def check_spec(spec: Any, source: str) -> str:
+    """A machine spec mtcal knows (derive/machines); anything else is an InputError naming the known ones."""
+    from mtcal.kinematics.machine import available_machines
+    known = available_machines()
+    if spec not in known:
+        raise InputError(f"unknown machine spec {str(spec)[:40]!r} (mtcal knows {', '.join(known)})", source)
+    return spec
 
 
 def _find(name: Any, beside: Path) -> Path | None:
@@ -106,11 +120,37 @@ def _recording(res: Result, name: Any, p: Path) -> None:
     if rec is None:
         return
     res.recording_sha256 = file_sha256(rec)
-    with rec.open(newline="", encoding="utf-8", errors="replace") as fh:
-        rows = [r for r in csv.DictReader(line for line in fh if not line.lstrip().startswith("#"))]
-    temps = [float(r["temperature_c"]) for r in rows if (r.get("temperature_c") or "").strip()]
+    temps, bad = _temperatures(rec)
+    if bad:
+        line, text = bad[0]
+        warnings.warn(f"{rec}:{line}: temperature_c {text!r} is not a number ({len(bad)} such reading(s)): the "
+                      f"environment keeps the {len(temps)} that are", InputWarning, stacklevel=2)
     if temps:
         res.environment["temperature_c"] = {"mean": sum(temps) / len(temps), "min": min(temps), "max": max(temps)}
+        if bad:
+            res.environment["temperature_c"].update(readings=len(temps), not_numbers=len(bad))
+
+
+def _temperatures(rec: Path) -> tuple[list[float], list[tuple[int, str]]]:
+    """A recording's ``temperature_c`` readings (degC) that are finite numbers, and (line, text) of those that are
+    not (empty cells are no reading)."""
+    with rec.open(newline="", encoding="utf-8", errors="replace") as fh:
+        lines = [(i, line) for i, line in enumerate(fh, 1) if not line.lstrip().startswith("#")]
+    reader = csv.DictReader(line for _, line in lines)
+    temps, bad = [], []
+    for row in reader:
+        text = (row.get("temperature_c") or "").strip()
+        if not text:
+            continue
+        try:
+            v = float(text)
+        except ValueError:
+            v = math.nan
+        if math.isfinite(v):
+            temps.append(v)
+        else:
+            bad.append((lines[reader.line_num - 1][0], text))
+    return temps, bad
 
 
 def _number(v: Any) -> float | None:
@@ -188,8 +228,7 @@ def _iso230_2(res: Result, p: Path) -> None:
 
 def _check(res: Result, p: Path) -> None:
     d = res.document
-    res.instrument = {"circular": "ballbar (ISO 230-4 circular test)", "rtest": "R-test (ISO 10791-6)"}.get(
-        d.get("kind"), d.get("kind"))
+    res.instrument = {"circular": "ballbar (ISO 230-4 circular test)", "rtest": "R-test (ISO 10791-6)"}[d["kind"]]
     for k, v in (d.get("measured") or {}).items():
         if _number(v) is not None:
             res.quantities.append(Quantity(k, v, "mm" if k.endswith("_mm") else ""))

@@ -1693,6 +1693,126 @@ def cases_issue56(C: Corpus):
     C.add("thermal56_export_not_a_model", "thermal", "thermal model", ["export", "m.json", "--format", "siemens",
                                                                        "-o", "T.SPF"],
           {"m.json": jdump({"channels": []})}, [err("m.json", None, "not a thermal model")])
+# the history's first schema (revision 0001, as docs/guide/history.md's older histories and other programs' Alembic
+# databases have it), built here with sqlite3 so that a database's faults can be planted byte by byte
+HISTORY_0001 = ["CREATE TABLE alembic_version (version_num VARCHAR(32) NOT NULL PRIMARY KEY)",
+                "CREATE TABLE machines (id VARCHAR(64) NOT NULL PRIMARY KEY, spec VARCHAR(64), created_at VARCHAR(32))",
+                "CREATE TABLE results (id INTEGER PRIMARY KEY, machine_id VARCHAR(64), kind VARCHAR(16), date DATE, "
+                "added_at VARCHAR(32), spec VARCHAR(64), source TEXT, file_sha256 VARCHAR(64), recording_sha256 "
+                "VARCHAR(64), model_sha256 VARCHAR(64), tool_version VARCHAR(32), instrument TEXT, environment TEXT, "
+                "document TEXT)",
+                "CREATE TABLE quantities (id INTEGER PRIMARY KEY, result_id INTEGER, name VARCHAR(32), axis "
+                "VARCHAR(16), position FLOAT, value FLOAT, u95 FLOAT, dof FLOAT, unit VARCHAR(16))"]
+
+
+def sqlite_bytes(statements, rows=(), damage_table=None):
+    """A SQLite file's bytes from ``statements`` and ``rows`` [(sql, params)]; ``damage_table``: that table's root
+    page overwritten (a malformed page, the rest of the file intact)."""
+    import sqlite3
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        f = Path(d) / "x.db"
+        c = sqlite3.connect(f)
+        for st in statements:
+            c.execute(st)
+        for sql, params in rows:
+            c.execute(sql, params)
+        c.commit()
+        root = c.execute("SELECT rootpage FROM sqlite_master WHERE name = ?", (damage_table,)).fetchone()
+        size = c.execute("PRAGMA page_size").fetchone()[0]
+        c.close()
+        data = bytearray(f.read_bytes())
+    if root:
+        start = (root[0] - 1) * size
+        data[start:start + size] = b"\xa5" * size
+    return bytes(data)
+
+
+def history_0001(document=None, kind="check", drop=()):
+    """An mtcal history of the first schema: machine M-1 (dmu50), one stored result ``document`` of ``kind``."""
+    rows = [("INSERT INTO alembic_version VALUES ('0001')", ()),
+            ("INSERT INTO machines VALUES ('M-1', 'dmu50', '2024-01-01T00:00:00+00:00')", ())]
+    if document is not None:
+        rows.append(("INSERT INTO results VALUES (1, 'M-1', ?, '2024-01-15', '2024-01-15T00:00:00+00:00', NULL, "
+                     "'r.json', ?, NULL, NULL, '0.9', NULL, '{}', ?)", (kind, "0" * 64, json.dumps(document))))
+    return [st for st in HISTORY_0001 if not any(f"TABLE {t} " in st for t in drop)], rows
+
+
+def check_result(**over):
+    """`mtcal check evaluate --json` of a ballbar test (docs/guide/checks.md), with ``over`` replacing fields."""
+    trace = [[float(a), 0.001, 0.0009, 0.0002, d] for d in (1, -1) for a in range(0, 360, 30)]
+    doc = {"kind": "circular", "source": "ballbar.csv", "plane": "XY", "radius_mm": 150.0,
+           "measured": {"G_mm": 0.004, "F_mm": 0.003}, "predicted": {"G_mm": 0.0038, "F_mm": 0.003},
+           "residual": {}, "prediction_u95_mm": 0.0008, "noise_sd_mm": 1e-4, "agrees": True, "worst_z": 1.2,
+           "k_agree": 4.0, "findings": [], "trace": trace}
+    doc.update(over)
+    return doc
+
+
+def cases_issue54_history(C: Corpus):
+    """Issue 54, items 1-2: the history database is data no output replaces, read commands never write, every
+    fault of the database one line naming it; what is added is checked against its schema and its machine."""
+    model = jdump(HAND_MODEL)
+    db = sqlite_bytes(*history_0001())
+    made = [["history", "add", "m.json", "--machine", "M-1", "--date", "2024-01-15", "--db", "h.db"]]
+    dbword = ("history database", "database")
+    C.add("history54_trend_plot_onto_db", "history", "overwrite",
+          ["trend", "M-1", "--error", "E_C0Y", "--plot", "h.db", "--force", "--db", "h.db"], {"m.json": model},
+          [err("h.db", None, *dbword)], setup=made)
+    C.add("report54_onto_db", "report", "overwrite", ["M-1", "-o", "h.db", "--force", "--db", "h.db"],
+          {"m.json": model}, [err("h.db", None, *dbword)], setup=made)
+    C.add("history54_show_empty_file", "history", "path", ["show", "M-1", "--db", "h.db"], {"h.db": b""},
+          [err("h.db", None, "empty")])
+    C.add("history54_db_empty_url", "history", "option", ["add", "m.json", "--machine", "M-1", "--db", ""],
+          {"m.json": model}, [err_also(err(None, None, "empty"), "--db")])
+    C.add("history54_list", "history", "path", ["list", "--db", "h.db", "--json"], {"m.json": model},
+          [ok({"kind": "stdout_json", "keys": ["machines"]})], setup=made)
+    C.add("report54_malformed_page", "report", "path", ["M-1", "-o", "r.html", "--db", "h.db"],
+          {"h.db": sqlite_bytes(*history_0001(check_result()), damage_table="results")},
+          [err("h.db", None, "malformed")])
+    other = sqlite_bytes(["CREATE TABLE alembic_version (version_num VARCHAR(32) NOT NULL PRIMARY KEY)",
+                          "CREATE TABLE users (id INTEGER PRIMARY KEY, name TEXT)"],
+                         [("INSERT INTO alembic_version VALUES ('0001')", ()),
+                          ("INSERT INTO users VALUES (1, 'ada')", ())])
+    for action in (["add", "m.json", "--machine", "M-1"], ["show", "M-1"]):
+        C.add(f"history54_foreign_alembic_{action[0]}", "history", "path", [*action, "--db", "h.db"],
+              {"m.json": model, "h.db": other}, [err("h.db", None, "not an mtcal history")])
+    C.add("history54_dropped_table", "history", "path", ["show", "M-1", "--db", "h.db"],
+          {"h.db": sqlite_bytes(*history_0001(check_result(), drop=("quantities",)))},
+          [err_also(err("h.db", None, "missing"), "quantities")])
+    C.add("history54_readonly_add", "history", "path", ["add", "m.json", "--machine", "M-1", "--db", "h.db"],
+          {"m.json": model, "h.db": db}, [err("h.db", None, "read-only", "permission")])
+    (C.root / "history54_readonly_add" / "h.db").chmod(0o444)
+    diag = {"machine": "dmu60", "recording": "rec.csv", "base_sigma": 0.001, "base_sigma_ratio": 1.0,
+            "sigma_ratio_after": 1.0, "effects": [], "noise_model": {}}
+    for cid, spec in (("unknown_spec", "dmu60"), ("markup_spec", "<script>alert(1)</script>")):
+        C.add(f"history54_{cid}", "history", "model JSON", ["add", "d.json", "--machine", "M-1", "--db", "h.db"],
+              {"d.json": jdump(dict(diag, machine=spec))}, [err("d.json", None, "machine spec", "spec")])
+    C.add("history54_date_year_one", "history", "option",
+          ["add", "m.json", "--machine", "M-1", "--date", "0001-01-01", "--db", "h.db"], {"m.json": model},
+          [err(None, None, "1970", "plausible", "too early")])
+    rec = "axis,round,position,point,x,y,z,temperature_c\nX,1,0,P,0,0,0,20.5\nX,1,0,Q,0,0,0,n/a\n"
+    C.add("history54_temperature_na", "history", "recording CSV",
+          ["add", "m.json", "--machine", "M-1", "--db", "h.db", "--json"],
+          {"m.json": jdump(dict(HAND_MODEL, identified_from="rec.csv")), "rec.csv": rec},
+          [ok({"kind": "stdout_json", "keys": ["environment"]}, say=["n/a"])])
+    iso = {"file": "r.csv", "standard": "ISO 230-2:2014", "axes": {"X": {
+        "axis": "X", "kind": "linear", "unit": "um", "position_unit": "mm", "positions": [0.0, 100.0],
+        "parameters": {"A": 3.5, "E": 2.0}}}}
+    C.add("history54_iso_without_targets", "history", "model JSON",
+          ["add", "r.json", "--machine", "M-1", "--db", "h.db"], {"r.json": jdump(iso)},
+          [err("r.json", None, "targets")])
+    C.add("history54_check_unknown_kind", "history", "model JSON",
+          ["add", "c.json", "--machine", "M-1", "--db", "h.db"], {"c.json": jdump(check_result(kind="laser"))},
+          [err("c.json", None, "kind")])
+    C.add("report54_check_worst_z_null", "report", "model JSON", ["c.json", "-o", "r.html"],
+          {"c.json": jdump(check_result(worst_z=None))}, [ok({"kind": "exists", "paths": ["r.html"]})])
+    law = {"radial_um": "0.4", "radial_um_per_m": 0.3, "transverse_um": 15, "transverse_um_per_m": 6, "k": 2}
+    C.add("report54_noise_law_strings", "report", "model JSON", ["m.json", "-o", "r.html"],
+          {"m.json": jdump(dict(HAND_MODEL, noise_law=law))}, [err("m.json", None, "noise_law")])
+    C.add("report54_stored_before_checks", "report", "path", ["M-1", "-o", "r.html", "--db", "h.db"],
+          {"h.db": sqlite_bytes(*history_0001(check_result(worst_z="large")))},
+          [err_also(err("h.db", None, "worst_z"), "r.json")])
 
 
 def build(root: Path) -> list[dict]:
@@ -1721,6 +1841,7 @@ def build(root: Path) -> list[dict]:
     cases_issue56(C)
 
     cases_history_and_report(C)
+    cases_issue54_history(C)
     C.write()
     return C.cases
 
