@@ -1282,7 +1282,7 @@ def cases_issue20(C: Corpus):
         ("readings_duplicate_column", b02_readings("target_mm,run,direction,measured_mm,measured_mm"), [],
          [err("r.csv", 1, "twice")]),
         ("readings_measured_and_deviation", b02_readings(extra=("deviation_um", 1)), [],
-         [err("r.csv", 1, "ambiguous")]),
+         [err("r.csv", 2, "disagree")]),  # issue 54: both read and cross-checked (1 um against -49.2 um)
         ("readings_mixed_units", b02_readings("target_mm,run,direction,measured_deg"), [], [err("r.csv", 1, "mix")]),
         ("readings_inf", b02_readings().replace("-20,1,up,-20.0492258741", "-20,1,up,inf", 1), [],
          [err("r.csv", 2, "finite")]),
