@@ -69,17 +69,18 @@ def _count(lo: float, hi: float, step: float) -> int:
     return int(math.ceil((hi - lo) / step - 1e-9)) + 1
 
 
-def check_step(step: float, lo: float, hi: float, max_points: int, what: str = "") -> None:
+def check_step(step: float, lo: float, hi: float, max_points: int, what: str = "", given: bool = True) -> None:
     """A table spacing ``step`` (mm or deg) over [lo, hi]: a positive finite number, no finer than MIN_STEP (the
-    tables' written resolution), no coarser than the span (two points, one beyond the measurement), giving at most
-    ``max_points`` points (counted without overflow: ``5e-324``); InputError naming ``what`` (e.g. "axis B")."""
+    tables' written resolution), no coarser than the span when ``given`` by the user (two points, one beyond the
+    measurement), giving at most ``max_points`` points (counted without overflow: ``5e-324``); InputError naming
+    ``what`` (e.g. "axis B")."""
     where = f"{what}: " if what else ""
     if not (math.isfinite(step) and step > 0):
         raise InputError(f"{where}`step` must be a positive finite number, got {step}")
     if step < MIN_STEP:
         raise InputError(f"{where}`step` {step:g} is finer than {MIN_STEP:g}, the resolution the tables write "
                          f"positions with")
-    if hi > lo and step > hi - lo + 1e-9:
+    if given and hi > lo and step > hi - lo + 1e-9:
         raise InputError(f"{where}`step` {step:g} is larger than the measured span [{lo:g}, {hi:g}] ({hi - lo:g}): "
                          f"a table of two points, one beyond the measurement; give a `step` of at most {hi - lo:g}")
     if (hi - lo) / step > max_points - 1 + 1e-9:
@@ -88,9 +89,9 @@ def check_step(step: float, lo: float, hi: float, max_points: int, what: str = "
                          f"most {max_points} (use a larger `step`)")
 
 
-def grid(lo: float, hi: float, step: float, max_points: int) -> np.ndarray:
+def grid(lo: float, hi: float, step: float, max_points: int, what: str = "", given: bool = True) -> np.ndarray:
     """lo, lo + step, ... up to the first point >= hi (``check_step`` first)."""
-    check_step(step, lo, hi, max_points)
+    check_step(step, lo, hi, max_points, what, given)
     return lo + step * np.arange(max(_count(lo, hi, step), 2))
 
 
@@ -102,10 +103,8 @@ def axis_grid(machine, axis: str, lo: float, hi: float, step: float | None,
     and said; refused when it does not fit within the travel."""
     k = machine.axes.index(axis)
     unit = "mm" if machine.axis_kinds[k] == "linear" else "deg"
-    if step is not None:
-        check_step(step, lo, hi, max_points, f"axis {axis}")
     st = step if step is not None else choose_step(lo, hi, max_points)
-    q = grid(lo, hi, st, max_points)
+    q = grid(lo, hi, st, max_points, f"axis {axis}", step is not None)
     notes = []
     if step is not None and q[-1] > hi + 1e-9 * max(1.0, abs(hi)):
         notes.append(f"axis {axis}: step {st:g} {unit} does not divide the measured span [{lo:g}, {hi:g}] "

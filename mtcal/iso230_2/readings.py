@@ -473,8 +473,8 @@ def _check_claims(out: dict, lay: Layout, path, hline: int) -> None:
     k = int(np.argmax(np.abs(dev)))
     col, line = out["col"][k], out["line"][k]
     if not np.any(dev) and len(dev) > 1:
-        raise InputError(f"column {col!r}: every value is its target exactly (no deviation at any of the "
-                         f"{len(dev)} readings): the target column copied, not a measurement", path, hline)
+        raise InputError(f"column {col!r}: no deviation at any of the {len(dev)} readings (every one its target "
+                         f"exactly): the target column copied, or nominal values, not a measurement", path, hline)
     if span <= 0 or abs(dev[k]) <= SPAN_FRACTION * span:
         return
     said = (f"column {col!r}: a deviation of {dev[k]:.6g} {unit} at target {target[k]:g} {unit} (line {line}), "
