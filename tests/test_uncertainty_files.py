@@ -10,35 +10,14 @@ import shutil
 
 import numpy as np
 import pytest
+import test_uncertainty_fast as fixtures
 
-import mtcal
 from mtcal.cli import main
-from mtcal.data import path
-from mtcal.data.make_demo_data import DEMO_PLAN
 from mtcal.uncertainty import monte_carlo
 
-T = DEMO_PLAN["tracker"]
-
-
-@pytest.fixture(scope="module")
-def rec_x():
-    truth = mtcal.load_model(path("demo_truth.json"))
-    rec, _ = mtcal.simulate(truth, plan=DEMO_PLAN, rounds=None, seed=5)
-    return rec.select(rec.axis == "X")
-
-
-@pytest.fixture(scope="module")
-def mc(rec_x, tmp_path_factory):
-    """A model identified from the recording and the 4-trial Monte Carlo of sample_5axis.nc's moves."""
-    from mtcal.measurement.recordings import write_recording
-    d = tmp_path_factory.mktemp("mc")
-    f, prog = d / "rec.csv", d / "part.nc"
-    write_recording(rec_x, f)
-    shutil.copy(path("sample_5axis.nc"), prog)
-    assert main(["identify", str(f), "--tracker", "250,-1500,150", "-o", str(d / "m.json"), "-q"]) == 0
-    assert main(["uncertainty", str(f), "--trials", "4", "--workers", "0", "--tracker", "250,-1500,150",
-                 "--program", str(prog), "-o", str(d / "mc.json"), "-q"]) == 0
-    return d
+T = fixtures.T
+truth, rec_x, mc_files = fixtures.truth, fixtures.rec_x, fixtures.mc_files  # a demo campaign of X, its model and
+# the Monte Carlo of sample_5axis.nc's moves (tests/test_uncertainty_fast.py)
 
 
 def _compensate(d, capsys, program, mcfile, out="c.nc"):
@@ -48,32 +27,23 @@ def _compensate(d, capsys, program, mcfile, out="c.nc"):
     return code, (json.loads(cap.out) if code == 0 else cap.err)
 
 
-def test_a_byte_identical_copy_under_another_name_is_the_same_program(mc, capsys):
+def test_a_byte_identical_copy_under_another_name_is_the_same_program(mc_files, capsys):
     """Main refused it ("not the Monte Carlo of this program"): programs were matched by file name, the docs say by
     content hash."""
-    copy = mc / "renamed.nc"
-    shutil.copy(mc / "part.nc", copy)
-    code, out = _compensate(mc, capsys, copy, mc / "mc.json", "r.nc")
+    copy = mc_files / "renamed.nc"
+    shutil.copy(mc_files / "part.nc", copy)
+    code, out = _compensate(mc_files, capsys, copy, mc_files / "mc.json", "r.nc")
     assert code == 0, out
     tu = out["task_uncertainty"]
     assert tu["moves"] == 274 and tu["computed_for"] == "part.nc" and 0 < tu["u95_max_um"] < 100
-    code, same = _compensate(mc, capsys, mc / "part.nc", mc / "mc.json", "p.nc")
+    code, same = _compensate(mc_files, capsys, mc_files / "part.nc", mc_files / "mc.json", "p.nc")
     assert code == 0 and same["task_uncertainty"]["u95_max_um"] == tu["u95_max_um"]
 
 
-def test_a_program_of_other_contents_under_the_same_name_is_refused(mc, tmp_path, capsys):
-    other = tmp_path / "part.nc"
-    other.write_text((mc / "part.nc").read_text().replace("F", "F1", 1))
-    code = main(["compensate", str(other), "--model", str(mc / "m.json"), "-o", str(tmp_path / "d.nc"),
-                 "--uncertainty", str(mc / "mc.json")])
-    err = capsys.readouterr().err
-    assert code == 2 and "contents differ" in err and not (tmp_path / "d.nc").exists(), err
-
-
 @pytest.mark.parametrize("cut", ["both", "intervals", "poses", "moved"])
-def test_a_monte_carlo_file_cut_short_with_its_hashes_intact_is_refused(mc, tmp_path, capsys, cut):
+def test_a_monte_carlo_file_cut_short_with_its_hashes_intact_is_refused(mc_files, tmp_path, capsys, cut):
     """Main accepted half the moves: "U95 ... over 137 moves" of a 274-move program."""
-    d = json.loads((mc / "mc.json").read_text())
+    d = json.loads((mc_files / "mc.json").read_text())
     vol = d["volumetric"]
     n = len(vol["poses"])
     assert n == 274
@@ -85,8 +55,8 @@ def test_a_monte_carlo_file_cut_short_with_its_hashes_intact_is_refused(mc, tmp_
         vol["poses"][5][0] += 1.0
     bad = tmp_path / "mc.json"
     bad.write_text(json.dumps(d))
-    code = main(["compensate", str(mc / "part.nc"), "--model", str(mc / "m.json"), "-o", str(tmp_path / "c.nc"),
-                 "--uncertainty", str(bad)])
+    code = main(["compensate", str(mc_files / "part.nc"), "--model", str(mc_files / "m.json"), "-o",
+                 str(tmp_path / "c.nc"), "--uncertainty", str(bad)])
     err = capsys.readouterr().err
     assert code == 2 and "mc.json" in err and len(err.strip().splitlines()) == 1, err
     assert ("pose 6" in err) if cut == "moved" else ("274" in err and "137" in err), err

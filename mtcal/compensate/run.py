@@ -186,8 +186,11 @@ def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike, model:
         raise InputError(f"{path}: the Monte Carlo of another model (another recording, or identify run with "
                          f"other options): {rerun}")
     if prov["program"].get("sha256") != file_sha256(program):
-        raise InputError(f"{path}: not the Monte Carlo of this program's tool tip: it was computed for "
-                         f"{vol['program']}, whose contents differ from {Path(program).name}'s (sha256): {rerun}")
+        name = Path(program).name
+        raise InputError(f"{path}: " + (f"the Monte Carlo of another version of {name} (its contents differ)"
+                                        if vol["program"] == name else
+                                        f"not the Monte Carlo of this program's tool tip: it was computed for "
+                                        f"{vol['program']}, whose contents differ from {name}'s") + f": {rerun}")
     trials = d.get("trials")
     if not isinstance(trials, int) or trials < 2:
         raise InputError(f"{path}: {trials} trials: an interval needs at least 2 (run more `trials`)")
