@@ -37,8 +37,8 @@ def test_an_error_column_holding_the_positions_reached_is_refused_naming_it(tmp_
     f = _wide(tmp_path / "w.csv", [], "Target (mm)", lambda j, d: f"Run {j} {'Fwd' if d == 'up' else 'Rev'} Error (mm)",
               value=lambda t, j, d: repr(r[(t, j, d)]))
     _refused(capsys, tmp_path, f, "Error (mm)'", "positions reached", "values=measured")
-    code, out = _run(capsys, f, "--columns", "values=measured")  # what the override is for: still refused, the
-    assert code == 2  # header says 'Error' and the option cannot overrule a header that says which
+    code, _ = _run(capsys, f, "--columns", "values=measured")  # a header that says 'Error' is not overruled
+    assert code == 2
 
 
 def test_a_reading_column_that_is_its_targets_is_refused(tmp_path, capsys):
