@@ -209,3 +209,46 @@ def test_an_rtest_beyond_the_measured_range_warns_too(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert "outside the measured range (end values held)" in err and "E_XC" in err
     assert json.loads(out)["tests"][0]["outside_range"]["E_XC"] > 0
+
+
+# ----------------------------------------------------------------------------- a large set-up offset (issue 54)
+def _exact_offset_test(truth, c, radius=150.0, noise=2e-4, seed=1) -> MeasuredCheck:
+    """A ballbar of the true machine ``truth`` (exact error-inclusive kinematics) in XY about (0, 0, 0), B = C = 0,
+    its table ball ``c`` mm (X, Y) off the circle's centre, where the machine puts the tool: L = |p(q) - p(q0) -
+    c3| - R, c3 the offset along the workpiece frame's X and Y directions; both directions, white noise."""
+    th = np.arange(0.0, 360.0, 1.0)
+    q = np.zeros((len(th), 5))
+    q[:, 0], q[:, 1] = radius * np.cos(np.radians(th)), radius * np.sin(np.radians(th))
+    q0 = np.zeros((1, 5))
+    p = M.forward(q, truth.errors_at(M, q, "hold"), check=False)[:, :3]
+    p0 = M.forward(q0, truth.errors_at(M, q0, "hold"))[0, :3]
+    ex, ey = (M.forward(np.eye(5)[k][None] * 1.0)[0, :3] - M.forward(q0)[0, :3] for k in (0, 1))
+    dr = np.linalg.norm(p - p0 - (c[0] * ex + c[1] * ey), axis=1) - radius
+    rng = np.random.default_rng(seed)
+    th2, dr2 = np.concatenate([th, th[::-1]]), np.concatenate([dr, dr[::-1]]) + rng.normal(0, noise, 2 * len(th))
+    d = np.concatenate([np.ones(len(th)), -np.ones(len(th))])
+    return MeasuredCheck("circular", "<exact>", {"plane": "XY", "radius_mm": radius, "centre_mm": (0.0, 0.0, 0.0)},
+                         {"angle_deg": th2, "deviation_mm": dr2, "direction": d})
+
+
+@pytest.mark.parametrize("c", [(36.0, 0.0), (0.0, -36.0), (25.5, 25.5), (37.4, 0.0)])
+def test_a_large_set_up_offset_is_evaluated_exactly(c):
+    """Main: a 36 mm offset on a 150 mm radius of the demo's machine gave "DIFFERS" with a spurious scale mismatch
+    (t = -41), squareness and cyclic error, where the same test without the offset agrees: the prediction was
+    projected on the nominal radius, the bar runs from the offset table ball.  Now the same worst |z| as without
+    the offset (to 0.05), nothing found, the offset stated."""
+    from mtcal.data import path
+    truth = mtcal.load_model(path("demo_truth.json"))
+    none = evaluate_check(_exact_offset_test(truth, (0.0, 0.0)), truth)
+    ev = evaluate_check(_exact_offset_test(truth, c), truth)
+    assert none.agrees and ev.agrees and ev.findings == [], ev.findings
+    assert ev.worst_z == pytest.approx(none.worst_z, abs=0.05)
+    np.testing.assert_allclose(ev.setup["setup_offset_mm"], c, atol=0.01)  # + the machine's own centre term
+
+
+def test_an_offset_beyond_a_quarter_of_the_radius_is_refused_with_the_bound():
+    from mtcal.data import path
+    truth = mtcal.load_model(path("demo_truth.json"))
+    with pytest.raises(InputError, match=r"40 mm off the circle's centre \(radius 150 mm\), beyond 0.25 of the "
+                                         r"radius \(37.5 mm"):
+        evaluate_check(_exact_offset_test(truth, (40.0, 0.0)), truth)

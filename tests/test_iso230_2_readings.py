@@ -94,7 +94,8 @@ def test_a_missing_reading_is_left_out_of_its_target_only(tmp_path, capsys):
      r"bad.csv:2: column 'material_temperature_c': 2000 degC is outside -10..50 degC"),
     (lambda h, r: (h + ["measured_mm"], [{**x} for x in r]), r"column 'measured' appears twice"),
     (lambda h, r: (h + ["deviation_um"], [{**x, "deviation_um": 1} for x in r]),
-     r"both are present, which is ambiguous"),
+     r"bad.csv:2: column 'deviation_um' says 1 um, the laser reading 'measured_mm' minus the target -49.2259 um: "
+     r"they disagree"),  # both read and cross-checked (issue 54), no longer refused as ambiguous
     (lambda h, r: (h, [{**x, "measured_mm": "inf"} if i == 3 else x for i, x in enumerate(r)]),
      r"bad.csv:5: column 'measured': 'inf' is not a finite number"),
     (lambda h, r: (h, [{**x, "direction": "sideways"} if i == 0 else x for i, x in enumerate(r)]),

@@ -110,8 +110,8 @@ def test_compensate_reports_the_task_uncertainty_of_its_program(rec_x, tmp_path,
                  "--uncertainty", str(tmp_path / "mc.json"), "--json"]) == 0
     tu = json.loads(capsys.readouterr().out)["task_uncertainty"]
     assert tu["trials"] == 4 and tu["moves"] > 100 and 0 < tu["u95_rms_um"] <= tu["u95_max_um"] < 100
-    other = tmp_path / "other.nc"
-    shutil.copy(prog, other)
+    other = tmp_path / "other.nc"  # another program (a copy under another name is the same: test_uncertainty_files)
+    other.write_text(prog.read_text().replace("F", "F1", 1))
     assert main(["compensate", str(other), "--model", str(tmp_path / "m.json"), "-o", str(tmp_path / "d.nc"),
                  "--uncertainty", str(tmp_path / "mc.json")]) == 2
     assert "not the Monte Carlo of this program" in capsys.readouterr().err and not (tmp_path / "d.nc").exists()

@@ -147,10 +147,10 @@ def radial_sensitivity(machine, g: CircleGeometry, tool_length: float = 0.0) -> 
     return np.einsum("nk,nke->ne", g.u, J)
 
 
-def radial_deviation(machine, model: ErrorModel, g: CircleGeometry, tool_length: float = 0.0,
-                     outside: dict[str, int] | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """(deltaR (n,) mm, contributions (n, n_errors) mm): the model's first-order radial deviation and each
-    error's share (they sum to deltaR).  Positions outside an error function's measured range hold its end
+def tip_deviation(machine, model: ErrorModel, g: CircleGeometry, tool_length: float = 0.0,
+                  outside: dict[str, int] | None = None) -> np.ndarray:
+    """(n, 3, n_errors) mm: each error's first-order share of the tool tip's deviation at every point, minus that
+    at the centre, in the workpiece frame.  Positions outside an error function's measured range hold its end
     values (as ``compensate`` does by default); ``outside`` (a dict) is given the count per function."""
     ev = ErrorEvaluator(model, machine, "hold")
     e = ev(g.axes)
@@ -158,9 +158,36 @@ def radial_deviation(machine, model: ErrorModel, g: CircleGeometry, tool_length:
     if outside is not None:
         outside.update(ev.outside_counts)
     J = machine.jacobian_errors(g.axes, tool_length)[:, :3, :]
-    J0 = machine.jacobian_errors(g.centre_axes[None], tool_length)[:, :3, :]
-    contrib = np.einsum("nk,nke,ne->ne", g.u, J, e) - np.einsum("nk,ke,e->ne", g.u, J0[0], e0[0])
+    J0 = machine.jacobian_errors(g.centre_axes[None], tool_length)[0, :3, :]
+    return np.einsum("nke,ne->nke", J, e) - (J0 * e0[0])[None]
+
+
+def radial_deviation(machine, model: ErrorModel, g: CircleGeometry, tool_length: float = 0.0,
+                     outside: dict[str, int] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(deltaR (n,) mm, contributions (n, n_errors) mm): the model's first-order radial deviation and each
+    error's share (they sum to deltaR): ``tip_deviation`` along the nominal radial direction u."""
+    contrib = np.einsum("nk,nke->ne", g.u, tip_deviation(machine, model, g, tool_length, outside))
     return contrib.sum(axis=1), contrib
+
+
+def table_ball(g: CircleGeometry, c: np.ndarray) -> np.ndarray:
+    """The table ball's offset (3,) mm in the workpiece frame from its offset ``c`` (2,) mm along the plane's two
+    axes (their directions in that frame: u(theta) = cos theta e_a + sin theta e_b, fitted from ``g.u``)."""
+    th = np.radians(g.theta_deg)
+    e = np.linalg.lstsq(np.column_stack([np.cos(th), np.sin(th)]), g.u, rcond=None)[0]  # (2, 3): e_a, e_b
+    return np.asarray(c, dtype=float) @ e
+
+
+def offset_reading(g: CircleGeometry, dev: np.ndarray, radius_mm: float, c: np.ndarray) -> tuple[np.ndarray,
+                                                                                                  np.ndarray]:
+    """(deltaR (n,) mm, bar direction w (n, 3)) a ballbar reads whose table ball sits ``c`` (2,) mm off the
+    centre, the tool tip deviating by ``dev`` (n, 3) mm: |R u + dev - c3| - R, exact in the offset (the bar's
+    direction w = (R u - c3) / |R u - c3|, not u: at an offset e a deviation's tangential part reaches the reading
+    by e / R of itself, which the first-order radial projection misses)."""
+    c3 = table_ball(g, c)
+    w = radius_mm * g.u - c3[None]
+    w /= np.linalg.norm(w, axis=1)[:, None]
+    return np.linalg.norm(radius_mm * g.u + dev - c3[None], axis=1) - radius_mm, w
 
 
 # ----------------------------------------------------------------------------------------------- set-up

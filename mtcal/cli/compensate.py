@@ -70,7 +70,9 @@ def _after_line(res: dict, args: argparse.Namespace) -> str:
     if "task_uncertainty" in res:
         tu = res["task_uncertainty"]
         return (f"tool tip uncertain by U95 up to {tu['u95_max_um']:.2f} um, RMS {tu['u95_rms_um']:.2f} um over "
-                f"{tu['moves']} moves ({tu['trials']}-trial Monte Carlo of the identification, {args.uncertainty})")
+                f"{tu['moves']} moves ({tu['trials']}-trial Monte Carlo of the identification, {args.uncertainty}"
+                + (f", computed for {tu['computed_for']}: the same contents" if tu["computed_for"] !=
+                   Path(args.program).name else "") + ")")
     hint = (f"for the tool tip's interval at these moves run `mtcal uncertainty REC.csv --program "
             f"{Path(args.program).name} -o MC.json` and give --uncertainty MC.json")
     worth = res["model_worth"]

@@ -18,6 +18,19 @@ from mtcal.model.iso_types import iso_types
 from mtcal.model.plausibility import check_model
 
 log = logging.getLogger(__name__)
+TASK_POSES = 500  # a program's moves the task-specific Monte Carlo evaluates, at most (evenly spread over it)
+
+
+def task_poses(program: str | os.PathLike, machine, n: int = TASK_POSES) -> np.ndarray:
+    """The nominal axes (m, n_axes) of a G-code program's moves, at most ``n`` of them evenly spread: the poses of
+    the task-specific uncertainty (`mtcal uncertainty --program`), the tool tip of this program after
+    compensation, and what ``task_uncertainty`` matches a Monte Carlo file's poses against."""
+    from mtcal.nc.gcode import read_moves
+
+    q = read_moves(program, machine=machine)
+    if not len(q):
+        raise InputError(f"{program}: no move with every linear axis known")
+    return q[np.unique(np.linspace(0, len(q) - 1, min(n, len(q))).round().astype(int))]
 
 
 def compensate_program(program: str | os.PathLike, output: str | os.PathLike, model: str | os.PathLike | ErrorModel,
@@ -147,19 +160,22 @@ def compensate_program(program: str | os.PathLike, output: str | os.PathLike, mo
 
 def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike, model: ErrorModel | None = None) -> dict:
     """The tool tip's uncertainty after compensation from `mtcal uncertainty --program` (its JSON at ``path``): the
-    largest and RMS half-width of the 95 % intervals over the program's moves (um); refused (InputError) when it
-    was computed for another program (name or contents: ``provenance``'s sha256) or over the work volume, for
-    another model than ``model`` (``ErrorModel.digest``: another recording or identify's options), from fewer than
-    two trials, with a non-finite interval, or carries no provenance (an older mtcal)."""
+    largest and RMS half-width of the 95 % intervals over the program's moves (um).  The program is matched by its
+    contents, not its name: ``provenance``'s sha256 of the program (a byte-identical copy under another name is
+    the same program, said in ``"computed_for"``), and the file's poses and intervals must be the program's
+    (``task_poses``: as many, at the same axes; a file cut short with its hashes intact is refused).  Refused
+    (InputError) too over the work volume, for another model than ``model`` (``ErrorModel.digest``: another
+    recording or identify's options), from fewer than two trials, with a non-finite interval, or with no
+    provenance (an older mtcal)."""
     from pathlib import Path
 
     from mtcal.io import file_sha256, read_json
 
     d = read_json(path, "uncertainty result")
     vol = d.get("volumetric", {}) if isinstance(d, dict) else {}
-    if vol.get("program") != Path(program).name:
+    if not isinstance(vol, dict) or not vol.get("program"):
         raise InputError(f"{path}: not the Monte Carlo of this program's tool tip (run `mtcal uncertainty REC.csv "
-                         f"--program {Path(program).name}`); it holds {vol.get('program') or 'the work volume'}")
+                         f"--program {Path(program).name}`); it holds the work volume")
     prov = d.get("provenance") if isinstance(d.get("provenance"), dict) else {}
     rerun = (f"run `mtcal uncertainty REC.csv --program {Path(program).name}` on the recording the model was "
              f"identified from, with identify's options")
@@ -170,8 +186,11 @@ def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike, model:
         raise InputError(f"{path}: the Monte Carlo of another model (another recording, or identify run with "
                          f"other options): {rerun}")
     if prov["program"].get("sha256") != file_sha256(program):
-        raise InputError(f"{path}: the Monte Carlo of another version of {Path(program).name} (its contents "
-                         f"differ): {rerun}")
+        name = Path(program).name
+        raise InputError(f"{path}: " + (f"the Monte Carlo of another version of {name} (its contents differ)"
+                                        if vol["program"] == name else
+                                        f"not the Monte Carlo of this program's tool tip: it was computed for "
+                                        f"{vol['program']}, whose contents differ from {name}'s") + f": {rerun}")
     trials = d.get("trials")
     if not isinstance(trials, int) or trials < 2:
         raise InputError(f"{path}: {trials} trials: an interval needs at least 2 (run more `trials`)")
@@ -183,10 +202,35 @@ def task_uncertainty(path: str | os.PathLike, program: str | os.PathLike, model:
             np.isfinite(a).all() for a in arrs):
         raise InputError(f"{path}: the tool tip's intervals hold a non-finite value or none at all: not a usable "
                          f"Monte Carlo; {rerun}")
+    _same_moves(path, program, vol, len(arrs[0]), model, rerun)
     lo, hi = arrs
     half = np.linalg.norm(hi - lo, axis=1) / 2
     return {"trials": d.get("trials"), "p": d.get("p"), "moves": len(half), "u95_max_um": float(half.max() * 1e3),
+            "computed_for": str(vol["program"]),
             "u95_rms_um": float(np.sqrt(np.mean(half**2)) * 1e3),
             "of": "the tool tip after compensation: the model's own uncertainty at the program's moves (GUM-S1 "
                   "Monte Carlo of the identification, mtcal uncertainty --program); half-width of the 95 % "
                   "interval of |deviation|, per move"}
+
+
+def _same_moves(path, program, vol: dict, n: int, model: ErrorModel | None, rerun: str) -> None:
+    """The Monte Carlo file's poses are the program's (``task_poses``): as many as its intervals, as many as the
+    program gives, at the same axes (to 1e-6 mm / deg); else refused naming both counts."""
+    from pathlib import Path
+
+    from mtcal.kinematics.machine import DEFAULT_MACHINE, load_machine
+
+    want = task_poses(program, model.kinematics if model is not None else load_machine(DEFAULT_MACHINE))
+    try:
+        have = np.asarray(vol.get("poses"), dtype=float)
+    except (TypeError, ValueError):
+        have = np.zeros((0, 0))
+    if have.shape != want.shape or n != len(want):
+        raise InputError(f"{path}: holds {n} moves' intervals at {len(have)} poses, the Monte Carlo of "
+                         f"{Path(program).name} has {len(want)} (its moves, at most {TASK_POSES} evenly spread): a "
+                         f"file cut short or edited; {rerun}")
+    k = np.flatnonzero(np.abs(have - want).max(axis=1) > 1e-6) if have.size else []
+    if len(k):
+        raise InputError(f"{path}: its pose {int(k[0]) + 1} is not the program's move there (axes "
+                         f"{have[k[0]].round(6).tolist()} against {want[k[0]].round(6).tolist()}): an edited file; "
+                         f"{rerun}")

@@ -192,11 +192,15 @@ def _render(model: ErrorModel, machine, fmt: str, step, mp: int, reversal: dict,
     mod = FORMATS[fmt][0]
     if fmt in isg.NAMES:
         render = isg.render_csv if fmt == "tf5280" else isg.render_etalon
-        return render(model, machine, step, mp, model_path), isg.held(model), [], isg.SIGN, []
+        notes = [s[3] for s in isg.samples(model, machine, step, mp).values() if s[3]]
+        return render(model, machine, step, mp, model_path), isg.held(model), [], isg.SIGN, notes
     tables = _tables(model, machine, mod, step, mp, reversal)
     notes: list[str] = []
     if fmt == "siemens":
         tables, notes = siemens.as_written(tables, machine, options.get("control", "840d"), mp, step is not None)
+    else:
+        tables = heidenhain.as_written(tables, machine, mp, step is not None) if fmt == "heidenhain" else tables
+        notes = [t.note for t in tables if t.note]
     held = {n for t in tables for s in t.sources.values() for n in s}
     if fmt == "linuxcnc":
         return (linuxcnc.render(tables, machine, file_type, model_path, **options), held, tables,

@@ -9,6 +9,9 @@ a line made active with `*` in ACTIVE; at most 256 entries per COM (TNC 407 Tech
 KinematicsComp: iTNC 530 HSCI Technical Manual, "Recommendation" for COM files: columns C1..C6 of a linear axis X
 = EXX, EYX, EZX, EAX, EBX, ECX, of a rotary axis A = EXA, EYA, EZA, EAA, EBA, ECA.
 Units and spacing: mm (linear) and deg (rotary axes and, ASSUMED, angular KinematicsComp columns), regular step.
+An unlimited rotary axis (a modulo axis on the TNC, whose position runs 0..360 deg) is tabled over one turn
+0..360 deg (mtcal.export.sampling.modulo_table: a table measured over 300..420 deg is placed modulo 360, said), at
+most 256 points; a table never runs beyond an axis' travel (sampling.axis_grid).
 Sign: the tables hold the error (joint-equivalent deviation actual - nominal = minus the correction), as the TNC 407
 Technical Manual's example plots "Error in Z" over the compensation points; this sign, the BACKLASH meaning (written
 as the value in the negative direction) and the table file syntax (BEGIN/[END], fixed columns) are ASSUMED from
@@ -19,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.export import isg
+from mtcal.export import isg, sampling
 from mtcal.export.sampling import AxisTable
 from mtcal.model.errormodel import ErrorModel
 
@@ -86,13 +89,32 @@ def kc_files(model: ErrorModel, machine, step: float | None, max_points: int) ->
     """KinematicsComp COM per axis with error functions: C1..C6 = E_X?, E_Y?, E_Z? (mm), E_A?, E_B?, E_C? (deg,
     assumed), sampled on the axis' grid."""
     files = {}
-    for ax, (q, vals, _) in isg.samples(model, machine, step, max_points).items():
+    for ax, (q, vals, st, _) in isg.samples(model, machine, step, max_points).items():
+        q, vals = _turn(ax, q, vals, st, model, machine, max_points, step is not None)
         cols = [vals.get(f"E_{c}{ax}", np.zeros(len(q))) for c in "XYZABC"]
         cols[3:] = [np.degrees(v) for v in cols[3:]]
         rows = [[_v(p)] + [_v(v[i], 9) for v in cols] for i, p in enumerate(q)]
         name = f"KC_{ax}.COM"
         files[name] = _table(name, "MM", ["AXISPOS", "C1", "C2", "C3", "C4", "C5", "C6"], rows)
     return files
+
+
+def _turn(ax: str, q: np.ndarray, vals: dict, st: float, model: ErrorModel, machine, max_points: int,
+          step_given: bool) -> tuple[np.ndarray, dict]:
+    """A KinematicsComp table of an unlimited rotary axis over one turn 0..360 deg, as its COM table is."""
+    if not sampling.unlimited_rotary(machine, ax):
+        return q, vals
+    spacing = [np.diff(np.unique(f.positions)).max() for f in model.functions.values()
+               if f.axis == ax and len(np.unique(f.positions)) > 1]
+    t = sampling.modulo_table(AxisTable(ax, "deg", q, st, vals, {}, measured_step=max(spacing, default=None)),
+                              machine, max_points, step_given, MAX_POINTS, "a TNC COM table")
+    return t.positions, t.corrections
+
+
+def as_written(tables: list[AxisTable], machine, max_points: int, step_given: bool) -> list[AxisTable]:
+    """The COM tables as the files hold them: an unlimited rotary axis' over one turn 0..360 deg (module
+    docstring), at most ``max_points``; the others as sampled."""
+    return [sampling.modulo_table(t, machine, max_points, step_given, MAX_POINTS, "a TNC COM table") for t in tables]
 
 
 def kc_held(model: ErrorModel) -> set[str]:
@@ -112,5 +134,6 @@ def render(tables: list[AxisTable], machine, model: ErrorModel, model_path: str,
         f"layout: {LAYOUT}", f"points: {POINTS_NOTE}",
         f"backlash: {BACKLASH_NOTE}" if any(t.reversal for t in tables) else "backlash: no BACKLASH column written",
         *([f"KinematicsComp: {COMPTAB_NOTE}"] if kinematics_comp else []),
+        *[f"table: {t.note}" for t in tables if t.note],
         f"files: {', '.join(files)}", ""])
     return files

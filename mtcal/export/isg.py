@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.errors import InputError
-from mtcal.export.sampling import choose_step, grid
+from mtcal.export.sampling import axis_grid
 from mtcal.model.errormodel import ErrorModel
 
 NAMES = ("tf5280", "etalon")
@@ -37,7 +37,8 @@ def iso_name(name: str) -> str:
 
 
 def samples(model: ErrorModel, machine, step: float | None, max_points: int) -> dict[str, tuple]:
-    """{axis: (positions, {name: values}, step)} for every axis with error functions (mm/rad at mm/deg)."""
+    """{axis: (positions, {name: values}, step, note)} for every axis with error functions (mm/rad at mm/deg): the
+    grid of mtcal.export.sampling.axis_grid (a given step checked, never beyond the axis' travel, said)."""
     out = {}
     for ax in machine.axes:
         names = sorted(n for n, f in model.functions.items() if f.axis == ax)
@@ -45,13 +46,12 @@ def samples(model: ErrorModel, machine, step: float | None, max_points: int) -> 
             continue
         lo = min(model.functions[n].positions.min() for n in names)
         hi = max(model.functions[n].positions.max() for n in names)
-        st = step if step is not None else choose_step(lo, hi, max_points)
-        q = grid(lo, hi, st, max_points)
+        q, st, note = axis_grid(machine, ax, float(lo), float(hi), step, max_points)
         vals = {n: model.functions[n](q, "hold") for n in names}
         bad = [n for n, v in vals.items() if not np.isfinite(v).all()]
         if bad:
             raise InputError(f"error functions {bad} are not finite on axis {ax} (NaN/inf in the model)")
-        out[ax] = (q, vals, st)
+        out[ax] = (q, vals, st, note)
     return out
 
 
@@ -70,9 +70,9 @@ def render_csv(model: ErrorModel, machine, step, max_points, model_path: str) ->
         names = sorted(model.constants)
         blocks.append(["// position errors (constants)", " ".join(iso_name(n) for n in names),
                        " ".join(_num(model.constants[n]) for n in names)])
-    for ax, (q, vals, st) in samples(model, machine, step, max_points).items():
+    for ax, (q, vals, st, note) in samples(model, machine, step, max_points).items():
         names = list(vals)
-        b = [f"// component errors of axis {ax}: {len(q)} points, step {st:g}",
+        b = [f"// component errors of axis {ax}: {len(q)} points, step {st:g}", *([f"// {note}"] if note else []),
              " ".join([ax] + [iso_name(n) for n in names])]
         b += [" ".join([f"{p:.6f}"] + [_num(vals[n][i]) for n in names]) for i, p in enumerate(q)]
         blocks.append(b)
@@ -87,9 +87,10 @@ def render_etalon(model: ErrorModel, machine, step, max_points, model_path: str)
              "// units: errors mm and rad; positions mm (linear) and deg (rotary)"]
     for n in sorted(model.constants):
         lines += [f"[{iso_name(n)}]", f"VALUE = {_num(model.constants[n])}"]
-    for q, vals, st in samples(model, machine, step, max_points).values():
+    for q, vals, st, note in samples(model, machine, step, max_points).values():
         for n, v in vals.items():
-            lines += [f"// {n}: {len(q)} points, step {st:g}", f"[{iso_name(n)}]", "Gridpoints = {"]
+            lines += [f"// {n}: {len(q)} points, step {st:g}", *([f"// {note}"] if note else []), f"[{iso_name(n)}]",
+                      "Gridpoints = {"]
             lines += [f"    {p:.6f} {_num(x)}" for p, x in zip(q, v)]
             lines.append(f"}}  // end of {iso_name(n)}")
     return {"": "\n".join(lines) + "\n"}

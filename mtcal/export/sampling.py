@@ -7,15 +7,21 @@ its reference (zero).  It is the negative of the joint-equivalent error, to firs
 Machine's generated Jacobians (d pose / d errors solved against d pose / d axes): no axis letter or sign is written
 here, the chain spec decides (e.g. a table-side rotary joint turning with sign -1 gets the opposite sign).
 
-Sampling: a regular grid from the lowest table position of the axis' error functions with ``step``; the last point
-is the first one at or beyond the highest position (values there are the end values held).  Reversal (backlash,
+Sampling (``axis_grid``): a regular grid from the lowest table position of the axis' error functions with ``step``;
+the last point is the first one at or beyond the highest position (values there are the end values held).  A given
+``step`` is checked: finite, no finer than the tables' written resolution (MIN_STEP), no coarser than the measured
+span, within the format's points; one that does not divide the span is said (the table runs beyond the
+measurement by the remainder, the end value held).  No table runs beyond the axis' travel (the machine's limits):
+a grid that would is moved back to end at the travel's end (said), or refused when it cannot fit.  An unlimited
+rotary axis, where the format has modulo tables, is written over one turn 0..360 deg (``modulo_grid``: a given
+step must divide the turn, else refused naming the nearest that do).  Reversal (backlash,
 ISO 230-2 B) comes from a significant ``backlash`` finding of ``mtcal diagnose``: the error approaching in the
 positive direction is E + b/2, in the negative direction E - b/2 (derive/signatures.py).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -23,6 +29,7 @@ from mtcal.errors import InputError
 from mtcal.model.errormodel import ErrorModel
 
 NICE = (1.0, 2.0, 2.5, 5.0)
+MIN_STEP = 1e-6  # mm or deg: every format writes table positions to 6 decimals; a finer step repeats positions
 
 
 @dataclass
@@ -62,15 +69,61 @@ def _count(lo: float, hi: float, step: float) -> int:
     return int(math.ceil((hi - lo) / step - 1e-9)) + 1
 
 
-def grid(lo: float, hi: float, step: float, max_points: int) -> np.ndarray:
-    """lo, lo + step, ... up to the first point >= hi; refuses more than ``max_points`` points."""
-    if not (step > 0 and math.isfinite(step)):
-        raise InputError(f"`step` must be a positive finite number, got {step}")
-    n = _count(lo, hi, step)
-    if n > max_points:
-        raise InputError(f"step {step:g} gives {n} points over [{lo:g}, {hi:g}]; this format holds at most "
-                         f"{max_points} (use a larger `step`)")
-    return lo + step * np.arange(max(n, 2))
+def check_step(step: float, lo: float, hi: float, max_points: int, what: str = "", given: bool = True) -> None:
+    """A table spacing ``step`` (mm or deg) over [lo, hi]: a positive finite number, no finer than MIN_STEP (the
+    tables' written resolution), no coarser than the span when ``given`` by the user (two points, one beyond the
+    measurement), giving at most ``max_points`` points (counted without overflow: ``5e-324``); InputError naming
+    ``what`` (e.g. "axis B")."""
+    where = f"{what}: " if what else ""
+    if not (math.isfinite(step) and step > 0):
+        raise InputError(f"{where}`step` must be a positive finite number, got {step}")
+    if step < MIN_STEP:
+        raise InputError(f"{where}`step` {step:g} is finer than {MIN_STEP:g}, the resolution the tables write "
+                         f"positions with")
+    if given and hi > lo and step > hi - lo + 1e-9:
+        raise InputError(f"{where}`step` {step:g} is larger than the measured span [{lo:g}, {hi:g}] ({hi - lo:g}): "
+                         f"a table of two points, one beyond the measurement; give a `step` of at most {hi - lo:g}")
+    if (hi - lo) / step > max_points - 1 + 1e-9:
+        n = (hi - lo) / step + 1
+        raise InputError(f"{where}step {step:g} gives {n:.0f} points over [{lo:g}, {hi:g}]; this format holds at "
+                         f"most {max_points} (use a larger `step`)")
+
+
+def grid(lo: float, hi: float, step: float, max_points: int, what: str = "", given: bool = True) -> np.ndarray:
+    """lo, lo + step, ... up to the first point >= hi (``check_step`` first)."""
+    check_step(step, lo, hi, max_points, what, given)
+    return lo + step * np.arange(max(_count(lo, hi, step), 2))
+
+
+def axis_grid(machine, axis: str, lo: float, hi: float, step: float | None,
+              max_points: int) -> tuple[np.ndarray, float, str]:
+    """(positions, step, note) of ``axis``' table over its measured [lo, hi] (mm or deg): ``step`` checked
+    (``check_step``), else the finest 1/2/2.5/5 x 10^k (``choose_step``); the note says a given step that does not
+    divide the span.  A grid beyond the axis' travel (``machine.limits``) is moved back to end at the travel's end
+    and said; refused when it does not fit within the travel."""
+    k = machine.axes.index(axis)
+    unit = "mm" if machine.axis_kinds[k] == "linear" else "deg"
+    st = step if step is not None else choose_step(lo, hi, max_points)
+    q = grid(lo, hi, st, max_points, f"axis {axis}", step is not None)
+    notes = []
+    if step is not None and q[-1] > hi + 1e-9 * max(1.0, abs(hi)):
+        notes.append(f"axis {axis}: step {st:g} {unit} does not divide the measured span [{lo:g}, {hi:g}] "
+                     f"({hi - lo:g} {unit}): the table covers {q[-1] - q[0]:g} {unit}, its end beyond the "
+                     f"measurement held at the measured end value")
+    lim = machine.limits[k]
+    if lim is not None:  # a model measured beyond the travel is the plausibility guard's (forced: its range kept)
+        lim = (min(lim[0], lo), max(lim[1], hi))
+    if lim is not None and (q[-1] > lim[1] + 1e-9 or q[0] < lim[0] - 1e-9):
+        shifted = q - (q[-1] - lim[1]) if q[-1] > lim[1] else q + (lim[0] - q[0])
+        if shifted[0] < lim[0] - 1e-9 or shifted[-1] > lim[1] + 1e-9:
+            raise InputError(f"axis {axis}: a table at step {st:g} {unit} over the measured [{lo:g}, {hi:g}] needs "
+                             f"{q[-1] - q[0]:g} {unit}, more than the travel [{lim[0]:g}, {lim[1]:g}] {unit} can "
+                             f"hold: give a `step` that divides {hi - lo:g} {unit}")
+        notes.append(f"axis {axis}: the table at step {st:g} {unit} would reach {q[-1] if q[-1] > lim[1] else q[0]:g} "
+                     f"{unit}, beyond the travel [{lim[0]:g}, {lim[1]:g}] {unit}: written over [{shifted[0]:g}, "
+                     f"{shifted[-1]:g}] {unit} instead, the unmeasured ends held at the measured end values")
+        q = shifted
+    return q, st, "; ".join(notes)
 
 
 def axis_range(model: ErrorModel, axis: str) -> tuple[float, float] | None:
@@ -175,8 +228,7 @@ def sample_axis(model: ErrorModel, machine, axis: str, step: float | None, max_p
     if not names or span is None:
         return None
     lo, hi = span
-    st = step if step is not None else choose_step(lo, hi, max_points)
-    q = grid(lo, hi, st, max_points)
+    q, st, note = axis_grid(machine, axis, lo, hi, step, max_points)
     k_own = joint_factor(machine, axis, own)
     linear = machine.axis_kinds[machine.axes.index(axis)] == "linear"
     if linear:
@@ -196,7 +248,7 @@ def sample_axis(model: ErrorModel, machine, axis: str, step: float | None, max_p
     measured = [np.diff(np.unique(f.positions)).max() for f in model.functions.values()
                 if f.axis == axis and len(np.unique(f.positions)) > 1]
     return AxisTable(axis, "mm" if linear else "deg", q, st, corr, sources, k_own * reversal, units,
-                     float(max(measured)) if measured else None)
+                     float(max(measured)) if measured else None, note)
 
 
 def _touches(machine, axis: str, name: str, out: str) -> bool:
@@ -238,3 +290,79 @@ def not_held(model: ErrorModel, held: set[str]) -> list[str]:
     nz = {n for n, v in model.constants.items() if v != 0.0}
     nz |= {n for n, f in model.functions.items() if np.any(f.values) or f.fit}
     return sorted(nz - held)
+
+
+# ---------------------------------------------------------------------------------------------- modulo tables
+def unlimited_rotary(machine, axis: str) -> bool:
+    """A rotary axis without travel limits (its position read modulo 360 deg by the controls with modulo tables)."""
+    k = machine.axes.index(axis)
+    return machine.axis_kinds[k] == "rotary" and machine.limits[k] is None
+
+
+def divisions(n: float, up: bool = True) -> int:
+    """The number of steps of a full turn: a divisor of 360000 (so that STEP = 360/n has at most three decimals and
+    MIN + n STEP = 360 exactly, as K3 requires of MAX), the smallest not below ``n`` (``up``) or the largest not
+    above it."""
+    k = max(1, int(math.ceil(n - 1e-9)) if up else int(math.floor(n + 1e-9)))
+    while 360000 % k:
+        k += 1 if up else -1
+    return k
+
+
+def _turn_divisions(step: float, axis: str, hard: int | None, control: str) -> int:
+    """The steps of a turn at a given ``step``: it must divide 360 deg into whole steps (of at most three decimals),
+    else refused naming the nearest that do, never silently changed; and fit the control's ``hard`` points."""
+    n = 360.0 / step
+    if abs(n - round(n)) > 1e-9 * n or 360000 % round(n):
+        near = sorted({360.0 / divisions(n, up=False), 360.0 / divisions(n)} - {0.0})
+        raise InputError(f"axis {axis} is an unlimited rotary axis, written as a modulo table over the whole turn "
+                         f"0..360 deg: `step` {step:g} deg does not divide 360 deg into whole steps (nearest that "
+                         f"do: {' or '.join(f'{s:g}' for s in near)} deg)")
+    n = int(round(n))
+    if hard is not None and n + 1 > hard:
+        raise InputError(f"axis {axis} is an unlimited rotary axis, written as a modulo table over the whole turn: a "
+                         f"full turn at step {step:g} deg needs {n + 1} points, {control} holds {hard} per table: give "
+                         f"a `step` of at least {360.0 / divisions(hard - 1, up=False):g} deg, or none")
+    return n
+
+
+def modulo_table(tab: AxisTable, machine, max_points: int | None, step_given: bool, hard: int | None,
+                 control: str) -> AxisTable:
+    """An unlimited rotary axis' table as a modulo table over the whole turn 0..360 deg, on the finest step of whole
+    divisions of 360 deg not coarser than the table's -- with no ``step_given``, no more than ``max_points`` points;
+    a given step must divide the turn and fit ``hard`` points of ``control`` (``_turn_divisions``).  The measured
+    arc [lo, hi] (any start, e.g. 300..420 or -60..60) is placed modulo 360; a full turn (the gap to lo + 360 no
+    wider than the measurement's own spacing) is interpolated across that gap, a partial turn holds the unmeasured
+    arc at the value of the nearer measured end; ``note`` says which.  Other tables unchanged."""
+    if not unlimited_rotary(machine, tab.axis):
+        return tab
+    lo, hi = float(tab.positions[0]), float(tab.positions[-1])
+    span = hi - lo
+    if span > 360.0 + 1e-9:
+        raise InputError(f"axis {tab.axis} is measured over {span:g} deg, more than one turn: a modulo table holds "
+                         f"one turn (give the model one turn of {tab.axis})")
+    if step_given:
+        n = _turn_divisions(tab.step, tab.axis, hard, control)
+    else:
+        n = divisions(360.0 / tab.step)
+        if max_points is not None and n + 1 > max_points:
+            n = divisions(max_points - 1, up=False)
+    x = np.arange(n + 1) * (360.0 / n)
+    x[-1] = 360.0
+    u = np.mod(x - lo, 360.0)
+    full = 360.0 - span <= (tab.measured_step or tab.step) + 1e-9
+    note = (f"{tab.axis} (an unlimited rotary axis) written as a modulo table over one turn 0..360 deg, the measured "
+            f"[{lo:g}, {hi:g}] deg placed modulo 360")
+    if full:
+        at = lo + u
+    else:
+        at = np.where(u <= span + 1e-9, lo + u, np.where(u - span <= 360.0 - u, hi, lo))
+        a, b = hi % 360.0, lo % 360.0
+        note += (f"; less than a turn: {a:g}..{b:g} deg not measured: held at the value of the nearer measured end "
+                 f"({a:g} or {b:g} deg)")
+    per = {}
+    for o, c in tab.corrections.items():
+        v = np.interp(at, tab.positions, c, period=360.0) if full else np.interp(at, tab.positions, c)
+        v[-1] = v[0]
+        per[o] = v
+    return replace(tab, positions=x, step=360.0 / n, corrections=per, note=note)

@@ -22,12 +22,10 @@ Reversal: the LEC table is unidirectional; a backlash finding is written as two 
 """
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 
-import numpy as np
-
 from mtcal.errors import InputError
+from mtcal.export import sampling
 from mtcal.export.sampling import AxisTable
 
 NAME = "siemens"
@@ -60,68 +58,14 @@ def _ax(machine, axis: str) -> str:
     return f"AX{machine.axes.index(axis) + 1}"
 
 
-def _unlimited_rotary(machine, axis: str) -> bool:
-    k = machine.axes.index(axis)
-    return machine.axis_kinds[k] == "rotary" and machine.limits[k] is None
-
-
-def _divisions(n: float, up: bool = True) -> int:
-    """The number of steps of a full turn: a divisor of 360000 (so that STEP = 360/n has at most three decimals and
-    MIN + n STEP = 360 exactly, as K3 requires of MAX), the smallest not below ``n`` (``up``) or the largest not
-    above it."""
-    k = int(math.ceil(n - 1e-9)) if up else int(math.floor(n + 1e-9))
-    while 360000 % k:
-        k += 1 if up else -1
-    return k
-
-
-def _arc(tab: AxisTable) -> tuple[float, float, float]:
-    lo, hi = float(tab.positions[0]), float(tab.positions[-1])
-    return lo, hi, hi - lo
-
-
 def modulo_table(tab: AxisTable, machine, max_points: int | None = None, step_given: bool = True,
                  control: str = "840d") -> AxisTable:
     """An unlimited rotary axis' table as a modulo table over the whole turn 0..360 deg (808D Function Manual
     01/2017 p. 109: "the compensation table is repeated cyclically ... program 0 deg as the starting position and 360
-    deg as the end position"; K3: the values at MIN and MAX agree), on the finest step of whole divisions of 360 deg
-    not coarser than the table's -- with no ``step_given``, no more than ``max_points`` points; a given step the
-    control cannot hold in a full turn is refused with that reason.  The measured arc [lo, hi] (any start, e.g.
-    300..420 or -60..60) is placed modulo 360; a full turn (the gap to lo + 360 no wider than the measurement's own
-    spacing) is interpolated across that gap, a partial turn holds the unmeasured arc at the value of the nearer
-    measured end and says so in ``note``.  Other tables unchanged."""
-    if not _unlimited_rotary(machine, tab.axis):
-        return tab
-    lo, hi, span = _arc(tab)
-    if span > 360.0 + 1e-9:
-        raise InputError(f"axis {tab.axis} is measured over {span:g} deg, more than one turn: a modulo table holds "
-                         f"one turn (give the model one turn of {tab.axis})")
-    n = _divisions(360.0 / tab.step)
-    hard = CONTROLS[control][0]
-    if step_given and hard is not None and n + 1 > hard:
-        raise InputError(f"axis {tab.axis} is an unlimited rotary axis, written as a modulo table over the whole "
-                         f"turn: a full turn at step {tab.step:g} deg needs {n + 1} points, SINUMERIK "
-                         f"{control.upper()} holds {hard} per table: give a `step` of at least "
-                         f"{360.0 / _divisions(hard - 1, up=False):g} deg, or none")
-    if not step_given and max_points is not None and n + 1 > max_points:
-        n = _divisions(max_points - 1, up=False)
-    x = np.arange(n + 1) * (360.0 / n)
-    x[-1] = 360.0
-    u = np.mod(x - lo, 360.0)
-    full = 360.0 - span <= (tab.measured_step or tab.step) + 1e-9
-    if full:
-        at, note = lo + u, ""
-    else:
-        at = np.where(u <= span + 1e-9, lo + u, np.where(u - span <= 360.0 - u, hi, lo))
-        a, b = hi % 360.0, lo % 360.0
-        note = (f"{tab.axis} measured over [{lo:g}, {hi:g}] deg, less than a turn: the modulo table spans 0..360 deg; "
-                f"{a:g}..{b:g} deg not measured: held at the value of the nearer measured end ({a:g} or {b:g} deg)")
-    per = {}
-    for o, c in tab.corrections.items():
-        v = np.interp(at, tab.positions, c, period=360.0) if full else np.interp(at, tab.positions, c)
-        v[-1] = v[0]
-        per[o] = v
-    return replace(tab, positions=x, step=360.0 / n, corrections=per, note=note)
+    deg as the end position"; K3: the values at MIN and MAX agree): mtcal.export.sampling.modulo_table with the
+    control's points per table.  Other tables unchanged."""
+    return sampling.modulo_table(tab, machine, max_points, step_given, CONTROLS[control][0],
+                                 f"SINUMERIK {control.upper()}")
 
 
 def as_written(tables: list[AxisTable], machine, control: str, max_points: int | None,
@@ -211,7 +155,7 @@ def render(tables: list[AxisTable], machine, model_path: str, name: str, measuri
     lec, cec, cec_points, lec_points, backlash, cec_names = [], [], [], {}, [], []
     for tab in tables:
         ax = _ax(machine, tab.axis)
-        modulo = int(_unlimited_rotary(machine, tab.axis))
+        modulo = int(sampling.unlimited_rotary(machine, tab.axis))
         if tab.axis in tab.corrections:
             lec.append(f"; LEC {tab.axis} = F({tab.axis}) from {', '.join(tab.sources[tab.axis])}: "
                        f"{len(tab.positions)} points, step {tab.step:g} {tab.unit}")

@@ -5,8 +5,10 @@ Three layouts, told apart by the header (``,`` ``;`` or tab separated, detected 
 UTF-8, Windows-1252 or UTF-16), the columns found said in one line of the notes:
 
 * **long** -- a row per reading: a target column, a run column, a direction column and the laser reading
-  (``measured``: the position reached) or the error (``deviation``: reached minus target), optionally air and
-  material temperatures, e.g. ``Run,Target (mm),Direction,Laser reading (mm)`` or mtcal's own
+  (``measured``: the position reached) or the error (``deviation``: reached minus target) or both, as lab exports
+  write them (then both are read, the deviation taken from the reading and the error column checked against it
+  on every row, within the rounding of the digits written: ``_cross_check``), optionally air and material
+  temperatures, e.g. ``Run,Target (mm),Direction,Laser reading (mm)`` or mtcal's own
   ``target_mm,run,direction,measured_mm``;
 * **wide** -- a row per target: a target column, then a column per run and direction, e.g.
   ``Target (mm),Run 1 Fwd (um),Run 1 Rev (um),...`` or ``Sollposition [mm],Lauf 1 vorwaerts Abweichung [um],...``;
@@ -24,12 +26,21 @@ assumed.  Direction words (``DIRECTIONS``): up/down, +/-, +1/-1, Fwd/Rev, forwar
 pos/neg, inc/dec, German vorwaerts/rueckwaerts, hin/rueck, Hinlauf/Ruecklauf, French aller/retour; others with
 ``directions``.  Anything the header does not say is named with ``columns`` ({role: header text}).
 
+The header's claims are checked against the values (``_check_claims``): a deviation beyond ``SPAN_FRACTION`` of
+the targets' span is no machine's positioning error (a reading in another unit than its header says, an error
+column holding the positions reached), and a column every value of which is its target is the target column
+copied, not a measurement: both refused naming the column and the line.  In a ``;``-separated export whose numbers
+use decimal commas, a dot is a thousands separator (``1.000`` = 1000, ``1.250,5`` = 1250.5: read so, and said);
+a number written with a decimal point among decimal commas, or with thousands separators in a ``,``-separated
+file (``"1,000.5"``), is refused naming it.
+
 Every deviation is x_ij = P_ij - P_i (ISO 230-2: one datum for all runs, the sensor's zero); a reading that is not
 in the file (an empty cell) is missing (the target's statistics use the runs that have it).  Linear deviations are
 returned in um, rotary in arcsec, target positions in mm or deg.
 """
 from __future__ import annotations
 
+import csv
 import math
 import re
 import warnings
@@ -53,6 +64,7 @@ DIRECTIONS = {  # a direction word of the exports (lower case) -> +1 up / -1 dow
     **dict.fromkeys(("down", "dn", "-", "-1", "bwd", "backward", "backwards", "back", "rev", "reverse", "neg",
                      "negative", "dec", "decreasing", "↓", "rückwärts", "rueckwaerts", "rück", "rueck",
                      "zurück", "rücklauf", "ruecklauf", "retour"), -1)}
+SPAN_FRACTION = 0.1  # a positioning error beyond a tenth of the targets' span is no machine's: a unit or column mix-up
 TEMPERATURE_C = (-10.0, 50.0)  # a machine tool under test; outside: a typo or a unit (K, F) mix-up
 ROLES = {  # role -> the header words naming it (lower case, units removed)
     "target": ("target", "target position", "nominal", "nominal position", "commanded position", "position",
@@ -124,7 +136,8 @@ class Layout:
     kind: str  # "long" | "wide"
     columns: dict[str, Column] = field(default_factory=dict)  # long: role -> column; wide: "target", temps
     runs: list[Column] = field(default_factory=list)  # wide: one per run and direction
-    value: str | None = None  # wide: "measured" | "deviation"
+    value: str | None = None  # "measured" | "deviation": what the deviations are taken from
+    check: str | None = None  # long: "deviation" when the error column is there beside the reading (cross-checked)
     inferred: bool = False  # wide: the value kind taken from the units (errors in a finer unit than the target)
     twice: list[tuple[str, int, int]] = field(default_factory=list)  # (role, first column, second column), 0-based
 
@@ -248,11 +261,45 @@ def _metadata_temperature(value: str, key: str, path, line: int) -> float:
     return _temperature(m.group(1).replace(",", "."), key, path, line)
 
 
+_GROUPED = re.compile(r"^\s*[+-]?[1-9]\d{0,2}(?:\.\d{3})+(?:,\d*)?\s*$")  # 1.000 / 1.250,5: thousands separators
+_COMMA = re.compile(r"^\s*[+-]?\d*,\d+(?:[eE][+-]?\d+)?\s*$")  # a decimal comma (mtcal.io reads it as a point)
+_POINT = re.compile(r"^\s*[+-]?\d*\.\d+(?:[eE][+-]?\d+)?\s*$")
+_COMMA_GROUPED = re.compile(r"^\s*[+-]?[1-9]\d{0,2}(?:,\d{3})+(?:\.\d*)?\s*$")  # 1,000.5
+
+
+def _thousands(path, hline: int, data: list[tuple[int, list[str]]]) -> int:
+    """A ``;``-separated export whose numbers use decimal commas writes thousands with a dot: such fields of
+    ``data`` (as the file has them: mtcal.io has turned the decimal commas into points) are read as thousands
+    (``1.000`` = 1000); a decimal point among decimal commas is refused naming its line.  The count read so."""
+    from mtcal.io import csv_separator, read_text
+
+    with warnings.catch_warnings():  # the encoding is said once, by the reader
+        warnings.simplefilter("ignore")
+        text = read_text(path, "ISO 230-2 readings").splitlines()
+    if csv_separator(text[hline - 1]) != ";":
+        return 0
+    raw = {line: next(csv.reader([text[line - 1]], delimiter=";")) for line, _ in data}
+    if not any(_COMMA.match(x) or (_GROUPED.match(x) and "," in x) for r in raw.values() for x in r):
+        return 0
+    n = 0
+    for line, fields in data:
+        for k, x in enumerate(raw[line][:len(fields)]):
+            if _GROUPED.match(x):
+                fields[k] = x.strip().replace(".", "").replace(",", ".")
+                n += 1
+            elif _POINT.match(x):
+                raise InputError(f"{x.strip()!r} is written with a decimal point, the file's other numbers with "
+                                 f"decimal commas (a dot there is a thousands separator): one convention per file",
+                                 path, line)
+    return n
+
+
 def _number(text: str, col: str, path, line: int) -> float:
     try:
         v = float(text)
     except ValueError:
-        raise InputError(f"column {col!r}: expected a number, got {text!r}", path, line) from None
+        grouped = " (thousands separators: write plain numbers, e.g. 1000.5)" if _COMMA_GROUPED.match(text) else ""
+        raise InputError(f"column {col!r}: expected a number, got {text!r}{grouped}", path, line) from None
     if not math.isfinite(v):
         raise InputError(f"column {col!r}: {text!r} is not a finite number", path, line)
     return v
@@ -356,13 +403,20 @@ def read_readings(path: str | Path, unit: str | None = None, alpha: float | None
     kind = _kind(units, path, hline)
     if not data:
         raise InputError("no readings after the header", path, hline)
+    grouped = _thousands(path, hline, data)
     out = (_read_wide if lay.kind == "wide" else _read_long)(lay, data, header, units, kind, dirs, path)
-    if lay.inferred:
-        _check_inferred(out, path, hline, lay)
+    _check_claims(out, lay, path, hline)
     if "material_temperature_c" not in lay.columns and md.material_c is not None:
         out["temp"] = [md.material_c] * len(out["temp"])
     runs, notes = _runs(out, kind, alpha, path)
     notes.insert(0, _said(path, lay, units, md, out["words"]))
+    if grouped:
+        notes.insert(1, f"{grouped} number(s) written with thousands separators among decimal commas read as such "
+                        f"('1.000' = 1000, '1.250,5' = 1250.5)")
+    if out["checked"]:
+        notes.insert(1, f"the errors agree with the laser readings minus the targets at all {len(out['checked'])} "
+                        f"readings (largest difference {max(out['checked']):.3g} "
+                        f"{'um' if kind == 'linear' else 'arcsec'}, within the digits written)")
     meta = {**md.fields, "air_temperature_c": md.air_c, "material_temperature_c": md.material_c}
     return runs, kind, notes, {k: v for k, v in meta.items() if v is not None}
 
@@ -371,11 +425,10 @@ def _units(lay: Layout, md: Metadata, unit: str | None, cols: dict | None, path,
     """{"target": unit, "value": unit} and the wide table's value role: header, else metadata, else ``unit``."""
     if lay.kind == "long":
         values = [r for r in ("measured", "deviation") if r in lay.columns]
-        if len(values) != 1:
-            raise InputError("give one of 'measured' (the position reached) and 'deviation' (reached - target): "
-                             + ("both are present, which is ambiguous" if values else "neither is present"), path,
-                             line)
-        lay.value = values[0]
+        if not values:
+            raise InputError("give 'measured' (the position reached) or 'deviation' (reached - target) or both: "
+                             "neither is present", path, line)
+        lay.value, lay.check = values[0], (values[1] if len(values) == 2 else None)
         vunit = lay.columns[lay.value].unit
     else:
         said = {c.role for c in lay.runs if c.role}
@@ -389,8 +442,12 @@ def _units(lay: Layout, md: Metadata, unit: str | None, cols: dict | None, path,
         vunit = vunits.pop()
     tunit = lay.columns["target"].unit or md.units.get("target") or md.units.get("default") or unit
     vunit = vunit or md.units.get(lay.value or "deviation") or md.units.get("default") or unit
-    for what, u, col in (("target", tunit, lay.columns["target"]),
-                         (lay.value or "run", vunit, lay.columns.get(lay.value) or lay.runs[0])):
+    said = [("target", tunit, lay.columns["target"]),
+            (lay.value or "run", vunit, lay.columns.get(lay.value) or lay.runs[0])]
+    if lay.check:
+        col = lay.columns[lay.check]
+        said.append((lay.check, col.unit or md.units.get(lay.check) or md.units.get("default") or unit, col))
+    for what, u, col in said:
         if u is None or u == "C":
             raise InputError(f"the unit of column {col.header!r} is not declared ({what}): write it in the header "
                              f"('{col.header} (mm)', '_mm', '[µm]'), in the metadata ('Units: mm') or give `unit`",
@@ -402,19 +459,39 @@ def _units(lay: Layout, md: Metadata, unit: str | None, cols: dict | None, path,
                              f"laser readings: write 'error' or 'reading' in their headers, or give --columns "
                              f"values=deviation (errors) or --columns values=measured (readings)", path, line)
         lay.value, lay.inferred = "deviation", True
-    return {"target": tunit, "value": vunit}
+    return {"target": tunit, "value": vunit, **({"check": said[2][1]} if lay.check else {})}
 
 
-def _check_inferred(out: dict, path, line: int, lay: Layout) -> None:
-    """Run columns taken as errors from their unit alone must look like errors: not beyond a tenth of the travel
-    (laser readings written in um would be errors of the size of the travel)."""
-    dev = np.abs(np.array(out["dev"])) / (1e3 if out["kind"] == "linear" else 3600.0)  # mm or deg
-    span = float(np.ptp(out["target"]))
-    if span > 0 and dev.max() > 0.1 * span:
-        raise InputError(f"the run columns ({lay.runs[0].header!r} ...) are taken as errors, their unit being finer "
-                         f"than the target's, but reach {dev.max():g} {'mm' if out['kind'] == 'linear' else 'deg'}, "
-                         f"{100 * dev.max() / span:.0f} % of the travel: laser readings rather than errors? Say which "
-                         f"with --columns values=measured or --columns values=deviation", path, line)
+def _check_claims(out: dict, lay: Layout, path, hline: int) -> None:
+    """The header's claims against the values: a deviation beyond SPAN_FRACTION of the targets' span (a reading in
+    another unit than its header says, an error column holding the positions reached, run columns taken as errors
+    from their unit that hold readings), or a column whose every value is its target (copied, not measured), is
+    refused at the header's line naming the column and the line of its largest deviation."""
+    dev = np.array(out["dev"]) / (1e3 if out["kind"] == "linear" else 3600.0)  # mm or deg
+    target, unit = np.array(out["target"]), ("mm" if out["kind"] == "linear" else "deg")
+    span = float(np.ptp(target))
+    k = int(np.argmax(np.abs(dev)))
+    col, line = out["col"][k], out["line"][k]
+    if not np.any(dev) and len(dev) > 1:
+        raise InputError(f"column {col!r}: no deviation at any of the {len(dev)} readings (every one its target "
+                         f"exactly): the target column copied, or nominal values, not a measurement", path, hline)
+    if span <= 0 or abs(dev[k]) <= SPAN_FRACTION * span:
+        return
+    said = (f"column {col!r}: a deviation of {dev[k]:.6g} {unit} at target {target[k]:g} {unit} (line {line}), "
+            f"{100 * abs(dev[k]) / span:.0f} % of the targets' span ({span:g} {unit}; a positioning error is "
+            f"below {100 * SPAN_FRACTION:g} %)")
+    if lay.inferred:
+        why = ("the run columns are taken as errors, their unit being finer than the target's: laser readings "
+               "rather than errors? Say which with --columns values=measured or --columns values=deviation")
+    elif lay.value == "deviation":
+        why = ("an error column holding the positions reached? (write 'reading' in its header or give --columns "
+               "values=measured), or errors in another unit than its header says")
+    else:
+        ratio = float(np.dot(target, target + dev) / np.dot(target, target)) if np.any(target) else math.nan
+        why = (f"the readings are {ratio:.6g} x their targets: positions in another unit than the header says?"
+               if np.isfinite(ratio) and abs(ratio - 1) > 0.01 else
+               "readings in another unit than the header says, or of another axis?")
+    raise InputError(f"{said}: {why}", path, hline)
 
 
 def _kind(units: dict[str, str], path, line: int) -> str:
@@ -425,11 +502,12 @@ def _kind(units: dict[str, str], path, line: int) -> str:
 
 
 def _empty(kind: str) -> dict:
-    return {k: [] for k in ("target", "run", "direction", "dev", "temp", "line")} | {"words": {}, "kind": kind}
+    return {k: [] for k in ("target", "run", "direction", "dev", "temp", "line", "col")} | {"words": {}, "kind": kind,
+                                                                                          "checked": []}
 
 
 def _add(out: dict, target: float, run: int, d: int, value: float, value_kind: str, temp: float, line: int,
-         seen: dict, shown: str, path) -> None:
+         seen: dict, shown: str, path, col: str) -> None:
     """One reading: deviation x = P - P_i (um / arcsec) from a reading or an error (both already in mm / deg)."""
     key = (round(target, 9), run, d)
     if key in seen:
@@ -439,7 +517,7 @@ def _add(out: dict, target: float, run: int, d: int, value: float, value_kind: s
     dev = value - target if value_kind == "measured" else value
     out["target"].append(target), out["run"].append(run), out["direction"].append(d)
     out["dev"].append(dev * (1e3 if out["kind"] == "linear" else 3600.0)), out["line"].append(line)
-    out["temp"].append(temp)
+    out["temp"].append(temp), out["col"].append(col)
 
 
 def _scale(kind: str) -> dict[str, float]:
@@ -463,11 +541,40 @@ def _read_long(lay: Layout, data, header, units, kind, dirs, path) -> dict:
                              f"vorwärts/rückwärts, ...; `directions` names others)", path, line)
         out["words"].setdefault(word, d)
         value = _number(f[c[lay.value]], lay.value, path, line) * sc[units["value"]]
+        if lay.check:
+            _cross_check(out, lay, f, c, units, sc, target, value, path, line)
         temps = {r: _temperature(f[c[r]], r, path, line) for r in ("air_temperature_c", "material_temperature_c")
                  if r in c}
         _add(out, target, int(run), d, value, lay.value, temps.get("material_temperature_c", math.nan), line, seen,
-             f[c["target"]].strip(), path)
+             f[c["target"]].strip(), path, lay.columns[lay.value].header)
     return out
+
+
+def _digit(text: str) -> float:
+    """The unit of the last digit written of a number (``-49.23`` -> 0.01, ``1.5e-3`` -> 1e-4, ``12`` -> 1)."""
+    mant, _, exp = text.strip().lower().partition("e")
+    decimals = len(mant.partition(".")[2])
+    return 10.0 ** (int(exp or 0) - decimals)
+
+
+def _cross_check(out: dict, lay: Layout, f: list[str], c: dict, units: dict, sc: dict, target: float, value: float,
+                 path, line: int) -> None:
+    """A row with both the laser reading P and its error e: the deviation is P - target (x_ij, from the reading);
+    e must agree with it within the rounding of the digits written (half a last digit of reading and error
+    both; the target is commanded, exact), else the row is refused naming both columns (an error written as
+    target - reading said so)."""
+    cm, ce = lay.columns[lay.value], lay.columns[lay.check]
+    err = _number(f[c[lay.check]], lay.check, path, line) * sc[units["check"]]
+    dev = value - target
+    tol = 0.5 * sum(_digit(f[c[r]]) * sc[units[k]] for r, k in ((lay.value, "value"), (lay.check, "check"))) * (
+        1 + 1e-9) + 1e-12  # the target is the commanded position: exact
+    scale, unit = (1e3, "um") if out["kind"] == "linear" else (3600.0, "arcsec")
+    out["checked"].append(abs(err - dev) * scale)
+    if abs(err - dev) > tol:
+        sign = " (the error written as target - reading?)" if abs(err + dev) <= tol else ""
+        raise InputError(f"column {ce.header!r} says {err * scale:.6g} {unit}, the laser reading {cm.header!r} minus "
+                         f"the target {dev * scale:.6g} {unit}: they disagree by {abs(err - dev) * scale:.3g} {unit}, "
+                         f"beyond the rounding of the digits written ({tol * scale:.3g} {unit}){sign}", path, line)
 
 
 def _read_wide(lay: Layout, data, header, units, kind, dirs, path) -> dict:
@@ -485,7 +592,8 @@ def _read_wide(lay: Layout, data, header, units, kind, dirs, path) -> dict:
             if not f[col.index].strip():
                 continue  # a missing reading is missing
             value = _number(f[col.index], col.header, path, line) * sc[units["value"]]
-            _add(out, target, col.run, col.direction, value, lay.value, temp, line, seen, f[tcol].strip(), path)
+            _add(out, target, col.run, col.direction, value, lay.value, temp, line, seen, f[tcol].strip(), path,
+                 col.header)
     if not out["target"]:
         raise InputError("no readings in the run columns", path, data[0][0])
     return out
@@ -508,6 +616,9 @@ def _said(path, lay: Layout, units: dict, md: Metadata, words: dict[str, int]) -
         text = (f"read as a long export (a row per reading): target {c['target'].header!r} in {units['target']}, "
                 f"run {c['run'].header!r}, direction {c['direction'].header!r} ({senses}), {kind} "
                 f"{c[lay.value].header!r} in {units['value']}")
+        if lay.check:
+            text += (f", and the errors {c[lay.check].header!r} in {units['check']} checked against them (the "
+                     f"deviations are the readings')")
     extra = [f"{r.split('_')[0]} temperature {c.header!r}" for r, c in lay.columns.items() if r.endswith("_c")]
     meta = [f"{k} {v}" for k, v in md.fields.items()]
     meta += [f"{w} {t:g} °C" for w, t in (("air", md.air_c), ("material", md.material_c)) if t is not None]

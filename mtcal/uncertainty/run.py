@@ -199,7 +199,8 @@ def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, 
     before = len(store)
     try:
         saver = _Saver(store, store_path)
-        if workers == 0:  # in this process (tests, debugging)
+        started = None if workers == 0 else _start(workers, scheduler)
+        if started is None:  # in this process (tests, debugging; a local cluster that failed to start, said)
             for b in blocks:
                 res = _block(rec, trackers, inputs, options, outputs, seed, b, fast)
                 store.add(*res[:2])
@@ -209,8 +210,7 @@ def run_trials(rec: Recording, ks: list[int], *, inputs: Inputs, options: dict, 
                     progress(len(b))
                 saver.tick()
             return
-        _on_dask(rec, trackers, inputs, options, outputs, seed, blocks, store, saver, workers, scheduler, progress,
-                 fast)
+        _on_dask(rec, trackers, inputs, options, outputs, seed, blocks, store, saver, started, progress, fast)
     except KeyboardInterrupt:
         store.save(store_path)
         done = len(store) - before
@@ -247,11 +247,31 @@ class _Saver:
         self.cost = self.last - t
 
 
-def _on_dask(rec, trackers, inputs, options, outputs, seed, blocks, store, saver, workers, scheduler, progress,
+CLUSTER_START_ERRORS = (RuntimeError, OSError, TimeoutError)  # "Nanny failed to start", fork / file limits, timeouts
+
+
+def _start(workers: int | None, scheduler: str | None):
+    """(client, cluster) of ``_client``; None when a local cluster fails to start (Dask's "Nanny failed to start"
+    on a loaded machine, a process or file limit, a start-up timeout): said on its own line (the library's log,
+    stderr under the CLI), and the caller runs the trials in this process -- the same result, trial k being seeded
+    from (seed, k), only slower.  A cluster at ``scheduler`` that cannot be reached is not replaced: its OSError
+    is the CLI's one line naming the address."""
+    if scheduler:
+        return _client(workers, scheduler)
+    try:
+        return _client(workers, scheduler)
+    except CLUSTER_START_ERRORS as exc:
+        log.warning("warning: the local Dask cluster failed to start (%s: %s): running the trials in this process "
+                    "instead, on one core (as --workers 0)", type(exc).__name__,
+                    (str(exc).splitlines() or ["no message"])[0])
+        return None
+
+
+def _on_dask(rec, trackers, inputs, options, outputs, seed, blocks, store, saver, started, progress,
              fast) -> None:
     from dask.distributed import as_completed
 
-    client, cluster = _client(workers, scheduler)
+    client, cluster = started
     try:
         args = [client.scatter(x, broadcast=True) for x in (rec, trackers, inputs, options, outputs)]
         fa = None if fast is None else client.scatter(fast, broadcast=True)
@@ -377,15 +397,13 @@ class UncertaintyResult:
         return out
 
 
-def program_poses(program: str | Path, machine, n: int = 500) -> np.ndarray:
-    """The nominal axes (m, n_axes) of a G-code program's moves, at most ``n`` of them evenly spread (the poses of
-    the task-specific uncertainty: the tool tip of this program after compensation)."""
-    from mtcal.nc.gcode import read_moves
+def program_poses(program: str | Path, machine, n: int | None = None) -> np.ndarray:
+    """The nominal axes (m, n_axes) of a G-code program's moves, at most ``n`` of them evenly spread (default
+    mtcal.compensate.run.TASK_POSES; the poses of the task-specific uncertainty: the tool tip of this program after
+    compensation, which `compensate --uncertainty` matches them against)."""
+    from mtcal.compensate.run import TASK_POSES, task_poses
 
-    q = read_moves(program, machine=machine)
-    if not len(q):
-        raise InputError(f"{program}: no move with every linear axis known")
-    return q[np.unique(np.linspace(0, len(q) - 1, min(n, len(q))).round().astype(int))]
+    return task_poses(program, machine, TASK_POSES if n is None else n)
 
 
 def default_poses(machine, model, n: int = 100, seed: int = 0) -> np.ndarray:

@@ -1282,7 +1282,7 @@ def cases_issue20(C: Corpus):
         ("readings_duplicate_column", b02_readings("target_mm,run,direction,measured_mm,measured_mm"), [],
          [err("r.csv", 1, "twice")]),
         ("readings_measured_and_deviation", b02_readings(extra=("deviation_um", 1)), [],
-         [err("r.csv", 1, "ambiguous")]),
+         [err("r.csv", 2, "disagree")]),  # issue 54: both read and cross-checked (1 um against -49.2 um)
         ("readings_mixed_units", b02_readings("target_mm,run,direction,measured_deg"), [], [err("r.csv", 1, "mix")]),
         ("readings_inf", b02_readings().replace("-20,1,up,-20.0492258741", "-20,1,up,inf", 1), [],
          [err("r.csv", 2, "finite")]),
@@ -1815,6 +1815,139 @@ def cases_issue54_history(C: Corpus):
           [err_also(err("h.db", None, "worst_z"), "r.json")])
 
 
+# ------------------------------------------------------------------- issue 54: headers that lie, tables, files
+
+def b02_rows():
+    """(target mm, run, direction, measured mm) of the public b02 axis (tests/data/iso230_2_b02_x.csv)."""
+    src = Path(__file__).resolve().parents[1] / "data" / "iso230_2_b02_x.csv"
+    rows = [ln.split(",") for ln in src.read_text().splitlines() if ln and not ln.startswith("#")][1:]
+    return [(float(t), int(r), d, float(m)) for t, r, d, m in rows]
+
+
+def b02_long(header, cell, sep=","):
+    """A row-per-reading export of b02: ``header`` then run and ``cell(t, d, m)``'s fields per reading."""
+    return "\n".join([header] + [sep.join([str(r), *cell(t, d, m)]) for t, r, d, m in b02_rows()]) + "\n"
+
+
+def german(x, decimals):
+    """x as a German spreadsheet writes it: '.' between thousands, ',' before the decimals (1.004,972452381)."""
+    body = f"{abs(x):,.{decimals}f}"
+    body = body.rstrip("0").rstrip(".") if "." in body else body
+    return ("-" if x < 0 else "") + body.replace(",", " ").replace(".", ",").replace(" ", ".")
+
+
+def ballbar_scaled(c, radius=150.0, sx=2e-5, sy=-1e-5, step=2.0):
+    """A double ballbar of a machine whose X and Y scales are off by sx and sy (ISO 230-1: E_XX(x) = sx x moves the
+    tool tip by sx x along X against the workpiece), its table ball at ``c`` mm off the circle's centre where the
+    machine puts the tool: deltaR = |(R cos t (1 + sx) - c_x, R sin t (1 + sy) - c_y)| - R (plain geometry)."""
+    rows, n = [], int(round(360 / step))
+    for d in (1, -1):
+        for k in (range(n) if d > 0 else range(n - 1, -1, -1)):
+            t = math.radians(k * step)
+            L = math.hypot(radius * math.cos(t) * (1 + sx) - c[0], radius * math.sin(t) * (1 + sy) - c[1])
+            rows.append([f"{k * step:g}", f"{L - radius:.9f}", str(d)])
+    return f"# plane: XY\n# radius_mm: {radius:g}\n# centre_mm: 0,0,0\n" + rows_to_csv(
+        ["angle_deg", "deviation_mm", "direction"], rows)
+
+
+def scale_model(sx=2e-5, sy=-1e-5):
+    return jdump({"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+                  "functions": {"E_XX": {"axis": "X", "positions": [-500.0, 500.0], "values": [-500 * sx, 500 * sx]},
+                                "E_YY": {"axis": "Y", "positions": [-500.0, 500.0], "values": [-500 * sy, 500 * sy]}}})
+
+
+def cases_issue54_inputs(C: Corpus):
+    """Issue 54 items 3-6: ISO 230-2 headers whose claims the values contradict, thousands separators, a lab export
+    with both the reading and its error; tables beyond the axis' travel or the turn, steps that do not fit; a Monte
+    Carlo file of a byte-identical program under another name; a large ballbar set-up offset on a machine with
+    scale errors.  Each seen failing on the main of issue 54."""
+    rows = b02_rows()
+    wide_head = ",".join(["Target (mm)"] + [f"Run {j} {w} Error (mm)" for j in range(1, 6) for w in ("Fwd", "Rev")])
+    reached = {(t, r, d): m for t, r, d, m in rows}
+    wide = "\n".join([wide_head] + [",".join([f"{t:g}"] + [repr(reached[(t, j, d)]) for j in range(1, 6)
+                                                          for d in ("up", "down")])
+                                     for t in sorted({t for t, *_ in rows})]) + "\n"
+    first_bad = 2 + next(k for k, (t, r, d, m) in enumerate(rows) if (t, d) == (10.0, "down"))
+    point_line = 2 + next(k for k, (t, r, d, m) in enumerate(rows) if t == 0.0)
+    iso = [
+        ("reading_mm_under_um_header", b02_long("Run,Target (mm),Direction,Laser reading (µm)",
+                                                lambda t, d, m: [f"{t:g}", d, repr(m)]), [err("r.csv", 1, "span")]),
+        ("error_column_holds_positions", wide, [err("r.csv", 1, "positions reached")]),
+        ("reading_column_is_the_targets", b02_long("Run,Target (mm),Direction,Laser reading (mm)",
+                                                   lambda t, d, m: [f"{t:g}", d, f"{t:g}"]),
+         [err("r.csv", 1, "copied", "target column")]),
+        ("thousands_separators", b02_long("Lauf;Sollposition [mm];Richtung;Messwert [mm]",
+                                          lambda t, d, m: [german(t + 1000, 0), d, german(m + 1000, 9)], sep=";"),
+         [ok({"kind": "stdout_json", "keys": ["axes"]}, say=["thousands separators"])]),
+        ("decimal_point_among_commas", b02_long("Lauf;Sollposition [mm];Richtung;Messwert [mm]",
+                                                lambda t, d, m: [f"{t:g}", d, f"{m:.6f}" if t == 0.0 else
+                                                                 f"{m:.6f}".replace(".", ",")], sep=";"),
+         [err("r.csv", point_line, "decimal point")]),
+        ("reading_and_error_agree", b02_long("Run,Target (mm),Direction,Laser reading (mm),Error (µm)",
+                                             lambda t, d, m: [f"{t:g}", d, f"{m:.9f}", f"{(m - t) * 1e3:.3f}"]),
+         [ok({"kind": "stdout_json", "keys": ["axes"]}, say=["checked against"])]),
+        ("reading_and_error_disagree", b02_long(  # 0.7 um off at target 10 down: run 1's row there is named
+            "Run,Target (mm),Direction,Laser reading (mm),Error (µm)",
+            lambda t, d, m: [f"{t:g}", d, f"{m:.9f}",
+                             f"{(m - t) * 1e3 + (0.7 if (t, d) == (10.0, 'down') else 0):.3f}"]),
+         [err("r.csv", first_bad, "disagree")]),
+        ("error_written_target_minus_reading", b02_long(
+            "Run,Target (mm),Direction,Laser reading (mm),Error (µm)",
+            lambda t, d, m: [f"{t:g}", d, f"{m:.9f}", f"{(t - m) * 1e3:.3f}"]), [err("r.csv", 2, "target - reading")]),
+    ]
+    for cid, text, expect in iso:
+        C.add(f"iso54_{cid}", "iso230-2", "ISO 230-2 readings", ["r.csv", "--json"], {"r.csv": text}, expect)
+    # tables: beyond the turn, beyond the travel, steps that do not fit
+    c_arc = [300.0 + 10.0 * k for k in range(13)]
+    c_model = jdump({"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+                     "functions": {"E_CC": {"axis": "C", "positions": c_arc,
+                                            "values": [5e-6 + 2e-7 * (c - 300.0) for c in c_arc]}}})
+    b_arc = [100.0 + 10.0 * k for k in range(8)]
+    b_model = jdump({"machine": "dmu50", "units": {"length": "mm", "angle": "rad"}, "constants": {},
+                     "functions": {"E_CB": {"axis": "B", "positions": b_arc,
+                                            "values": [4e-6 + 1e-7 * (b - 100.0) for b in b_arc]}}})
+    hand = jdump(HAND_MODEL)
+    for cid, files, argv, expect in [
+        ("heidenhain_modulo_c_300_420", {"m.json": c_model}, ["--format", "heidenhain", "-o", "tnc"],
+         [ok({"kind": "finite_text", "path": "tnc/C.COM"}, say=["modulo"])]),
+        ("siemens_b_step_beyond_travel", {"m.json": b_model}, ["--format", "siemens", "-o", "c.mpf", "--step", "50"],
+         [ok({"kind": "finite_text", "path": "c.mpf"}, say=["beyond the travel"]),
+          err("m.json", None, "travel")]),
+        ("siemens_modulo_step_7", {"m.json": c_model}, ["--format", "siemens", "-o", "c.mpf", "--step", "7"],
+         [err("m.json", None, "does not divide")]),
+        ("linuxcnc_step_5e-324", {"m.json": hand}, ["--format", "linuxcnc", "-o", "lc", "--step", "5e-324"],
+         [err("m.json", None, "finer", "step")]),
+        ("siemens_step_5e-324", {"m.json": hand}, ["--format", "siemens", "-o", "c.mpf", "--step", "5e-324"],
+         [err("m.json", None, "finer", "step")]),
+        ("step_larger_than_span", {"m.json": hand}, ["--format", "linuxcnc", "-o", "lc", "--step", "1200"],
+         [err("m.json", None, "larger than the measured span")]),
+        ("step_not_dividing_span", {"m.json": hand}, ["--format", "linuxcnc", "-o", "lc", "--step", "300"],
+         [ok({"kind": "finite_text", "path": "lc/joint0_X.comp"}, say=["does not divide"])]),
+    ]:
+        C.add(f"export54_{cid}", "export", "option", ["m.json", *argv], files, expect)
+    # a Monte Carlo file of the same program under another name (matched by content hash)
+    header, rec = recording_x_only()
+    prog = (DATA / "sample_5axis.nc").read_bytes()
+    tr = "--tracker=250,-1500,150"
+    C.add("compensate54_mc_of_a_byte_identical_copy", "compensate", "Monte Carlo JSON",
+          ["renamed.nc", "--model", "m.json", "-o", "c.nc", "--uncertainty", "mc.json", "--json"],
+          {"rec.csv": rows_to_csv(header, rec), "part.nc": prog, "renamed.nc": prog},
+          [ok({"kind": "stdout_json", "keys": ["task_uncertainty"]}, say=["part.nc"])],
+          setup=[["identify", "rec.csv", tr, "-o", "m.json", "-q"],
+                 ["uncertainty", "rec.csv", "--trials", "2", "--workers", "0", tr, "--program", "part.nc", "-o",
+                  "mc.json", "-q"]])
+    # a ballbar set-up offset up to a quarter of the radius, on a machine with scale errors: the model agrees
+    chk = lambda **kw: {"kind": "check_json", **kw}  # noqa: E731
+    for k, c in enumerate([(36.0, 0.0), (0.0, -36.0), (25.5, 25.5)]):
+        C.add(f"check54_setup_offset_{k}", "check", "check CSV", ["evaluate", "t.csv", "--model", "m.json", "--json"],
+              {"t.csv": ballbar_scaled(c), "m.json": scale_model()},
+              [ok(chk(agrees=True, findings=[], offset=math.hypot(*c)))])
+    C.add("check54_setup_offset_beyond_the_bound", "check", "check CSV",
+          ["evaluate", "t.csv", "--model", "m.json", "--json"], {"t.csv": ballbar_scaled((40.0, 0.0)),
+                                                                 "m.json": scale_model()},
+          [err("t.csv", None, "37.5 mm")])
+
+
 def build(root: Path) -> list[dict]:
     root.mkdir(parents=True, exist_ok=True)
     C = Corpus(root)
@@ -1842,6 +1975,7 @@ def build(root: Path) -> list[dict]:
 
     cases_history_and_report(C)
     cases_issue54_history(C)
+    cases_issue54_inputs(C)
     C.write()
     return C.cases
 
