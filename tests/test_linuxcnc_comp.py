@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from linuxcnc_sim import run_linuxcnc
+
 from mtcal.export import export_model
 from mtcal.kinematics.machine import load_machine
 from mtcal.model.errormodel import model_from_dict

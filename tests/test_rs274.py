@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from linuxcnc_sim import linuxcnc_lock
 
 import mtcal
-from linuxcnc_sim import linuxcnc_lock
 from mtcal.cli import main
 from mtcal.nc.gcode import read_moves
 
