@@ -137,25 +137,24 @@ def run_linuxcnc(folder: Path, ini: str = "comp.ini", timeout: float = 180) -> d
     return json.loads(out.read_text())
 
 
-def compile_module(comp: Path) -> Path:
-    """halcompile --compile COMP in its folder -> the loadable NAME.so (no warning allowed)."""
-    r = subprocess.run([HALCOMPILE, "--compile", comp.name], cwd=comp.parent, capture_output=True, text=True,
-                       timeout=300)
+def _no_warning(r: subprocess.CompletedProcess) -> None:
     assert r.returncode == 0, r.stdout + r.stderr
     assert "warning" not in (r.stdout + r.stderr).lower(), r.stdout + r.stderr
-    return comp.with_suffix(".so")
 
 
 @contextlib.contextmanager
-def installed(so: Path):
-    """The module copied into LinuxCNC's module folder (a module loads only from there) under its own unique name,
-    removed afterwards; skips when the folder is not writable."""
-    dest = MODULE_DIR / so.name
+def installed(comp: Path):
+    """``halcompile --install COMP`` (the docs' step: builds NAME.so into LinuxCNC's module folder, where a module
+    must be to load; no warning allowed), removed afterwards; the name must be unique (``unique_name``).  Skips
+    when the folder is not writable."""
+    dest = MODULE_DIR / f"{comp.stem}.so"
     if not os.access(MODULE_DIR, os.W_OK):
         pytest.skip(f"{MODULE_DIR} is not writable here (the module must be installed there to load)")
     assert not dest.exists(), f"{dest} exists: not a unique name"
-    shutil.copyfile(so, dest)
     try:
+        _no_warning(subprocess.run([HALCOMPILE, "--install", comp.name], cwd=comp.parent, capture_output=True,
+                                   text=True, timeout=300))
+        assert dest.is_file()
         yield dest
     finally:
         dest.unlink(missing_ok=True)

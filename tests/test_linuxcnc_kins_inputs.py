@@ -19,7 +19,7 @@ import mtcal
 from mtcal.cli import main
 from mtcal.data import path
 from mtcal.errors import InputError
-from mtcal.export.linuxcnc_kins import check_topology, export_kins
+from mtcal.export.linuxcnc_kins import check_name, check_topology, export_kins
 from mtcal.kinematics.machine import _generated_dir
 
 DEMO = path("demo_truth.json")
@@ -93,6 +93,22 @@ def test_name_is_an_option_of_linuxcnc_kins_only(tmp_path, capsys):
     _refused(["export", str(DEMO), "--format", "siemens", "-o", str(tmp_path / "C.MPF"), "--name", "k"], capsys,
              "linuxcnc-kins")
     assert not (tmp_path / "C.MPF").exists()
+
+
+@pytest.mark.parametrize("option", [["--step", "5"], ["--diagnosis", "d.json"], ["--linear-units", "inch"],
+                                    ["--comp-file-type", "1"]])
+def test_table_options_are_refused_for_the_module(tmp_path, capsys, option):
+    _refused(["export", str(DEMO), "--format", "linuxcnc-kins", "-o", str(tmp_path / "k"), *option], capsys,
+             option[0])
+    assert not (tmp_path / "k").exists()
+
+
+def test_a_module_installed_by_an_earlier_export_may_be_replaced(tmp_path):
+    (tmp_path / "theirs.so").write_bytes(b"\x7fELF component:theirs")
+    (tmp_path / "ours.so").write_bytes(b"\x7fELF author:mtcal export (generated)")
+    with pytest.raises(InputError, match="LinuxCNC module"):
+        check_name("theirs", tmp_path)
+    check_name("ours", tmp_path)
 
 
 class _Layout:

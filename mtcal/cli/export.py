@@ -73,6 +73,13 @@ def _options(args: argparse.Namespace) -> dict:
 
 def _run_kins(args: argparse.Namespace) -> int:
     """--format linuxcnc-kins: the kinematics component and the lines that use it (mtcal.export.linuxcnc_kins)."""
+    tables = [o for o, given in (("--step", args.step is not None), ("--max-points", args.max_points is not None),
+                                 ("--diagnosis", args.diagnosis), ("--require", args.require),
+                                 ("--comp-file-type", args.comp_file_type), ("--kinematics-comp", args.kinematics_comp),
+                                 ("--linear-units", args.linear_units != "mm")) if given]
+    if tables:
+        raise InputError(f"{', '.join(tables)}: table options, not {KINS}'s (the module compiles the model's error "
+                         f"functions in, in mm)")
     model = load_model(args.model)
     res = export_kins(model, load_machine(args.machine or model.machine), args.output, args.name, args.model,
                       args.force, protect=(args.model,))
