@@ -145,6 +145,9 @@ def test_harness_joints_are_the_compensators_and_forward_inverts_them(built, too
     status, back, _ = run_harness(exe, "forward", joints, tool, 10)
     assert (status == 0).all()
     assert np.abs(back[:, [POSE.index(a) for a in m.axes]] - world).max() < TOL
+    print(f"{m.name}, L = {tool:g} mm: |joints - compensator| <= {np.abs(joints - expect).max():.2g} mm, "
+          f"|forward(inverse) - world| <= {np.abs(back[:, [POSE.index(a) for a in m.axes]] - world).max():.2g} mm, "
+          f"corrections up to {np.abs(expect - world).max() * 1e3:.1f} um")
 
 
 def test_harness_refuses_what_does_not_converge_within_the_cap(built):
@@ -296,15 +299,20 @@ def test_linuxcnc_runs_the_module_and_its_joints_are_the_compensators(tmp_path, 
         out = sim.run_linuxcnc(tmp_path)
     assert out["error"] is None and len(out["rows"]) == len(moves), out
     z = m.axes.index("Z")
+    worst = np.zeros(3)
     for tool, words, joints, world, offset in out["rows"]:
         sent = as_sent(words)
         w = sent.copy()
         w[z] += tool  # G43: the world is the tool tip plus the tool length
         assert abs(offset[2] - tool) < 1e-12
         expect = expected_joints(model, w[None], tool)[0]
-        assert np.abs(np.array(joints) - expect).max() < TOL, (words, joints, expect)
-        assert np.abs(np.array([world[POSE.index(a)] for a in m.axes]) - w).max() < TOL
-        assert np.abs(expect - w).max() > 1e-3
+        back = np.array([world[POSE.index(a)] for a in m.axes])
+        d = [np.abs(np.array(joints) - expect).max(), np.abs(back - w).max(), np.abs(expect - w).max()]
+        assert d[0] < TOL and d[1] < TOL, (words, joints, world, expect)
+        assert d[2] > 1e-3
+        worst = np.maximum(worst, d)
+    print(f"{which}: |joints - compensator| <= {worst[0]:.2g} mm, |forward(inverse) - world| <= {worst[1]:.2g} mm, "
+          f"corrections up to {worst[2] * 1e3:.1f} um")
     before, after = out["refused"]
     assert before == after  # the machine did not move
     assert any("kinematicsInverse" in e or "inverse kinematics" in e.lower() for e in out["errors"]), out["errors"]
