@@ -9,6 +9,10 @@
 #define MTK_N_ERRORS 41
 #define MTK_TOOL_AXIS 2 /* Z */
 #define MTK_TOLERANCE_MM 1e-10
+#define MTK_TILT 3 /* B */
+#define MTK_ROTARY 4 /* C */
+#define MTK_TILT_LO 0.0
+#define MTK_TILT_HI 180.0
 #define MTK_PI 3.141592653589793
 static const char mtk_axes[] = "XYZBC";
 static const int mtk_linear[3] = {0, 1, 2};
@@ -856,6 +860,211 @@ static void mtk_forward_errors_with_jacobian(const double *axes, const double *e
     out[35] = _x164*_x348 + _x215*_x349 + _x347*_x51;
 }
 
+/* First-order pose deviation jacobian_errors(axes) @ errors.
+ * out: 6 x 1, row-major */
+static void mtk_deviation_first_order(const double *axes, const double *errors, double tool_length, double *out)
+{
+    const double X = axes[0];
+    const double Y = axes[1];
+    const double Z = axes[2];
+    const double B = axes[3];
+    const double C = axes[4];
+    const double E_XX = errors[0];
+    const double E_YX = errors[1];
+    const double E_ZX = errors[2];
+    const double E_AX = errors[3];
+    const double E_BX = errors[4];
+    const double E_CX = errors[5];
+    const double E_XY = errors[6];
+    const double E_YY = errors[7];
+    const double E_ZY = errors[8];
+    const double E_AY = errors[9];
+    const double E_BY = errors[10];
+    const double E_XZ = errors[12];
+    const double E_YZ = errors[13];
+    const double E_ZZ = errors[14];
+    const double E_AZ = errors[15];
+    const double E_BZ = errors[16];
+    const double E_C0Y = errors[18];
+    const double E_B0Z = errors[19];
+    const double E_A0Z = errors[20];
+    const double E_XB = errors[21];
+    const double E_YB = errors[22];
+    const double E_ZB = errors[23];
+    const double E_AB = errors[24];
+    const double E_BB = errors[25];
+    const double E_CB = errors[26];
+    const double E_XC = errors[27];
+    const double E_YC = errors[28];
+    const double E_ZC = errors[29];
+    const double E_AC = errors[30];
+    const double E_BC = errors[31];
+    const double E_CC = errors[32];
+    const double E_X0B = errors[33];
+    const double E_Y0B = errors[34];
+    const double E_A0B = errors[35];
+    const double E_B0B = errors[36];
+    const double E_X0C = errors[37];
+    const double E_Y0C = errors[38];
+    const double E_A0C = errors[39];
+    const double E_B0C = errors[40];
+    const double _x0 = (1.0/180.0)*MTK_PI;
+    const double _x1 = B*_x0;
+    const double _x2 = cos(_x1);
+    const double _x3 = C*_x0;
+    const double _x4 = cos(_x3);
+    const double _x5 = sqrt(2);
+    const double _x6 = sin(_x1);
+    const double _x7 = sin(_x3);
+    const double _x8 = _x6*_x7;
+    const double _x9 = (1.0/2.0)*_x8;
+    const double _x10 = _x5*_x9;
+    const double _x11 = _x10 + _x2*_x4;
+    const double _x12 = -_x11;
+    const double _x13 = E_B0Z*Z;
+    const double _x14 = E_BZ*_x11;
+    const double _x15 = Y*_x11;
+    const double _x16 = (1.0/2.0)*_x2;
+    const double _x17 = _x16 + 1.0/2.0;
+    const double _x18 = _x17*_x7;
+    const double _x19 = _x4*_x6;
+    const double _x20 = (1.0/2.0)*_x5;
+    const double _x21 = _x19*_x20;
+    const double _x22 = -_x21;
+    const double _x23 = _x18 + _x22;
+    const double _x24 = -_x23;
+    const double _x25 = _x16 - 1.0/2.0;
+    const double _x26 = _x25*_x7;
+    const double _x27 = _x22 + _x26;
+    const double _x28 = -_x27;
+    const double _x29 = Z - tool_length;
+    const double _x30 = E_BX*_x11;
+    const double _x31 = E_BY*_x11;
+    const double _x32 = E_AZ*tool_length;
+    const double _x33 = Z*_x24;
+    const double _x34 = -_x29;
+    const double _x35 = _x24*_x34;
+    const double _x36 = _x20*_x27;
+    const double _x37 = _x20*_x23;
+    const double _x38 = pow(_x6, 2);
+    const double _x39 = (38749.0/500.0)*_x38;
+    const double _x40 = _x39*_x7;
+    const double _x41 = X*_x10;
+    const double _x42 = (38749.0/500.0)*_x2;
+    const double _x43 = 38749.0/500.0 - _x42;
+    const double _x44 = -Y*_x26 - Z*_x18 + _x18*_x43 + _x26*_x43 - _x40 + _x41;
+    const double _x45 = _x17*_x4;
+    const double _x46 = _x25*_x4;
+    const double _x47 = X*_x20;
+    const double _x48 = _x19*_x47 - _x39*_x4;
+    const double _x49 = -Y*_x46 - Z*_x45 + _x43*_x45 + _x43*_x46 + _x48;
+    const double _x50 = _x36*_x6 + _x37*_x6;
+    const double _x51 = _x2 - 1;
+    const double _x52 = -_x51;
+    const double _x53 = _x12*_x6;
+    const double _x54 = -_x20*_x53;
+    const double _x55 = _x4 - 1;
+    const double _x56 = -_x55;
+    const double _x57 = _x47*_x6;
+    const double _x58 = _x25*_x56;
+    const double _x59 = _x17*_x56;
+    const double _x60 = -_x10;
+    const double _x61 = _x2*_x56 + _x60;
+    const double _x62 = _x20*_x6;
+    const double _x63 = _x56*_x62;
+    const double _x64 = _x26 + _x63;
+    const double _x65 = _x18 + _x63;
+    const double _x66 = _x2*_x7;
+    const double _x67 = -_x63 - _x66;
+    const double _x68 = _x58 + _x60;
+    const double _x69 = _x59 + _x60;
+    const double _x70 = -_x66;
+    const double _x71 = _x21 + _x70;
+    const double _x72 = -_x71;
+    const double _x73 = _x10 + _x45;
+    const double _x74 = _x10 + _x46;
+    const double _x75 = _x6*_x71;
+    const double _x76 = (38749.0/500.0)*_x5;
+    const double _x77 = _x75*_x76;
+    const double _x78 = -_x73;
+    const double _x79 = -_x74;
+    const double _x80 = _x43*_x78 + _x43*_x79;
+    const double _x81 = _x52*_x7;
+    const double _x82 = _x21 + _x81;
+    const double _x83 = (38749.0/250.0)*_x2;
+    const double _x84 = 38749.0/250.0 - _x83;
+    const double _x85 = -_x25;
+    const double _x86 = _x21 + _x7*_x85;
+    const double _x87 = _x42 + 38749.0/500.0;
+    const double _x88 = _x4*_x52;
+    const double _x89 = _x20*_x88;
+    const double _x90 = (38749.0/500.0)*_x6;
+    const double _x91 = -_x8 + _x89;
+    const double _x92 = (38749.0/250.0)*_x6;
+    const double _x93 = _x16*_x5;
+    const double _x94 = _x4*_x93;
+    const double _x95 = _x9 + _x94;
+    const double _x96 = -_x95;
+    const double _x97 = _x43*_x96;
+    const double _x98 = _x27*_x90;
+    const double _x99 = Y*_x95 + _x23*_x90;
+    const double _x100 = -1.0/2.0*_x2*_x5*_x7;
+    const double _x101 = _x100 + _x19;
+    const double _x102 = _x6*_x76;
+    const double _x103 = _x42*_x5;
+    const double _x104 = E_BZ*_x72;
+    const double _x105 = Y*_x72;
+    const double _x106 = E_BX*_x72;
+    const double _x107 = E_BY*_x72;
+    const double _x108 = Z*_x73;
+    const double _x109 = _x34*_x73;
+    const double _x110 = _x20*_x79;
+    const double _x111 = _x20*_x78;
+    const double _x112 = _x110*_x6 + _x111*_x6;
+    const double _x113 = -_x20*_x75;
+    const double _x114 = _x25*_x55;
+    const double _x115 = _x17*_x55;
+    const double _x116 = _x60 + _x88;
+    const double _x117 = _x4*_x85 + _x60;
+    const double _x118 = _x20*_x81;
+    const double _x119 = (38749.0/500.0)*_x19;
+    const double _x120 = _x118 + _x19;
+    const double _x121 = _x100 + (1.0/2.0)*_x19;
+    const double _x122 = _x121*_x43;
+    const double _x123 = -_x121;
+    const double _x124 = _x79*_x90;
+    const double _x125 = Y*_x123 + _x78*_x90;
+    const double _x126 = _x8 + _x94;
+    const double _x127 = E_BZ*_x62;
+    const double _x128 = Y*_x6;
+    const double _x129 = _x128*_x20;
+    const double _x130 = Z*_x25;
+    const double _x131 = _x25*_x34;
+    const double _x132 = E_BX*_x62;
+    const double _x133 = E_BY*_x62;
+    const double _x134 = _x20*_x85;
+    const double _x135 = -_x17;
+    const double _x136 = _x135*_x20;
+    const double _x137 = (1.0/2.0)*_x38;
+    const double _x138 = -_x137;
+    const double _x139 = _x134*_x6 + _x136*_x6;
+    const double _x140 = (1.0/2.0)*_x6;
+    const double _x141 = Z*_x140;
+    const double _x142 = _x135*_x90;
+    const double _x143 = -1.0/2.0*_x128 + _x85*_x90;
+    const double _x144 = _x43*_x6;
+    const double _x145 = Y*_x135 + _x17*_x43;
+    const double _x146 = _x55*_x62 + _x70;
+    const double _x147 = _x10 + _x115;
+    const double _x148 = _x10 + _x114;
+    out[0] = E_A0B*(-Y*_x82 + Z*_x21 - _x21*_x43 + _x27*_x84 + _x40 - _x41 + _x43*_x82 + _x53*_x76) + E_A0C*_x44 - E_A0Z*_x33 + E_AB*(-Y*_x86 + _x23*_x43 + _x23*_x87 + _x27*_x43 + _x33 + _x43*_x86) + E_AC*_x44 + E_AX*(Y*_x28 + _x35) + E_AY*_x35 + E_B0B*(-Y*_x89 + Z*_x91 - _x12*_x52*_x76 + _x23*_x92 + _x43*_x89 - _x43*_x91 + _x47*_x81 - _x81*_x90) + E_B0C*(Y*_x25*_x56 + Z*_x17*_x56 + (38749.0/500.0)*_x38*_x56 - _x43*_x58 - _x43*_x59 - _x56*_x57) + E_BB*(Z*_x96 - _x12*_x76 + _x43*_x95 + _x47*_x7 - 38749.0/500.0*_x8 + _x97 - _x98 + _x99) + E_BC*_x49 - E_C0Y*_x15 + E_CB*(-X*_x101 + Z*_x95 + _x101*_x102 + _x103*_x12 + 2*_x97 + _x98 + _x99) + E_CC*(X*_x72 + Y*_x73 + Z*_x74 + _x77 + _x80) - E_CX*_x15 + E_X0B*(_x12*_x52 - _x50) + E_X0C*(_x12*_x61 + _x23*_x65 + _x27*_x64) + E_XB*_x12 + E_XC*(_x12*_x2 + _x50) + E_XX*_x11 + E_XY*_x11 + E_XZ*_x11 + E_Y0B*(_x36*_x52 + _x37*_x52 + _x53) + E_Y0C*(_x12*_x67 + _x23*_x69 + _x27*_x68) + E_YB*(_x36 + _x37) + E_YC*(_x17*_x23 + _x25*_x27 + _x54) + E_YX*_x24 + E_YY*_x24 + E_YZ*_x24 + E_ZB*(_x36 - _x37) + E_ZC*(_x17*_x27 + _x23*_x25 + _x54) + E_ZX*_x28 + E_ZY*_x28 + E_ZZ*_x28 + _x11*_x13 - _x14*tool_length + _x24*_x32 + _x29*_x30 + _x29*_x31;
+    out[1] = E_A0B*(Y*_x116 + Z*_x10 - _x10*_x43 - _x116*_x43 + _x48 + _x77 + _x79*_x84) + E_A0C*(Y*_x25*_x55 + Z*_x17*_x55 - _x114*_x43 - _x115*_x43 + (38749.0/500.0)*_x38*_x55 - _x55*_x57) - E_A0Z*_x108 + E_AB*(Y*_x117 + _x108 - _x117*_x43 + _x78*_x87 + _x80) - E_AC*_x49 + E_AX*(Y*_x74 + _x109) + E_AY*_x109 + E_B0B*(-Y*_x118 + Z*_x120 + _x118*_x43 + _x119*_x52 - _x120*_x43 - _x47*_x88 - _x52*_x71*_x76 + _x78*_x92) + E_B0C*_x44 + E_BB*(Z*_x121 + _x119 + _x122 + _x123*_x43 - _x124 + _x125 - _x4*_x47 - _x71*_x76) + E_BC*_x44 - E_C0Y*_x105 + E_CB*(-X*_x126 + Z*_x123 + _x102*_x126 + _x103*_x71 + 2*_x122 + _x124 + _x125) + E_CC*(X*_x12 + Y*_x23 + Z*_x27 + _x102*_x11 + _x24*_x43 + _x28*_x43) - E_CX*_x105 + E_X0B*(-_x112 + _x52*_x71) + E_X0C*(_x61*_x71 + _x64*_x79 + _x65*_x78) + E_XB*_x71 + E_XC*(_x112 + _x2*_x71) + E_XX*_x72 + E_XY*_x72 + E_XZ*_x72 + E_Y0B*(_x110*_x52 + _x111*_x52 + _x75) + E_Y0C*(_x67*_x71 + _x68*_x79 + _x69*_x78) + E_YB*(_x110 + _x111) + E_YC*(_x113 + _x17*_x78 + _x25*_x79) + E_YX*_x73 + E_YY*_x73 + E_YZ*_x73 + E_ZB*(_x110 - _x111) + E_ZC*(_x113 + _x17*_x79 + _x25*_x78) + E_ZX*_x74 + E_ZY*_x74 + E_ZZ*_x74 - _x104*tool_length + _x106*_x29 + _x107*_x29 + _x13*_x72 + _x32*_x73;
+    out[2] = E_A0B*(Z*_x51 + _x135*_x84 + (38749.0/250.0)*_x38 + _x43*_x52 - _x57) + E_A0C*(-X*_x146 + Y*_x147 + Z*_x148 + _x102*_x146 - _x147*_x43 - _x148*_x43) - E_A0Z*_x130 + E_AB*(_x130 + _x135*_x43 + _x145 + _x43*_x85 + _x85*_x87) + E_AC*(Z*_x85 + _x145 + _x25*_x43 - _x39 + _x57) + E_AX*(Y*_x17 + _x131) + E_AY*_x131 + E_B0B*(-_x128 + _x144 + _x47*_x52 - _x52*_x92 + _x85*_x92) + E_B0C*(X*_x61 + Y*_x65 + Z*_x64 - _x102*_x61 - _x43*_x64 - _x43*_x65) + E_BB*(_x141 - _x142 + _x143 + _x47 - _x92) + E_BC*(X*_x2 + Z*_x62 - _x103*_x6 + _x129 - _x144*_x5) + E_C0Y*_x129 + E_CB*(-X*_x93 - _x141 + _x142 + _x143 + _x144 + _x6*_x83) + E_CX*_x129 + E_X0B*(-_x139 + (1.0/2.0)*_x5*_x52*_x6) + E_X0C*(_x135*_x64 + _x61*_x62 + _x65*_x85) + E_XB*_x62 + E_XC*(_x139 + _x6*_x93) - E_XX*_x62 - E_XY*_x62 - E_XZ*_x62 + E_Y0B*(_x134*_x52 + _x136*_x52 + _x137*_x5) + E_Y0C*(_x135*_x68 + _x62*_x67 + _x69*_x85) + E_YB*(_x134 + _x136) + E_YC*(_x135*_x25 + _x138 + _x17*_x85) + E_YX*_x25 + E_YY*_x25 + E_YZ*_x25 + E_ZB*(-_x134 + (1.0/2.0)*_x135*_x5) + E_ZC*(_x135*_x17 + _x138 + _x25*_x85) + E_ZX*_x17 + E_ZY*_x17 + E_ZZ*_x17 + _x127*tool_length - _x13*_x62 - _x132*_x29 - _x133*_x29 + _x25*_x32;
+    out[3] = E_A0B*_x21 - E_A0C*_x18 + E_AB*_x24 - E_AC*_x18 + E_AX*_x23 + E_AY*_x23 + E_AZ*_x23 + E_B0B*_x91 + E_B0C*_x59 + E_BB*_x96 - E_BC*_x45 + E_CB*_x95 + E_CC*_x74 + _x14 + _x30 + _x31;
+    out[4] = E_A0B*_x10 + E_A0C*_x115 + E_AB*_x73 + E_AC*_x45 + E_AX*_x78 + E_AY*_x78 + E_AZ*_x78 + E_B0B*_x120 - E_B0C*_x18 + E_BB*_x121 - E_BC*_x18 + E_CB*_x123 + E_CC*_x27 + _x104 + _x106 + _x107;
+    out[5] = E_A0B*_x51 + E_A0C*_x148 + E_AB*_x25 + E_AC*_x85 + E_AX*_x85 + E_AY*_x85 + E_AZ*_x85 + E_B0C*_x64 + E_BB*_x140 + E_BC*_x62 - E_CB*_x140 - _x127 - _x132 - _x133;
+}
+
 /* ----------------------------------------------------------------- the error model as data */
 struct mtk_table {      /* tables of one axis on the same positions: value = a_j + s_j x on segment j */
     int axis, rows, points;
@@ -876,6 +1085,8 @@ struct mtk_polynomial { /* sum_k c_k u^k, u = off + scl x, x held within [lo, hi
     const double *c;
 };
 struct mtk_model {
+    int full;                /* scope: 0 "position", 1 "full" (the rotary axes correct the tool axis too) */
+    double cone_deg;         /* scope "full": no orientation correction within this angle of the singular pose */
     const double *constants; /* MTK_N_ERRORS */
     int n_tables, n_harmonics, n_polynomials;
     const struct mtk_table *tables;
@@ -953,8 +1164,8 @@ static int mtk_solve3(const double *a, const double *b, double *x)
 
 /* world -> joints: the axis commands that put the tool tip where the nominal machine puts it at `world`
  * (scope "position"); returns the Newton steps taken, or -1 when not converged within max_iterations. */
-static int mtk_inverse(const struct mtk_model *m, const double *world, double tool_length, int max_iterations,
-                       double *joints)
+static int mtk_inverse_position(const struct mtk_model *m, const double *world, double tool_length,
+                                int max_iterations, double *joints)
 {
     double q0[MTK_N_AXES], q[MTK_N_AXES], target[6], e[MTK_N_ERRORS], fj[6 * (MTK_N_AXES + 1)];
     double jl[9], r[3], d[3];
@@ -986,8 +1197,9 @@ static int mtk_inverse(const struct mtk_model *m, const double *world, double to
     return -1;
 }
 
-/* joints -> world: the nominal axes whose nominal tool tip is the error-inclusive one at `joints` */
-static int mtk_forward_kins(const struct mtk_model *m, const double *joints, double tool_length, double *world)
+/* joints -> world, scope "position": the nominal axes whose nominal tool tip is the error-inclusive one */
+static int mtk_forward_position(const struct mtk_model *m, const double *joints, double tool_length,
+                                double *world)
 {
     double q[MTK_N_AXES], e[MTK_N_ERRORS], p[6], p0[6], jn[6 * MTK_N_AXES], jl[9], r[3], d[3];
     int i, k;
@@ -1006,4 +1218,137 @@ static int mtk_forward_kins(const struct mtk_model *m, const double *joints, dou
     for (i = 0; i < 3; i++) world[mtk_linear[i]] += d[i];
     world[MTK_TOOL_AXIS] += tool_length;
     return 0;
+}
+
+/* scope "full", Compensator._correct_block step by step: per step the tilt and rotary axes first cancel the tool-axis
+ * residual by least squares (the first step from the first-order deviation and the nominal Jacobian, blended by
+ * the weight w of the pose; later steps on the exact model, only where w = 1), the tilt axis held within its
+ * limits; then the linear axes cancel the exact tool-tip residual (nominal Jacobian).  w = smoothstep(s / sin(cone)
+ * - 1), s the smaller singular value of d(tool axis)/d(tilt, rotary) per rad (Compensator.weight). */
+static double mtk_weight(const struct mtk_model *m, const double *jn)
+{
+    double g[3] = {0, 0, 0}, smin, sc, x;
+    int k;
+    if (m->cone_deg <= 0) return 1;
+    for (k = 3; k < 6; k++) {
+        const double a = jn[k * MTK_N_AXES + MTK_TILT], b = jn[k * MTK_N_AXES + MTK_ROTARY];
+        g[0] += a * a;
+        g[1] += a * b;
+        g[2] += b * b;
+    }
+    x = 0.5 * (g[0] - g[2]);
+    smin = 0.5 * (g[0] + g[2]) - sqrt(x * x + g[1] * g[1]);
+    smin = sqrt(smin > 0 ? smin : 0) / (MTK_PI / 180);
+    sc = sin(m->cone_deg * MTK_PI / 180);
+    x = (smin - sc) / sc;
+    x = x < 0 ? 0 : (x > 1 ? 1 : x);
+    return x * x * (3 - 2 * x);
+}
+
+/* the (tilt, rotary) step of least squares for the tool-axis residual r[3..5] under the Jacobian j (6 x n) */
+static int mtk_orientation_step(const double *j, int stride, const double *r, double *d)
+{
+    double g0 = 0, g1 = 0, g2 = 0, h0 = 0, h1 = 0, det;
+    int k;
+    for (k = 3; k < 6; k++) {
+        const double a = j[k * stride + MTK_TILT], b = j[k * stride + MTK_ROTARY];
+        g0 += a * a;
+        g1 += a * b;
+        g2 += b * b;
+        h0 -= a * r[k];
+        h1 -= b * r[k];
+    }
+    det = g0 * g2 - g1 * g1;
+    if (!(det > 0)) return -1;
+    d[0] = (g2 * h0 - g1 * h1) / det;
+    d[1] = (g0 * h1 - g1 * h0) / det;
+    return 0;
+}
+
+static int mtk_inverse_full(const struct mtk_model *m, const double *world, double tool_length, int max_iterations,
+                            double *joints)
+{
+    double q0[MTK_N_AXES], q[MTK_N_AXES], target[6], p[6], r[6], e[MTK_N_ERRORS], fj[6 * (MTK_N_AXES + 1)];
+    double jn[6 * MTK_N_AXES], jl[9], d[3], bc[2], w, size;
+    int i, k, it;
+    for (i = 0; i < MTK_N_AXES; i++) q0[i] = q[i] = world[i];
+    q0[MTK_TOOL_AXIS] -= tool_length;
+    q[MTK_TOOL_AXIS] -= tool_length;
+    mtk_forward(q0, tool_length, target);
+    mtk_jacobian_axes(q0, tool_length, jn);
+    w = mtk_weight(m, jn);
+    for (it = 0; it < max_iterations; it++) {
+        const double wi = it == 0 ? w : (w >= 1 ? 1 : 0);
+        double nb;
+        bc[0] = bc[1] = 0;
+        if (it == 0) {
+            mtk_errors(m, q0, e);
+            mtk_deviation_first_order(q0, e, tool_length, r);
+            if (wi > 0 && mtk_orientation_step(jn, MTK_N_AXES, r, bc)) return -1;
+        } else {
+            mtk_errors(m, q, e);
+            mtk_forward_errors_with_jacobian(q, e, tool_length, fj);
+            for (k = 0; k < 6; k++) r[k] = fj[k * (MTK_N_AXES + 1)] - target[k];
+            if (wi > 0 && mtk_orientation_step(fj + 1, MTK_N_AXES + 1, r, bc)) return -1;
+        }
+        nb = q[MTK_TILT] + bc[0] * wi;
+        if (nb < MTK_TILT_LO) nb = MTK_TILT_LO;
+        if (nb > MTK_TILT_HI) nb = MTK_TILT_HI;
+        size = fabs(nb - q[MTK_TILT]) + fabs(bc[1] * wi);
+        q[MTK_TILT] = nb;
+        q[MTK_ROTARY] += bc[1] * wi;
+        mtk_errors(m, q, e);                         /* the exact tool-tip residual at the new angles */
+        mtk_forward_errors(q, e, tool_length, p);
+        mtk_jacobian_axes(q, tool_length, jn);
+        for (k = 0; k < 3; k++) {
+            r[k] = p[k] - target[k];
+            for (i = 0; i < 3; i++) jl[3 * k + i] = jn[k * MTK_N_AXES + mtk_linear[i]];
+        }
+        if (mtk_solve3(jl, r, d)) return -1;
+        for (i = 0; i < 3; i++) {
+            q[mtk_linear[i]] -= d[i];
+            size += fabs(d[i]);
+        }
+        if (!(size == size) || size > 1e3) return -1;
+        if (it > 0 && size <= MTK_TOLERANCE_MM) {
+            for (i = 0; i < MTK_N_AXES; i++) joints[i] = q[i];
+            joints[MTK_TOOL_AXIS] += tool_length;
+            return it + 1;
+        }
+    }
+    return -1;
+}
+
+/* joints -> world, scope "full": the world whose inverse is `joints`, by fixed-point steps (the inverse is the
+ * identity plus corrections whose slope is ~1e-4: each step gains four digits) */
+static int mtk_forward_full(const struct mtk_model *m, const double *joints, double tool_length, int max_iterations,
+                            double *world)
+{
+    double qi[MTK_N_AXES], size;
+    int i, it;
+    for (i = 0; i < MTK_N_AXES; i++) world[i] = joints[i];
+    for (it = 0; it < 8; it++) {
+        if (mtk_inverse_full(m, world, tool_length, max_iterations, qi) < 0) return -1;
+        size = 0;
+        for (i = 0; i < MTK_N_AXES; i++) {
+            world[i] -= qi[i] - joints[i];
+            size += fabs(qi[i] - joints[i]);
+        }
+        if (size <= MTK_TOLERANCE_MM) return 0;
+    }
+    return -1;
+}
+
+static int mtk_inverse(const struct mtk_model *m, const double *world, double tool_length, int max_iterations,
+                       double *joints)
+{
+    return m->full ? mtk_inverse_full(m, world, tool_length, max_iterations, joints)
+                   : mtk_inverse_position(m, world, tool_length, max_iterations, joints);
+}
+
+static int mtk_forward_kins(const struct mtk_model *m, const double *joints, double tool_length, int max_iterations,
+                            double *world)
+{
+    return m->full ? mtk_forward_full(m, joints, tool_length, max_iterations, world)
+                   : mtk_forward_position(m, joints, tool_length, world);
 }

@@ -9,6 +9,10 @@
 #define MTK_N_ERRORS 41
 #define MTK_TOOL_AXIS 2 /* Z */
 #define MTK_TOLERANCE_MM 1e-10
+#define MTK_TILT 3 /* A */
+#define MTK_ROTARY 4 /* C */
+#define MTK_TILT_LO -120.0
+#define MTK_TILT_HI 120.0
 #define MTK_PI 3.141592653589793
 static const char mtk_axes[] = "XYZAC";
 static const int mtk_linear[3] = {0, 1, 2};
@@ -780,6 +784,137 @@ static void mtk_forward_errors_with_jacobian(const double *axes, const double *e
     out[35] = _x152*_x322 + _x188*_x323 + _x321*_x51;
 }
 
+/* First-order pose deviation jacobian_errors(axes) @ errors.
+ * out: 6 x 1, row-major */
+static void mtk_deviation_first_order(const double *axes, const double *errors, double tool_length, double *out)
+{
+    const double X = axes[0];
+    const double Y = axes[1];
+    const double Z = axes[2];
+    const double A = axes[3];
+    const double C = axes[4];
+    const double E_XX = errors[0];
+    const double E_YX = errors[1];
+    const double E_ZX = errors[2];
+    const double E_AX = errors[3];
+    const double E_BX = errors[4];
+    const double E_CX = errors[5];
+    const double E_XY = errors[6];
+    const double E_YY = errors[7];
+    const double E_ZY = errors[8];
+    const double E_AY = errors[9];
+    const double E_BY = errors[10];
+    const double E_XZ = errors[12];
+    const double E_YZ = errors[13];
+    const double E_ZZ = errors[14];
+    const double E_AZ = errors[15];
+    const double E_BZ = errors[16];
+    const double E_C0Y = errors[18];
+    const double E_B0Z = errors[19];
+    const double E_A0Z = errors[20];
+    const double E_XA = errors[21];
+    const double E_YA = errors[22];
+    const double E_ZA = errors[23];
+    const double E_AA = errors[24];
+    const double E_BA = errors[25];
+    const double E_CA = errors[26];
+    const double E_XC = errors[27];
+    const double E_YC = errors[28];
+    const double E_ZC = errors[29];
+    const double E_AC = errors[30];
+    const double E_BC = errors[31];
+    const double E_CC = errors[32];
+    const double E_X0A = errors[33];
+    const double E_Y0A = errors[34];
+    const double E_A0A = errors[35];
+    const double E_B0A = errors[36];
+    const double E_X0C = errors[37];
+    const double E_Y0C = errors[38];
+    const double E_A0C = errors[39];
+    const double E_B0C = errors[40];
+    const double _x0 = (1.0/180.0)*MTK_PI;
+    const double _x1 = C*_x0;
+    const double _x2 = cos(_x1);
+    const double _x3 = Z*_x2;
+    const double _x4 = E_BZ*_x2;
+    const double _x5 = Y*_x2;
+    const double _x6 = Z - tool_length;
+    const double _x7 = E_BX*_x2;
+    const double _x8 = E_BY*_x2;
+    const double _x9 = sin(_x1);
+    const double _x10 = A*_x0;
+    const double _x11 = sin(_x10);
+    const double _x12 = _x11*_x9;
+    const double _x13 = cos(_x10);
+    const double _x14 = _x13*_x9;
+    const double _x15 = Z*_x9;
+    const double _x16 = _x13*_x15;
+    const double _x17 = E_AZ*_x14;
+    const double _x18 = -_x6;
+    const double _x19 = _x14*_x18;
+    const double _x20 = X*_x9;
+    const double _x21 = pow(_x11, 2);
+    const double _x22 = _x21*_x9;
+    const double _x23 = pow(_x13, 2);
+    const double _x24 = _x23*_x9;
+    const double _x25 = Y*_x9;
+    const double _x26 = _x11*_x25;
+    const double _x27 = _x13 - 1;
+    const double _x28 = -_x27;
+    const double _x29 = pow(_x9, 2);
+    const double _x30 = _x2 - 1;
+    const double _x31 = -_x30;
+    const double _x32 = _x2*_x31;
+    const double _x33 = 120*_x13;
+    const double _x34 = _x2*_x33;
+    const double _x35 = _x11*_x20;
+    const double _x36 = 120 - _x33;
+    const double _x37 = _x2*_x36;
+    const double _x38 = _x2*_x9;
+    const double _x39 = 120*_x22;
+    const double _x40 = -_x13*_x36*_x9 + _x16 + _x26;
+    const double _x41 = -_x39 - _x40;
+    const double _x42 = _x11*_x5;
+    const double _x43 = _x2*_x21;
+    const double _x44 = _x42 + 120*_x43;
+    const double _x45 = _x13*_x3;
+    const double _x46 = -_x13*_x37 + _x45;
+    const double _x47 = _x44 + _x46;
+    const double _x48 = -_x11*_x3 + _x11*_x37;
+    const double _x49 = Y*_x11;
+    const double _x50 = _x13*_x31;
+    const double _x51 = 120*_x21;
+    const double _x52 = 120*_x11;
+    const double _x53 = _x2*_x52;
+    const double _x54 = _x13*_x2;
+    const double _x55 = _x11*_x2;
+    const double _x56 = E_AZ*_x54;
+    const double _x57 = X*_x2;
+    const double _x58 = _x2*_x23;
+    const double _x59 = _x11*_x13;
+    const double _x60 = _x11*_x57;
+    const double _x61 = _x36*_x9;
+    const double _x62 = _x13*_x30;
+    const double _x63 = -_x11*_x15 + _x11*_x61;
+    const double _x64 = _x12*_x33 + _x13*_x25 + _x63;
+    const double _x65 = _x52*_x9;
+    const double _x66 = X*_x11;
+    const double _x67 = E_AZ*_x11;
+    const double _x68 = Z*_x11;
+    const double _x69 = E_B0A*_x27;
+    const double _x70 = _x11*_x18;
+    const double _x71 = Y*_x13;
+    const double _x72 = _x11*_x33;
+    const double _x73 = _x11*_x36;
+    const double _x74 = Z*_x11 - _x71 - _x72 - _x73;
+    out[0] = E_A0A*(-_x20*_x27 + _x27*_x5 + _x27*_x53 + _x48 + _x53) + E_A0C*_x41 + E_A0Z*_x16 + E_AA*(-_x13*_x20 - _x5) + E_AC*_x41 + E_AX*(-_x19 + _x26) - E_AY*_x19 + E_B0A*(_x27*_x3 - _x27*_x37 + _x35 - _x37 + _x44) + E_B0C*(Z*_x50 + _x31*_x49 + _x31*_x51 - _x36*_x50) + E_B0Z*_x3 + E_BA*(-_x3 + _x34 + _x35 + _x37) - E_BC*_x47 - E_C0Y*_x5 + E_CA*(120*_x23*_x9 - _x40) + E_CC*(_x11*_x34 + _x13*_x5 + _x20 + _x48) - E_CX*_x5 + E_X0A*(_x11*_x13*_x9 - _x12*_x27) + E_X0C*(_x21*_x29 + _x23*_x29 - _x32) + E_XA*_x12 - E_XC*_x2 + E_XX*_x2 + E_XY*_x2 + E_XZ*_x2 + E_Y0A*(_x14*_x28 - _x22) + E_Y0C*(_x22*_x31 + _x24*_x31 + _x38) + E_YA*_x14 + E_YC*(_x22 + _x24) - E_YX*_x14 - E_YY*_x14 - E_YZ*_x14 - E_ZA*_x2 + E_ZX*_x12 + E_ZY*_x12 + E_ZZ*_x12 - _x17*tool_length - _x4*tool_length + _x6*_x7 + _x6*_x8;
+    out[1] = E_A0A*(_x25*_x27 + _x27*_x57 + _x27*_x65 + _x63 + _x65) + E_A0C*(Z*_x62 + _x30*_x49 + _x30*_x51 - _x36*_x62) - E_A0Z*_x45 + E_AA*(_x13*_x57 - _x25) + E_AC*_x47 + E_AX*(_x13*_x18*_x2 - _x42) + E_AY*_x18*_x54 + E_B0A*(Z*_x27*_x9 + _x26 - _x27*_x61 + _x39 - _x60 - _x61) + E_B0C*_x41 + E_B0Z*_x15 + E_BA*(120*_x13*_x9 - _x15 - _x60 + _x61) + E_BC*_x41 + E_BX*_x6*_x9 + E_BY*_x6*_x9 - E_BZ*_x9*tool_length - E_C0Y*_x25 + E_CA*(_x42 + _x46 - 120*_x58) + E_CC*(-_x57 + _x64) - E_CX*_x25 + E_X0A*(-_x2*_x59 + _x27*_x55) + E_X0C*(-_x2*_x22 - _x23*_x38 - _x31*_x9) - E_XA*_x55 - E_XC*_x9 + E_XX*_x9 + E_XY*_x9 + E_XZ*_x9 + E_Y0A*(-_x28*_x54 + _x43) + E_Y0C*(-_x21*_x32 - _x23*_x32 + _x29) - E_YA*_x54 + E_YC*(-_x43 - _x58) + E_YX*_x54 + E_YY*_x54 + E_YZ*_x54 - E_ZA*_x9 - E_ZX*_x55 - E_ZY*_x55 - E_ZZ*_x55 + _x56*tool_length;
+    out[2] = E_A0A*_x66 + E_A0C*(_x20 - _x30*_x68 + _x30*_x71 + _x30*_x72 + _x30*_x73) - E_A0Z*_x68 + E_AA*_x66 + E_AC*_x74 + E_AX*(_x70 + _x71) + E_AY*_x70 + E_B0C*(X*_x31 + _x64) + E_BA*X*_x13 + E_BC*X + E_CA*_x74 + E_X0A*(-_x13*_x27 - _x21) + E_XA*_x13 + E_Y0A*(-_x11*_x28 - _x59) - E_YA*_x11 + E_YX*_x11 + E_YY*_x11 + E_YZ*_x11 + E_ZC*(-_x21 - _x23) + E_ZX*_x13 + E_ZY*_x13 + E_ZZ*_x13 + X*_x69 + _x67*tool_length;
+    out[3] = -E_A0A*_x55 - E_A0C*_x14 - E_AC*_x14 + E_AX*_x14 + E_AY*_x14 + E_B0C*_x50 - E_BA*_x2 - E_BC*_x54 - E_CA*_x14 - E_CC*_x55 + _x17 + _x2*_x69 + _x4 + _x7 + _x8;
+    out[4] = -E_A0A*_x12 + E_A0C*_x13*_x30 + E_AC*_x13*_x2 - E_AX*_x54 - E_AY*_x54 + E_B0A*_x27*_x9 - E_B0C*_x14 - E_BA*_x9 - E_BC*_x14 + E_BX*_x9 + E_BY*_x9 + E_BZ*_x9 + E_CA*_x13*_x2 - E_CC*_x12 - _x56;
+    out[5] = -E_A0C*_x11*_x30 + E_AC*_x11 - E_AX*_x11 - E_AY*_x11 - E_B0C*_x12 + E_CA*_x11 - _x67;
+}
+
 /* ----------------------------------------------------------------- the error model as data */
 struct mtk_table {      /* tables of one axis on the same positions: value = a_j + s_j x on segment j */
     int axis, rows, points;
@@ -800,6 +935,8 @@ struct mtk_polynomial { /* sum_k c_k u^k, u = off + scl x, x held within [lo, hi
     const double *c;
 };
 struct mtk_model {
+    int full;                /* scope: 0 "position", 1 "full" (the rotary axes correct the tool axis too) */
+    double cone_deg;         /* scope "full": no orientation correction within this angle of the singular pose */
     const double *constants; /* MTK_N_ERRORS */
     int n_tables, n_harmonics, n_polynomials;
     const struct mtk_table *tables;
@@ -877,8 +1014,8 @@ static int mtk_solve3(const double *a, const double *b, double *x)
 
 /* world -> joints: the axis commands that put the tool tip where the nominal machine puts it at `world`
  * (scope "position"); returns the Newton steps taken, or -1 when not converged within max_iterations. */
-static int mtk_inverse(const struct mtk_model *m, const double *world, double tool_length, int max_iterations,
-                       double *joints)
+static int mtk_inverse_position(const struct mtk_model *m, const double *world, double tool_length,
+                                int max_iterations, double *joints)
 {
     double q0[MTK_N_AXES], q[MTK_N_AXES], target[6], e[MTK_N_ERRORS], fj[6 * (MTK_N_AXES + 1)];
     double jl[9], r[3], d[3];
@@ -910,8 +1047,9 @@ static int mtk_inverse(const struct mtk_model *m, const double *world, double to
     return -1;
 }
 
-/* joints -> world: the nominal axes whose nominal tool tip is the error-inclusive one at `joints` */
-static int mtk_forward_kins(const struct mtk_model *m, const double *joints, double tool_length, double *world)
+/* joints -> world, scope "position": the nominal axes whose nominal tool tip is the error-inclusive one */
+static int mtk_forward_position(const struct mtk_model *m, const double *joints, double tool_length,
+                                double *world)
 {
     double q[MTK_N_AXES], e[MTK_N_ERRORS], p[6], p0[6], jn[6 * MTK_N_AXES], jl[9], r[3], d[3];
     int i, k;
@@ -930,4 +1068,137 @@ static int mtk_forward_kins(const struct mtk_model *m, const double *joints, dou
     for (i = 0; i < 3; i++) world[mtk_linear[i]] += d[i];
     world[MTK_TOOL_AXIS] += tool_length;
     return 0;
+}
+
+/* scope "full", Compensator._correct_block step by step: per step the tilt and rotary axes first cancel the tool-axis
+ * residual by least squares (the first step from the first-order deviation and the nominal Jacobian, blended by
+ * the weight w of the pose; later steps on the exact model, only where w = 1), the tilt axis held within its
+ * limits; then the linear axes cancel the exact tool-tip residual (nominal Jacobian).  w = smoothstep(s / sin(cone)
+ * - 1), s the smaller singular value of d(tool axis)/d(tilt, rotary) per rad (Compensator.weight). */
+static double mtk_weight(const struct mtk_model *m, const double *jn)
+{
+    double g[3] = {0, 0, 0}, smin, sc, x;
+    int k;
+    if (m->cone_deg <= 0) return 1;
+    for (k = 3; k < 6; k++) {
+        const double a = jn[k * MTK_N_AXES + MTK_TILT], b = jn[k * MTK_N_AXES + MTK_ROTARY];
+        g[0] += a * a;
+        g[1] += a * b;
+        g[2] += b * b;
+    }
+    x = 0.5 * (g[0] - g[2]);
+    smin = 0.5 * (g[0] + g[2]) - sqrt(x * x + g[1] * g[1]);
+    smin = sqrt(smin > 0 ? smin : 0) / (MTK_PI / 180);
+    sc = sin(m->cone_deg * MTK_PI / 180);
+    x = (smin - sc) / sc;
+    x = x < 0 ? 0 : (x > 1 ? 1 : x);
+    return x * x * (3 - 2 * x);
+}
+
+/* the (tilt, rotary) step of least squares for the tool-axis residual r[3..5] under the Jacobian j (6 x n) */
+static int mtk_orientation_step(const double *j, int stride, const double *r, double *d)
+{
+    double g0 = 0, g1 = 0, g2 = 0, h0 = 0, h1 = 0, det;
+    int k;
+    for (k = 3; k < 6; k++) {
+        const double a = j[k * stride + MTK_TILT], b = j[k * stride + MTK_ROTARY];
+        g0 += a * a;
+        g1 += a * b;
+        g2 += b * b;
+        h0 -= a * r[k];
+        h1 -= b * r[k];
+    }
+    det = g0 * g2 - g1 * g1;
+    if (!(det > 0)) return -1;
+    d[0] = (g2 * h0 - g1 * h1) / det;
+    d[1] = (g0 * h1 - g1 * h0) / det;
+    return 0;
+}
+
+static int mtk_inverse_full(const struct mtk_model *m, const double *world, double tool_length, int max_iterations,
+                            double *joints)
+{
+    double q0[MTK_N_AXES], q[MTK_N_AXES], target[6], p[6], r[6], e[MTK_N_ERRORS], fj[6 * (MTK_N_AXES + 1)];
+    double jn[6 * MTK_N_AXES], jl[9], d[3], bc[2], w, size;
+    int i, k, it;
+    for (i = 0; i < MTK_N_AXES; i++) q0[i] = q[i] = world[i];
+    q0[MTK_TOOL_AXIS] -= tool_length;
+    q[MTK_TOOL_AXIS] -= tool_length;
+    mtk_forward(q0, tool_length, target);
+    mtk_jacobian_axes(q0, tool_length, jn);
+    w = mtk_weight(m, jn);
+    for (it = 0; it < max_iterations; it++) {
+        const double wi = it == 0 ? w : (w >= 1 ? 1 : 0);
+        double nb;
+        bc[0] = bc[1] = 0;
+        if (it == 0) {
+            mtk_errors(m, q0, e);
+            mtk_deviation_first_order(q0, e, tool_length, r);
+            if (wi > 0 && mtk_orientation_step(jn, MTK_N_AXES, r, bc)) return -1;
+        } else {
+            mtk_errors(m, q, e);
+            mtk_forward_errors_with_jacobian(q, e, tool_length, fj);
+            for (k = 0; k < 6; k++) r[k] = fj[k * (MTK_N_AXES + 1)] - target[k];
+            if (wi > 0 && mtk_orientation_step(fj + 1, MTK_N_AXES + 1, r, bc)) return -1;
+        }
+        nb = q[MTK_TILT] + bc[0] * wi;
+        if (nb < MTK_TILT_LO) nb = MTK_TILT_LO;
+        if (nb > MTK_TILT_HI) nb = MTK_TILT_HI;
+        size = fabs(nb - q[MTK_TILT]) + fabs(bc[1] * wi);
+        q[MTK_TILT] = nb;
+        q[MTK_ROTARY] += bc[1] * wi;
+        mtk_errors(m, q, e);                         /* the exact tool-tip residual at the new angles */
+        mtk_forward_errors(q, e, tool_length, p);
+        mtk_jacobian_axes(q, tool_length, jn);
+        for (k = 0; k < 3; k++) {
+            r[k] = p[k] - target[k];
+            for (i = 0; i < 3; i++) jl[3 * k + i] = jn[k * MTK_N_AXES + mtk_linear[i]];
+        }
+        if (mtk_solve3(jl, r, d)) return -1;
+        for (i = 0; i < 3; i++) {
+            q[mtk_linear[i]] -= d[i];
+            size += fabs(d[i]);
+        }
+        if (!(size == size) || size > 1e3) return -1;
+        if (it > 0 && size <= MTK_TOLERANCE_MM) {
+            for (i = 0; i < MTK_N_AXES; i++) joints[i] = q[i];
+            joints[MTK_TOOL_AXIS] += tool_length;
+            return it + 1;
+        }
+    }
+    return -1;
+}
+
+/* joints -> world, scope "full": the world whose inverse is `joints`, by fixed-point steps (the inverse is the
+ * identity plus corrections whose slope is ~1e-4: each step gains four digits) */
+static int mtk_forward_full(const struct mtk_model *m, const double *joints, double tool_length, int max_iterations,
+                            double *world)
+{
+    double qi[MTK_N_AXES], size;
+    int i, it;
+    for (i = 0; i < MTK_N_AXES; i++) world[i] = joints[i];
+    for (it = 0; it < 8; it++) {
+        if (mtk_inverse_full(m, world, tool_length, max_iterations, qi) < 0) return -1;
+        size = 0;
+        for (i = 0; i < MTK_N_AXES; i++) {
+            world[i] -= qi[i] - joints[i];
+            size += fabs(qi[i] - joints[i]);
+        }
+        if (size <= MTK_TOLERANCE_MM) return 0;
+    }
+    return -1;
+}
+
+static int mtk_inverse(const struct mtk_model *m, const double *world, double tool_length, int max_iterations,
+                       double *joints)
+{
+    return m->full ? mtk_inverse_full(m, world, tool_length, max_iterations, joints)
+                   : mtk_inverse_position(m, world, tool_length, max_iterations, joints);
+}
+
+static int mtk_forward_kins(const struct mtk_model *m, const double *joints, double tool_length, int max_iterations,
+                            double *world)
+{
+    return m->full ? mtk_forward_full(m, joints, tool_length, max_iterations, world)
+                   : mtk_forward_position(m, joints, tool_length, world);
 }

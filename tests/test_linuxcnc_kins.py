@@ -17,6 +17,7 @@ Skipped, with the reason, without halcompile / gcc / LinuxCNC.
 """
 from __future__ import annotations
 
+import functools
 import json
 import subprocess
 from pathlib import Path
@@ -78,7 +79,9 @@ MODELS = {"demo": lambda: mtcal.load_model(path("demo_truth.json")), "every-kind
 
 
 def poses(m: mtcal.Machine, model: ErrorModel, n: int, seed: int = 1) -> np.ndarray:
-    """Axis positions across each axis' measured range and 15 % beyond it (rotary axes within their limits)."""
+    """Axis positions across each axis' measured range and 15 % beyond it (rotary axes within their limits); a
+    fifth of the tilt angles within 6 deg of the pose where the tool axis is parallel to the rotary axis (scope
+    full's cone and blend), a tenth within 6 deg of a tilt limit."""
     rng = np.random.default_rng(seed)
     out = np.empty((n, len(m.axes)))
     for i, a in enumerate(m.axes):
@@ -88,15 +91,21 @@ def poses(m: mtcal.Machine, model: ErrorModel, n: int, seed: int = 1) -> np.ndar
         if m.limits[i] is not None:
             lo, hi = max(lo, m.limits[i][0]), min(hi, m.limits[i][1])
         out[:, i] = rng.uniform(lo, hi, n)
+    t, (lo, hi) = m.index(m.ik_info["tilt_axis"]), m.limits[m.index(m.ik_info["tilt_axis"])]
+    phi = m.ik_info["phi_deg"]
+    out[: n // 5, t] = np.clip(rng.uniform(phi - 6, phi + 6, n // 5), lo, hi)
+    out[n // 5: n // 5 + n // 20, t] = rng.uniform(lo, lo + 6, n // 20)
+    out[n // 5 + n // 20: n // 5 + n // 10, t] = rng.uniform(hi - 6, hi, n // 20)
     return out
 
 
-def expected_joints(model: ErrorModel, world: np.ndarray, tool: float, iterations: int = 8) -> np.ndarray:
+def expected_joints(model: ErrorModel, world: np.ndarray, tool: float, iterations: int = 8,
+                    scope: str = "position") -> np.ndarray:
     """The issue's contract: Compensator(tool_length=L).correct(world - L e_z) + L e_z (e_z: the Z axis here)."""
     z = model.kinematics.axes.index("Z")
     tip = world.copy()
     tip[:, z] -= tool
-    q = Compensator(model, scope="position", iterations=iterations, tool_length=tool).correct(tip)
+    q = Compensator(model, scope=scope, iterations=iterations, tool_length=tool).correct(tip)
     q[:, z] += tool
     return q
 
@@ -118,46 +127,55 @@ def to_emcpose(m: mtcal.Machine, q: np.ndarray) -> np.ndarray:
     return p
 
 
-@pytest.fixture(scope="module", params=sorted(MODELS))
+@functools.cache
+def model_of(which: str) -> ErrorModel:
+    return MODELS[which]()
+
+
+@pytest.fixture(scope="module", params=[(w, s) for w in sorted(MODELS) for s in ("position", "full")],
+                ids=lambda p: f"{p[0]}-{p[1]}")
 def built(request, tmp_path_factory):
     sim.need("halcompile", "gcc")
-    model = MODELS[request.param]()
-    out = tmp_path_factory.mktemp(request.param)
-    export_kins(model, model.kinematics, out, name="mtcal_kins_test")
-    return model, sim.build_harness(out / "mtcal_kins_test.comp")
+    which, scope = request.param
+    model = model_of(which)
+    out = tmp_path_factory.mktemp(which)
+    export_kins(model, model.kinematics, out, name="mtcal_kins_test", scope=scope)
+    return model, scope, sim.build_harness(out / "mtcal_kins_test.comp")
 
 
 @pytest.mark.parametrize("tool", [0.0, TOOL])
 def test_harness_joints_are_the_compensators_and_forward_inverts_them(built, tool):
-    model, exe = built
+    model, scope, exe = built
     m = model.kinematics
     world = poses(m, model, 10000)
     status, joints, _ = run_harness(exe, "inverse", to_emcpose(m, world), tool, 10)
     assert (status == 0).all()
-    expect = expected_joints(model, world, tool)
+    expect = expected_joints(model, world, tool, scope=scope)
     assert np.abs(joints - expect).max() < TOL
     assert np.abs(expect - world).max() > 1e-3  # corrections above 1 um: the check has something to check
-    first_order = expected_joints(model, world[:2000], tool, iterations=1)
+    other = expected_joints(model, world[:2000], tool, scope="full" if scope == "position" else "position")
+    assert np.abs(joints[:2000] - other).max() > 1000 * TOL  # the scope asked for, not the other
+    first_order = expected_joints(model, world[:2000], tool, iterations=1, scope=scope)
     assert np.abs(joints[:2000] - first_order).max() > 1000 * TOL  # not the first-order compensator
     if tool:  # nor a module that takes world Z as the tool tip
-        naive = Compensator(model, scope="position", iterations=8, tool_length=tool).correct(world[:2000])
+        naive = Compensator(model, scope=scope, iterations=8, tool_length=tool).correct(world[:2000])
         assert np.abs(joints[:2000] - naive).max() > 1000 * TOL
     status, back, _ = run_harness(exe, "forward", joints, tool, 10)
     assert (status == 0).all()
     assert np.abs(back[:, [POSE.index(a) for a in m.axes]] - world).max() < TOL
-    print(f"{m.name}, L = {tool:g} mm: |joints - compensator| <= {np.abs(joints - expect).max():.2g} mm, "
+    print(f"{m.name} {scope}, L = {tool:g} mm: |joints - compensator| <= {np.abs(joints - expect).max():.2g} mm, "
           f"|forward(inverse) - world| <= {np.abs(back[:, [POSE.index(a) for a in m.axes]] - world).max():.2g} mm, "
           f"corrections up to {np.abs(expect - world).max() * 1e3:.1f} um")
 
 
 def test_harness_refuses_what_does_not_converge_within_the_cap(built):
-    model, exe = built
+    model, scope, exe = built
     m = model.kinematics
     world = poses(m, model, 2000, seed=2)
     status, joints, _ = run_harness(exe, "inverse", to_emcpose(m, world), TOOL, 1)
     assert (status == -1).all()
-    status, _, _ = run_harness(exe, "inverse", to_emcpose(m, world), TOOL, 4)
-    assert (status == 0).all()  # the Newton solve takes at most four steps here
+    status, _, _ = run_harness(exe, "inverse", to_emcpose(m, world), TOOL, 4 if scope == "position" else 5)
+    assert (status == 0).all()  # the solve takes at most four steps here (five in scope full)
 
 
 # ----------------------------------------------------------------------------- the real simulator
@@ -273,13 +291,13 @@ def as_sent(words: str) -> np.ndarray:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("which", ["demo", "identified-dmu50"])
-def test_linuxcnc_runs_the_module_and_its_joints_are_the_compensators(tmp_path, which):
+@pytest.mark.parametrize("which,scope", [("demo", "position"), ("identified-dmu50", "position"), ("demo", "full")])
+def test_linuxcnc_runs_the_module_and_its_joints_are_the_compensators(tmp_path, which, scope):
     sim.need("linuxcnc", "halcompile", "gcc")
-    model = MODELS[which]()
+    model = model_of(which)
     m = model.kinematics
     name = sim.unique_name()
-    res = export_kins(model, m, tmp_path / "kins", name=name)
+    res = export_kins(model, m, tmp_path / "kins", name=name, scope=scope)
     q = poses(m, model, 8, seed=3)
     moves = [[0.0, mdi_words(m, p)] for p in q[:5]] + [[TOOL, mdi_words(m, p)] for p in q[5:]]
     (tmp_path / "job.json").write_text(json.dumps({"joints": len(m.axes), "moves": moves, "hal": res.hal_name,
@@ -305,13 +323,14 @@ def test_linuxcnc_runs_the_module_and_its_joints_are_the_compensators(tmp_path, 
         w = sent.copy()
         w[z] += tool  # G43: the world is the tool tip plus the tool length
         assert abs(offset[2] - tool) < 1e-12
-        expect = expected_joints(model, w[None], tool)[0]
+        expect = expected_joints(model, w[None], tool, scope=scope)[0]
         back = np.array([world[POSE.index(a)] for a in m.axes])
         d = [np.abs(np.array(joints) - expect).max(), np.abs(back - w).max(), np.abs(expect - w).max()]
         assert d[0] < TOL and d[1] < TOL, (words, joints, world, expect)
         assert d[2] > 1e-3
         worst = np.maximum(worst, d)
-    print(f"{which}: |joints - compensator| <= {worst[0]:.2g} mm, |forward(inverse) - world| <= {worst[1]:.2g} mm, "
+    print(f"{which} {scope}: |joints - compensator| <= {worst[0]:.2g} mm, "
+          f"|forward(inverse) - world| <= {worst[1]:.2g} mm, "
           f"corrections up to {worst[2] * 1e3:.1f} um")
     before, after = out["refused"]
     assert before == after  # the machine did not move

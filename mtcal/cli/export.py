@@ -52,6 +52,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "(default mm)")
     p.add_argument("--name", default=DEFAULT_NAME, metavar="C_NAME",
                    help=f"linuxcnc-kins: the component's name, [KINS]KINEMATICS (default {DEFAULT_NAME})")
+    p.add_argument("--scope", choices=("position", "full"), default="position",
+                   help="linuxcnc-kins: position = the linear axes compensate the tool tip; full = the rotary axes "
+                        "also correct the tool axis, as `mtcal compensate --scope full` (default position)")
     p.add_argument("--machine", metavar="NAME",
                    help="the machine the tables are for: refused when the model is of another (default: the model's)")
     p.add_argument("--force", action="store_true",
@@ -82,12 +85,13 @@ def _run_kins(args: argparse.Namespace) -> int:
                          f"functions in, in mm)")
     model = load_model(args.model)
     res = export_kins(model, load_machine(args.machine or model.machine), args.output, args.name, args.model,
-                      args.force, protect=(args.model,))
+                      args.force, protect=(args.model,), scope=args.scope)
     if args.json:
         print(dumps({"format": KINS, "files": res.files, "name": res.name, "hal_name": res.hal_name,
                      "lines": res.lines, "held": res.held, "warnings": res.warnings}))
         return 0
-    print(f"{args.model} -> {KINS}: component {res.name} (HAL {res.hal_name}), {len(res.held)} errors held")
+    print(f"{args.model} -> {KINS}: component {res.name} (HAL {res.hal_name}), scope {args.scope}, "
+          f"{len(res.held)} errors held")
     print("\n".join(res.lines))
     for w in res.warnings:
         log.warning("warning: %s", w)
@@ -99,8 +103,8 @@ def _run_kins(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     if args.format == KINS:
         return _run_kins(args)
-    if args.name != DEFAULT_NAME:
-        raise InputError(f"--name is a {KINS} option, not {args.format}'s")
+    if args.name != DEFAULT_NAME or args.scope != "position":
+        raise InputError(f"--name and --scope are {KINS} options, not {args.format}'s")
     if FORMATS[args.format][1] == "dir":
         if Path(args.output).exists() and not Path(args.output).is_dir():
             raise InputError(f"{args.output}: format {args.format} writes a folder, and this is a file")

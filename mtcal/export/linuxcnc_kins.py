@@ -30,6 +30,8 @@ from mtcal.model.plausibility import check_model
 NAME = "linuxcnc-kins"
 DEFAULT_NAME = "mtcalkins"
 MAX_ITERATIONS = 10  # the default of pin max-iterations: the solve takes 2-4 steps
+SCOPES = ("position", "full")  # as mtcal compensate --scope
+CONE_DEG = 2.0  # scope "full": Compensator's default cone
 # EmcPose fields of LinuxCNC's coordinate letters (src/emc/nml_intf/emcpos.h); linear and rotary letters
 POSE_FIELDS = {"X": "tran.x", "Y": "tran.y", "Z": "tran.z", "A": "a", "B": "b", "C": "c", "U": "u", "V": "v",
                "W": "w"}
@@ -117,9 +119,9 @@ def _c_array(ctype: str, name: str, values) -> str:
     return f"static const {ctype} {name}[{len(vals)}] = {{\n    {body}}};\n"
 
 
-def model_data(model: ErrorModel, machine: Machine) -> str:
-    """The model as C data for ``struct mtk_model`` (generated/<machine>_kins.c): ErrorEvaluator's plan, numbers
-    written with 17 significant digits (each double exactly)."""
+def model_data(model: ErrorModel, machine: Machine, scope: str = "position", cone: float = CONE_DEG) -> str:
+    """The model as C data for ``struct mtk_model`` (generated/<machine>_kins.c): the scope, the cone (deg, scope
+    "full") and ErrorEvaluator's plan, numbers written with 17 significant digits (each double exactly)."""
     ev = ErrorEvaluator(model, machine, "hold")
     out = [_c_array("double", "mtk_constants", ev.const)]
     tables, harmonics, polys = [], [], []
@@ -150,8 +152,8 @@ def model_data(model: ErrorModel, machine: Machine) -> str:
                               ("mtk_polynomial", "mtk_polynomials", polys)):
         body = ",\n    ".join(rows) if rows else "{0}"
         out.append(f"static const struct {ctype} {name}[] = {{\n    {body}}};\n")
-    out.append(f"static const struct mtk_model mtk_model = {{mtk_constants, {len(tables)}, {len(harmonics)}, "
-               f"{len(polys)}, mtk_tables, mtk_harmonics, mtk_polynomials}};\n")
+    out.append(f"static const struct mtk_model mtk_model = {{{int(scope == 'full')}, {float(cone)!r}, mtk_constants, "
+               f"{len(tables)}, {len(harmonics)}, {len(polys)}, mtk_tables, mtk_harmonics, mtk_polynomials}};\n")
     return "".join(out)
 
 
@@ -160,7 +162,8 @@ component {name} "mtcal volumetric compensation of {machine} (model {model}): a 
 description """
 Written by mtcal export {model} --format linuxcnc-kins (model sha256 {digest}).
 World: the nominal axes {axes} the part program commands.  Joints: the axis positions that put the tool tip there on
-the machine with the model's errors (scope "position": the linear axes corrected, the rotary axes as commanded).
+the machine with the model's errors, scope "{scope}" (position: the linear axes corrected, the rotary axes as
+commanded; full: the rotary axes correct the tool axis too, as mtcal compensate --scope full).
 The error functions are compiled in; beyond their measured range their end values are held.
 Pin tool-length: the tool length L (mm) of G43, from motion.tooloffset.z (world {tool} = tool tip + L).
 Pin max-iterations: the cap of the inverse's Newton steps; a move that does not converge within it is refused.
@@ -196,7 +199,7 @@ int kinematicsForward(const double *joint, EmcPose *pos, const KINEMATICS_FORWAR
     int cap;
     (void)fflags;
     (void)iflags;
-    if (mtk_pins(&tl, &cap) || mtk_forward_kins(&mtk_model, joint, tl, world)) return -1;
+    if (mtk_pins(&tl, &cap) || mtk_forward_kins(&mtk_model, joint, tl, cap, world)) return -1;
 {to_pose}
     return 0;
 }}
@@ -222,7 +225,8 @@ EXPORT_SYMBOL(kinematicsInverse);
 '''
 
 
-def render_comp(model: ErrorModel, machine: Machine, name: str, model_path: str) -> str:
+def render_comp(model: ErrorModel, machine: Machine, name: str, model_path: str, scope: str = "position",
+                cone: float = CONE_DEG) -> str:
     """The .comp text: halcompile's header, generated/<machine>_kins.c, the model's data and the entry points
     (each coordinate letter's EmcPose field <-> the joint of the same index)."""
     fields = [POSE_FIELDS[a] for a in machine.axes]
@@ -233,7 +237,8 @@ def render_comp(model: ErrorModel, machine: Machine, name: str, model_path: str)
     tool = machine.axes[int(re.search(r"#define MTK_TOOL_AXIS (\d+)", generated_c(machine))[1])]
     return COMP.format(name=name, machine=machine.name, model=Path(model_path).name, digest=model.digest(),
                        axes=" ".join(machine.axes), tool=tool, max_iterations=MAX_ITERATIONS,
-                       generated=generated_c(machine), data=model_data(model, machine), to_pose=to_pose.rstrip("\n"),
+                       generated=generated_c(machine), data=model_data(model, machine, scope, cone), scope=scope,
+                       to_pose=to_pose.rstrip("\n"),
                        from_pose=from_pose.rstrip("\n"))
 
 
@@ -249,7 +254,8 @@ def usage_lines(machine: Machine, name: str) -> list[str]:
 
 
 def export_kins(model: ErrorModel, machine: Machine, out: str | Path, name: str = DEFAULT_NAME,
-                model_path: str = "MODEL.json", force: bool = False, protect: tuple = ()) -> KinsExport:
+                model_path: str = "MODEL.json", force: bool = False, protect: tuple = (), scope: str = "position",
+                cone: float = CONE_DEG) -> KinsExport:
     """Write the kinematics component NAME.comp (and NAME.ini, the lines to use it) into the folder ``out``.
 
     Parameters
@@ -269,6 +275,11 @@ def export_kins(model: ErrorModel, machine: Machine, out: str | Path, name: str 
         Write a model that fails the plausibility guard, with a loud warning.
     protect : tuple, optional
         Paths that must not be written over (the inputs).
+    scope : {"position", "full"}, optional
+        As ``Compensator``'s: "position" corrects the linear axes, "full" the rotary axes too (default "position").
+    cone : float, optional
+        Scope "full": no orientation correction within this angle (deg) of a singular pose, blended in up to twice
+        it (``Compensator``'s, default 2).
 
     Returns
     -------
@@ -292,6 +303,8 @@ def export_kins(model: ErrorModel, machine: Machine, out: str | Path, name: str 
     """
     if model.machine != machine.name:
         raise InputError(f"{model_path}: the model is of machine {model.machine}, not {machine.name} (`machine`)")
+    if scope not in SCOPES or not (cone == cone and abs(cone) < 90):
+        raise InputError(f"scope must be one of {SCOPES} and cone a finite angle below 90 deg, got {scope!r}, {cone!r}")
     check_name(name)
     check_topology(machine)
     warnings = check_model(model, machine, force, model_path, fit_against_table=True)
@@ -299,9 +312,10 @@ def export_kins(model: ErrorModel, machine: Machine, out: str | Path, name: str 
             or n in model.functions and not _zero(model.functions[n])]
     if not held:
         raise InputError(f"{model_path}: the model has no non-zero error; nothing was written")
-    files = {f"{name}.comp": render_comp(model, machine, name, model_path),
+    files = {f"{name}.comp": render_comp(model, machine, name, model_path, scope, cone),
              f"{name}.ini": "".join(f"{ln}\n" for ln in
-                                    [f"# mtcal export {Path(model_path).name} --format linuxcnc-kins --name {name}"]
+                                    [f"# mtcal export {Path(model_path).name} --format linuxcnc-kins --name {name} "
+                                     f"--scope {scope}"]
                                     + usage_lines(machine, name))}
     out = Path(out)
     _refuse_folder(out, files, protect)
