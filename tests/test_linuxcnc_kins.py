@@ -261,9 +261,16 @@ try:
         if all(s.homed[:job["joints"]]): break
         time.sleep(0.05)
     c.mode(linuxcnc.MODE_MDI); c.wait_complete(5)
+    loaded = False
     for tool, words in job["moves"]:
-        if tool:
+        if tool and not loaded:  # the tool change done (and its offset in effect) before the next MDI
             c.mdi("T1 M6 G43 H1"); c.wait_complete(10); settle(10)
+            for _ in range(200):
+                s.poll()
+                if s.tool_in_spindle == 1 and abs(s.tool_offset[2] - tool) < 1e-9: break
+                time.sleep(0.05)
+            time.sleep(0.5)
+            loaded = True
         move(words)
         s.poll()
         out["rows"].append([tool, words, joints(), world(), list(s.tool_offset)])
@@ -291,7 +298,8 @@ def as_sent(words: str) -> np.ndarray:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("which,scope", [("demo", "position"), ("identified-dmu50", "position"), ("demo", "full")])
+@pytest.mark.parametrize("which,scope", [("demo", "position"), ("identified-dmu50", "position"), ("demo", "full"),
+                                         ("identified-headbc", "position"), ("identified-xyzac", "position")])
 def test_linuxcnc_runs_the_module_and_its_joints_are_the_compensators(tmp_path, which, scope):
     sim.need("linuxcnc", "halcompile", "gcc")
     model = model_of(which)
