@@ -41,7 +41,7 @@ MODULE_DIR = Path("/usr/lib/linuxcnc/modules")  # where a loadable module is fou
 RESERVED = ("trivkins", "5axiskins", "xyzac_trt_kins", "xyzbc_trt_kins", "maxkins", "tripodkins", "genhexkins",
             "genserkins", "pumakins", "scarakins", "rotatekins", "corexykins", "userkins", "motmod", "homemod",
             "tpmod", "hal_lib", "rtapi", "kins", "switchkins", "mtcal")
-C_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,40}")
+C_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,29}")  # HAL names hold 47 characters: NAME.max-iterations
 C_KEYWORDS = {"auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum",
               "extern", "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict", "return",
               "short", "signed", "sizeof", "static", "struct", "switch", "typedef", "union", "unsigned", "void",
@@ -79,7 +79,7 @@ class KinsExport:
 def check_name(name: str, module_dir: Path = MODULE_DIR) -> None:
     """A component name must be a C identifier that no LinuxCNC module has (InputError otherwise)."""
     if not (isinstance(name, str) and C_IDENT.fullmatch(name)) or name in C_KEYWORDS or keyword.iskeyword(name):
-        raise InputError(f"--name {name!r} is not a C identifier (a letter, then letters, digits or _, at most 41)")
+        raise InputError(f"--name {name!r} is not a C identifier (a letter, then letters, digits or _, at most 30)")
     clash = name in RESERVED or (module_dir / f"{name}.so").exists()
     if clash and not _ours(module_dir / f"{name}.so"):
         raise InputError(f"--name {name!r} is the name of a LinuxCNC module; choose another")
@@ -95,7 +95,8 @@ def _ours(so: Path) -> bool:
 
 def check_topology(machine: Machine) -> None:
     """LinuxCNC's joint layout: one joint per coordinate letter, linear axes X Y Z U V W and rotary A B C, each
-    letter once, three linear axes (the C's position solve) of which one moves along z (G43's tool length)."""
+    letter once, three linear axes (the C's position solve; derive/kins_c.py also needs one of them along z, the
+    tool-length axis of G43)."""
     bad = [a for a, k in zip(machine.axes, machine.axis_kinds)
            if a not in (LINEAR_LETTERS if k == "linear" else ROTARY_LETTERS)]
     if bad or len(set(machine.axes)) != len(machine.axes) or len(machine.linear_axes) != 3:
@@ -114,6 +115,8 @@ def generated_c(machine: Machine) -> str:
 
 
 def _c_array(ctype: str, name: str, values) -> str:
+    if not np.all(np.isfinite(np.asarray(values, dtype=float))):
+        raise InputError(f"the model has a value that is not a finite number ({name}): a module cannot hold it")
     vals = [repr(int(v)) if ctype == "int" else repr(float(v)) for v in np.asarray(values).ravel()] or ["0"]
     body = ",\n    ".join(", ".join(vals[i: i + 6]) for i in range(0, len(vals), 6))
     return f"static const {ctype} {name}[{len(vals)}] = {{\n    {body}}};\n"
