@@ -1,8 +1,9 @@
 """A LinuxCNC kinematics component (KINEMATICS_BOTH) that applies an error model to every move, in real time.
 
 World = the nominal axes the part program commands; joints = the compensated axis positions, what
-``Compensator(model, scope="position")`` iterated to convergence gives for that pose (the linear axes corrected,
-the rotary axes as commanded); forward = its exact inverse.  Under G43 LinuxCNC's world Z is the tool tip plus the
+``Compensator(model, scope=...)`` iterated to convergence gives for that pose (scope "position": the linear axes
+corrected, the rotary axes as commanded; "full": the rotary axes correct the tool axis too, with Compensator's
+blend near singular poses); forward = its exact inverse.  Under G43 LinuxCNC's world Z is the tool tip plus the
 tool length L (pin ``tool-length``, fed from ``motion.tooloffset.z``), so joints = Compensator(tool_length=L)
 .correct(world - L e_z) + L e_z.  The maths is generated/<machine>_kins.c (derive/kins_c.py: SymPy's C99 printer
 over the cse of the generated functions, the error-function evaluator and the Newton solve); this module only
