@@ -222,7 +222,10 @@ int kinematicsInverse(const EmcPose *pos, double *joint, const KINEMATICS_INVERS
 
 KINEMATICS_TYPE kinematicsType(void) {{ return KINEMATICS_BOTH; }}
 
-KINS_NOT_SWITCHABLE
+int kinematicsSwitchable(void) {{ return 0; }}  /* kinematics.h's KINS_NOT_SWITCHABLE, without its unused parameter */
+int kinematicsSwitch(int switchkins_type) {{ (void)switchkins_type; return 0; }}
+EXPORT_SYMBOL(kinematicsSwitchable);
+EXPORT_SYMBOL(kinematicsSwitch);
 EXPORT_SYMBOL(kinematicsType);
 EXPORT_SYMBOL(kinematicsForward);
 EXPORT_SYMBOL(kinematicsInverse);
