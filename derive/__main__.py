@@ -29,7 +29,10 @@ def _build(name: str) -> tuple[str, dict[str, str], dict, float]:
              f"{mod.name}_casadi.py": codegen.emit_casadi(mod, name)}
     info = {"source": f"derive/{mod.source}", "functions": [f.name for f in mod.functions]}
     spec = mod.metadata.get("MACHINE")
-    if spec:
+    if spec:  # a machine: also the C of its controller kinematics module
+        from .kins_c import emit
+        from .spec import load_spec
+        files[f"{mod.name}_kins.c"] = emit(mod, name, load_spec(spec))
         info["spec"] = f"derive/machines/{spec}.toml"
         info["spec_sha256"] = sha256((ROOT / info["spec"]).read_bytes())
     return name, files, info, time.perf_counter() - t0

@@ -1,4 +1,4 @@
-"""Code generation: one SymPy expression set -> a NumPy module and a CasADi module.
+"""Code generation: one SymPy expression set -> a NumPy module, a CasADi module (and C99 functions).
 
 A derivation hands over a :class:`Module` (functions with named arguments and matrix-valued
 outputs, plus plain metadata).  Each target has one printer and one template:
@@ -6,6 +6,8 @@ outputs, plus plain metadata).  Each target has one printer and one template:
 * NumPy: vectorised over any leading array shape (arguments broadcast against each other),
   common subexpressions eliminated once per function, outputs written into one array.
 * CasADi: the same cse'd assignments written as ``casadi.SX`` code, wrapped in a ``casadi.Function``.
+* C99: the same cse'd assignments as ``const double`` locals of a ``static void`` function writing its outputs
+  row-major into ``out`` (no allocation, no includes: sin, cos, sqrt, atan2, fabs from the including file).
 
 Everything printed is a pure function of the expressions, so the bytes are identical from run to run.
 """
@@ -17,6 +19,7 @@ from dataclasses import dataclass, field
 from typing import Any, Sequence
 
 import sympy as sp
+from sympy.printing.c import C99CodePrinter
 from sympy.printing.numpy import NumPyPrinter
 
 HEADER = '''\
@@ -188,6 +191,44 @@ def emit_casadi(mod: Module, target: str) -> str:
         names = ", ".join(repr(a.name) for a in f.args)
         out.append(f"    return ca.Function({(mod.name + '_' + f.name)!r}, [{', '.join(a.name for a in f.args)}], "
                    f"[_out], [{names}], ['out'])\n")
+    return "".join(out)
+
+
+class _C(C99CodePrinter):
+    """SymPy's C99 printer with pi as a literal (no M_PI macro: the including file decides the headers)."""
+
+    def __init__(self) -> None:
+        super().__init__({"math_macros": {sp.Symbol("_no_macro_"): "_no_macro_"}})
+
+    def _print_Pi(self, expr) -> str:  # noqa: D401
+        return "MTK_PI"
+
+
+def emit_c_functions(functions: Sequence[Function], prefix: str) -> str:
+    """``static void <prefix><name>(const double *vector_arg, double scalar_arg, ..., double *out)`` for each
+    function: its cse'd assignments as locals, the outputs row-major into out (rows x cols)."""
+    p = _C()
+    out = []
+    for f in functions:
+        reps, reduced = _cse(f)
+        rows, cols = f.outputs.shape
+        params = ", ".join(f"const double *{a.name}" if a.vector else f"double {a.name}" for a in f.args)
+        out.append(f"\n/* {f.doc.strip()}\n * out: {rows} x {cols}, row-major */\n")
+        out.append(f"static void {prefix}{f.name}({params}, double *out)\n{{\n")
+        used = set().union(*(e.free_symbols for e in list(reduced) + [r for _, r in reps])) if reduced else set()
+        for a in f.args:
+            if not any(s in used for s in a.symbols):
+                out.append(f"    (void){a.name};\n")
+            for i, s in enumerate(a.symbols):
+                if s in used and a.vector:
+                    out.append(f"    const double {_ident(s)} = {a.name}[{i}];\n")
+                elif s in used and _ident(s) != a.name:
+                    out.append(f"    const double {_ident(s)} = {a.name};\n")
+        for s, e in reps:
+            out.append(f"    const double {s} = {p.doprint(e)};\n")
+        for idx, e in enumerate(reduced):
+            out.append(f"    out[{idx}] = {p.doprint(e)};\n")
+        out.append("}\n")
     return "".join(out)
 
 

@@ -3,18 +3,17 @@ simulator configuration (trivkins, core_sim.hal, a Python 'display' that homes, 
 the screw compensation it applies (joint.N.motor-pos-cmd - joint.N.pos-cmd - joint.N.motor-offset) must be the
 correction written here from the test model's closed form: -E(x) - b/2 after moving up, -E(x) + b/2 after moving
 down (control.c compute_screw_comp keeps the last direction's trim at standstill).  Skipped, with the reason, when
-LinuxCNC (Debian package linuxcnc-uspace) is absent or cannot start here."""
+LinuxCNC (Debian package linuxcnc-uspace) is absent or cannot start here.  Started by tests/linuxcnc_sim.py under
+the lock every LinuxCNC test holds."""
 from __future__ import annotations
 
 import json
-import os
 import shutil
-import subprocess
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import pytest
+from linuxcnc_sim import run_linuxcnc
 
 from mtcal.export import export_model
 from mtcal.kinematics.machine import load_machine
@@ -105,23 +104,6 @@ json.dump(out, open("probe_out.json", "w"))
 def error(q):
     t = np.asarray(q) / 200.0
     return sum(c * t**k for k, c in enumerate(C))
-
-
-def run_linuxcnc(folder: Path) -> dict:
-    """Run the configuration in ``folder``; HOME points there (the linuxcnc script copies its logs to $HOME)."""
-    env = dict(os.environ, HOME=str(folder))
-    with tempfile.TemporaryDirectory(prefix="mtcal-rtapi-") as fifo:
-        if os.geteuid() == 0:  # rtapi_app refuses root without a fallback user, who must reach the FIFO
-            os.chmod(fifo, 0o777)
-            env.update(RTAPI_UID="65534", RTAPI_FIFO_PATH=str(Path(fifo) / "rtapi_fifo"))
-        r = subprocess.run([LINUXCNC, str(folder / "comp.ini")], cwd=folder, env=env, stdin=subprocess.DEVNULL,
-                           capture_output=True, text=True, timeout=180)
-    out = folder / "probe_out.json"
-    if not out.exists():
-        log = folder / "linuxcnc_debug.txt"
-        tail = [ln for ln in (log.read_text().splitlines() if log.exists() else []) if not ln.startswith("+")]
-        pytest.skip(f"LinuxCNC did not start headless here (exit {r.returncode}): {' | '.join(tail[-4:])}")
-    return json.loads(out.read_text())
 
 
 @pytest.mark.slow

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from linuxcnc_sim import linuxcnc_lock
 
 import mtcal
 from mtcal.cli import main
@@ -28,8 +29,9 @@ RES = 5e-5 + 1e-9  # rs274 prints 4 decimals
 def canonical(program: Path, tmp: Path) -> np.ndarray:
     """X Y Z (A) B C of every straight move rs274 emits, in order."""
     out = tmp / (program.name + ".canon")
-    r = subprocess.run([RS274, "-g", str(program), str(out)], stdin=subprocess.DEVNULL, capture_output=True,
-                       text=True, timeout=120)
+    with linuxcnc_lock():  # one LinuxCNC program at a time (tests/linuxcnc_sim.py)
+        r = subprocess.run([RS274, "-g", str(program), str(out)], stdin=subprocess.DEVNULL, capture_output=True,
+                           text=True, timeout=120)
     assert r.returncode == 0, r.stdout + r.stderr
     rows = [[float(v) for v in m[1].split(",")] for m in MOVE.finditer(out.read_text())]
     a = np.array(rows)

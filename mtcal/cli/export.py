@@ -9,20 +9,23 @@ from pathlib import Path
 from mtcal.cli._options import integer, real
 from mtcal.errors import InputError
 from mtcal.export import FORMATS, export_model
+from mtcal.export.linuxcnc_kins import DEFAULT_NAME, export_kins
 from mtcal.io import dumps, read_json, refuse_overwrite
 from mtcal.kinematics.machine import load_machine
 from mtcal.model.errormodel import load_model
 
 NAME = "export"
+KINS = "linuxcnc-kins"
 log = logging.getLogger("mtcal." + NAME)
 HELP = "write an error model as controller compensation tables (LinuxCNC, Siemens 840D sl, Heidenhain, TF5280)"
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("model", help="error model JSON (mtcal identify)")
-    p.add_argument("--format", required=True, choices=sorted(FORMATS),
+    p.add_argument("--format", required=True, choices=sorted(FORMATS) + [KINS],
                    help="linuxcnc: folder of COMP_FILEs + INI snippet; siemens: one MPF (LEC + CEC); heidenhain: "
-                        "folder of *.COM + CONFIG.CMA; tf5280: ISG CSV file; etalon: Etalon exchange file")
+                        "folder of *.COM + CONFIG.CMA; tf5280: ISG CSV file; etalon: Etalon exchange file; "
+                        "linuxcnc-kins: a LinuxCNC kinematics component NAME.comp (volumetric, every move)")
     p.add_argument("-o", "--output", required=True, help="output folder (linuxcnc, heidenhain) or file")
     p.add_argument("--step", type=real(0.0, unit="mm or deg", lo_open=True), default=None, metavar="MM_OR_DEG",
                    help="table spacing (mm for linear, deg for rotary axes; default: the finest 1/2/2.5/5 x 10^k "
@@ -47,6 +50,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--linear-units", choices=("mm", "inch"), default="mm",
                    help="linuxcnc: the machine INI's [TRAJ]LINEAR_UNITS; linear joints' tables are written in it "
                         "(default mm)")
+    p.add_argument("--name", default=DEFAULT_NAME, metavar="C_NAME",
+                   help=f"linuxcnc-kins: the component's name, [KINS]KINEMATICS (default {DEFAULT_NAME})")
+    p.add_argument("--scope", choices=("position", "full"), default="position",
+                   help="linuxcnc-kins: position = the linear axes compensate the tool tip; full = the rotary axes "
+                        "also correct the tool axis, as `mtcal compensate --scope full` (default position)")
     p.add_argument("--machine", metavar="NAME",
                    help="the machine the tables are for: refused when the model is of another (default: the model's)")
     p.add_argument("--force", action="store_true",
@@ -66,7 +74,37 @@ def _options(args: argparse.Namespace) -> dict:
             {"linear_units": args.linear_units} if args.format == "linuxcnc" else {})
 
 
+def _run_kins(args: argparse.Namespace) -> int:
+    """--format linuxcnc-kins: the kinematics component and the lines that use it (mtcal.export.linuxcnc_kins)."""
+    tables = [o for o, given in (("--step", args.step is not None), ("--max-points", args.max_points is not None),
+                                 ("--diagnosis", args.diagnosis), ("--require", args.require),
+                                 ("--comp-file-type", args.comp_file_type), ("--kinematics-comp", args.kinematics_comp),
+                                 ("--linear-units", args.linear_units != "mm")) if given]
+    if tables:
+        raise InputError(f"{', '.join(tables)}: table options, not {KINS}'s (the module compiles the model's error "
+                         f"functions in, in mm)")
+    model = load_model(args.model)
+    res = export_kins(model, load_machine(args.machine or model.machine), args.output, args.name, args.model,
+                      args.force, protect=(args.model,), scope=args.scope)
+    if args.json:
+        print(dumps({"format": KINS, "files": res.files, "name": res.name, "hal_name": res.hal_name,
+                     "lines": res.lines, "held": res.held, "warnings": res.warnings}))
+        return 0
+    print(f"{args.model} -> {KINS}: component {res.name} (HAL {res.hal_name}), scope {args.scope}, "
+          f"{len(res.held)} errors held")
+    print("\n".join(res.lines))
+    for w in res.warnings:
+        log.warning("warning: %s", w)
+    for f in res.files:
+        print(f"wrote {f}")
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
+    if args.format == KINS:
+        return _run_kins(args)
+    if args.name != DEFAULT_NAME or args.scope != "position":
+        raise InputError(f"--name and --scope are {KINS} options, not {args.format}'s")
     if FORMATS[args.format][1] == "dir":
         if Path(args.output).exists() and not Path(args.output).is_dir():
             raise InputError(f"{args.output}: format {args.format} writes a folder, and this is a file")
