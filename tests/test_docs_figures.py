@@ -26,8 +26,7 @@ hooks = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(hooks)
 
 PAGES = pages()
-# A figure is a number with a unit.  Not a measured figure: a limit (after >=, <=, <, >, / or "within"), a planted or
-# nominal size ("a 2 µm backlash", "changed by 15 µrad"), a confidence level ("95 % intervals", "its 95 % half-width").
+# A measured figure and what is not one: the module's docstring.
 UNIT = r"(?:µm|um|µrad|urad|nm|nrad|%|×(?!\s*\d)|ppm|MB|(?<=\s)(?:ms|s|min|h))"  # "2s↑", "9 × 90" are not figures
 FIGURE = re.compile(r"(?<![\w.\-])(\d[\d,]*(?:\.\d+)?)\s?(" + UNIT + r")(?!\w)")
 INPUT, OUTPUT = "<!-- input -->", "<!-- output -->"
