@@ -39,7 +39,7 @@ def run(mirror: str = MIRROR) -> dict:
             csv = Path(tmp) / "r.csv"
             csv.write_text(f"target_{unit},run,direction,measured_{unit}\n" + "".join(
                 f"{targets[i]!r},{j},{d},{v!r}\n" for (i, j, d), v in sorted(readings.items())))
-            runs, kind, _ = read_readings(csv)
+            runs, kind = read_readings(csv)[:2]
             ours = evaluate_runs(runs, "axis", kind).parameters
             ref = {k: v * 1e3 for k, v in oracle(targets, readings).items()}  # mm -> um
             diff = max(abs(ours[k] - ref[k]) for k in ref)
