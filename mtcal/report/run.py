@@ -44,5 +44,5 @@ def write_report(target: str, out: str | Path, db: str | None = None) -> dict:
         data = from_history(target, db)
     text = render(data)
     atomic_write_text(out, text)
-    return {"report": str(out), "sections": text.count('<section class="page">'),
+    return {"report": str(out), "sections": text.count("<section"),
             "pictures": text.count("data:image/png;base64,"), "bytes": len(text.encode())}
