@@ -180,3 +180,17 @@ def test_printed_pages_are_numbered_and_none_is_nearly_empty(browser, history_re
     first = subprocess.run(["pdftotext", "-f", "1", "-l", "1", str(pdf), "-"], capture_output=True, text=True,
                            check=True).stdout
     assert "Summary" in first and "E_C0Y" in first and "What to do next" in first
+
+
+@pytest.mark.parametrize("spec", ["dmu50", "headbc", "xyzac"])
+def test_every_code_of_every_machine_has_its_own_words(spec):
+    """The glossary's words (mtcal.history.compare.words): each of a machine's 41 ISO 230-1 codes its own (the
+    location errors of a rotary axis read alike, "a location of B's axis (X)" for E_X0B and E_A0B), none the
+    fallback."""
+    from mtcal.kinematics.machine import load_machine
+    names = load_machine(spec).error_names
+    said = [words(n, spec)[0] for n in names]
+    assert len(set(said)) == len(names) == 41 and not any(s.startswith("the error") for s in said)
+    rot = load_machine(spec).rotary_axes[0]
+    assert words(f"E_X0{rot}", spec)[0] == f"an offset of {rot}'s axis in X"
+    assert words(f"E_A0{rot}", spec)[0] == f"a tilt of {rot}'s axis about X"
