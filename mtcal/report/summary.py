@@ -24,14 +24,18 @@ class Facts:
     uncertainty: Record | None
     other_uncertainty: Record | None
     step: Step | None
+    previous: tuple | None = None  # (date, Volume) of the model before the latest
 
     @classmethod
     def of(cls, d: ReportData) -> Facts:
         m, u = d.latest("model"), d.latest("uncertainty")
         own = u if (u is not None and m is not None and of_model(u, m)) else None
         worth = (m.document or {}).get("worth") if m else None
+        step = d.comparison.steps[-1] if d.comparison else None
+        before = [r for r in d.records if r.kind == "model" and step and r.date == step.date_from]
         return cls(m, volume(d.spec, m.document) if m else None, worth if isinstance(worth, dict) else None, own,
-                   u if own is None else None, d.comparison.steps[-1] if d.comparison else None)
+                   u if own is None else None, step,
+                   (before[-1].date, volume(d.spec, before[-1].document)) if before else None)
 
 
 def of_model(u: Record, m: Record) -> bool:
@@ -93,7 +97,12 @@ def _change(c, spec: str | None) -> str:
     """'a squareness of Y to X (E_C0Y) changed by +61 ± 10 µrad (p = 2e-09)', with the change's place."""
     at = where(c.axis, c.position, spec)
     return (f"{meaning(c.name, spec)} ({c.name}) changed by {c.change:+.{_digits(c.u95)}f} ± "
-            f"{c.u95:.{_digits(c.u95)}f} {c.unit}{' at ' + at if at else ''} (p = {c.p:.1g})")
+            f"{c.u95:.{_digits(c.u95)}f} {c.unit}{' at ' + at if at else ''} ({_p(c.p)})")
+
+
+def _p(p: float) -> str:
+    """A change's p-value as a reader takes it in."""
+    return "p < 0.0001" if p < 1e-4 else f"p = {p:.2g}"
 
 
 def _digits(half: float) -> int:
@@ -107,6 +116,8 @@ def _volume_text(f: Facts) -> str:
     text = (f"Volumetric error over the work volume ({v.poses} poses inside the measured ranges of "
             f"{', '.join(v.axes)}; the part's set-up removed), model of {f.model.date.isoformat()}: "
             f"before compensation {v.rms_um:.1f} µm RMS, largest {v.max_um:.1f} µm")
+    if f.previous is not None and f.previous[1] is not None:
+        text += f" (at the calibration of {f.previous[0].isoformat()}: {f.previous[1].rms_um:.1f} µm RMS)"
     w = f.worth
     if w and num(w.get("predicted_error_rms_um")):
         text += (f"; after compensation with this model about {w['predicted_error_rms_um']:.1f} µm RMS remain "
