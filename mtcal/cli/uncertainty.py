@@ -118,16 +118,23 @@ class _Bar:
     lines), so a long run's estimate is right from the start."""
 
     def __init__(self, total: int):
-        self.total, self.bar = total, None
+        import contextlib
+        self.total, self.bar, self.lines = total, None, contextlib.ExitStack()
 
     def update(self, n: int) -> None:
         if self.bar is None:
+            import logging
+
             from tqdm import tqdm
+            from tqdm.contrib.logging import logging_redirect_tqdm
 
             self.bar = tqdm(total=self.total, unit="trial", file=sys.stderr, desc="mtcal uncertainty")
+            # the lines said while the bar runs are printed above it (else each one leaves a copy of the bar)
+            self.lines.enter_context(logging_redirect_tqdm([logging.getLogger("mtcal")]))
         self.bar.update(n)
 
     def close(self) -> None:
+        self.lines.close()
         if self.bar is not None:
             self.bar.close()
 
