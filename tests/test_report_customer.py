@@ -68,7 +68,8 @@ def test_the_rendered_text_opens_with_the_summary(browser, history_report):  # n
     assert re.search(rf"Report of\s+{dt.date.today().isoformat()}", head)
     assert all(d in head for d in DATES), head
     assert "AT960" in head  # the instrument
-    assert re.search(r"volumetric error[^.]*before compensation[^.]*\d+\.\d+ µm", head, re.I), head
+    assert re.search(r"volumetric error over the work volume[^.]*before compensation\s+\d+\.\d+ µm RMS", head,
+                     re.I), head
     # the crash: E_C0Y +60 µrad, named with its size, its 95 % interval and its words, on page one
     m = re.search(r"E_C0Y\)? changed by ([+−-]\d+(?:\.\d+)?) ± (\d+(?:\.\d+)?) µrad", head)
     assert m, head

@@ -32,7 +32,8 @@ def _law_source(s) -> str:
 def _temperature(env: dict) -> str:
     t = (env or {}).get("temperature_c")
     if isinstance(t, dict) and num(t.get("mean")) and num(t.get("min")) and num(t.get("max")):
-        return f"{t['mean']:.1f} (from {t['min']:.1f} to {t['max']:.1f})"
+        spread = f" (from {t['min']:.1f} to {t['max']:.1f})" if f"{t['min']:.1f}" != f"{t['max']:.1f}" else ""
+        return f"{t['mean']:.1f}{spread}"
     return ""
 
 

@@ -43,7 +43,7 @@ td, th { border: 1px solid #bbb; padding: 1.2px 5px; text-align: right; vertical
 th { background: #e9ecf2; font-weight: 600; } td.t, th.t { text-align: left; } td.n { white-space: nowrap; }
 table.facts td, table.facts th { border: none; border-bottom: 1px solid #ddd; text-align: left;
                                   padding: 2px 8px 2px 0; }
-table.facts th { background: none; width: 32mm; color: #333; }
+table.facts th { background: none; width: 40mm; color: #333; }
 .verdict { border-left: 4px solid #a33; background: #fbf3f3; padding: 2mm 3mm; margin: 3mm 0; }
 .verdict.ok { border-color: #3a7; background: #f2f9f5; }
 figure { margin: 2mm 0 3mm; } img { max-width: 100%%; height: auto; display: block; }

@@ -66,7 +66,12 @@ def _facts_table(d: ReportData) -> str:
     instruments = ", ".join(dict.fromkeys(r.instrument for r in d.records if r.instrument and r.kind != "uncertainty"))
     rows = [("Machine", machine), ("Report of", d.made.isoformat()), ("Calibrations", cal)]
     rows += [("Instruments", instruments)] if instruments else []
-    return '<table class="facts">' + "".join(f"<tr><th>{e(k)}</th><td>{e(v)}</td></tr>" for k, v in rows) + "</table>"
+    return _facts(rows)
+
+
+def _facts(rows: list[tuple[str, str]]) -> str:
+    """A two-column table of labelled facts."""
+    return '<table class="facts">' + "".join(f"<tr><th>{e(k)}</th><td>{e(x)}</td></tr>" for k, x in rows) + "</table>"
 
 
 def _what(r: Record) -> str:
@@ -113,25 +118,24 @@ def _volume_text(f: Facts) -> str:
     v = f.volume
     if f.model is None or v is None:
         return ""
-    text = (f"Volumetric error over the work volume ({v.poses} poses inside the measured ranges of "
-            f"{', '.join(v.axes)}; the part's set-up removed), model of {f.model.date.isoformat()}: "
-            f"before compensation {v.rms_um:.1f} µm RMS, largest {v.max_um:.1f} µm")
+    before = f"{v.rms_um:.1f} µm RMS, largest {v.max_um:.1f} µm"
     if f.previous is not None and f.previous[1] is not None:
-        text += f" (at the calibration of {f.previous[0].isoformat()}: {f.previous[1].rms_um:.1f} µm RMS)"
+        before += f" (at the calibration of {f.previous[0].isoformat()}: {f.previous[1].rms_um:.1f} µm RMS)"
     w = f.worth
-    if w and num(w.get("predicted_error_rms_um")):
-        text += (f"; after compensation with this model about {w['predicted_error_rms_um']:.1f} µm RMS remain "
-                 "(what the model itself is uncertain by, from two halves of its rounds)")
-    else:
-        text += "; what remains after compensation was not predicted when the model was identified"
+    after = (f"about {w['predicted_error_rms_um']:.1f} µm RMS: what the model itself is uncertain by (the same "
+             "estimator on two halves of its rounds)" if w and num(w.get("predicted_error_rms_um")) else
+             "not predicted when the model was identified")
     if f.uncertainty is not None:
         vol = f.uncertainty.document.get("volumetric") or {}
-        text += (f". The compensated tool tip is uncertain by up to ±{vol.get('u95_max_mm', float('nan')) * 1e3:.2f}"
-                 f" µm (95 %, {f.uncertainty.document.get('trials')} Monte Carlo trials)")
+        u95 = (f"up to ±{vol.get('u95_max_mm', float('nan')) * 1e3:.2f} µm (95 %, "
+               f"{f.uncertainty.document.get('trials')} Monte Carlo trials)")
     else:
-        text += (". What the compensated tool tip is uncertain by (U95) is not known: no uncertainty result of this "
-                 "model")
-    return f"<p>{e(text)}.</p>"
+        u95 = "not known: no uncertainty result of this model"
+    rows = [("Before compensation", before), ("After compensation", after), ("Tool tip's U95", u95)]
+    return (f"<h3>Volumetric error over the work volume ({e(f.model.date.isoformat())})</h3>"
+            f"<p>The tool tip's error at {v.poses} poses inside the measured ranges of {e(', '.join(v.axes))}, the "
+            "part's set-up removed:</p>"
+            + _facts(rows))
 
 
 def _ranked(d: ReportData, f: Facts) -> str:
