@@ -64,3 +64,22 @@ def test_a_repeated_line_is_said_once_with_its_count(capsys):
         "mtcal demo: joint weighted fit of 1680 readings from 1 station(s)", "mtcal demo: the line above 8 more times",
         "mtcal demo: [2/9] identify", "mtcal demo: joint weighted fit of 1680 readings from 1 station(s)",
         "mtcal demo: the line above 1 more time"]
+
+
+def test_one_progress_bar_and_none_in_a_log(capsys):
+    """`mtcal uncertainty --trials 300` piped to a log left three bar lines ("0/300", then "300/300" twice) after
+    its "trials to run" line; the bar is drawn on a terminal only, the same one for `plan --monte-carlo`."""
+    import argparse
+    import logging
+
+    from mtcal.cli import uncertainty
+    from mtcal.cli._main import _logging
+    from mtcal.cli._words import Bar
+    bar = uncertainty._progress(argparse.Namespace(quiet=False, json=False, trials=300))
+    assert isinstance(bar, Bar) and bar.total == 300
+    with _logging("uncertainty", False):
+        bar.update(200)
+        logging.getLogger("mtcal.uncertainty.run").info("the rest")
+        bar.update(100)
+        bar.close()
+    assert _lines(capsys.readouterr().err) == ["mtcal uncertainty: the rest"]

@@ -1,9 +1,11 @@
 """Messages the commands print, said once: a warning goes through the command's logger (so it carries the
-``mtcal CMD: warning:`` prefix of every other line on stderr, and -q keeps it), and counts or lists are words
-("E_AX 79, E_BX 79 and 3 more errors"), never a Python dict or list."""
+``mtcal CMD: warning:`` prefix of every other line on stderr, and -q keeps it), counts or lists are words
+("E_AX 79, E_BX 79 and 3 more errors"), never a Python dict or list, and one progress bar of trials (``Bar``)."""
 from __future__ import annotations
 
+import contextlib
 import logging
+import sys
 
 log = logging.getLogger("mtcal.cli")
 
@@ -32,3 +34,27 @@ def warn_outside(outside: dict[str, int]) -> None:
     if outside:
         warn(f"{sum(outside.values())} error evaluations outside the measured range (end values held): "
              f"{counted(outside)}")
+
+
+class Bar:
+    """The one progress bar of a command's trials on stderr (uncertainty, plan --monte-carlo), drawn only on a
+    terminal (a log file gets the lines, not a bar's every refresh) and started at the first trials done, so
+    that its rate and remaining time are the trials' (the set-up before them says its own lines).  The lines
+    said while it runs are printed above it (else each one leaves a copy of the bar behind)."""
+
+    def __init__(self, total: int, desc: str):
+        self.total, self.desc, self.bar, self.lines = total, desc, None, contextlib.ExitStack()
+
+    def update(self, n: int) -> None:
+        if self.bar is None:
+            from tqdm import tqdm
+            from tqdm.contrib.logging import logging_redirect_tqdm
+
+            self.bar = tqdm(total=self.total, unit="trial", file=sys.stderr, desc=self.desc, disable=None)
+            self.lines.enter_context(logging_redirect_tqdm([logging.getLogger("mtcal")]))
+        self.bar.update(n)
+
+    def close(self) -> None:
+        self.lines.close()
+        if self.bar is not None:
+            self.bar.close()

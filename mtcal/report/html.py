@@ -62,7 +62,7 @@ KINDS = {"model": "error model identified", "uncertainty": "tool-tip uncertainty
 class ReportData:
     """What the report shows: the machine ID (or the file's name), its spec, its records (oldest first, with their
     documents), the comparison of its calibrations (None with fewer than two), the trends of the changed errors,
-    the report's date."""
+    the report's date, and whether the records' dates are their files' (one result file, not a history)."""
 
     title: str
     spec: str | None
@@ -70,6 +70,7 @@ class ReportData:
     comparison: Comparison | None = None
     trends: list = field(default_factory=list)
     made: dt.date = field(default_factory=dt.date.today)
+    dated_by_file: bool = False
 
     def latest(self, kind: str) -> Record | None:
         rs = [r for r in self.records if r.kind == kind]
@@ -93,12 +94,13 @@ def from_history(machine: str, db: str | None = None) -> ReportData:
 
 
 def from_file(path: str | Path) -> ReportData:
-    """The report of one result file (no history; dated today)."""
+    """The report of one result file (no history): dated by the file's modification day, and said so."""
     res = read_result(path)
-    rec = Record(0, Path(path).name, res.kind, dt.date.today(), "", res.spec, Path(path).name, res.file_sha256,
+    day = dt.date.fromtimestamp(Path(path).stat().st_mtime)
+    rec = Record(0, Path(path).name, res.kind, day, "", res.spec, Path(path).name, res.file_sha256,
                  res.recording_sha256, res.model_sha256, "", res.instrument, res.environment, res.document,
                  res.quantities)
-    return ReportData(Path(path).name, res.spec, [rec])
+    return ReportData(Path(path).name, res.spec, [rec], dated_by_file=True)
 
 
 class Html(str):

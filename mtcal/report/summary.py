@@ -2,6 +2,7 @@
 errors ranked, what to do next (mtcal.report.html's module docstring; the figures from mtcal.report.verdict)."""
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from mtcal.history.compare import Step, words
@@ -62,7 +63,8 @@ def _facts_table(d: ReportData) -> str:
     dates: dict = {}
     for r in d.records:
         dates.setdefault(r.date, []).append(_what(r))
-    cal = Html("<br>".join(f"{x.isoformat()}: {e(', '.join(dict.fromkeys(w)))}" for x, w in dates.items()))
+    how = " (the file's date: a result file, not a history)" if d.dated_by_file else ""
+    cal = Html("<br>".join(f"{x.isoformat()}{how}: {e(', '.join(dict.fromkeys(w)))}" for x, w in dates.items()))
     instruments = ", ".join(dict.fromkeys(r.instrument for r in d.records if r.instrument and r.kind != "uncertainty"))
     rows = [("Machine", machine), ("Report of", d.made.isoformat()), ("Calibrations", cal)]
     rows += [("Instruments", instruments)] if instruments else []
@@ -187,4 +189,5 @@ def _next(d: ReportData, f: Facts) -> str:
                     "not hold (see Diagnosis): correct them at the machine; compensation does not.")
     if f.step and not f.step.changed:
         todo.append("Nothing changed beyond its uncertainty: calibrate again at the usual interval.")
-    return "<h3>What to do next</h3><ul>" + "".join(f"<li>{e(t)}</li>" for t in todo or ["Nothing."]) + "</ul>"
+    items = (re.sub(r"\bmtcal [a-z0-9-]+", lambda m: f"<code>{m.group(0)}</code>", e(t)) for t in todo or ["Nothing."])
+    return "<h3>What to do next</h3><ul>" + "".join(f"<li>{t}</li>" for t in items) + "</ul>"
