@@ -195,3 +195,28 @@ def test_every_code_of_every_machine_has_its_own_words(spec):
     rot = load_machine(spec).rotary_axes[0]
     assert words(f"E_X0{rot}", spec)[0] == f"an offset of {rot}'s axis in X"
     assert words(f"E_A0{rot}", spec)[0] == f"a tilt of {rot}'s axis about X"
+
+
+def _records(docs):
+    from mtcal.history.store import Record
+    out = []
+    for i, (kind, doc) in enumerate(docs):
+        out.append(Record(i, "M1", kind, dt.date(2024, 1, 1 + i), "", "dmu50", f"{kind}.json", "0" * 64, None, None,
+                          "0.1", None, {}, doc, []))
+    return out
+
+
+@pytest.mark.parametrize("kind,make", [("iso230-2", iso_doc), ("check", check_doc), ("diagnose", diagnose_doc),
+                                       ("uncertainty", uncertainty_doc)])
+def test_a_missing_or_not_finite_stored_field_is_left_out_not_shown_raw(kind, make):
+    """A stored result with a field missing, None or NaN (an older mtcal's, a hand-edited file) renders: what it
+    lacks is left out or said in words, never "nan", "None" or a traceback."""
+    from mtcal.report.html import ReportData, render
+    base = make()
+    for key in base:
+        for bad in (None, float("nan")):
+            doc = dict(base, **{key: bad})
+            text = re.sub(r"<style>.*?</style>|<[^>]+>|data:image/png;base64,[^\"]+", " ",
+                          render(ReportData("M1", "dmu50", _records([(kind, doc)]))),
+                          flags=re.S)
+            assert not re.search(r"\bnan\b|\bNone\b|\binf\b", text), (key, bad)

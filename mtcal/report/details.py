@@ -6,7 +6,21 @@ import re
 
 from mtcal.history.compare import SHOWN, words
 from mtcal.report import pictures
-from mtcal.report.html import ReportData, axis_unit, e, figure, meaning, num, section, shown, table, where
+from mtcal.report.html import (
+    ReportData,
+    axis_unit,
+    e,
+    figure,
+    mapping,
+    meaning,
+    num,
+    section,
+    seq,
+    shown,
+    table,
+    text_of,
+    where,
+)
 from mtcal.report.summary import Facts, _what
 
 
@@ -79,24 +93,36 @@ ISO_SYMBOLS = {"_up": " ↑", "_down": " ↓", "_mean": " (mean)"}
 
 
 def iso_section(d: ReportData, f: Facts) -> str:
-    from mtcal.iso230_2.evaluation import PARAMETERS
     r = d.latest("iso230-2")
     if r is None:
         return ""
     body = f"<p>Positioning test of {r.date.isoformat()} ({e(r.source)}) evaluated as ISO 230-2 says.</p>"
-    for ax, ev in (r.document.get("axes") or {}).items():
-        unit, pu = pictures._unit(ev.get("unit", "um")), pictures._unit(ev.get("position_unit", "mm"))
-        body += f"<h3>Axis {e(ax)}</h3>" + table(["parameter", f"value ({unit})", "meaning"], [
-            [_iso_symbol(k), num(v), (ev.get("parameter_meaning") or {}).get(k) or PARAMETERS.get(k, "")]
-            for k, v in (ev.get("parameters") or {}).items()], 1)
-        t = ev["targets"]
-        body += table([f"target ({pu})", f"mean deviation ↑ ({unit})", f"mean deviation ↓ ({unit})",
-                       f"reversal B ({unit})", f"repeatability R ({unit})"], [
-            [f"{x:g}", num(t["mean_up"][i]), num(t["mean_down"][i]), num(t["reversal"][i]), num(t["R"][i])]
-            for i, x in enumerate(ev["positions"])], 0)
+    for ax, ev in mapping(mapping(r.document).get("axes")).items():
+        body += _iso_axis(ax, mapping(ev))
+    return section("ISO 230-2 positioning test", body)
+
+
+def _iso_axis(ax: str, ev: dict) -> str:
+    from mtcal.iso230_2.evaluation import PARAMETERS
+    unit, pu = pictures._unit(ev.get("unit") or "um"), pictures._unit(ev.get("position_unit") or "mm")
+    meant = mapping(ev.get("parameter_meaning"))
+    body = f"<h3>Axis {e(ax)}</h3>" + table(["parameter", f"value ({unit})", "meaning"], [
+        [_iso_symbol(k), num(v), meant.get(k) or PARAMETERS.get(k, "")]
+        for k, v in mapping(ev.get("parameters")).items() if num(v)], 1)
+    t, xs = mapping(ev.get("targets")), seq(ev.get("positions"))
+    cols = ("mean_up", "mean_down", "reversal", "R")
+    rows = [[f"{x:g}", *(num(_at(t.get(c), i)) for c in cols)]
+            for i, x in enumerate(xs) if num(x)]
+    body += table([f"target ({pu})", f"mean deviation ↑ ({unit})", f"mean deviation ↓ ({unit})",
+                   f"reversal B ({unit})", f"repeatability R ({unit})"], rows, 0) if rows else ""
+    if rows and all(len(seq(t.get(f"{m}_{s}"))) == len(xs) for m in ("mean", "s") for s in ("up", "down")):
         body += figure(pictures.iso230_2_axis(ev), f"ISO 230-2 test of axis {ax}: the mean positional deviation at "
                                                    f"each target, approached from below and from above, with ±2 s.")
-    return section("ISO 230-2 positioning test", body)
+    return body
+
+
+def _at(values, i: int):
+    return values[i] if isinstance(values, list) and i < len(values) else None
 
 
 def _iso_symbol(k: str) -> str:
@@ -127,39 +153,53 @@ def check_section(d: ReportData, f: Facts) -> str:
 
 
 def _check(r, doc: dict) -> str:
-    kind = "Ballbar circular test (ISO 230-4)" if doc.get("kind") == "circular" else "R-test (ISO 10791-6)"
-    rows = []
-    for k, v in (doc.get("measured") or {}).items():
-        pred = (doc.get("predicted") or {}).get(k)
+    kind = {"circular": "Ballbar circular test (ISO 230-4)", "rtest": "R-test (ISO 10791-6)"}.get(doc.get("kind"),
+                                                                                                 "Check test")
+    rows, pred = [], mapping(doc.get("predicted"))
+    for k, v in mapping(doc.get("measured")).items():
         if isinstance(v, dict):  # an R-test's range per direction
-            rows += [[f"range in {c}", num(x * 1e3), num((pred or {}).get(c, float("nan")) * 1e3)]
+            rows += [[f"range in {c}", num(x * 1e3) if num(x) else "", _um(mapping(pred.get(k)).get(c))]
                      for c, x in v.items()]
-        elif isinstance(v, (int, float)):
-            rows.append([CIRCULAR.get(k, k.removesuffix("_mm")), num(v * 1e3),
-                         num(pred * 1e3 if isinstance(pred, (int, float)) else None)])
-    agree = "agrees with" if doc.get("agrees") else "differs from"
-    body = (f"<h3>{kind} of {r.date.isoformat()} ({e(doc.get('source', r.source))})</h3>"
-            + table(["figure", "measured (µm)", "predicted by the model (µm)"], rows)
-            + f"<p>The test {agree} the model's prediction: its worst reading is {num(doc.get('worst_z'), 1)} "
-              f"combined standard deviations off; the prediction is uncertain by "
-              f"{num((doc.get('prediction_u95_mm') or float('nan')) * 1e3)} µm (U95).</p>")
-    found = [x.get("text", "") if isinstance(x, dict) else str(x) for x in doc.get("findings", [])]
+        elif num(v):
+            rows.append([CIRCULAR.get(k, k.removesuffix("_mm")), _um(v), _um(pred.get(k))])
+    body = (f"<h3>{kind} of {r.date.isoformat()} ({e(text_of(doc.get('source'), r.source))})</h3>"
+            + (table(["figure", "measured (µm)", "predicted by the model (µm)"], rows) if rows else ""))
+    said = []
+    if isinstance(doc.get("agrees"), bool):
+        said.append(f"The test {'agrees with' if doc['agrees'] else 'differs from'} the model's prediction"
+                    + (f": its worst reading is {num(doc['worst_z'], 1)} combined standard deviations off"
+                       if num(doc.get("worst_z")) else ""))
+    if _um(doc.get("prediction_u95_mm")):
+        said.append(f"the prediction is uncertain by {_um(doc['prediction_u95_mm'])} µm (U95)")
+    body += f"<p>{e('; '.join(said))}.</p>" if said else ""
+    found = [x.get("text", "") if isinstance(x, dict) else str(x) for x in seq(doc.get("findings"))]
     body += "<ul>" + "".join(f"<li>{e(t)}</li>" for t in found) + "</ul>" if found else ""
-    if doc.get("trace"):
+    width = {"circular": 5, "rtest": 7}.get(doc.get("kind"))
+    trace = seq(doc.get("trace"))
+    if width and trace and all(isinstance(p, list) and len(p) == width and all(num(x) for x in p) for p in trace):
         draw = pictures.circular_trace if doc.get("kind") == "circular" else pictures.rtest_trace
-        what = (f"in the {doc.get('plane', '')} plane, radius {doc.get('radius_mm', 0):g} mm" if doc.get("kind") ==
-                "circular" else f"of axis {doc.get('axis', '')}")
-        body += figure(draw(doc), f"{kind} of {r.date.isoformat()} {what}: measured and predicted deviations (µm), "
+        if doc.get("kind") == "circular":
+            what = " ".join(filter(None, (text_of(doc.get("plane")) and f"in the {doc['plane']} plane",
+                                          num(doc.get("radius_mm")) and f"of radius {doc['radius_mm']:g} mm")))
+        else:
+            what = text_of(doc.get("axis")) and f"of axis {doc['axis']}"
+        what = f" {what}" if what else ""
+        body += figure(draw(doc), f"{kind} of {r.date.isoformat()}{what}: measured and predicted deviations (µm), "
                                   "the prediction's 95 % band shaded.")
     return body
+
+
+def _um(v) -> str:
+    """A stored length in mm as µm ('' when it is not a finite number)."""
+    return num(v * 1e3) if num(v) else ""
 
 
 def diagnosis_section(d: ReportData, f: Facts) -> str:
     r = d.latest("diagnose")
     if r is None:
         return ""
-    doc = r.document or {}
-    eff = [x for x in doc.get("effects", []) if x.get("significant")]
+    doc = mapping(r.document)
+    eff = [x for x in seq(doc.get("effects")) if mapping(x).get("significant")]
     body = f"<p>The readings of {r.date.isoformat()} ({e(r.source)}) against the quasi-static error model"
     if num(doc.get("base_sigma_ratio")) and num(doc.get("sigma_ratio_after")):
         body += (f": they scatter {doc['base_sigma_ratio']:.2f} times what the instrument's specification allows "
@@ -172,7 +212,7 @@ def diagnosis_section(d: ReportData, f: Facts) -> str:
                                                "its 95 % interval.")
     else:
         body += "<p>Nothing beyond the quasi-static model was found.</p>"
-    if doc.get("unexplained"):
+    if seq(doc.get("unexplained")):
         body += (f"<p>{len(doc['unexplained'])} located mismatch(es) that no candidate explains are left "
                  "unnamed.</p>")
     return section("Diagnosis", body)

@@ -140,6 +140,21 @@ def _is_words(x) -> bool:
                                                          and not re.search(r"\d", str(x)))
 
 
+def mapping(x) -> dict:
+    """A stored field that should be a mapping: itself, or {} when it is missing or of another type."""
+    return x if isinstance(x, dict) else {}
+
+
+def seq(x) -> list:
+    """A stored field that should be a list: itself, or [] when it is missing or of another type."""
+    return x if isinstance(x, list) else []
+
+
+def text_of(x, default: str = "") -> str:
+    """A stored field that should be words: itself, or ``default`` when it is missing or not a string."""
+    return x if isinstance(x, str) and x.strip() else default
+
+
 def num(v, digits: int | None = None) -> str:
     """A number for the text: '' when absent or not finite; ``digits`` after the point, or by its size."""
     if v is None or isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):

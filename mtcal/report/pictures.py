@@ -93,7 +93,7 @@ def rtest_trace(doc: dict) -> bytes:
     for i, c in enumerate("xyz"):
         line, = ax.plot(tr[:, 0], tr[:, 1 + i] * 1e3, label=f"measured d{c}")
         ax.plot(tr[:, 0], tr[:, 4 + i] * 1e3, ls="--", color=line.get_color(), label=f"predicted d{c}")
-    ax.set_xlabel(f"{doc.get('axis', '')} position (deg)")
+    ax.set_xlabel(f"{doc.get('axis') or 'rotary axis'} position (deg)")
     ax.set_ylabel("deviation (µm)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=3)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from mtcal.history.compare import Step, words
 from mtcal.history.store import Record
 from mtcal.report import pictures
-from mtcal.report.html import KINDS, Html, ReportData, e, figure, meaning, num, shown, table, where
+from mtcal.report.html import KINDS, Html, ReportData, e, figure, mapping, meaning, num, seq, shown, table, where
 from mtcal.report.verdict import Volume, volume
 
 RANKED = 5  # the largest errors named on page one
@@ -183,7 +183,7 @@ def _next(d: ReportData, f: Facts) -> str:
         todo.append(f"To state the compensated tool tip's U95, run mtcal uncertainty on the recording of "
                     f"{f.model.date.isoformat()}.")
     diag = d.latest("diagnose")
-    found = [x for x in (diag.document or {}).get("effects", []) if x.get("significant")] if diag else []
+    found = [x for x in seq(mapping(diag.document).get("effects")) if mapping(x).get("significant")] if diag else []
     if found:
         todo.append(f"The diagnosis of {diag.date.isoformat()} found {len(found)} effect(s) the error model does "
                     "not hold (see Diagnosis): correct them at the machine; compensation does not.")
