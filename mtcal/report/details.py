@@ -35,8 +35,8 @@ def calibrations_section(d: ReportData, f: Facts) -> str:
                  f"law: ±({law['radial_um']:g} µm + {law['radial_um_per_m']:g} µm/m) along the beam and "
                  f"±({law['transverse_um']:g} µm + {law['transverse_um_per_m']:g} µm/m) across it (maximum "
                  f"permissible error, k = {law['k']:g}; from {e(_law_source(law.get('source')))}).</p>")
-    return section("Calibrations and instruments", table(
-        ["date", "result", "instrument", "temperature during the measurement (°C)", "file"], rows, 3) + extra)
+    return section("Calibrations and instruments", extra, lead=table(
+        ["date", "result", "instrument", "temperature during the measurement (°C)", "file"], rows, 3))
 
 
 def _law_source(s) -> str:
@@ -75,8 +75,8 @@ def errors_section(d: ReportData, f: Facts) -> str:
             "first by what each error alone moves the tool tip over the work volume; each value with its 95 % "
             "interval (± U95). An error function fitted as zero is one the data do not tell from zero: the model "
             "(and a compensation with it) holds none of it.</p>")
-    if rows:
-        body += "<h3>Constant errors</h3>" + table(["code", "what it is", "value", "± U95", head], rows, 2)
+    lead, body = body + ("<h3>Constant errors</h3>" + table(["code", "what it is", "value", "± U95", head], rows, 2)
+                         if rows else ""), ""
     if frows:
         body += ("<h3>Error functions of the axes' positions</h3>" + table(
             ["code", "what it is", "largest value", "where", "largest ± U95", head], frows, 2))
@@ -86,7 +86,7 @@ def errors_section(d: ReportData, f: Facts) -> str:
             body += figure(pictures.error_functions(ax, qs, axis_unit(ax, d.spec)),
                            f"The error functions of axis {ax} identified on {m.date.isoformat()}, each with its 95 % "
                            "band: translations (µm) left, angles (µrad) right.")
-    return section("Identified errors", body)
+    return section("Identified errors", body, lead=lead)
 
 
 ISO_SYMBOLS = {"_up": " ↑", "_down": " ↓", "_mean": " (mean)"}
@@ -266,12 +266,13 @@ def history_section(d: ReportData, f: Facts) -> str:
         for ch in s.changed:
             rows.append([span, ch.name, meaning(ch.name, d.spec), f"{ch.change:+.{_d(ch.u95)}f} {ch.unit}",
                          f"{ch.u95:.{_d(ch.u95)}f} {ch.unit}", words(ch.name, d.spec)[1]])
-    body += table(["calibrations", "code", "what it is", "change", "± U95", "possible cause"], rows, 3)
+    lead = body + table(["calibrations", "code", "what it is", "change", "± U95", "possible cause"], rows, 3)
+    body = ""
     for t in d.trends:
         at = "" if t.position is None else f" at {where(t.axis, t.position, d.spec)}"
         body += figure(pictures.trend_png(t), f"{t.name} ({meaning(t.name, d.spec)}){at} at every calibration, "
                                               f"with its 95 % interval ({t.unit}).")
-    return section("Changes between calibrations", body)
+    return section("Changes between calibrations", body, lead=lead)
 
 
 def _d(half: float) -> int:

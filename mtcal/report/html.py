@@ -194,8 +194,9 @@ def axis_unit(axis: str, spec: str | None) -> str:
         return "mm"
 
 
-def section(title: str, body: str, cls: str = "") -> str:
-    return f'<section class="{cls}"><h2>{e(title)}</h2>{body}</section>'
+def section(title: str, body: str, cls: str = "", lead: str = "") -> str:
+    """A section: its heading kept on one page with ``lead`` (its opening paragraph and table), then ``body``."""
+    return f'<section class="{cls}"><div class="keep"><h2>{e(title)}</h2>{lead}</div>{body}</section>'
 
 
 def render(d: ReportData) -> str:
