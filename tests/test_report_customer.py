@@ -211,7 +211,8 @@ def _records(docs):
 def test_a_missing_or_not_finite_stored_field_is_left_out_not_shown_raw(kind, make):
     """A stored result with a field missing, None or NaN (an older mtcal's, a hand-edited file) renders: what it
     lacks is left out or said in words, never "nan", "None" or a traceback."""
-    from mtcal.report.html import ReportData, render
+    from mtcal.report.html import ReportData
+    from mtcal.report.run import render
     base = make()
     for key in base:
         for bad in (None, float("nan")):

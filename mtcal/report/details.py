@@ -21,7 +21,7 @@ from mtcal.report.html import (
     text_of,
     where,
 )
-from mtcal.report.summary import Facts, _what
+from mtcal.report.summary import Facts, _digits, _what, tool_tip_u95
 
 
 def calibrations_section(d: ReportData, f: Facts) -> str:
@@ -241,13 +241,9 @@ def compensation_section(d: ReportData, f: Facts) -> str:
         body += (f"<p>The latest uncertainty result ({f.other_uncertainty.date.isoformat()}) is of another model than "
                  f"the latest identified one ({f.model.date.isoformat()}): what this model's tool tip is uncertain "
                  "by is not known here (run <code>mtcal uncertainty</code> on its recording).</p>")
-    if f.uncertainty is not None:
-        u = f.uncertainty
-        vol = u.document.get("volumetric") or {}
-        place = f"the moves of {vol['program']}" if vol.get("program") else "poses of the work volume"
-        body += (f"<p>What the tool tip is uncertain by ({u.date.isoformat()}, {u.document.get('trials')} Monte "
-                 f"Carlo trials): up to ±{vol.get('u95_max_mm', float('nan')) * 1e3:.2f} µm (95 %) over "
-                 f"{len(vol.get('poses', []))} {e(place)}.</p>")
+    said = tool_tip_u95(f.uncertainty) if f.uncertainty is not None else ""
+    if said:
+        body += f"<p>What the tool tip is uncertain by ({f.uncertainty.date.isoformat()}): {e(said)}.</p>"
     return section("Compensation and tool-tip uncertainty", body) if body else ""
 
 
@@ -264,8 +260,8 @@ def history_section(d: ReportData, f: Facts) -> str:
         if not s.changed:
             rows.append([span, "nothing changed", f"{s.unchanged} errors compared", "", "", ""])
         for ch in s.changed:
-            rows.append([span, ch.name, meaning(ch.name, d.spec), f"{ch.change:+.{_d(ch.u95)}f} {ch.unit}",
-                         f"{ch.u95:.{_d(ch.u95)}f} {ch.unit}", words(ch.name, d.spec)[1]])
+            rows.append([span, ch.name, meaning(ch.name, d.spec), f"{ch.change:+.{_digits(ch.u95)}f} {ch.unit}",
+                         f"{ch.u95:.{_digits(ch.u95)}f} {ch.unit}", words(ch.name, d.spec)[1]])
     lead = body + table(["calibrations", "code", "what it is", "change", "± U95", "possible cause"], rows, 3)
     body = ""
     for t in d.trends:
@@ -273,10 +269,6 @@ def history_section(d: ReportData, f: Facts) -> str:
         body += figure(pictures.trend_png(t), f"{t.name} ({meaning(t.name, d.spec)}){at} at every calibration, "
                                               f"with its 95 % interval ({t.unit}).")
     return section("Changes between calibrations", body, lead=lead)
-
-
-def _d(half: float) -> int:
-    return 0 if half >= 10 else 1 if half >= 1 else 2
 
 
 CODE = re.compile(r"\bE_[A-Z]0?[A-Z]\b")

@@ -199,18 +199,6 @@ def section(title: str, body: str, cls: str = "", lead: str = "") -> str:
     return f'<section class="{cls}"><div class="keep"><h2>{e(title)}</h2>{lead}</div>{body}</section>'
 
 
-def render(d: ReportData) -> str:
-    """The report's HTML text (module docstring)."""
-    from mtcal.report import details, summary
-    facts = summary.Facts.of(d)
-    body = summary.summary_section(d, facts) + "".join(s(d, facts) for s in details.SECTIONS)
-    body += details.appendix(d, facts, body)
-    css = CSS % {"title": _css_text(d.title), "date": d.made.isoformat()}
-    return ("<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>"
-            f"<title>Calibration report: {e(d.title)}</title><style>{css}</style></head><body>"
-            f"<h1>Calibration report</h1>{body}</body></html>\n")
-
-
-def _css_text(s: str) -> str:
+def css_text(s: str) -> str:
     """``s`` inside a CSS string (quotes and backslashes escaped, no markup)."""
     return "".join(c if c.isalnum() or c in " -_.:/()" else f"\\{ord(c):x} " for c in s)

@@ -8,7 +8,21 @@ from dataclasses import dataclass
 from mtcal.history.compare import Step, words
 from mtcal.history.store import Record
 from mtcal.report import pictures
-from mtcal.report.html import KINDS, Html, ReportData, e, figure, mapping, meaning, num, seq, shown, table, where
+from mtcal.report.html import (
+    KINDS,
+    Html,
+    ReportData,
+    e,
+    figure,
+    mapping,
+    meaning,
+    num,
+    seq,
+    shown,
+    table,
+    text_of,
+    where,
+)
 from mtcal.report.verdict import Volume, volume
 
 RANKED = 5  # the largest errors named on page one
@@ -30,7 +44,7 @@ class Facts:
     @classmethod
     def of(cls, d: ReportData) -> Facts:
         m, u = d.latest("model"), d.latest("uncertainty")
-        own = u if (u is not None and m is not None and of_model(u, m)) else None
+        own = u if (u is not None and (m is None or of_model(u, m))) else None
         worth = (m.document or {}).get("worth") if m else None
         step = d.comparison.steps[-1] if d.comparison else None
         before = [r for r in d.records if r.kind == "model" and step and r.date == step.date_from]
@@ -49,6 +63,18 @@ def of_model(u: Record, m: Record) -> bool:
         return bool(theirs) and theirs == model_from_dict(m.document).digest()
     except (InputError, TypeError, ValueError, KeyError):
         return False
+
+
+def tool_tip_u95(u: Record) -> str:
+    """'up to ±3.10 µm (95 %) over 1000 poses of the work volume, 300 Monte Carlo trials' ('' when the result
+    does not hold the figure)."""
+    doc = mapping(u.document)
+    vol = mapping(doc.get("volumetric"))
+    if not num(vol.get("u95_max_mm")):
+        return ""
+    place = f"the moves of {vol['program']}" if text_of(vol.get("program")) else "poses of the work volume"
+    trials = f", {doc['trials']} Monte Carlo trials" if isinstance(doc.get("trials"), int) else ""
+    return f"up to ±{vol['u95_max_mm'] * 1e3:.2f} µm (95 %) over {len(seq(vol.get('poses')))} {place}{trials}"
 
 
 def summary_section(d: ReportData, f: Facts) -> str:
@@ -127,12 +153,8 @@ def _volume_text(f: Facts) -> str:
     after = (f"about {w['predicted_error_rms_um']:.1f} µm RMS: what the model itself is uncertain by (the same "
              "estimator on two halves of its rounds)" if w and num(w.get("predicted_error_rms_um")) else
              "not predicted when the model was identified")
-    if f.uncertainty is not None:
-        vol = f.uncertainty.document.get("volumetric") or {}
-        u95 = (f"up to ±{vol.get('u95_max_mm', float('nan')) * 1e3:.2f} µm (95 %, "
-               f"{f.uncertainty.document.get('trials')} Monte Carlo trials)")
-    else:
-        u95 = "not known: no uncertainty result of this model"
+    u95 = tool_tip_u95(f.uncertainty) if f.uncertainty is not None else ""
+    u95 = u95 or "not known: no uncertainty result of this model"
     rows = [("Before compensation", before), ("After compensation", after), ("Tool tip's U95", u95)]
     return (f"<h3>Volumetric error over the work volume ({e(f.model.date.isoformat())})</h3>"
             f"<p>The tool tip's error at {v.poses} poses inside the measured ranges of {e(', '.join(v.axes))}, the "
@@ -173,7 +195,7 @@ def _next(d: ReportData, f: Facts) -> str:
         todo.append(f"Find the cause of the change before compensating again ({' '.join(causes)}); then replace "
                     f"the controller's compensation by the model of {f.step.date_to.isoformat()}.")
     w = f.worth
-    if w and w.get("may_worsen") is True:
+    if w and w.get("may_worsen") is True and num(w.get("corrects_rms_um")) and num(w.get("predicted_error_rms_um")):
         todo.append(f"Do not compensate with the latest model yet: it corrects {w['corrects_rms_um']:.1f} µm RMS and "
                     f"is itself uncertain by {w['predicted_error_rms_um']:.1f} µm RMS. Measure more rounds (four or "
                     "more), or plan the tracker's stations for the errors that matter (mtcal plan).")
