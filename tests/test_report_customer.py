@@ -221,3 +221,16 @@ def test_a_missing_or_not_finite_stored_field_is_left_out_not_shown_raw(kind, ma
                           render(ReportData("M1", "dmu50", _records([(kind, doc)]))),
                           flags=re.S)
             assert not re.search(r"\bnan\b|\bNone\b|\binf\b", text), (key, bad)
+
+
+@pytest.mark.skipif(not shutil.which("pdftoppm"), reason="poppler-utils not installed")
+def test_one_ballbar_result_summary_says_the_test_and_no_page_is_nearly_empty(browser, tmp_path):  # noqa: F811
+    """A report of one ballbar test: page one held the facts and "Nothing." (a quarter of a page) and broke."""
+    write_report(str(write(tmp_path / "ballbar.json", check_doc())), tmp_path / "r.html")
+    text = _rendered(browser, tmp_path / "r.html")["text"]
+    head = text[:text.index("Calibrations and instruments")]
+    assert re.search(r"circular deviation G 4\.00 µm \(the model predicts 3\.80 µm\)", head), head
+    assert "agrees with the model" in head and "Nothing." not in head
+    pdf = _pdf(browser, tmp_path / "r.html", tmp_path / "r.pdf")
+    n = _pages(pdf)
+    assert all(_filled(pdf, i, tmp_path) > (0.15 if i == n else 0.55) for i in range(1, n + 1))

@@ -25,8 +25,8 @@ from mtcal.report.summary import Facts, _digits, _what, tool_tip_u95
 
 
 def calibrations_section(d: ReportData, f: Facts) -> str:
-    rows = [[r.date.isoformat(), _what(r), r.instrument or "", _temperature(r.environment), r.source]
-            for r in d.records]
+    rows = [[r.date.isoformat(), _what(r), r.instrument or "", _temperature(r.environment), r.source,
+             r.file_sha256[:12], (r.recording_sha256 or "")[:12], r.tool_version] for r in d.records]
     law = (f.model.document or {}).get("noise_law") if f.model else None
     extra = ""
     if isinstance(law, dict) and all(num(law.get(k)) for k in ("radial_um", "radial_um_per_m", "transverse_um",
@@ -36,7 +36,10 @@ def calibrations_section(d: ReportData, f: Facts) -> str:
                  f"±({law['transverse_um']:g} µm + {law['transverse_um_per_m']:g} µm/m) across it (maximum "
                  f"permissible error, k = {law['k']:g}; from {e(_law_source(law.get('source')))}).</p>")
     return section("Calibrations and instruments", extra, lead=table(
-        ["date", "result", "instrument", "temperature during the measurement (°C)", "file"], rows, 3))
+        ["date", "result", "instrument", "temperature during the measurement (°C)", "file", "file SHA-256",
+         "recording SHA-256", "mtcal release"], rows, 3)
+        + '<p class="note">Each result by its file, the first 12 hex digits of its SHA-256 and of its recording\'s, '
+          "and the mtcal release that wrote it.</p>")
 
 
 def _law_source(s) -> str:
@@ -287,19 +290,10 @@ def glossary_section(d: ReportData, f: Facts, text: str = "") -> str:
                    + table(["code", "meaning", "unit"], rows, 2), "keep")
 
 
-def provenance_section(d: ReportData, f: Facts) -> str:
-    rows = [[r.date.isoformat(), _what(r), r.source, r.file_sha256[:16], (r.recording_sha256 or "")[:16],
-             r.tool_version] for r in d.records]
-    return section("Provenance", "<p>Every result the report rests on, by its file's SHA-256 (first 16 hex "
-                   "digits), the recording it came from and the mtcal release that wrote it.</p>" + table(
-                       ["date", "result", "file", "file SHA-256", "recording SHA-256", "mtcal release"], rows, 6,
-                       "provenance"), "keep")
-
-
 SECTIONS = (calibrations_section, errors_section, iso_section, check_section, diagnosis_section,
             compensation_section, history_section)
 
 
 def appendix(d: ReportData, f: Facts, text: str) -> str:
-    """The glossary of every code in ``text`` (the report before it) and the provenance."""
-    return glossary_section(d, f, text) + provenance_section(d, f)
+    """The glossary of every code in ``text`` (the report before it)."""
+    return glossary_section(d, f, text)

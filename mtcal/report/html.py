@@ -8,7 +8,7 @@ instrument, the verdict (what changed since the previous calibration and how sig
 over the work volume before and after compensation), the largest errors ranked, what to do next.  Then the
 details: the calibrations and instruments, the identified errors, the ISO 230-2 tables, the check tests, the
 diagnosis' findings, the compensation and what the tool tip is uncertain by, the history's changes, the glossary
-of every ISO 230-1 code the report names (its words from mtcal.history.compare.words) and the files' provenance.
+of every ISO 230-1 code the report names (its words from mtcal.history.compare.words).
 Values inside in mm and rad; shown in µm and µrad (ISO 230-2 in its own unit), every number with its unit.
 """
 from __future__ import annotations
@@ -36,7 +36,7 @@ h1 { font-size: 17pt; margin: 0 0 1mm; } .sub { color: #444; margin: 0 0 3mm; }
 h2 { font-size: 12.5pt; border-bottom: 1.5px solid #446; margin: 6mm 0 2mm; padding-bottom: 0.5mm; color: #223; }
 h3 { font-size: 10.5pt; margin: 4mm 0 1.5mm; }
 h2, h3 { break-after: avoid; } p { margin: 1.5mm 0; }
-section.summary { break-after: page; }
+section.summary { break-after: page; } section.summary.flows { break-after: auto; }
 table { border-collapse: collapse; margin: 1.5mm 0 3mm; font-size: 8.5pt; }
 thead { display: table-header-group; } tr, li, figure, .keep, table.short { break-inside: avoid; }
 td, th { border: 1px solid #bbb; padding: 1.2px 5px; text-align: right; vertical-align: top; }
@@ -48,7 +48,7 @@ table.facts th { background: none; width: 40mm; color: #333; }
 .verdict.ok { border-color: #3a7; background: #f2f9f5; }
 figure { margin: 2mm 0 3mm; } img { max-width: 100%%; height: auto; display: block; }
 figcaption { font-size: 8.5pt; color: #444; margin-top: 1mm; }
-.note, table.provenance { color: #555; font-size: 7.5pt; } code { font-size: 8.5pt; }
+.note { color: #555; font-size: 7.5pt; } code { font-size: 8.5pt; }
 ul { margin: 1mm 0 2mm; padding-left: 5mm; }
 @media print { body { max-width: none; margin: 0; } }
 """

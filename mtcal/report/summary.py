@@ -79,8 +79,9 @@ def tool_tip_u95(u: Record) -> str:
 
 def summary_section(d: ReportData, f: Facts) -> str:
     """Page one (module docstring)."""
-    body = _facts_table(d) + _verdict(d, f) + _volume_text(f) + _ranked(d, f) + _next(d, f)
-    return f'<section class="summary"><h2>Summary</h2>{body}</section>'
+    body = _facts_table(d) + _verdict(d, f) + _volume_text(f) + _ranked(d, f) + _tests(d) + _next(d, f)
+    # page one alone when it holds a model's figures; a summary of a test or two flows on into the details
+    return f'<section class="summary{"" if f.model else " flows"}"><h2>Summary</h2>{body}</section>'
 
 
 def _facts_table(d: ReportData) -> str:
@@ -188,6 +189,50 @@ def _peaks(m: Record) -> dict[str, tuple[str, str, str]]:
             for n, (_, q) in out.items()}
 
 
+def _tests(d: ReportData) -> str:
+    """One line for the latest test of each kind: a check test's figure, an ISO 230-2 test's, a verification's
+    verdict, the diagnosis' findings."""
+    lines = [_check_line(r) for r in (d.latest("check"),) if r is not None]
+    iso = d.latest("iso230-2")
+    for ax, ev in mapping(mapping(iso.document).get("axes") if iso else None).items():
+        p, unit = mapping(mapping(ev).get("parameters")), pictures._unit(mapping(ev).get("unit") or "um")
+        said = [f"{w} {k} {num(p[k])} {unit}" for k, w in (("A", "accuracy"), ("E", "systematic deviation"),
+                                                              ("R", "repeatability"), ("B", "reversal"))
+                if num(p.get(k))]
+        if said:
+            lines.append(f"ISO 230-2 test of {iso.date.isoformat()}, axis {ax}: " + ", ".join(said))
+    v = d.latest("verify")
+    if v is not None and isinstance(mapping(v.document).get("passed"), bool):
+        lines.append(f"Verification of {v.date.isoformat()}: {'passed' if v.document['passed'] else 'not passed'}")
+    diag = d.latest("diagnose")
+    found = [x for x in seq(mapping(diag.document).get("effects")) if mapping(x).get("significant")] if diag else []
+    if diag is not None:
+        lines.append(f"Diagnosis of {diag.date.isoformat()}: " + (", ".join(
+            f"{finding_name(x)} {shown(x.get('estimate'), x.get('unit') or 'mm')}" for x in found)
+            if found else "nothing beyond the quasi-static model"))
+    return ("<h3>The latest tests</h3><ul>" + "".join(f"<li>{e(t)}.</li>" for t in lines) + "</ul>") if lines else ""
+
+
+def finding_name(x: dict) -> str:
+    """'backlash X': a diagnosis finding's name in words, with its axis."""
+    return f"{text_of(x.get('name')).replace('_', ' ')} {text_of(x.get('axis'))}".strip()
+
+
+def _check_line(r: Record) -> str:
+    doc = mapping(r.document)
+    what = {"circular": "Ballbar circular test (ISO 230-4)", "rtest": "R-test (ISO 10791-6)"}.get(doc.get("kind"),
+                                                                                                "Check test")
+    g, pg = mapping(doc.get("measured")).get("G_mm"), mapping(doc.get("predicted")).get("G_mm")
+    line = f"{what} of {r.date.isoformat()}"
+    if num(g):
+        line += f": circular deviation G {g * 1e3:.2f} µm" + (f" (the model predicts {pg * 1e3:.2f} µm)"
+                                                              if num(pg) else "")
+    if isinstance(doc.get("agrees"), bool):
+        line += "; it " + ("agrees with the model's prediction" if doc["agrees"] else "differs from the model's "
+                           "prediction beyond their uncertainties")
+    return line
+
+
 def _next(d: ReportData, f: Facts) -> str:
     todo = []
     if f.step and f.step.changed:
@@ -211,5 +256,9 @@ def _next(d: ReportData, f: Facts) -> str:
                     "not hold (see Diagnosis): correct them at the machine; compensation does not.")
     if f.step and not f.step.changed:
         todo.append("Nothing changed beyond its uncertainty: calibrate again at the usual interval.")
+    if f.model is None:
+        todo.append("To rank the machine's errors, compare calibrations and compensate, identify an error model "
+                    "from a laser-tracker campaign (mtcal identify) and add it to the machine's history "
+                    "(mtcal history add).")
     items = (re.sub(r"\bmtcal [a-z0-9-]+", lambda m: f"<code>{m.group(0)}</code>", e(t)) for t in todo or ["Nothing."])
     return "<h3>What to do next</h3><ul>" + "".join(f"<li>{t}</li>" for t in items) + "</ul>"
