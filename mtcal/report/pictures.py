@@ -102,7 +102,7 @@ def rtest_trace(doc: dict) -> bytes:
 
 def findings(effects: list[dict]) -> bytes:
     """The diagnosis' findings: each estimate's size with its 95 % interval where one is given (µm or µrad)."""
-    plt, fig, ax = _figure(7.0, 0.6 + 0.35 * max(len(effects), 1))
+    plt, fig, ax = _figure(7.0, max(1.8, 0.6 + 0.35 * len(effects)))
     labels, sizes, lo, hi = [], [], [], []
     for e in effects:
         est = e.get("estimate")
@@ -140,7 +140,7 @@ def trend_png(t: Trend) -> bytes:
 
 def ranked(effects: list[tuple[str, float]]) -> bytes:
     """The largest errors' tool-tip error over the work volume, each alone (µm RMS), largest on top."""
-    plt, fig, ax = _figure(7.0, 0.7 + 0.3 * max(len(effects), 1))
+    plt, fig, ax = _figure(7.0, max(1.8, 0.7 + 0.3 * len(effects)))
     names = [n for n, _ in effects][::-1]
     ax.barh(np.arange(len(names)), [v for _, v in effects][::-1], color="#4477aa")
     ax.set_yticks(np.arange(len(names)), names, fontsize=8)

@@ -175,8 +175,9 @@ def _ranked(d: ReportData, f: Facts) -> str:
     return ("<h3>The largest errors, ranked by what each alone moves the tool tip</h3>"
             + table(["rank", "code", "what it is", "tool-tip error (µm RMS)", "largest value", "± U95", "where"],
                     rows, 3)
-            + figure(pictures.ranked(top), f"The {len(top)} largest errors of {f.model.date.isoformat()}: the tool "
-                                           "tip's error over the work volume that each causes alone (µm RMS)."))
+            + (figure(pictures.ranked(top), f"The {len(top)} largest errors of {f.model.date.isoformat()}: the tool "
+                                            "tip's error over the work volume that each causes alone (µm RMS).")
+               if len(top) > 1 else ""))
 
 
 def _peaks(m: Record) -> dict[str, tuple[str, str, str]]:
