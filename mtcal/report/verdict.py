@@ -1,10 +1,12 @@
 """What the report's first page says, computed from the stored results: the volumetric error of an identified
 model over its work volume (each error's share of it, for the ranking), and what to do next.
 
-The volumetric error is the figure of ``mtcal.identify.compare`` (the model's ``worth``): the tool tip's
-first-order deviation at ``model_poses`` (1000 poses inside the ranges the model's functions were measured over),
-the least-squares rigid motion of the workpiece removed (what setting the part up absorbs), RMS and largest length,
-µm.  An error's share is the same figure with that error alone (the errors' shares do not add up: they overlap)."""
+The volumetric error is computed as ``mtcal.identify.compare`` computes what a model corrects (its ``worth``,
+which identify draws over its own poses, so the two differ by a few per cent): the tool tip's first-order deviation
+at ``model_poses`` (1000 poses inside the ranges the model's functions were measured over, at the spindle gauge
+point), the least-squares rigid motion of the workpiece removed (what setting the part up absorbs), RMS and
+largest length, µm.  An error's share is the same figure with that error alone (the errors' shares do not add
+up: they overlap)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
