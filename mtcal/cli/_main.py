@@ -97,10 +97,34 @@ class _FlagWriter:
         return getattr(self.stream, name)
 
 
+class _Folding(logging.StreamHandler):
+    """stderr's handler: a line that repeats the one before it is not printed again; how many times it came is
+    said once, when another line comes or the command ends ("the line above 8 more times")."""
+
+    def __init__(self, stream, prefix: str):
+        super().__init__(stream)
+        self.prefix, self.last, self.repeats = prefix, None, 0
+
+    def emit(self, record: logging.LogRecord) -> None:
+        text = record.getMessage()
+        if text == self.last:
+            self.repeats += 1
+            return
+        self.flush_repeats()
+        self.last = text
+        super().emit(record)
+
+    def flush_repeats(self) -> None:
+        if self.repeats:
+            self.stream.write(f"{self.prefix}the line above {self.repeats} more time{'s' * (self.repeats > 1)}\n")
+            self.flush()
+        self.repeats = 0
+
+
 class _logging:
     """Progress of every module goes through `logging` (logger "mtcal.<module>") to stderr as
-    "mtcal COMMAND: message"; -q keeps warnings only.  The previous configuration is restored on exit (the demo
-    runs commands in-process)."""
+    "mtcal COMMAND: message", a line repeating the one before it folded (``_Folding``); -q keeps warnings only.
+    The previous configuration is restored on exit (the demo runs commands in-process)."""
 
     def __init__(self, command: str, quiet: bool, flags: dict[str, str] | None = None):
         self.log = logging.getLogger("mtcal")
@@ -108,13 +132,14 @@ class _logging:
 
     def __enter__(self):
         self.saved = (self.log.handlers[:], self.log.level, self.log.propagate)
-        h = logging.StreamHandler(sys.stderr)
+        h = self.handler = _Folding(sys.stderr, f"mtcal {self.command}: ")
         h.setFormatter(_FlagFormatter(f"mtcal {self.command}: %(message)s", self.flags))
         self.log.handlers[:] = [h]
         self.log.setLevel(logging.WARNING if self.quiet else logging.INFO)
         self.log.propagate = False
 
     def __exit__(self, *exc):
+        self.handler.flush_repeats()
         self.log.handlers[:], self.log.level, self.log.propagate = self.saved
 
 

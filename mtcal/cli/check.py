@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 
 from mtcal.cli._options import integer, real
+from mtcal.cli._words import warn_outside
 from mtcal.errors import InputError
 from mtcal.io import dumps, refuse_overwrite
 
@@ -54,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         if not args.test:
             raise InputError("check evaluate needs TEST.csv")
         ev = evaluate_check(read_check(args.test), model, fixed=fixed or None, tool_length=args.tool_length or None)
-        _warn_outside(ev.outside)
+        warn_outside(ev.outside)
         out = ev.to_dict()
         if args.plot and ev.kind == "circular":
             _plot_evaluation(ev, args.plot)
@@ -62,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     tests = _predict(args, model, fixed)
     for t in tests:
-        _warn_outside(t.get("outside_range") or {})
+        warn_outside(t.get("outside_range") or {})
     if args.plot:
         _plot_predictions(tests, args.plot)
     print(dumps({"model": args.model, "tests": tests}) if args.json else "\n".join(_text(t) for t in tests))
@@ -96,15 +97,6 @@ def _predict(args, model, fixed: dict[str, float]) -> list[dict]:
         tests.append(predict_rtest(model, RTestSetup(axis, _positions(args.positions, m, axis), sphere, fixed,
                                                      args.tool_length)).to_dict())
     return tests
-
-
-def _warn_outside(outside: dict[str, int]) -> None:
-    """The same warning as ``mtcal compensate``'s: evaluations outside an error function's measured range hold
-    its end values (the test reaches beyond what the model was measured over)."""
-    if outside:
-        import sys
-        print(f"mtcal check: warning: {sum(outside.values())} error evaluations outside the measured range (end "
-              f"values held): {outside}", file=sys.stderr)
 
 
 def _positions(text: str | None, m, axis: str) -> tuple[float, ...]:

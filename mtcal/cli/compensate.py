@@ -3,11 +3,11 @@ from __future__ import annotations
 
 import argparse
 import logging
-import sys
 import time
 from pathlib import Path
 
 from mtcal.cli._options import integer, real
+from mtcal.cli._words import listed, warn, warn_outside
 from mtcal.compensate.run import compensate_program
 from mtcal.compensate.solver import MAX_CORRECTION_MM, MAX_ROTARY_CORRECTION_DEG, RESIDUAL_EVERY
 from mtcal.io import dumps, refuse_overwrite
@@ -125,14 +125,11 @@ def run(args: argparse.Namespace) -> int:
         s = res["singularity"]
         print(f"near B = 0: {s['moves_in_cone']} moves inside the {args.cone:g} deg cone (position only), "
               f"{s['moves_blended']} blended; largest C correction {s['max_c_correction_deg']:.5f} deg")
-    outside = res["warnings"]["outside_range"]
-    if outside:
-        print(f"warning: {sum(outside.values())} error evaluations outside the measured range "
-              f"(end values held): {outside}", file=sys.stderr)
+    warn_outside(res["warnings"]["outside_range"])
     rapids = res["warnings"]["uncompensated_rapids"]
     if rapids:
-        print(f"warning: {len(rapids)} rapid moves before all linear axes were known passed "
-              f"uncompensated (lines {rapids[:5]})", file=sys.stderr)
+        warn(f"{len(rapids)} rapid moves before all linear axes were known passed uncompensated (lines "
+             f"{listed(rapids)})")
     for t in res["tables"]:
         print(f"table: {t}")
     return 0

@@ -3,10 +3,10 @@ from __future__ import annotations
 
 import argparse
 import logging
-import sys
 from pathlib import Path
 
 from mtcal.cli._options import integer, real
+from mtcal.cli._words import warn
 from mtcal.errors import InputError
 from mtcal.export import FORMATS, export_model
 from mtcal.export.linuxcnc_kins import DEFAULT_NAME, export_kins
@@ -138,8 +138,8 @@ def run(args: argparse.Namespace) -> int:
         if t.get("note"):
             print(f"    {t['note']}")
     if res.not_held:
-        print(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
-              f"{', '.join(res.not_held)}", file=sys.stderr)
+        warn(f"not held by {args.format} (compensate these with `mtcal compensate` or another format): "
+             f"{', '.join(res.not_held)}")
     for w in res.warnings:
         log.warning("warning: %s", w)
     for f in res.files:

@@ -4,7 +4,6 @@ from __future__ import annotations
 import argparse
 import logging
 import math
-import sys
 
 from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
 from mtcal.errors import InputError
@@ -100,12 +99,9 @@ def _design(args: argparse.Namespace, plan) -> int:
 def _design_monte_carlo(d, plan, args: argparse.Namespace):
     """The design's path re-evaluated by the Monte Carlo of identify (mtcal.uncertainty.design), with a progress
     bar over all the trials it may run."""
+    from mtcal.cli._words import Bar
     from mtcal.uncertainty.design import design_monte_carlo
-
-    bar = None
-    if not (args.quiet or args.json):
-        from tqdm import tqdm
-        bar = tqdm(total=args.monte_carlo * len(d.steps), unit="trial", file=sys.stderr, desc="mtcal plan")
+    bar = None if (args.quiet or args.json) else Bar(args.monte_carlo * len(d.steps), "mtcal plan")
     try:
         return design_monte_carlo(d, plan, args.monte_carlo, args.seed, args.workers, args.scheduler,
                                   progress=bar.update if bar else None, exact=args.exact)

@@ -6,9 +6,10 @@ import argparse
 from mtcal.io import dumps
 
 NAME = "report"
-HELP = ("one self-contained HTML report (pictures inline, A4 print styles) of a machine's history or of one result "
-        "file: machine, instrument and environment, identified errors, ISO 230-2, check tests, diagnosis, "
-        "compensation and tool-tip uncertainty, the history's changes")
+HELP = ("one self-contained HTML report (pictures inline, A4 print styles, numbered pages) of a machine's history or "
+        "of one result file: page one the summary (machine, dates, instrument, what changed since the previous "
+        "calibration, the volumetric error, the largest errors ranked, what to do next), then the details and a "
+        "glossary of the ISO 230-1 codes")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

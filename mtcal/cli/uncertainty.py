@@ -3,10 +3,10 @@ Monte Carlo through the whole estimator (mtcal.uncertainty; this module parses a
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from mtcal.cli._options import integer, machine_argument, real, tracker_model_argument, xyz
+from mtcal.cli._words import Bar
 from mtcal.io import atomic_write_text, dumps, file_sha256, refuse_overwrite, replace_allowed
 
 NAME = "uncertainty"
@@ -109,27 +109,7 @@ def _progress(args):
         import tqdm  # noqa: F401
     except ImportError:
         return None
-    return _Bar(args.trials)
-
-
-class _Bar:
-    """The trials' progress bar on stderr, started at the first trials done: its rate and remaining time are the
-    trials' (the set-up before them, identify, the batched path's check and the cluster's start, says its own
-    lines), so a long run's estimate is right from the start."""
-
-    def __init__(self, total: int):
-        self.total, self.bar = total, None
-
-    def update(self, n: int) -> None:
-        if self.bar is None:
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=self.total, unit="trial", file=sys.stderr, desc="mtcal uncertainty")
-        self.bar.update(n)
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.close()
+    return Bar(args.trials, "mtcal uncertainty")
 
 
 def _text(d: dict) -> str:

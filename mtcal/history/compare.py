@@ -29,7 +29,8 @@ MULTIPLICITY = "Holm over every error and position of a step"
 SHOWN = {"mm": ("µm", 1e3), "rad": ("µrad", 1e6)}
 
 # words a service engineer reads, per ISO/TR 16907 class ({J}: the error's axis, {C}: its component, {K}: the
-# axis a squareness is to), and what may have caused a change of that class
+# axis a squareness is to; {kind} {how}: "an offset in" or "a tilt about" as {C} is a translation or a rotation), and
+# what may have caused a change of that class
 WORDS = {
     "L-POS": ("a positioning error of {J}", "a scale or pitch change: the machine's temperature, or a re-compensated "
                                             "scale?"),
@@ -38,7 +39,7 @@ WORDS = {
     "L-ANG": ("an angular error of {J} about {C}", "guideway wear, a crash, or the machine re-levelled?"),
     "R-POS": ("a positioning error of {J}", "an encoder, or the axis re-referenced?"),
     "R-RAX": ("a radial or axial motion of {J} in {C}", "bearing wear, or a crash?"),
-    "R-POR": ("a location of {J}'s axis ({C})", "a crash, or the axis re-mounted?"),
+    "R-POR": ("{kind} of {J}'s axis {how} {C}", "a crash, or the axis re-mounted?"),
     "R-ANG": ("a tilt motion of {J} about {C}", "bearing wear, or a crash?"),
 }
 
@@ -104,7 +105,8 @@ def words(name: str, spec: str | None) -> tuple[str, str]:
                 j, c = name[-1], name[2]
                 lin = "XYZ"[("ABC".index(c))] if c in "ABC" else c
                 k = "".join(a for a in "XYZ" if a not in (j, lin))[:1]
-                return what.format(J=j, C=c if c in "XYZ" else lin, K=k), cause
+                kind = ("an offset", "in") if c in "XYZ" else ("a tilt", "about")
+                return what.format(J=j, C=c if c in "XYZ" else lin, K=k, kind=kind[0], how=kind[1]), cause
     return f"the error {name}", "what changed on the machine?"
 
 

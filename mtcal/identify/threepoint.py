@@ -277,11 +277,13 @@ def _reversal(e, direction, ri, pi, n_rounds: int, n_pos: int) -> np.ndarray | N
 def _notes(axis: str, q0s, rounds, positions, per_round, warnings: list[str]) -> None:
     """Warnings on the layout: several reference positions, (round, position) pairs not measured, one round."""
     if len(q0s) > 1:
-        warnings.append(f"axis {axis}: rounds use different reference positions {q0s.tolist()}")
+        warnings.append(f"axis {axis}: rounds use different reference positions "
+                        f"({', '.join(format(q, 'g') for q in q0s.tolist())})")
     missing = [(int(rounds[r]), float(positions[p])) for r in range(len(rounds)) for p in range(len(positions))
                if np.isnan(per_round[r, p, 0])]
     if missing:
-        warnings.append(f"axis {axis}: {len(missing)} (round, position) pair(s) not measured, e.g. {missing[:4]}; "
+        eg = "; ".join(f"round {r} at {axis} = {q:g}" for r, q in missing[:4])
+        warnings.append(f"axis {axis}: {len(missing)} (round, position) pair(s) not measured, e.g. {eg}; "
                         f"their statistics use fewer rounds")
     if len(rounds) < 2:
         warnings.append(f"axis {axis}: only one round ({int(rounds[0])}): no Type A uncertainty (std is NaN)")

@@ -28,8 +28,9 @@ def _png(plt, fig) -> bytes:
     return buf.getvalue()
 
 
-def error_functions(axis: str, qs: list[Quantity]) -> bytes:
-    """One axis' identified error functions with their 95 % bands: translations (µm) left, angles (µrad) right."""
+def error_functions(axis: str, qs: list[Quantity], position_unit: str = "mm") -> bytes:
+    """One axis' identified error functions with their 95 % bands: translations (µm) left, angles (µrad) right,
+    over the axis' position (``position_unit``).  No title: the report captions the picture."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -41,12 +42,11 @@ def error_functions(axis: str, qs: list[Quantity]) -> bytes:
             x, v, u = (np.array(c) for c in zip(*pts))
             line, = ax.plot(x, v, marker=".", label=name)
             ax.fill_between(x, v - u, v + u, color=line.get_color(), alpha=0.2)
-        ax.set_xlabel(f"{axis} position")
-        ax.set_ylabel(shown)
+        ax.set_xlabel(f"{axis} position ({position_unit})")
+        ax.set_ylabel(f"{'translation' if unit == 'mm' else 'angular'} error ({shown})")
         ax.grid(alpha=0.3)
         if ax.lines:
             ax.legend(fontsize=7, ncol=3)
-    fig.suptitle(f"axis {axis}: identified errors with 95 % intervals", fontsize=9)
     return _png(plt, fig)
 
 
@@ -60,9 +60,8 @@ def iso230_2_axis(ev: dict) -> bytes:
         s = np.asarray([np.nan if v is None else v for v in t[f"s_{tag}"]], dtype=float)
         line, = ax.plot(x, m, marker="o", label=label)
         ax.fill_between(x, m - 2 * s, m + 2 * s, color=line.get_color(), alpha=0.2)
-    ax.set_xlabel(f"target ({ev.get('position_unit', '')})")
-    ax.set_ylabel(f"deviation ({ev.get('unit', '')})")
-    ax.set_title(f"ISO 230-2 axis {ev['axis']}", fontsize=9)
+    ax.set_xlabel(f"target position ({_unit(ev.get('position_unit', 'mm'))})")
+    ax.set_ylabel(f"mean positional deviation ({_unit(ev.get('unit', 'um'))})")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     return _png(plt, fig)
@@ -82,7 +81,6 @@ def circular_trace(doc: dict) -> bytes:
             ax.fill_between(tr[k, 0], (tr[k, 2] - 2 * tr[k, 3]) * 1e3, (tr[k, 2] + 2 * tr[k, 3]) * 1e3, alpha=0.15)
     ax.set_xlabel("angle (deg)")
     ax.set_ylabel("radial deviation (µm)")
-    ax.set_title(f"circular test {doc.get('plane', '')}, R {doc.get('radius_mm', 0):g} mm", fontsize=9)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
     return _png(plt, fig)
@@ -95,7 +93,7 @@ def rtest_trace(doc: dict) -> bytes:
     for i, c in enumerate("xyz"):
         line, = ax.plot(tr[:, 0], tr[:, 1 + i] * 1e3, label=f"measured d{c}")
         ax.plot(tr[:, 0], tr[:, 4 + i] * 1e3, ls="--", color=line.get_color(), label=f"predicted d{c}")
-    ax.set_xlabel(f"{doc.get('axis', '')} (deg)")
+    ax.set_xlabel(f"{doc.get('axis') or 'rotary axis'} position (deg)")
     ax.set_ylabel("deviation (µm)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, ncol=3)
@@ -104,7 +102,7 @@ def rtest_trace(doc: dict) -> bytes:
 
 def findings(effects: list[dict]) -> bytes:
     """The diagnosis' findings: each estimate's size with its 95 % interval where one is given (µm or µrad)."""
-    plt, fig, ax = _figure(7.0, 0.6 + 0.35 * max(len(effects), 1))
+    plt, fig, ax = _figure(7.0, max(1.8, 0.6 + 0.35 * len(effects)))
     labels, sizes, lo, hi = [], [], [], []
     for e in effects:
         est = e.get("estimate")
@@ -119,7 +117,8 @@ def findings(effects: list[dict]) -> bytes:
     ax.barh(y, sizes, color="#4477aa")
     ax.errorbar(sizes, y, xerr=[np.subtract(sizes, lo), np.subtract(hi, sizes)], fmt="none", ecolor="k")
     ax.set_yticks(y, labels, fontsize=8)
-    ax.set_xlabel("estimate (µm for a length, µrad for an angle; the finding's own unit × 10³)")
+    ax.set_ylabel("finding")
+    ax.set_xlabel("estimate (µm, or µrad for an angle) with its 95 % interval")
     ax.grid(alpha=0.3, axis="x")
     return _png(plt, fig)
 
@@ -132,12 +131,28 @@ def trend_png(t: Trend) -> bytes:
     v = [p["value"] for p in t.points]
     u = [p["u95"] or 0.0 for p in t.points]
     ax.errorbar(x, v, yerr=u, marker="o", capsize=3)
-    where = "" if t.position is None else f" at {t.axis} = {t.position:g}"
-    ax.set_title(f"{t.machine}: {t.name}{where}", fontsize=9)
-    ax.set_ylabel(t.unit)
+    ax.set_xticks(x, [d.isoformat() for d in x])
+    ax.set_ylabel(f"{t.name} ({t.unit})")
+    ax.set_xlabel("calibration date")
     ax.grid(alpha=0.3)
-    fig.autofmt_xdate()
     return _png(plt, fig)
+
+
+def ranked(effects: list[tuple[str, float]]) -> bytes:
+    """The largest errors' tool-tip error over the work volume, each alone (µm RMS), largest on top."""
+    plt, fig, ax = _figure(7.0, max(1.8, 0.7 + 0.3 * len(effects)))
+    names = [n for n, _ in effects][::-1]
+    ax.barh(np.arange(len(names)), [v for _, v in effects][::-1], color="#4477aa")
+    ax.set_yticks(np.arange(len(names)), names, fontsize=8)
+    ax.set_ylabel("ISO 230-1 error")
+    ax.set_xlabel("tool-tip error over the work volume, the error alone (µm RMS)")
+    ax.grid(alpha=0.3, axis="x")
+    return _png(plt, fig)
+
+
+def _unit(u: str) -> str:
+    """A stored unit as printed: um as µm, urad as µrad."""
+    return {"um": "µm", "urad": "µrad"}.get(u, u)
 
 
 def save_trend(t: Trend, path: str | Path) -> None:

@@ -5,7 +5,19 @@ from pathlib import Path
 
 from mtcal.history.store import check_machine_id
 from mtcal.io import atomic_write_text, refuse_overwrite
-from mtcal.report.html import from_file, from_history, render
+from mtcal.report import details, summary
+from mtcal.report.html import CSS, ReportData, css_text, e, from_file, from_history
+
+
+def render(d: ReportData) -> str:
+    """The report's HTML text (mtcal.report.html's module docstring): page one, the details, the appendix."""
+    facts = summary.Facts.of(d)
+    body = summary.summary_section(d, facts) + "".join(s(d, facts) for s in details.SECTIONS)
+    body += details.appendix(d, facts, body)
+    css = CSS % {"title": css_text(d.title), "date": d.made.isoformat()}
+    return ("<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>"
+            f"<title>Calibration report: {e(d.title)}</title><style>{css}</style></head><body>"
+            f"<h1>Calibration report</h1>{body}</body></html>\n")
 
 
 def write_report(target: str, out: str | Path, db: str | None = None) -> dict:
@@ -44,5 +56,5 @@ def write_report(target: str, out: str | Path, db: str | None = None) -> dict:
         data = from_history(target, db)
     text = render(data)
     atomic_write_text(out, text)
-    return {"report": str(out), "sections": text.count('<section class="page">'),
+    return {"report": str(out), "sections": text.count("<section"),
             "pictures": text.count("data:image/png;base64,"), "bytes": len(text.encode())}

@@ -611,8 +611,9 @@ def _batched_path(rec: Recording, options: dict, outputs: Outputs, inputs: Input
                     "%.3g of its 95 %% half-width on %d check trials, more than %g): every trial runs identify",
                     check["largest_difference_of_half_width"], check["trials"], fp.CHECK_TOLERANCE)
         return None, {"batched": False, "why": "its check trials disagree with identify", "check": check}
-    log.info("batched trials: the check's %d trials agree with identify within %.2g %% of a half-width; %d trials "
-             "to run", check["trials"], 100 * check["largest_difference_of_half_width"], len(pending) - len(first))
+    log.info("batched trials agree with identify (%d check trials, within %.2g %% of a half-width); %d of the %d "
+             "trials to run done with the check, %d left", check["trials"],
+             100 * check["largest_difference_of_half_width"], len(first), len(pending), len(pending) - len(first))
     st.add(*block[:2])
     b.merge(block[2])
     if progress:
