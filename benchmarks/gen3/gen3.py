@@ -55,7 +55,7 @@ NEW_NAMES = list(NEW)
 GEN2_ALL = gen2.PHYSICS + gen2.GROSS + gen2.NEW
 GEN2_DATA = set(gen2.GROSS + gen2.CARELESS)
 RANDOM_CLASSES = {"damaged_reflector", "floor_vibration", "axis_scatter"}   # a variance, not a shape
-EXPORT_TEXT = ("coarse_rounding", "direction_inverted", "time_in_ms", "pass_time_restart")
+EXPORT_TEXT = ("direction_inverted", "pass_time_restart", "time_in_ms", "coarse_rounding")   # in the order applied
 
 # What the diagnosis' grammar calls each class (docs/design.md's member names), and names that describe part of
 # it at first order (not false beside it, not enough alone). Out-of-grammar classes have no name of their own.
@@ -498,7 +498,7 @@ def _export(path, recs, P):
     head = text[0].split(",")
     rows = [ln.split(",") for ln in text[1:]]
     col = {k: i for i, k in enumerate(head)}
-    for rec in recs:
+    for rec in sorted(recs, key=lambda r: EXPORT_TEXT.index(r["name"])):
         c = rec["name"]
         pl = rec["place"]
         mine = [j for j, r in enumerate(rows) if "axis" not in pl or (r[col["axis"]] == pl["axis"]
