@@ -33,7 +33,9 @@ The judge, per run of a campaign carrying one class (the truth's `classes`):
 * **missed**: nothing claimed although within reach.
 A clean campaign is a **false alarm** when anything is claimed (a name, a located entry, a data problem, a refusal).
 The **size check** counts located entries whose `size_mm` exceeds 1.5x the planted displacement's largest value at
-a reading (truth `displacement_um.max_um`); entries without a size are not counted.
+a reading (truth `displacement_um.max_um`), and 1.5x the largest of its part beyond the stops' rigid motions
+(`beyond_stops_max_um`, nearer what issue 52 calls the displacement beyond the base); entries without a size are not
+counted.
 Bounds: one-sided 95 % Clopper-Pearson (upper for wrong and false alarms, lower for right).
 """
 from __future__ import annotations
@@ -133,8 +135,9 @@ def judge(rec, status, out):
     names, located, data = claims(status, out)
     shows = rec["shows_at"]
     why = []
-    planted = (rec.get("displacement_um") or {}).get("max_um")
-    sizes = [(s * 1e3, planted) for _, _, s in located if s is not None and planted]
+    disp = rec.get("displacement_um") or {}
+    planted, seen = disp.get("max_um"), disp.get("beyond_stops_max_um")
+    sizes = [(s * 1e3, planted, seen) for _, _, s in located if s is not None and planted]
     if rec["data_problem"]:
         if [n for n in names if n[0] in rec["in_grammar"] and _at(n[1], n[2], shows)] == names and names \
                 and not located and not data:
@@ -222,6 +225,7 @@ def summarise(runs, modes):
         reach_oog = [r for r in planted if r["in_reach"] and r["source"] == "gen3" and not r["data_problem"]
                      and r["outcome"] != "error"]
         big = [s for r in planted for s in r.get("sizes", []) if s[0] > 1.5 * s[1]]
+        big_seen = [s for r in planted for s in r.get("sizes", []) if s[2] is not None and s[0] > 1.5 * s[2]]
         allsz = [s for r in planted for s in r.get("sizes", [])]
         out[mode] = dict(
             per_class=per, totals=tot, planted_runs=n, clean_runs=len(clean), false_alarms=fa,
@@ -229,7 +233,8 @@ def summarise(runs, modes):
             false_alarm_rate=fa / len(clean) if clean else None, false_alarm_upper95=upper95(fa, len(clean)),
             gen3_in_reach_runs=len(reach_oog), gen3_in_reach_right=sum(r["outcome"] == "right" for r in reach_oog),
             gen3_in_reach_right_lower95=lower95(sum(r["outcome"] == "right" for r in reach_oog), len(reach_oog)),
-            sizes_checked=len(allsz), sizes_beyond_1_5x=len(big),
+            sizes_checked=len(allsz), sizes_beyond_1_5x=len(big), sizes_beyond_1_5x_of_beyond_stops=len(big_seen),
+            largest_size_ratio=max((s[0] / s[1] for s in allsz), default=None),
             cpu_s=sum(r["cpu_s"] for r in rr))
     return out
 
@@ -253,8 +258,9 @@ def print_table(summary):
         if m:
             print(f"gen3 physics within reach: right {k} of {m} ({100 * k / m:.0f} %, one-sided 95 % lower bound "
                   f"{100 * s['gen3_in_reach_right_lower95']:.0f} %)")
-        print(f"located entries sized: {s['sizes_checked']}, beyond 1.5x the planted displacement: "
-              f"{s['sizes_beyond_1_5x']}")
+        print(f"located entries sized: {s['sizes_checked']}, beyond 1.5x the planted displacement's largest: "
+              f"{s['sizes_beyond_1_5x']} (largest ratio {s['largest_size_ratio'] or 0:.1f}); beyond 1.5x its part "
+              f"beyond the stops' rigid motions: {s['sizes_beyond_1_5x_of_beyond_stops']}")
 
 
 def main(argv=None):
