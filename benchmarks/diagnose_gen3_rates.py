@@ -177,7 +177,21 @@ def judge_clean(status, out):
 
 
 # ---------------------------------------------------------------- one campaign, both ways
+def judge_run(truth, mode, status, out, cpu):
+    run = dict(index=truth["index"], mode=mode, status=status, cpu_s=cpu, clean=truth["clean"])
+    if truth["clean"]:
+        run["outcome"], run["why"] = judge_clean(status, out)
+    else:
+        rec = truth["classes"][0]
+        run.update(cls=rec["name"], source=rec["source"], data_problem=rec["data_problem"],
+                   in_reach=within_reach(rec))
+        run["outcome"], run["why"], run["sizes"] = judge(rec, status, out)
+    return run
+
+
 def run_campaign(seed, idx, work, args):
+    """Write campaign idx, diagnose it each way, keep each answer beside it (campaign_NNNN.MODE.answer.json, which
+    --rejudge reads) and judge it."""
     try:
         truth = gen3.write_campaign(seed, idx, work, args.clean_fraction, args.mix, args.only)
     except gen3.NotApplicable as err:
@@ -197,15 +211,22 @@ def run_campaign(seed, idx, work, args):
             if not stations[0]["given_in_csv"]:
                 extra = ["--tracker", ",".join(f"{v:.0f}" for v in stations[0]["position_mm"])]
         status, out, cpu = diagnose(path, extra)
-        run = dict(index=idx, mode=mode, status=status, cpu_s=cpu, clean=truth["clean"])
-        if truth["clean"]:
-            run["outcome"], run["why"] = judge_clean(status, out)
-        else:
-            rec = truth["classes"][0]
-            run.update(cls=rec["name"], source=rec["source"], data_problem=rec["data_problem"],
-                       in_reach=within_reach(rec))
-            run["outcome"], run["why"], run["sizes"] = judge(rec, status, out)
-        runs.append(run)
+        with open(Path(work) / f"campaign_{idx:04d}.{mode}.answer.json", "w") as f:
+            json.dump(dict(status=status, answer=out, cpu_s=cpu, args=extra), f)
+        runs.append(judge_run(truth, mode, status, out, cpu))
+    return runs
+
+
+def rejudge(folder, modes):
+    """Judge the answers a kept run left in `folder` again (after a change of the judge), without diagnosing."""
+    runs = []
+    for tp in sorted(Path(folder).glob("campaign_*.truth.json")):
+        truth = json.loads(tp.read_text())
+        for mode in modes:
+            ap = tp.with_name(tp.name.replace(".truth.json", f".{mode}.answer.json"))
+            if ap.exists():
+                a = json.loads(ap.read_text())
+                runs.append(judge_run(truth, mode, a["status"], a["answer"], a["cpu_s"]))
     return runs
 
 
@@ -274,11 +295,17 @@ def main(argv=None):
     ap.add_argument("--modes", default="defaults,tracker")
     ap.add_argument("--keep", default=None, help="write the campaigns into this folder (default: a temporary one)")
     ap.add_argument("--json", default=None, help="write the runs and the summary to this file")
+    ap.add_argument("--rejudge", default=None, metavar="DIR",
+                    help="judge the campaigns and answers a --keep run left in DIR again, diagnosing nothing")
     args = ap.parse_args(argv)
     args.only = None if args.only is None else [c.strip() for c in args.only.split(",") if c.strip()]
     args.modes = [m for m in args.modes.split(",") if m]
     runs = []
     t0 = time.time()
+    if args.rejudge:
+        runs = rejudge(args.rejudge, args.modes)
+        print_table(summarise(runs, args.modes))
+        return
     with tempfile.TemporaryDirectory() as tmp:
         work = args.keep or tmp
         os.makedirs(work, exist_ok=True)
