@@ -419,13 +419,13 @@ def beyond_stops(P, beams, noise, delta):
     return out, chi2
 
 
-def displacement_record(P, beams, noise, delta, rows=None):
+def displacement_record(P, beams, noise, delta):
     """max and RMS (um) of the planted displacement over the readings it moves, and of its part beyond the stops'
     rigid motions, with that part's chi^2 (true noise law) and the count of readings moved."""
     if delta is None:
         return None
     mag = np.linalg.norm(delta, axis=1)
-    moved = mag > 1e-9 if rows is None else rows
+    moved = mag > 1e-9
     vis, chi2 = beyond_stops(P, beams, noise, delta)
     vm = np.linalg.norm(vis, axis=1)
     if not np.any(moved):
