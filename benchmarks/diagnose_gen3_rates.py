@@ -2,7 +2,9 @@
 class; false alarms on clean campaigns; the sizes of located entries against the planted displacement.
 
     python benchmarks/diagnose_gen3_rates.py --n 40 --seed 0 [--mix all|new|gen2] [--only A,B|none]
-                                            [--clean-fraction 0.3] [--modes defaults,tracker] [--json OUT.json]
+                                            [--clean-fraction 0.3] [--modes defaults,tracker] [--keep DIR]
+                                            [--json OUT.json]
+    python benchmarks/diagnose_gen3_rates.py --rejudge DIR [--json OUT.json]     # a kept run judged again
 
 Each campaign is written by gen3 (its truth beside it) and diagnosed through the command line, `mtcal diagnose
 REC.csv --json -q` (docs/design.md's CLI contract), two ways:
@@ -124,8 +126,8 @@ def within_reach(rec):
     d = rec.get("displacement_um") or {}
     chi2 = d.get("chi2_beyond_stops", 0.0)
     if rec.get("random"):
-        return chi2 >= max(40.0, 5 * np.sqrt(6 * max(d.get("readings", 0), 1)))
-    return chi2 >= 40.0
+        return bool(chi2 >= max(40.0, 5 * np.sqrt(6 * max(d.get("readings", 0), 1))))
+    return bool(chi2 >= 40.0)
 
 
 def judge(rec, status, out):
@@ -241,6 +243,8 @@ def summarise(runs, modes):
             c = per.setdefault(r["cls"], {k: 0 for k in OUTCOMES})
             c[r["outcome"]] += 1
         tot = {k: sum(c[k] for c in per.values()) for k in OUTCOMES}
+        by_source = {src: {k: sum(r["outcome"] == k for r in planted if r["source"] == src) for k in OUTCOMES}
+                     for src in ("gen3", "gen2")}
         n = len(planted)
         fa = sum(r["outcome"] == "false_alarm" for r in clean)
         reach_oog = [r for r in planted if r["in_reach"] and r["source"] == "gen3" and not r["data_problem"]
@@ -249,7 +253,7 @@ def summarise(runs, modes):
         big_seen = [s for r in planted for s in r.get("sizes", []) if s[2] is not None and s[0] > 1.5 * s[2]]
         allsz = [s for r in planted for s in r.get("sizes", [])]
         out[mode] = dict(
-            per_class=per, totals=tot, planted_runs=n, clean_runs=len(clean), false_alarms=fa,
+            per_class=per, totals=tot, by_source=by_source, planted_runs=n, clean_runs=len(clean), false_alarms=fa,
             wrong_rate=tot["wrong"] / n if n else None, wrong_upper95=upper95(tot["wrong"], n),
             false_alarm_rate=fa / len(clean) if clean else None, false_alarm_upper95=upper95(fa, len(clean)),
             gen3_in_reach_runs=len(reach_oog), gen3_in_reach_right=sum(r["outcome"] == "right" for r in reach_oog),
@@ -267,6 +271,8 @@ def print_table(summary):
         print(f"{'class':22s} " + " ".join(f"{k:>12s}" for k in OUTCOMES))
         for c in sorted(s["per_class"]):
             print(f"{c:22s} " + " ".join(f"{s['per_class'][c][k]:12d}" for k in OUTCOMES))
+        for src, t in s["by_source"].items():
+            print(f"{'  ' + src + ' classes':22s} " + " ".join(f"{t[k]:12d}" for k in OUTCOMES))
         print(f"{'total':22s} " + " ".join(f"{s['totals'][k]:12d}" for k in OUTCOMES))
         n = s["planted_runs"]
         if n:
@@ -300,12 +306,24 @@ def main(argv=None):
     args = ap.parse_args(argv)
     args.only = None if args.only is None else [c.strip() for c in args.only.split(",") if c.strip()]
     args.modes = [m for m in args.modes.split(",") if m]
-    runs = []
     t0 = time.time()
     if args.rejudge:
         runs = rejudge(args.rejudge, args.modes)
-        print_table(summarise(runs, args.modes))
-        return
+    else:
+        runs = run_all(args)
+    summary = summarise([r for r in runs if "skipped" not in r], args.modes)
+    print_table(summary)
+    if not args.rejudge:
+        print(f"\n{args.n} campaigns (seed {args.seed}, mix {args.mix}) in {time.time() - t0:.0f} s of wall time")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(dict(seed=args.seed, n=args.n, start=args.start, mix=args.mix, only=args.only,
+                           clean_fraction=args.clean_fraction, rejudged=args.rejudge, summary=summary, runs=runs),
+                      f, indent=1)
+
+
+def run_all(args):
+    runs = []
     with tempfile.TemporaryDirectory() as tmp:
         work = args.keep or tmp
         os.makedirs(work, exist_ok=True)
@@ -317,13 +335,7 @@ def main(argv=None):
                     continue
                 print(f"campaign {i} {r['mode']:8s} {r.get('cls', 'clean'):20s} {r['outcome']:12s} "
                       f"{r['cpu_s']:.1f} s  {'; '.join(r['why'])[:160]}", file=sys.stderr)
-    summary = summarise([r for r in runs if "skipped" not in r], args.modes)
-    print_table(summary)
-    print(f"\n{args.n} campaigns (seed {args.seed}, mix {args.mix}) in {time.time() - t0:.0f} s of wall time")
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump(dict(seed=args.seed, n=args.n, start=args.start, mix=args.mix, only=args.only,
-                           clean_fraction=args.clean_fraction, summary=summary, runs=runs), f, indent=1)
+    return runs
 
 
 if __name__ == "__main__":
