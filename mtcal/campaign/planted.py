@@ -1,18 +1,17 @@
 """What a planted effect does to a simulated campaign (``mtcal.campaign.effects`` holds the effects' names,
 parameters and models in words): its increment of the machine's error functions, the motion of a reflector nest,
 the change of the readings, and the truth it records.  Each model is a generated function of derive/signatures.py.
+
+``e`` is a bound ``mtcal.campaign.effects.Effect``, ``rows`` the campaign's ``mtcal.campaign.effects.Rows``.
 """
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from mtcal.generated import signatures_numpy as S
-
-if TYPE_CHECKING:
-    from mtcal.campaign.effects import Effect, Rows
 
 
 def unit(direction) -> np.ndarray:
@@ -25,7 +24,7 @@ def unit(direction) -> np.ndarray:
 
 
 
-def add_errors(e: Effect, rows: Rows, errors: np.ndarray, machine) -> None:
+def add_errors(e, rows, errors: np.ndarray, machine) -> None:
     """Add the (bound) effect's error contribution in place to ``errors`` (n, n_errors) of ``machine``."""
     p, n = e.params, e.name
     idx = {name: i for i, name in enumerate(machine.error_names)}
@@ -71,7 +70,7 @@ def add_errors(e: Effect, rows: Rows, errors: np.ndarray, machine) -> None:
         errors[on, idx[e.error]] += S.backlash_travel_model(d, q, [p["amount"], p["slope"]])[:, 0]
 
 
-def move_nests(e: Effect, rows: Rows, local: np.ndarray) -> None:
+def move_nests(e, rows, local: np.ndarray) -> None:
     """nest_creep, nest_knock: add the nest's creep or step to the reflector's local coordinates (n, 3) mm in
     place, before the exact kinematics carry them to the machine frame."""
     if e.name == "side_expansion":
@@ -88,7 +87,7 @@ def move_nests(e: Effect, rows: Rows, local: np.ndarray) -> None:
     local[on] += S.nest_creep_model(p["rate_mm_s"] * unit(p["direction"]), dt)
 
 
-def _expand(e: Effect, rows: Rows, local: np.ndarray) -> None:
+def _expand(e, rows, local: np.ndarray) -> None:
     """side_expansion: the side's reflectors move apart about their layout's centroid (the side's local frame,
     mm), 1e-6 ppm_per_h (t - t0_s) / 3600 s (ramp) or 1e-6 ppm (1 - exp(-(t - t0_s) / tau_s)) (lag)."""
     p = e.params
@@ -99,7 +98,7 @@ def _expand(e: Effect, rows: Rows, local: np.ndarray) -> None:
                   S.side_expansion_lag_model(off, dt, p["tau_s"], [p["ppm"]]))
 
 
-def apply_readings(e: Effect, rows: Rows, xyz: np.ndarray, tracker: np.ndarray) -> None:
+def apply_readings(e, rows, xyz: np.ndarray, tracker: np.ndarray) -> None:
     """Modify the readings (n, 3) in place."""
     p, n = e.params, e.name
     if n == "thermal_drift":
@@ -128,7 +127,7 @@ def apply_readings(e: Effect, rows: Rows, xyz: np.ndarray, tracker: np.ndarray) 
         xyz[on] = S.tracker_settling_reading(xyz[on], tracker, unit(p["about"]), p["angle_rad"])
 
 
-def truth(e: Effect, rows: Rows | None = None) -> dict:
+def truth(e, rows=None) -> dict:
     """The planted truth: parameters, the affected error / axis, and derived values."""
     p = e.params
     out: dict[str, Any] = {"name": e.name, "params": {k: (None if isinstance(v, float) and math.isnan(v) else
@@ -143,7 +142,7 @@ ERROR_EFFECTS = ("backlash", "periodic", "scale", "squareness", "rotary_location
                  "reversal_angular", "thermal_temperature", "axis_scatter", "backlash_travel")
 
 
-def _truth_of_errors(e: Effect, rows: Rows | None, out: dict) -> None:
+def _truth_of_errors(e, rows, out: dict) -> None:
     """``truth``'s entries of an effect on the error functions: the error and axis it acts on."""
     p, n = e.params, e.name
     if n in ("backlash", "periodic", "scale"):
@@ -173,7 +172,7 @@ def _truth_of_errors(e: Effect, rows: Rows | None, out: dict) -> None:
                 out.update(travel=ends, reversal_at_ends=[p["amount"] + p["slope"] * v for v in ends])
 
 
-def _truth_of_nests(e: Effect, rows: Rows | None, out: dict) -> None:
+def _truth_of_nests(e, rows, out: dict) -> None:
     """``truth``'s entries of a nest's creep or knock."""
     p = e.params
     if e.name == "nest_creep":
@@ -192,7 +191,7 @@ def _truth_of_nests(e: Effect, rows: Rows | None, out: dict) -> None:
                    from_axis=str(rows.axis[on][np.argmin(rows.time_s[on])]) if on.any() else None)
 
 
-def _truth_of_readings(e: Effect, rows: Rows | None, out: dict) -> None:
+def _truth_of_readings(e, rows, out: dict) -> None:
     """``truth``'s entries of an effect on the readings (the tracker, the air, a nest, a side)."""
     p, n = e.params, e.name
     if n == "thermal_drift":

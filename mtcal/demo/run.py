@@ -471,13 +471,23 @@ def _plot_compensation(path: Path, before: np.ndarray, after: np.ndarray) -> Non
 
 def report(s: dict, out: Path) -> str:
     """The Markdown report (links to the PNGs beside it)."""
-    i, c, d, p = s["identify"], s["compensate"], s["diagnose"], s["plate"]
     lines = ["# mtcal demo report", "",
              f"A simulated {s.get('title', 'DMU 50 eVolution')} with errors of the magnitudes measured in the "
              "thesis, measured with a laser tracker (AT960 noise) in 4 rounds, with one effect concealed in the "
              "campaign that the "
-             "quasi-static model does not contain. Units: um, urad unless stated.", "",
-             "## Identification", "",
+             "quasi-static model does not contain. Units: um, urad unless stated.", ""]
+    lines += _identify_lines(s["identify"], out)
+    if "stations" in s:
+        lines += report_lines(s["stations"])
+    lines += _plan_lines(s["plan"])
+    lines += _compensation_lines(s["compensate"], s.get("machine", BUNDLED))
+    lines += [*_checks_lines(s.get("checks")), *_diagnosis_lines(s["diagnose"], out), *_plate_lines(s["plate"]),
+              *_history_lines(s.get("history")), f"Run time: {s['seconds']:.1f} s.", ""]
+    return "\n".join(lines)
+
+
+def _identify_lines(i: dict, out: Path) -> list[str]:
+    lines = ["## Identification", "",
              "Squareness (right-hand ISO 230-1 convention; the thesis' eq. 3.16 prints the opposite signs), "
              "identified +- std of the mean over rounds, and the truth's ISO squareness (its constants plus the "
              "slopes of its straightness reference lines):", "",
@@ -493,34 +503,42 @@ def report(s: dict, out: Path) -> str:
                 f"corrected." if i.get("worth") else ""), ""]
     for png in sorted((out / "plots").glob("identify_*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
-    if "stations" in s:
-        lines += report_lines(s["stations"])
-    lines += ["", "## Plan: predicted vs observed uncertainty of one round", "",
-              "`mtcal plan` at the campaign's tracker position predicts the standard uncertainty of one round; the "
-              "campaign's experimental standard deviation over its 4 rounds (itself uncertain by about 40 %) at the "
-              "same position is beside it.", "",
-              "| axis | position | error | predicted | observed std over rounds |", "|---|---|---|---|---|"]
-    for ax, errs in s["plan"].items():
+    return lines
+
+
+def _plan_lines(plan: dict) -> list[str]:
+    lines = ["", "## Plan: predicted vs observed uncertainty of one round", "",
+             "`mtcal plan` at the campaign's tracker position predicts the standard uncertainty of one round; the "
+             "campaign's experimental standard deviation over its 4 rounds (itself uncertain by about 40 %) at the "
+             "same position is beside it.", "",
+             "| axis | position | error | predicted | observed std over rounds |", "|---|---|---|---|---|"]
+    for ax, errs in plan.items():
         for n, v in errs.items():
             scale, unit = (1e3, "um") if n[2] in "XYZ" else (1e6, "urad")
             obs = v["observed_std_over_rounds"]
             lines.append(f"| {ax} | {v['position']:g} | {n} | {v['predicted'] * scale:.2f} {unit} | "
                          f"{'' if obs is None else f'{obs * scale:.2f} {unit}'} |")
-    what = ("the sample five-axis program" if s.get("machine", BUNDLED) == BUNDLED
+    return lines
+
+
+def _compensation_lines(c: dict, machine: str) -> list[str]:
+    what = ("the sample five-axis program" if machine == BUNDLED
             else "a five-axis program (a tool path through the inverse kinematics)")
-    lines += ["", "![plan map](plots/plan_map.png)", "", f"## Compensation of {what}", "",
-              f"ISO/TR 16907 types covered: {', '.join(c['iso_16907'].get('covered', []))}; partial: "
-              f"{', '.join(c['iso_16907'].get('partial', [])) or 'none'}. Lines changed: {c['lines_changed']}.", "",
-              "| tool-tip error on the true machine | max | RMS |", "|---|---|---|",
-              f"| nominal program | {c['true_error_before_max_um']:.2f} | {c['true_error_before_rms_um']:.2f} |",
-              f"| compensated with the identified model | {c['true_error_after_max_um']:.2f} | "
-              f"{c['true_error_after_rms_um']:.2f} |", "",
-              "What is left is the identification uncertainty (see the plan table): compensation is only as good "
-              "as the model.", "", "![compensation](plots/compensation_before_after.png)", "",
-              *_checks_lines(s.get("checks")),
-              "## Diagnosis", "", f"Base model sigma: {d['base_sigma'] * 1e3:.2f} um.", "",
-              "| rank | effect | axis | significant | estimate | sigma after | evidence |",
-              "|---|---|---|---|---|---|---|"]
+    return ["", "![plan map](plots/plan_map.png)", "", f"## Compensation of {what}", "",
+            f"ISO/TR 16907 types covered: {', '.join(c['iso_16907'].get('covered', []))}; partial: "
+            f"{', '.join(c['iso_16907'].get('partial', [])) or 'none'}. Lines changed: {c['lines_changed']}.", "",
+            "| tool-tip error on the true machine | max | RMS |", "|---|---|---|",
+            f"| nominal program | {c['true_error_before_max_um']:.2f} | {c['true_error_before_rms_um']:.2f} |",
+            f"| compensated with the identified model | {c['true_error_after_max_um']:.2f} | "
+            f"{c['true_error_after_rms_um']:.2f} |", "",
+            "What is left is the identification uncertainty (see the plan table): compensation is only as good "
+            "as the model.", "", "![compensation](plots/compensation_before_after.png)", ""]
+
+
+def _diagnosis_lines(d: dict, out: Path) -> list[str]:
+    lines = ["## Diagnosis", "", f"Base model sigma: {d['base_sigma'] * 1e3:.2f} um.", "",
+             "| rank | effect | axis | significant | estimate | sigma after | evidence |",
+             "|---|---|---|---|---|---|---|"]
     for k, e in enumerate(d["effects"], 1):
         ev = e.get("evidence") or {}
         evs = ", ".join(f"{a} = {b:.3g}" for a, b in ev.items() if isinstance(b, (int, float)))
@@ -533,18 +551,18 @@ def report(s: dict, out: Path) -> str:
               "approach, a drift or knock against time, a periodic error against position):", ""]
     for png in sorted((out / "plots").glob("finding_*.png")):
         lines.append(f"![{png.stem}](plots/{png.name})")
-    lines += ["", "The residuals of the quasi-static model alone, in time order (the findings are hard to see here):",
-              "", "![residuals before](plots/residuals_before.png)"]
-    lines += ["", "## Plate reversal: NBS Table 1 (Hocken & Borchardt 1979)", "",
-              f"alpha = {p['alpha'] * 1e6:.2f}e-6 rad, beta = {p['beta'] * 1e6:.2f}e-6 rad, gamma = "
-              f"{p['gamma'] * 1e6:.2f}e-6, ex = {p['ex'] * 1e6:.2f} uin, ey = {p['ey'] * 1e6:.2f} uin, sigma = "
-              f"{p['sigma'] * 1e6:.2f} uin (paper: 4.81, -131.24, 13.69, -14.04, 9.45, 0.5).", "",
-              f"Without the scale term (Reeve's model): sigma = {p['without_scale']['sigma'] * 1e6:.1f} uin; "
-              f"diagnosis: {_plate_diag(p['without_scale']['diagnosis'])}.", "",
-              "![plate](plots/plate_table1.png)", "", *_history_lines(s.get("history")),
-              f"Run time: {s['seconds']:.1f} s.", ""]
-    return "\n".join(lines)
+    return lines + ["", "The residuals of the quasi-static model alone, in time order (the findings are hard to see "
+                    "here):", "", "![residuals before](plots/residuals_before.png)"]
 
+
+def _plate_lines(p: dict) -> list[str]:
+    return ["", "## Plate reversal: NBS Table 1 (Hocken & Borchardt 1979)", "",
+            f"alpha = {p['alpha'] * 1e6:.2f}e-6 rad, beta = {p['beta'] * 1e6:.2f}e-6 rad, gamma = "
+            f"{p['gamma'] * 1e6:.2f}e-6, ex = {p['ex'] * 1e6:.2f} uin, ey = {p['ey'] * 1e6:.2f} uin, sigma = "
+            f"{p['sigma'] * 1e6:.2f} uin (paper: 4.81, -131.24, 13.69, -14.04, 9.45, 0.5).", "",
+            f"Without the scale term (Reeve's model): sigma = {p['without_scale']['sigma'] * 1e6:.1f} uin; "
+            f"diagnosis: {_plate_diag(p['without_scale']['diagnosis'])}.", "",
+            "![plate](plots/plate_table1.png)", ""]
 
 def _planted(e: dict) -> str:
     return f"{e['name']} " + ", ".join(f"{k}={v}" for k, v in e.items() if k != "name")

@@ -1,18 +1,14 @@
 """Nominal inverse kinematics of a machine spec: the tilt branch, the rotary angle's 360-degree multiple and the
-linear axes, on the generated ``ik_tilt``, ``ik_rotary`` and ``ik_linear`` (derive/kinematics.py).
+linear axes, on the generated ``ik_tilt``, ``ik_rotary`` and ``ik_linear`` (derive/kinematics.py).  ``m`` is a
+``mtcal.kinematics.machine.Machine``.
 
 ``Machine.inverse`` is the entry point; the branch rules are stated in its docstring.
 """
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from mtcal.errors import InputError
-
-if TYPE_CHECKING:
-    from mtcal.kinematics.machine import Machine
 
 
 def _unit_tool_axis(pose) -> tuple[np.ndarray, np.ndarray]:
@@ -30,7 +26,7 @@ def _unit_tool_axis(pose) -> tuple[np.ndarray, np.ndarray]:
     return p, n / norm[..., None]
 
 
-def _reachable(m: Machine, n: np.ndarray) -> np.ndarray:
+def _reachable(m, n: np.ndarray) -> np.ndarray:
     """The tool axis with k clipped to the spec's reachable range (only rounding, <= 1e-12); beyond it an error."""
     k = n[..., 2]
     lo, hi = m.ik_info["k_range"]
@@ -41,7 +37,7 @@ def _reachable(m: Machine, n: np.ndarray) -> np.ndarray:
     return np.concatenate([n[..., :2], np.clip(k, lo, hi)[..., None]], axis=-1)
 
 
-def _tilt(m: Machine, n: np.ndarray, h: np.ndarray, hinted: bool) -> np.ndarray:
+def _tilt(m, n: np.ndarray, h: np.ndarray, hinted: bool) -> np.ndarray:
     """The tilt angle: the preferred branch inside the limits, else the other, else the one closer to the hint."""
     info = m.ik_info
     ti = m.axes.index(info["tilt_axis"])
@@ -59,7 +55,7 @@ def _tilt(m: Machine, n: np.ndarray, h: np.ndarray, hinted: bool) -> np.ndarray:
     return np.clip(np.where(pick_second, cand[..., 1], cand[..., 0]), *lim)
 
 
-def inverse_kinematics(m: Machine, pose, hint=None, singular_tol: float = 1e-9,
+def inverse_kinematics(m, pose, hint=None, singular_tol: float = 1e-9,
                        tool_length: float = 0.0) -> np.ndarray:
     """Axes (..., n_axes) that reach ``pose`` nominally on machine ``m`` (the rules: ``Machine.inverse``)."""
     p, n = _unit_tool_axis(pose)

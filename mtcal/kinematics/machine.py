@@ -15,6 +15,7 @@ from typing import Mapping
 import numpy as np
 
 from mtcal.errors import InputError
+from mtcal.kinematics.inverse import inverse_kinematics
 
 
 class StaleGeneratedCodeWarning(UserWarning):
@@ -357,7 +358,6 @@ class Machine(MachineSpec):
         ``singular_tol``) the rotary angle is taken from the hint.  The tool axis must be a unit vector within
         1e-3 (it is then normalised); k outside the reachable range is an error (``mtcal.kinematics.inverse``).
         """
-        from mtcal.kinematics.inverse import inverse_kinematics
         return inverse_kinematics(self, pose, hint, singular_tol, tool_length)
 
 

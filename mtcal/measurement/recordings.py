@@ -164,8 +164,9 @@ def parse_recording(text: str, source: str = "<memory>", machine=None) -> Record
     return _parse_rows(rows, source, _machine(machine))
 
 
-def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) -> Recording:
-    hline, header = rows[0]
+def _columns(hline: int, header: list[str], source: str, machine) -> tuple[list[str], list[str], list[str]]:
+    """(header lower-cased, its pos_<AXIS> columns, its tracker_x,y,z columns); a missing, unknown or incomplete
+    column is an InputError naming the header's line."""
     header = [h.strip().lower() for h in header]
     missing = [c for c in REQUIRED if c not in header]
     if missing:
@@ -179,6 +180,37 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
     trk_cols = [c for c in STATION_COLUMNS[1:] if c in header]
     if trk_cols and len(trk_cols) != 3:
         raise InputError(f"{source}:{hline}: tracker position needs all of tracker_x,tracker_y,tracker_z")
+    return header, pos_cols, trk_cols
+
+
+def _reading(r: list[str], col: dict[str, int], where: str, machine) -> tuple:
+    """(axis, round, position, point, xyz, time_s, direction, temperature_c) of one data row, each checked."""
+    ax = r[col["axis"]].strip().upper()
+    if ax not in machine.axes:
+        raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of the axes of machine {machine.name} "
+                         f"({', '.join(machine.axes)}; `machine` names another)")
+    rnd_f = _float(r[col["round"]], "round", where)
+    if rnd_f != int(rnd_f):
+        raise InputError(f"{where}: round must be an integer, got {r[col['round']]!r}")
+    pos = _float(r[col["position"]], "position", where)
+    pt = r[col["point"]].strip()
+    if not pt:
+        raise InputError(f"{where}: empty point label")
+    xyz = [_float(r[col[c]], c, where) for c in "xyz"]
+    t = _float(r[col["time_s"]], "time_s", where) if "time_s" in col and r[col["time_s"]].strip() else math.nan
+    d = 0
+    if "direction" in col and r[col["direction"]].strip():
+        d = _float(r[col["direction"]], "direction", where)
+        if d not in (1.0, -1.0):
+            raise InputError(f"{where}: direction must be +1 or -1, got {r[col['direction']]!r}")
+    tc = (_float(r[col["temperature_c"]], "temperature_c", where)
+          if "temperature_c" in col and r[col["temperature_c"]].strip() else math.nan)
+    return ax, int(rnd_f), pos, pt, xyz, t, int(d), tc
+
+
+def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) -> Recording:
+    hline, header = rows[0]
+    header, pos_cols, trk_cols = _columns(hline, header, source, machine)
     col = {c: header.index(c) for c in header}
     out = {f: [] for f in _FIELDS}
     seen: dict[tuple, tuple[int, list[str]]] = {}  # key -> (first line, its fields)
@@ -187,36 +219,17 @@ def _parse_rows(rows: list[tuple[int, list[str]]], source: str, machine=None) ->
         where = f"{source}:{line}"
         if len(r) != len(header):
             raise InputError(f"{where}: {len(r)} fields, header has {len(header)}")
-        ax = r[col["axis"]].strip().upper()
-        if ax not in machine.axes:
-            raise InputError(f"{where}: axis {r[col['axis']]!r} is not one of the axes of machine {machine.name} "
-                             f"({', '.join(machine.axes)}; `machine` names another)")
-        rnd_f = _float(r[col["round"]], "round", where)
-        if rnd_f != int(rnd_f):
-            raise InputError(f"{where}: round must be an integer, got {r[col['round']]!r}")
-        pos = _float(r[col["position"]], "position", where)
-        pt = r[col["point"]].strip()
-        if not pt:
-            raise InputError(f"{where}: empty point label")
-        xyz = [_float(r[col[c]], c, where) for c in "xyz"]
-        t = _float(r[col["time_s"]], "time_s", where) if "time_s" in col and r[col["time_s"]].strip() else math.nan
-        d = 0
-        if "direction" in col and r[col["direction"]].strip():
-            d = _float(r[col["direction"]], "direction", where)
-            if d not in (1.0, -1.0):
-                raise InputError(f"{where}: direction must be +1 or -1, got {r[col['direction']]!r}")
-        tc = (_float(r[col["temperature_c"]], "temperature_c", where)
-              if "temperature_c" in col and r[col["temperature_c"]].strip() else math.nan)
+        ax, rnd, pos, pt, xyz, t, d, tc = _reading(r, col, where, machine)
         extra["station"].append(r[col["station"]].strip() if "station" in col else "")
         extra["tracker"].append([_float(r[col[c]], c, where) for c in STATION_COLUMNS[1:]] if trk_cols else [])
         for c in pos_cols:
             extra[c].append(_float(r[col[c]], c, where) if r[col[c]].strip() else 0.0)
-        key = (ax, int(rnd_f), pos, pt, int(d), t, extra["station"][-1])
+        key = (ax, rnd, pos, pt, d, t, extra["station"][-1])
         if key in seen and seen[key][1] != [c.strip() for c in r]:  # an exact copy is the screen's to report
-            raise InputError(f"{where}: duplicate of line {seen[key][0]} (axis {ax}, round {int(rnd_f)}, "
+            raise InputError(f"{where}: duplicate of line {seen[key][0]} (axis {ax}, round {rnd}, "
                              f"position {pos:g}, point {pt}); repeated readings need distinct direction or time_s")
         seen.setdefault(key, (line, [c.strip() for c in r]))
-        for f, v in zip(_FIELDS, (ax, int(rnd_f), pos, pt, xyz, t, int(d), tc, line)):
+        for f, v in zip(_FIELDS, (ax, rnd, pos, pt, xyz, t, d, tc, line)):
             out[f].append(v)
     if not out["axis"]:
         raise InputError(f"{source}: header but no data rows")
