@@ -46,22 +46,14 @@ def _fmt(e: dict) -> str:
 def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_findings, plot_residuals
     from mtcal.diagnose.run import LEVEL
-    from mtcal.errors import InputError
     from mtcal.io import dumps, refuse_overwrite
     from mtcal.kinematics.machine import DEFAULT_MACHINE
-    from mtcal.measurement.recordings import read_recording
     from mtcal.model.errormodel import load_model
 
     refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png", "finding_*.png"]})
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
-    rec = read_recording(args.recording, machine)
-    if args.station is not None:
-        keep = rec.stations() == args.station
-        if not keep.any():
-            raise InputError(f"{args.recording}: no readings of station {args.station!r} "
-                             f"(stations: {', '.join(sorted(set(rec.stations())))})")
-        rec = rec.select(keep)
+    rec = _recording(args, machine)
     level = LEVEL if args.level is None else args.level
     d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=level,
                  tie_positions=not args.per_axis_positions, tracker_model=args.tracker_model)
@@ -71,6 +63,31 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(dumps(out))
         return 0
+    _print_model(d, rec, args.recording)
+    _print_effects(d, out, level)
+    _print_rest(d)
+    for p in out.get("plots", []):
+        log.info("plot: %s", p)
+    return 0
+
+
+def _recording(args: argparse.Namespace, machine: str):
+    """The recording, of one station where ``--station`` says so."""
+    from mtcal.errors import InputError
+    from mtcal.measurement.recordings import read_recording
+
+    rec = read_recording(args.recording, machine)
+    if args.station is not None:
+        keep = rec.stations() == args.station
+        if not keep.any():
+            raise InputError(f"{args.recording}: no readings of station {args.station!r} "
+                             f"(stations: {', '.join(sorted(set(rec.stations())))})")
+        rec = rec.select(keep)
+    return rec
+
+
+def _print_model(d, rec, source: str) -> None:
+    """The noise model and law, the base model and the sigma before and after."""
     law = d.noise.law
     spec = ("the data's law" if law["source"] == "data" else "the law given" if law["instrument"] == "given numbers"
             else f"{law['instrument']} spec") if law else "the trackers' law"
@@ -80,10 +97,14 @@ def run(args: argparse.Namespace) -> int:
         print(f"noise law (MPE, k = {law['k']:g}): along the beam {law['radial_um']:.3g} um + "
               f"{law['radial_um_per_m']:.3g} um/m, across {law['transverse_um']:.3g} um + "
               f"{law['transverse_um_per_m']:.3g} um/m: {law['obtained']}")
-    print(f"{args.recording}: {len(rec)} readings; base model: {d.base['kind']}, degrees "
+    print(f"{source}: {len(rec)} readings; base model: {d.base['kind']}, degrees "
           f"{', '.join(f'{a}={k}' for a, k in d.base['degrees'].items())}")
     print(f"sigma {d.base_sigma * 1e3:.3f} um before -> {d.sigma_after * 1e3:.3f} um after "
           f"({unit}: {d.base_sigma_ratio:.3f} -> {d.sigma_ratio_after:.3f})")
+
+
+def _print_effects(d, out: dict, level: float) -> None:
+    """The named effects with their evidence, what they say and what they are confounded with."""
     sig = [e for e in d.effects if e["significant"]]
     if not sig:
         print("no effect left out: nothing significant at level", level)
@@ -104,6 +125,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"    confounded with {c['name']} {c['axis'] or ''} {c['where']}: {c['separate_by']}")
         if e.get("possible_alias"):
             print(f"    {e['note']}")
+
+
+def _print_rest(d) -> None:
+    """The located and unexplained mismatches, what was not named and what cannot be separated."""
     for loc in d.located[:8]:
         print(f"  located: axis {loc.axis} by {loc.by} = {loc.where} (score {loc.score:.1f}, {loc.kind})")
     for u in d.unexplained[:8]:
@@ -119,6 +144,3 @@ def run(args: argparse.Namespace) -> int:
     for (name, why), axes in ns.items():
         where = f" ({' '.join(a for a in axes if a)})" if any(axes) else ""
         print(f"  not separable: {name}{where}: {why}")
-    for p in out.get("plots", []):
-        log.info("plot: %s", p)
-    return 0
