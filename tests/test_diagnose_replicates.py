@@ -6,7 +6,8 @@ The oldest case: a constant 1.5 um backlash of Y on a low-noise tracker, Y repea
 motion (what a real axis does, and what makes the law estimated from the rounds off in shape: along the beam the
 repeated rounds scatter by the axis, across it by the tracker).  Against the fit's residual the reversal's free
 form beside the backlash gave F = 2.3 (p = 8e-5) at 0.1x the AT960's noise and vetoed it: one `unexplained` "lost
-motion growing or changing with the position".  Against the stops' own scatter from round to round it is F = 0.5.
+motion growing or changing with the position".  Against the stops' own scatter from round to round it is F = 1.4
+(p = 0.18).
 Campaigns from mtcal's simulator (mtcal.campaign.simulate), X and Y, four rounds, the tracker given."""
 from __future__ import annotations
 

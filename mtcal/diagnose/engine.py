@@ -224,7 +224,8 @@ class Engine:
         Null: the fit is adequate, G adds no mean; alternative: G adds one.  Error term: the units' own scatter
         about their cells' means, with G fitted -- SS_pe = what the units' means explain beyond the cells' on
         df_pe = their columns' difference -- as a 3 x 3 covariance S of a unit's mean (whitened coordinates)
-        pooled over the cells and scaled to SS_pe / df_pe: where the weights' law is off in shape (along against
+        pooled over the cells and scaled so that tr(S) = 3 SS_pe / (df_pe m), m the readings a unit holds on
+        average (the mean of m readings varies 1/m of what their sum's projection explains): where the weights' law is off in shape (along against
         across the beam, an axis repeating worse along its motion), S says so.  The null expectation of what G
         explains is then tr(M), M = sum over units of u^T S u (u: the unit's rows of an orthonormal basis of G
         beside the fit, summed over its readings; the fit's residual variance on rows outside the units), and
@@ -242,7 +243,8 @@ class Engine:
         S = _pooled_scatter(with_g.r, units, cells)
         if df_pe < 1 or ss_pe <= 0 or S is None:
             return None
-        S *= 3.0 * (ss_pe / df_pe) / np.trace(S)
+        m = sum(len(rows) for rows, _ in units) / (3 * len(units))  # readings per unit, on average
+        S *= 3.0 * (ss_pe / df_pe) / (m * np.trace(S))  # a unit's mean of m readings scatters 1/m of their sum
         U = self.residualized(G)
         inside = np.zeros(self.N, bool)
         M = np.zeros((U.shape[1], U.shape[1]))
