@@ -220,18 +220,18 @@ class Engine:
 
         ``units`` and ``cells`` (as score_blocks: disjoint rows of the whitened vector, three per reading, and an
         orthonormal basis of each one's mean; mtcal.diagnose.places.replicate_strata): the replicates -- a stop in
-        one round, or one reading -- and the cells they repeat (over the rounds), whose span holds G.
-        Null: the fit is adequate, G adds no mean; alternative: G adds one.  Error term: the units' own scatter
-        about their cells' means, with G fitted -- SS_pe = what the units' means explain beyond the cells' on
-        df_pe = their columns' difference -- as a 3 x 3 covariance S of a unit's mean (whitened coordinates)
-        pooled over the cells and scaled so that tr(S) = 3 SS_pe / (df_pe m), m the readings a unit holds on
-        average (the mean of m readings varies 1/m of what their sum's projection explains): where the weights' law is off in shape (along against
-        across the beam, an axis repeating worse along its motion), S says so.  The null expectation of what G
+        one round, or one reading -- and the cells they repeat (over the rounds), whose span holds G. Null: the fit
+        is adequate, G adds no mean; alternative: G adds one.  Error term: the units' own scatter about their cells'
+        means, with G fitted -- SS_pe = what the units' means explain beyond the cells' on df_pe = their columns'
+        difference -- as a 3 x 3 covariance S of a unit's mean (whitened coordinates) pooled over the cells and
+        scaled so that tr(S) = 3 SS_pe / (df_pe m), m the readings a unit holds on average (the mean of m readings
+        varies 1/m of what their sum's projection explains): where the weights' law is off in shape (along against
+        across the beam, an axis repeating worse along its motion), S says so. The null expectation of what G
         explains is then tr(M), M = sum over units of u^T S u (u: the unit's rows of an orthonormal basis of G
-        beside the fit, summed over its readings; the fit's residual variance on rows outside the units), and
-        F = delta_G / tr(M) is referred to F(h, df_pe), Satterthwaite's h = tr(M)^2 / tr(M^2).  With S = s^2 I and
-        units of one reading this is the classical lack-of-fit test (delta_G / k) / (SS_pe / df_pe) on
-        (k, df_pe).  None where the units leave no pure error or G is not separable."""
+        beside the fit, summed over its readings; the fit's residual variance on rows outside the units), and F =
+        delta_G / tr(M) is referred to F(h, df_pe), Satterthwaite's h = tr(M)^2 / tr(M^2).  With S = s^2 I and units
+        of one reading this is the classical lack-of-fit test (delta_G / k) / (SS_pe / df_pe) on (k, df_pe).  None
+        where the units leave no pure error or G is not separable."""
         own = self.score(G)
         if not own.separable:
             return None

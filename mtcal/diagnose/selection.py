@@ -451,7 +451,9 @@ def _drift_fits_as_much(v: Step, sig: list[Step]) -> str | None:
 
 
 def _simplest(prep: Prepared, eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
-    """``v``, or the simpler member it contains where what ``v`` adds beside it is not significant: its own
+    """``v``, or the simpler member it contains where what ``v`` adds beside it is not significant (lack_of_fit:
+    against the replicates' scatter where what it adds is a function of the stop -- a reversal's change along the
+    travel beside a constant one -- else against the fit's residual; at v's own multiplicity): its own
     ``nested`` member (a re-levelling with its shift: the knock at its t0), or one of ``sig`` (NESTED, same axis and
     place); beyond the float range of p, the chi^2 tail that orders the evidence favours the member with more
     columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2 columns; icelinker's
