@@ -95,3 +95,49 @@ def test_columns_beside_disjoint_blocks_score_as_beside_the_same_columns_formed_
     b = whole.score(G)
     assert (a.k, a.dof) == (b.k, b.dof) == (2, n - 3 - 30 - 2), (a, b)
     assert abs(a.delta - b.delta) < 1e-9 * b.delta and abs(a.logp - b.logp) < 1e-9 * abs(b.logp), (a, b)
+
+
+def _replicated(rng, sd_along: float, cells: int = 10, rounds: int = 4, others: int = 400):
+    """A replicated design, whitened: ``cells`` stops read ``rounds`` times (three coordinates a reading, the first
+    "along the beam" with standard deviation ``sd_along``, the others 1), and ``others`` readings elsewhere (sd 1
+    in every coordinate).  The base: one translation of all readings.  G: a free mean per stop along the first
+    coordinate (a reversal free per position).  Returns (engine, G, units, cells)."""
+    n = cells * rounds + others
+    y = rng.normal(size=(n, 3))
+    y[:cells * rounds, 0] *= sd_along
+    eng = Engine([(np.arange(3 * n), np.tile(np.eye(3), (n, 1)))], y.ravel())
+    cell = np.repeat(np.arange(cells), rounds)
+    G = np.zeros((3 * n, cells))
+    G[3 * np.arange(cells * rounds), cell] = 1.0
+    units = [(np.arange(3 * i, 3 * i + 3), np.eye(3)) for i in range(cells * rounds)]
+    groups = [(np.concatenate([np.arange(3 * i, 3 * i + 3) for i in np.flatnonzero(cell == c)]),
+               np.tile(np.eye(3), (rounds, 1)) / np.sqrt(rounds)) for c in range(cells)]
+    return eng, G, units, groups
+
+
+def test_lack_of_fit_against_the_replicates_holds_its_level_where_the_weights_are_off_in_shape():
+    """Null true (no stop has a mean of its own), the first coordinate of the stops' readings 3 times noisier than
+    the weights say (a law off in shape, an axis repeating worse along its motion): against the fit's residual
+    (Engine.score, the residual mostly other readings at sd 1) the free form is "found" in most runs; against the
+    replicates' own scatter (Engine.lack_of_fit, a pooled 3 x 3 covariance, Satterthwaite's degrees) at about the
+    level.  The pure error's degrees are the readings' less the cells' (40 x 3 - 10 x 3 = 90)."""
+    rng = np.random.default_rng(5)
+    plain = lof = 0
+    runs = 300
+    for _ in range(runs):
+        eng, G, units, cells = _replicated(rng, 3.0)
+        s = eng.lack_of_fit(G, units, cells)
+        assert s is not None and s.dof == 90 and s.k == 10
+        lof += s.logp < np.log(0.01)
+        plain += eng.score(G).logp < np.log(0.01)
+    assert plain > 0.5 * runs and lof < 0.03 * runs, (plain, lof)
+
+
+def test_lack_of_fit_finds_a_mean_the_replicates_do_not_scatter_by():
+    """The same design with one stop's mean off by 4 standard deviations of a reading along the first coordinate:
+    found against the replicates (p < 1e-4), with the weights right (sd 1) or off (sd 3, the mean 12)."""
+    rng = np.random.default_rng(6)
+    for sd in (1.0, 3.0):
+        eng, G, units, cells = _replicated(rng, sd)
+        eng = Engine([(np.arange(eng.N), np.tile(np.eye(3), (eng.N // 3, 1)))], eng.y + 4 * sd * G[:, 3])
+        assert eng.lack_of_fit(G, units, cells).logp < np.log(1e-4)

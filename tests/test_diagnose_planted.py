@@ -143,7 +143,9 @@ def test_physics_outside_the_candidates_is_located_not_named(told):
     assert not [f.name for f in d.effects if f.significant]
     u = {x["axis"]: x for x in d.to_dict()["unexplained"] if x["by"] == "direction x point"}
     assert "Y" in u, d.to_dict()["unexplained"]
-    assert abs(u["Y"]["size_mm"] - shift) < 0.25 * shift, u["Y"]
+    # sized by the displacement its fit adds beyond the base at a reading (issue 52): half the thrown shift, the
+    # base's reflector positions taking the mean of the two approaches (before: the raw reversal, 6 um)
+    assert abs(u["Y"]["size_mm"] - shift / 2) < 0.25 * shift / 2, u["Y"]
     assert u["Y"]["p_adjusted"] < 1e-6
 
 

@@ -286,3 +286,60 @@ def test_a_far_reading_is_said_at_its_distance_from_its_own_nest():
     assert f"{np.linalg.norm(move):.4g} mm from where its nest is" in far.text
     res = identify(rec, tracker=TRACKER, worth=False)  # identify says the same distance
     assert any("301.5 mm from where its nest is" in w for w in res.warnings), res.warnings
+
+
+def _with_times(lines, rows, shift_s):
+    """``lines`` with time_s (column 8) of ``rows`` (indices into lines) moved by ``shift_s``."""
+    bad = list(lines)
+    for i in rows:
+        f = bad[i].split(",")
+        f[7] = f"{float(f[7]) + shift_s:.3f}"
+        bad[i] = ",".join(f)
+    return bad
+
+
+def _significant(d) -> set[str]:
+    return {e["name"] for e in d.to_dict()["effects"] if e["significant"]}
+
+
+def test_a_time_column_that_goes_backwards_within_a_round_is_a_data_problem_at_its_line():
+    _, lines = _campaign(3)
+    rows = _rows(lines, "Y", 2)
+    back = rows[len(rows) // 2:]  # the clock set back an hour halfway through Y's second round
+    rec = parse_recording("\n".join(_with_times(lines, back, -3600.0)), "rec.csv")
+    s = screen(rec)
+    clock = [p for p in s.problems if p.kind == "clock"]
+    assert len(clock) == 1 and clock[0].axis == "Y" and clock[0].round == 2, [p.text for p in s.problems]
+    assert back[0] + 1 in clock[0].lines and "back" in clock[0].text and "rec.csv" not in clock[0].text
+    assert s.keep.all() and s.untimed  # the readings stand; the time column does not
+    d = diagnose(rec, tracker=TRACKER)
+    assert any(p["kind"] == "clock" for p in d.to_dict()["data_problems"])
+    assert not _significant(d) & {"thermal_drift", "offset", "tracker_relevel", "nest_knock", "nest_creep",
+                                  "tracker_settling", "air_index_drift", "side_expansion"}
+
+
+def test_rounds_whose_times_overlap_and_a_clock_that_jumps_within_a_pass_are_data_problems():
+    _, lines = _campaign(4)
+    x3 = _rows(lines, "X", 3)
+    x2 = _rows(lines, "X", 2)
+    # X round 3's times copied onto round 2's clock: the two rounds overlap in time, each in order on its own
+    t2 = [float(lines[i].split(",")[7]) for i in x2]
+    t3 = [float(lines[i].split(",")[7]) for i in x3]
+    rec = parse_recording("\n".join(_with_times(lines, x3, min(t2) + 60.0 - min(t3))), "rec.csv")
+    s = screen(rec)
+    clock = [p for p in s.problems if p.kind == "clock"]
+    assert len(clock) == 1 and {clock[0].axis, clock[0].round} == {"X", 3}, [p.text for p in s.problems]
+    assert x3[0] + 1 in clock[0].lines and "overlap" in clock[0].text
+    # the clock jumps forward by 5 h within one pass and stays there
+    z = _rows(lines, "Z", 1)
+    jump = [i for i in range(z[3], len(lines))]
+    s = screen(parse_recording("\n".join(_with_times(lines, jump, 5 * 3600.0)), "rec.csv"))
+    clock = [p for p in s.problems if p.kind == "clock"]
+    assert len(clock) == 1 and (clock[0].axis, clock[0].round) == ("Z", 1) and z[3] + 1 in clock[0].lines
+    assert "jumps" in clock[0].text
+
+
+def test_a_clean_campaigns_clock_is_not_a_problem():
+    _, lines = _campaign(6)
+    s = screen(parse_recording("\n".join(lines), "rec.csv"))
+    assert not s.untimed and not [p for p in s.problems if p.kind == "clock"]

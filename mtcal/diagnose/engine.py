@@ -214,6 +214,53 @@ class Engine:
         e.p += sum(H.shape[1] for _, H in blocks)
         return e.score(off(G))
 
+    def lack_of_fit(self, G: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],
+                    cells: list[tuple[np.ndarray, np.ndarray]]) -> Score | None:
+        """The lack-of-fit F test of the columns G (N, k) beside this fit, against the pure error of replicates.
+
+        ``units`` and ``cells`` (as score_blocks: disjoint rows of the whitened vector, three per reading, and an
+        orthonormal basis of each one's mean; mtcal.diagnose.places.replicate_strata): the replicates -- a stop in
+        one round, or one reading -- and the cells they repeat (over the rounds), whose span holds G. Null: the fit
+        is adequate, G adds no mean; alternative: G adds one.  Error term: the units' own scatter about their cells'
+        means, with G fitted -- SS_pe = what the units' means explain beyond the cells' on df_pe = their columns'
+        difference -- as a 3 x 3 covariance S of a unit's mean (whitened coordinates) pooled over the cells and
+        scaled so that tr(S) = 3 SS_pe / (df_pe m), m the readings a unit holds on average (the mean of m readings
+        varies 1/m of what their sum's projection explains): where the weights' law is off in shape (along against
+        across the beam, an axis repeating worse along its motion), S says so. The null expectation of what G
+        explains is then tr(M), M = sum over units of u^T S u (u: the unit's rows of an orthonormal basis of G
+        beside the fit, summed over its readings; the fit's residual variance on rows outside the units), and F =
+        delta_G / tr(M) is referred to F(h, df_pe), Satterthwaite's h = tr(M)^2 / tr(M^2).  With S = s^2 I and units
+        of one reading this is the classical lack-of-fit test (delta_G / k) / (SS_pe / df_pe) on (k, df_pe).  None
+        where the units leave no pure error or G is not separable."""
+        own = self.score(G)
+        if not own.separable:
+            return None
+        with_g = self.copy()
+        with_g.add(G)
+        u_sc, c_sc = with_g.score_blocks(units), with_g.score_blocks(cells)
+        df_pe = (u_sc.k if u_sc.separable else 0) - (c_sc.k if c_sc.separable else 0)
+        ss_pe = (u_sc.delta if u_sc.separable else 0.0) - (c_sc.delta if c_sc.separable else 0.0)
+        S = _pooled_scatter(with_g.r, units, cells)
+        if df_pe < 1 or ss_pe <= 0 or S is None:
+            return None
+        m = sum(len(rows) for rows, _ in units) / (3 * len(units))  # readings per unit, on average
+        S *= 3.0 * (ss_pe / df_pe) / (m * np.trace(S))  # a unit's mean of m readings scatters 1/m of their sum
+        U = self.residualized(G)
+        inside = np.zeros(self.N, bool)
+        M = np.zeros((U.shape[1], U.shape[1]))
+        for rows, _ in units:
+            inside[rows] = True
+            u = U[rows].reshape(-1, 3, U.shape[1]).sum(axis=0)
+            M += u.T @ S @ u
+        M += with_g.rss / max(with_g.dof, 1) * (U[~inside].T @ U[~inside])
+        c, c2 = float(np.trace(M)), float(np.sum(M * M))
+        h = c * c / c2
+        F = own.delta / c
+        logp = float(_tails.f_logsf(F, h, df_pe))
+        if not math.isfinite(logp):
+            logp = -0.5 * h * F
+        return Score(True, own.sep, own.k, df_pe, own.delta, F, logp)
+
     def _f_test(self, delta: float, k: int, sep: float) -> Score:
         """The F test of ``k`` added columns that explain ``delta`` of the residual sum of squares."""
         dof = max(self.dof - k, 1)
@@ -255,3 +302,23 @@ class Engine:
         theta, *_ = np.linalg.lstsq(Gp, base.r, rcond=None)
         cov = self.sigma**2 * np.linalg.pinv(Gp.T @ Gp)
         return theta, cov
+
+
+def _pooled_scatter(r: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],
+                    cells: list[tuple[np.ndarray, np.ndarray]]) -> np.ndarray | None:
+    """The 3 x 3 covariance of the units' means of the whitened residual ``r`` (three rows per reading, averaged
+    over a unit's readings) about their cells' means, pooled over the cells; None where no cell holds two units."""
+    cell_of = {}
+    for k, (rows, _) in enumerate(cells):
+        for i in rows[::3] // 3:
+            cell_of[int(i)] = k
+    means: dict[int, list[np.ndarray]] = {}
+    for rows, _ in units:
+        means.setdefault(cell_of[int(rows[0] // 3)], []).append(r[rows].reshape(-1, 3).mean(axis=0))
+    S, df = np.zeros((3, 3)), 0
+    for m in means.values():
+        if len(m) > 1:
+            d = np.array(m) - np.mean(m, axis=0)
+            S += d.T @ d
+            df += len(m) - 1
+    return S / df if df and np.trace(S) > 0 else None

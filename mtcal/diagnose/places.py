@@ -248,6 +248,60 @@ def stop_motions(prep, W: np.ndarray, pattern: np.ndarray) -> list[tuple[np.ndar
     return out
 
 
+REPLICATE_TOL = 1e-9  # columns equal within this share of their largest over a group's readings: its mean
+
+
+def replicate_strata(prep, W: np.ndarray, G: np.ndarray) -> tuple[list, list] | None:
+    """(units, cells) of the readings the columns ``G`` ((n, 3, k), mm per unit, unwhitened) move, for
+    Engine.lack_of_fit: the replicates whose scatter is the error term of G's test, at the stratum where G varies.
+
+    A cell is what is repeated over the rounds: one station, axis, position and direction of approach.  Where G
+    moves every nest of a cell's stop alike (a reversal free per position: a contrast between stops), a unit is
+    one stop -- the cell in one round, its nests together -- and the error is the stops' scatter from round to
+    round (the split plot: the nests of one stop share whatever the stop shares).  Otherwise (G differs between
+    the nests: a reversal free per nest), the cells are also split by nest and a unit is one reading.  Each as
+    Engine.score_blocks' blocks: its rows of the whitened vector (``W``, (n, 3, 3)) and an orthonormal basis of its
+    mean (the three whitened coordinates of a translation of its readings).  None where G is not constant over
+    the cells (a function of the time, not of the stop) or no cell is repeated (no pure error)."""
+    rec, g = prep.rec, prep.geometry
+    moved = np.any(G.reshape(len(G), -1) != 0, axis=1)
+    if not moved.any():
+        return None
+    idx = np.flatnonzero(moved)
+    cell = [(s, a, q, d) for s, a, q, d in zip(rec.stations()[idx], rec.axis[idx], g.position[idx],
+                                                 g.direction[idx])]
+    stop = [(*c, r) for c, r in zip(cell, rec.round[idx])]
+    by_stop = _groups(idx, stop)
+    if not _constant(G, by_stop):
+        cell = [(*c, p) for c, p in zip(cell, rec.point[idx])]
+        by_stop = [[i] for i in idx]
+    by_cell = _groups(idx, cell)
+    if not _constant(G, by_cell) or len(by_stop) == len(by_cell):
+        return None
+    return [_mean_block(W, rows) for rows in by_stop], [_mean_block(W, rows) for rows in by_cell]
+
+
+def _groups(idx: np.ndarray, keys: list[tuple]) -> list[list[int]]:
+    """The readings ``idx`` grouped by their ``keys`` (one list of readings per key, in first-seen order)."""
+    out: dict[tuple, list[int]] = {}
+    for i, k in zip(idx.tolist(), keys):
+        out.setdefault(k, []).append(i)
+    return list(out.values())
+
+
+def _constant(G: np.ndarray, groups: list[list[int]]) -> bool:
+    """Whether every column of ``G`` is the same at every reading of each group (to REPLICATE_TOL)."""
+    scale = max(float(np.abs(G).max()), 1e-300)
+    return all(np.abs(G[rows] - G[rows[:1]]).max() <= REPLICATE_TOL * scale for rows in groups)
+
+
+def _mean_block(W: np.ndarray, rows: list[int]) -> tuple[np.ndarray, np.ndarray]:
+    """(rows of the whitened vector, orthonormal basis of a translation of the readings ``rows``)."""
+    r = np.asarray(rows)
+    q, _ = np.linalg.qr(W[r].reshape(-1, 3))
+    return (3 * r[:, None] + np.arange(3)).ravel(), q
+
+
 def step_rows(prep, c: fx.Candidate) -> np.ndarray:
     """(n,) bool: the readings of the place of a step ``c`` -- its station's (a knock, a re-levelling) or its nest's
     (a nest knock) -- before its t0 as well as after."""

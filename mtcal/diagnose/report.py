@@ -18,7 +18,7 @@ from mtcal.diagnose import effects as fx
 from mtcal.diagnose.engine import Engine
 from mtcal.diagnose.noise import NoiseModel
 from mtcal.diagnose.prepare import Prepared
-from mtcal.diagnose.scans import Located
+from mtcal.diagnose.scans import Beyond, Located, beyond_fit
 from mtcal.io import save_figure
 
 ALIKE = 0.9  # an error motion whose own growing member fits this share of the best one's: alike through the beams
@@ -130,41 +130,48 @@ class Diagnosis:
 
 def _unexplained(x: Located) -> dict:
     return {"axis": x.axis, "by": x.by, "where": x.where, "size_mm": x.shift_mm if x.kind == "mean" else None,
+            "size_sd_mm": x.shift_sd_mm if x.kind == "mean" else None,
             "kind": x.kind, "p_adjusted": x.p_adjusted, "readings": x.readings,
             "chi2_per_dof": x.mean_shift_chi2_per_dof if x.kind == "mean" else x.spread_chi2_per_dof,
             "note": x.note}
 
 
-def free_form_located(prep: Prepared, eng: Engine, s, w) -> Located:
-    """A selected free-form candidate (a misfit no named effect explains) as an unexplained, located mismatch: a
-    free-form reversal sized by the largest well-determined component (|value| > 3 sd) of its per-reflector
-    reversal vectors (mm, the side's frame; else the largest component), named in the note; a position x time free
-    form by ``_growing_located``."""
+def beyond(prep: Prepared, beside: Engine, c: fx.Candidate, w, sigma: float) -> Beyond:
+    """The displacement the free form ``c`` adds beyond ``beside`` (the base and every other selected entry;
+    mtcal.diagnose.scans.beyond_fit): a motion the base or another entry can take (a shared drift, a reflector's
+    position) is not counted again; ``sigma``: the residual scale of the whole fit."""
+    return beyond_fit(prep.W, beside, w(c), sigma)
+
+
+def free_form_located(prep: Prepared, beside: Engine, s, w, sigma: float) -> Located:
+    """A selected free-form candidate (a misfit no named effect explains) as an unexplained, located mismatch,
+    sized by the displacement its fit adds beyond the base and every other entry (``beside``; :func:`beyond`) at
+    the reading where it is largest, with its standard uncertainty (``shift_sd_mm``) -- never a raw coefficient of
+    the free form, which the base could trade against: a free-form reversal (direction x point) names that
+    reading's reflector; a position x time free form by ``_growing_located``; a place's free form by
+    ``_place_located``."""
     c = s.candidate
-    theta, cov = eng.estimate([w(c)])
+    b = beyond(prep, beside, c, w, sigma)
     if c.extra.get("kind") == "growing":
-        return _growing_located(prep, eng, c, s, theta, w)
+        return _growing_located(prep, beside, c, s, b, w)
     if c.extra.get("kind") == "place":
-        return _place_located(prep, c, s, theta, (c.extra.get("at_axis") or _seen_most(prep, eng, c, theta, w))
+        return _place_located(prep, c, s, b, (c.extra.get("at_axis") or _seen_most(prep, beside, c, b.theta, w))
                               if "names" in c.extra else None)
-    sd = np.sqrt(np.maximum(np.diag(cov), 1e-300))
-    pick = np.abs(theta) * (np.abs(theta) > 3 * sd)
-    k = int(np.argmax(pick if pick.any() else np.abs(theta)))
-    point, comp = c.extra["points"][k // 3], "xyz"[k % 3]
+    k, size, sd = b.largest()
     note = ("the readings differ between the directions of approach, and differently for each reflector, beyond "
             "what the rigid reversals of the axis (backlash, straightness and angular reversals) explain together; "
-            f"largest: reflector {point}, {comp} = {theta[k] * 1e3:.2f} +- {sd[k] * 1e3:.2f} um "
-            "(reading(+ approach) - reading(- approach), the side's frame)")
+            f"largest beyond the base: {size * 1e3:.2f} +- {sd * 1e3:.2f} um at reflector {prep.rec.point[k]} "
+            "(a reading's displacement: half its reversal, reading(+ approach) - reading(- approach))")
     return Located(c.axis, "direction x point", c.label, float(-s.logp_adj / math.log(10)),
                    min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(c.moved)), s.score.F,
-                   0.0, float(abs(theta[k])), note)
+                   0.0, size, note, sd)
 
 
-def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.ndarray, w) -> Located:
+def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, b: Beyond, w) -> Located:
     """A selected position x time free form as an unexplained mismatch: its size is the largest displacement it
-    fits (mm, a reading's, relative to the block's middle in time), and the error motion whose own columns explain
-    the most of it is named in the note with what would name the physics."""
-    disp = np.linalg.norm(np.einsum("nik,k->ni", c.G, theta), axis=1)
+    adds beyond the base and the other entries (mm, a reading's, :func:`beyond`), and the error motion whose own
+    columns explain the most of it is named in the note with what would name the physics."""
+    k, size, sd = b.largest()
     errors = c.extra["errors"]
     if len(errors) == 1:  # one motion's member: the others' own members, as alike through these beams or not
         errors = list(prep.machine.error_motions(c.axis))
@@ -173,19 +180,19 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, theta: np.
         per = len(c.params) // len(errors)
         share = [eng.score(w(fx.Candidate(c.name, c.axis, "", c.G[:, :, j * per:(j + 1) * per], []))).delta
                  for j in range(len(errors))]
-    k = int(np.argmax(share))
-    frac = share[k] / max(s.score.delta, 1e-300)
-    alike = [e for e, d in zip(errors, share) if e != errors[k] and d >= ALIKE * share[k]]
+    j = int(np.argmax(share))
+    frac = share[j] / max(s.score.delta, 1e-300)
+    alike = [e for e, d in zip(errors, share) if e != errors[j] and d >= ALIKE * share[j]]
     note = (f"the error motions of axis {c.axis} change while it is measured (position x time: not a drift of a "
-            f"side, which moves every position alike): up to {disp.max() * 1e3:.2f} um at a reading, mostly "
-            f"{errors[k]} ({min(frac, 1.0):.0%} of it alone"
+            f"side, which moves every position alike): up to {size * 1e3:.2f} +- {sd * 1e3:.2f} um at a reading "
+            f"beyond the base, mostly {errors[j]} ({min(frac, 1.0):.0%} of it alone"
             + (f"; {' or '.join(alike)} fit{'s' if len(alike) == 1 else ''} it alike through these beams" if alike
                else "") + "); a scale or straightness growing with the machine's "
             "temperature (e.g. a ball screw warming): record a temperature channel (temperature_c) and the "
             "diagnosis names it (thermal_temperature), or let the axis reach a steady temperature first")
-    return Located(c.axis, "position x time", errors[k], float(-s.logp_adj / math.log(10)),
-                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(disp > 0)), s.score.F, 0.0,
-                   float(disp.max()), note)
+    return Located(c.axis, "position x time", errors[j], float(-s.logp_adj / math.log(10)),
+                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(np.linalg.norm(b.disp, axis=1) > 0)),
+                   s.score.F, 0.0, size, note, sd)
 
 
 def _seen_most(prep: Prepared, eng: Engine, c: fx.Candidate, theta: np.ndarray, w) -> str:
@@ -204,18 +211,19 @@ def _seen_most(prep: Prepared, eng: Engine, c: fx.Candidate, theta: np.ndarray, 
     return max(axes, key=lambda a: float(np.sum(f[on & (prep.rec.axis == a)] ** 2)))
 
 
-def _place_located(prep: Prepared, c: fx.Candidate, s, theta: np.ndarray, axis: str | None = None) -> Located:
+def _place_located(prep: Prepared, c: fx.Candidate, s, b: Beyond, axis: str | None = None) -> Located:
     """A selected free form of a named effect's place (mtcal.diagnose.places) as an unexplained mismatch: where
     (the place, and ``axis`` or else the axis of the reading it moves most), its shape (``by``), the largest
-    displacement it fits at a reading (mm, machine frame) and when and where that is, with the place's words."""
-    disp = np.linalg.norm(np.einsum("nik,k->ni", c.G, theta), axis=1)
-    k = int(np.argmax(disp))
+    displacement it adds beyond the base and the other entries at a reading (mm, machine frame, :func:`beyond`,
+    with its standard uncertainty) and when and where that is, with the place's words."""
+    k, size, sd = b.largest()
     rec = prep.rec
-    at = (f"; largest {disp[k] * 1e3:.2f} um at axis {rec.axis[k]} round {int(rec.round[k])} point {rec.point[k]}"
-          f" at {rec.position[k]:g}" + (f", t = {rec.time_s[k]:.0f} s" if np.isfinite(rec.time_s[k]) else ""))
+    at = (f"; largest beyond the base {size * 1e3:.2f} +- {sd * 1e3:.2f} um at axis {rec.axis[k]} round "
+          f"{int(rec.round[k])} point {rec.point[k]} at {rec.position[k]:g}"
+          + (f", t = {rec.time_s[k]:.0f} s" if np.isfinite(rec.time_s[k]) else ""))
     return Located(axis or c.axis or str(rec.axis[k]), c.extra["by"], f"{c.extra['place']}: {c.label}",
                    float(-s.logp_adj / math.log(10)), min(1.0, math.exp(s.logp_adj)), "mean",
-                   int(np.sum(disp > 0)), s.score.F, 0.0, float(disp[k]), c.extra["note"] + at)
+                   int(np.sum(np.linalg.norm(b.disp, axis=1) > 0)), s.score.F, 0.0, size, c.extra["note"] + at, sd)
 
 
 def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:

@@ -1,6 +1,7 @@
 """``diagnose()``: the orchestration of prepare -> candidates -> selection -> report (see mtcal.diagnose)."""
 from __future__ import annotations
 
+import dataclasses
 import logging
 
 import numpy as np
@@ -157,7 +158,8 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     with_effects = with_steps(null_eng, steps, w)
     left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
     left = collapsed(left)
-    unexplained = [free_form_located(prep, eng, s, w) for s in free] + left
+    unexplained = [free_form_located(prep, with_steps(eng, [o for o in steps if o is not s], w), s, w, after.sigma)
+                   for s in free] + left
     base_info = _base_info(prep, degrees, test_degrees, null, int(after.copy_base().p), shapes)
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, _noise_notes(prep), residuals_before=r_before,
@@ -186,6 +188,8 @@ def _screened(rec: Recording, machine: Machine):
     for note in gross.notes:
         log.warning("warning: %s", note)
     kept = rec.select(gross.keep) if gross.problems else rec
+    if gross.untimed:  # the clock is not what it claims (a "clock" data problem): nothing reads it
+        kept = dataclasses.replace(kept, time_s=np.full(len(kept), np.nan))
     check_units_and_frame(kept, machine)  # inch, radians, swapped columns: refused before any fit (as identify)
     return kept, gross
 

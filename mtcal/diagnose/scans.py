@@ -36,9 +36,68 @@ class Located:
     spread_chi2_per_dof: float
     shift_mm: float
     note: str = "located but not explained by any candidate effect"
+    shift_sd_mm: float | None = None  # the standard uncertainty of shift_mm, where it is a fit's (a free form's)
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+
+SEEN = 3.0  # a displacement's component larger than this many of its standard deviations is one the data see
+
+
+@dataclass
+class Beyond:
+    """What columns' fit adds beyond another fit (its columns projected out of theirs): ``theta`` and ``cov`` their
+    estimate (Frisch-Waugh on that fit) and covariance, ``disp`` (n, 3) mm the displacement they add at every
+    reading (machine frame), ``J`` (n, 3, k) mm per parameter (its Jacobian)."""
+
+    theta: np.ndarray
+    cov: np.ndarray
+    disp: np.ndarray
+    J: np.ndarray
+
+    def seen(self) -> np.ndarray:
+        """(n, 3) mm: the part of every reading's displacement the data determine -- its components, in the
+        principal axes of its covariance J cov J^T, larger than SEEN standard deviations (the others are the
+        noise of a direction the readings hardly see: across a tracker's beam, a free form's 3-vector is mostly
+        that, and its norm is biased up by it)."""
+        C = np.einsum("nik,kl,njl->nij", self.J, self.cov, self.J)
+        lam, V = np.linalg.eigh(C)
+        a = np.einsum("nji,nj->ni", V, self.disp)
+        a = np.where(np.abs(a) > SEEN * np.sqrt(np.maximum(lam, 0.0)), a, 0.0)
+        return np.einsum("nij,nj->ni", V, a)
+
+    def largest(self) -> tuple[int, float, float]:
+        """(reading, size mm, its standard uncertainty mm) of the largest displacement the data determine
+        (``seen``; where none is, the largest displacement)."""
+        d = self.seen()
+        size = np.linalg.norm(d, axis=1)
+        if not size.any():
+            d, size = self.disp, np.linalg.norm(self.disp, axis=1)
+        k = int(np.argmax(size))
+        g = d[k] / size[k] if size[k] > 0 else np.zeros(3)
+        Jk = g @ self.J[k]
+        return k, float(size[k]), float(math.sqrt(max(Jk @ self.cov @ Jk, 0.0)))
+
+
+def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float) -> Beyond:
+    """The displacement the whitened columns ``G`` (3n, k) add beyond the fit ``beside``: G with that fit
+    projected out, fitted to its residual, the result un-whitened by ``W`` (n, 3, 3) to mm; ``sigma`` the residual
+    scale of the covariance.  What the base (or another entry) can take is not counted: a reported size is what
+    the data show beyond it, never a raw coefficient of columns the base trades against."""
+    A = G - beside.project(G)
+    theta, *_ = np.linalg.lstsq(A, beside.r, rcond=None)
+    cov = sigma ** 2 * np.linalg.pinv(A.T @ A)
+    J = np.einsum("nij,njk->nik", np.linalg.inv(W), A.reshape(len(W), 3, -1))
+    return Beyond(theta, cov, np.einsum("nik,k->ni", J, theta), J)
+
+
+def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray) -> tuple[float, float]:
+    """(size, standard uncertainty) mm of a group's common shift beyond the fit ``eng``: a translation of the
+    readings ``idx`` as three columns (beyond_fit), its largest displacement at a reading."""
+    G = np.zeros((len(W), 3, 3))
+    G[idx] = W[idx]
+    return beyond_fit(W, eng, G.reshape(-1, 3), eng.sigma).largest()[1:]
 
 
 def _levels(prep: Prepared, on: np.ndarray) -> dict[str, list[tuple[Any, np.ndarray]]]:
@@ -89,7 +148,6 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
     IH = np.eye(3) - np.einsum("nip,njp->nij", Qi, Qi)
     s2 = eng.sigma**2
     t2 = np.einsum("ni,ni->n", r, np.linalg.solve(IH + 1e-12 * np.eye(3), r[..., None])[..., 0]) / s2
-    raw = np.linalg.solve(prep.W, r[..., None])[..., 0]
     groups = [(a, by, where, np.flatnonzero(sel)) for a, by, where, sel in _groups(prep, pairs) if sel.sum() >= 2]
     count = 2 * len(groups)
     Qf, cols = None, {}  # the full rows of Q (computed when first needed) and, per axis, its live columns
@@ -115,10 +173,11 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
         padj = min(1.0, min(p_shift, p_disp) * count)
         if padj < level:
             (T, kt), (S, ks) = tests
+            size, sd = group_shift(prep.W, eng, idx)
             out.append(Located(a, by, where,
                                float(-math.log10(max(padj, 1e-300))), padj,
                                "mean" if p_shift <= p_disp else "spread", ng, T / max(kt, 1), S / max(ks, 1),
-                               float(np.linalg.norm(raw[idx].mean(axis=0)))))
+                               size, shift_sd_mm=sd))
     out.sort(key=lambda d: -d.score)
     return out
 
@@ -221,7 +280,7 @@ def collapsed(located: list[Located]) -> list[Located]:
                 "structure they sit on)")
         out.append(Located(axis, by, {"levels": [u.where for u in us]}, top.score,
                            top.p_adjusted, top.kind, sum(u.readings for u in us), top.mean_shift_chi2_per_dof,
-                           top.spread_chi2_per_dof, big.shift_mm, note))
+                           top.spread_chi2_per_dof, big.shift_mm, note, big.shift_sd_mm))
     out.sort(key=lambda d: -d.score)
     return out
 

@@ -33,6 +33,7 @@ from mtcal.diagnose.places import (
     frame_path,
     nest_path,
     place_of,
+    replicate_strata,
     step_pattern,
     step_rows,
     stop_motions,
@@ -271,7 +272,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if why is None:
             place = place_needed(prep, eng, v.candidate, w, level)
             if place is None:
-                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(eng, v, sig, w, level), pool, w,
+                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(prep, eng, v, sig, w, level), pool, w,
                                                                   level)
             free, sc, why = place
             fallback = fallback or _in_place(_stops_instead(prep, eng, v, free, w, level) or (free, sc), v, level,
@@ -449,8 +450,10 @@ def _drift_fits_as_much(v: Step, sig: list[Step]) -> str | None:
             f"({o.score.delta:.4g} against {v.score.delta:.4g}, whitened sums of squares)")
 
 
-def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
-    """``v``, or the simpler member it contains where what ``v`` adds beside it is not significant: its own
+def _simplest(prep: Prepared, eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
+    """``v``, or the simpler member it contains where what ``v`` adds beside it is not significant (lack_of_fit:
+    against the replicates' scatter where what it adds is a function of the stop -- a reversal's change along the
+    travel beside a constant one -- else against the fit's residual; at v's own multiplicity): its own
     ``nested`` member (a re-levelling with its shift: the knock at its t0), or one of ``sig`` (NESTED, same axis and
     place); beyond the float range of p, the chi^2 tail that orders the evidence favours the member with more
     columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2 columns; icelinker's
@@ -465,7 +468,10 @@ def _simplest(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -
                   and _place(o.candidate) == _place(c)), None)
     if o is None:
         return v
-    return v if _significant_beside(eng, w(o.candidate), w(v.candidate), level * math.exp(-v.log_multiplicity)) else o
+    e = eng.copy()
+    e.add(w(o.candidate))
+    sc = lack_of_fit(prep, e, v.candidate, w)
+    return v if sc.separable and sc.logp < math.log(level) - v.log_multiplicity else o
 
 
 WITHIN = 0.1  # a candidate whose fit the free form of a place leaves less than this share of is within that place
@@ -492,7 +498,7 @@ def place_needed(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level
     e = eng.copy()
     e.add(np.hstack([w(x) for x in place.named]))
     tests = (*place.sharper, place.candidate)
-    scores = [e.score(w(x)) for x in tests]
+    scores = [lack_of_fit(prep, e, x, w) for x in tests]
     beside = min((sc for sc in scores if sc.separable), key=lambda sc: sc.logp, default=None)
     if beside is None or beside.logp >= math.log(level / len(tests)):
         return None
@@ -509,8 +515,20 @@ def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: 
     named = reversal_named(prep, axis)
     e = eng.copy()
     e.add(np.hstack([w(c) for c in named]))
-    sc = e.score(w(fx.reversal_free(g, axis)))
+    sc = lack_of_fit(prep, e, fx.reversal_free(g, axis), w)
     return sc if sc.separable and sc.logp < math.log(level) else None
+
+
+def lack_of_fit(prep: Prepared, e: Engine, x: fx.Candidate, w: Columns) -> Score:
+    """The score of the free form ``x`` beside the fit ``e`` (the named members of its place fitted): where ``x``
+    is a function of the stop (places.replicate_strata: the same at every reading repeated at one stop), the
+    classical lack-of-fit F test against the pure error of those repeated readings (Engine.lack_of_fit; null: the
+    named members are adequate, x adds no mean; error term: the replicates' scatter about their cells' means;
+    multiplicity: the caller's); else, or where no stop is read twice, the F test against the fit's residual
+    (Engine.score)."""
+    strata = replicate_strata(prep, w.W, x.G)
+    sc = e.lack_of_fit(w(x), *strata) if strata else None
+    return sc if sc is not None else e.score(w(x))
 
 
 def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:

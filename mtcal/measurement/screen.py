@@ -12,7 +12,12 @@ far more than the noise is a data problem:
   where the other rounds read the same reflector (with two rounds only, which round is wrong cannot be told:
   both are left out, unless the other axes of the side or the other stations say which); a station's only round
   far from where the other stations' rounds, agreeing, read the same pass;
-* a row repeated exactly (a duplicated export line).
+* a row repeated exactly (a duplicated export line);
+* a clock that is not what it claims (_clock): within one axis' round of one station, written in time order, the
+  time goes back from one row to the next, or jumps forward by more than max(JUMP_FLOOR_S, JUMP_FACTOR x the
+  round's median step) between two rows; or two rounds of one station overlap in time (one station reads one
+  axis' round at a time).  The readings stand; the time column does not (``Screen.untimed``): what reads the
+  clock -- a drift, a knock at a time, a creep -- is not tested, and that is said.
 
 Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
 is the unit every estimator uses).  When the left-out pass held a round's reference reading, that round of that
@@ -40,6 +45,8 @@ RIGID_K = 10.0         # robust standard deviations of a pair distance
 RIGID_FLOOR_MM = 0.15  # never flag a distance change below this (machine errors and knocked nests are smaller)
 PASS_FLOOR_MM = 2.0    # a pass this far from the same pass of the other rounds has a wrong label
 SAME_MM = 1e-6         # readings equal to this are one reading repeated
+JUMP_FLOOR_S = 3600.0  # a forward step of the clock within one axis' round longer than this ...
+JUMP_FACTOR = 100.0    # ... and than this many times the round's median step is a jump of the clock
 
 
 @dataclass
@@ -48,7 +55,7 @@ class DataProblem:
     "round_off_side" (of two rounds that disagree, the one the other axes of its side do not agree with),
     "round_off_station" (of one station's two rounds that disagree, the one the other stations do not agree with;
     or a station's only round, where the other stations' rounds agree and it does not),
-    "duplicate_row"."""
+    "duplicate_row", "clock" (the time column going back, jumping or overlapping within a station: _clock)."""
 
     kind: str
     axis: str
@@ -74,7 +81,7 @@ class Screen:
     problems: list[DataProblem] = field(default_factory=list)
     keep: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
     notes: list[str] = field(default_factory=list)
-
+    untimed: bool = False  # the time column is not what it claims (a "clock" problem): not to be used
 
 
 def screen(rec: Recording, sides: Mapping[str, str] | None = None, machine=None) -> Screen:
@@ -85,6 +92,7 @@ def screen(rec: Recording, sides: Mapping[str, str] | None = None, machine=None)
     None: how far its distances to the other reflectors are off."""
     out = Screen(keep=np.ones(len(rec), bool))
     _duplicates(rec, out)
+    _clock(rec, out)
     by_axis = {}
     for axis in rec.axes():
         rows = np.flatnonzero((rec.axis == axis) & out.keep)
@@ -146,6 +154,68 @@ def _duplicates(rec: Recording, out: Screen) -> None:
                 "duplicate_row", key[1], key[2], key[3], (key[4],), (int(rec.line[j]), int(rec.line[i])), 0.0,
                 f"line {int(rec.line[i])} repeats line {int(rec.line[j])} ({key[1]} round {key[2]} at {key[3]:g}, "
                 f"point {key[4]}): a duplicated row, left out"))
+
+
+def _clock(rec: Recording, out: Screen) -> None:
+    """The clock's problems (module docstring): one per axis' round of a station, at its first bad line; where
+    there is one, ``out.untimed``."""
+    t = rec.time_s
+    blocks: dict[tuple, list[int]] = {}
+    for i, key in enumerate(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist())):
+        if np.isfinite(t[i]) and out.keep[i]:
+            blocks.setdefault(key, []).append(i)
+    flagged = set()
+    for key, rows in blocks.items():
+        why = _clock_in_round(rec, rows)
+        if why:
+            flagged.add(key)
+            _clock_problem(rec, out, key, *why)
+    spans = sorted((t[r].min(), t[r].max(), k, r) for k, r in blocks.items() if k not in flagged)
+    end: dict[str, tuple] = {}  # station -> (latest end so far, its round's key)
+    for lo, hi, key, rows in spans:
+        last = end.get(key[0])
+        if last is not None and lo < last[0]:
+            first = rows[int(np.argmin(t[rows]))]
+            _clock_problem(rec, out, key, first, f"its times ({lo:.6g} .. {hi:.6g} s) overlap those of axis "
+                           f"{last[1][1]} round {last[1][2]} (to {last[0]:.6g} s), and one station reads one axis' "
+                           "round at a time")
+            continue
+        if last is None or hi > last[0]:
+            end[key[0]] = (hi, key)
+    out.untimed = bool(flagged) or any(p.kind == "clock" for p in out.problems)
+
+
+def _clock_in_round(rec: Recording, rows: list[int]) -> tuple[int, str] | None:
+    """(the row, the words) where the clock goes back or jumps within one axis' round (``rows`` in file order),
+    else None."""
+    t = rec.time_s[rows]
+    step = np.diff(t)
+    back = np.flatnonzero(step < 0)
+    if len(back):
+        j = int(back[0])
+        return rows[j + 1], (f"the time goes back from {t[j]:.6g} s (line {int(rec.line[rows[j]])}) to "
+                             f"{t[j + 1]:.6g} s")
+    pos = step[step > 0]
+    limit = max(JUMP_FLOOR_S, JUMP_FACTOR * float(np.median(pos))) if len(pos) else np.inf
+    jump = np.flatnonzero(step > limit)
+    if len(jump):
+        j = int(jump[0])
+        return rows[j + 1], (f"the clock jumps by {step[j]:.6g} s from line {int(rec.line[rows[j]])} (more than "
+                             f"{limit:.6g} s: {JUMP_FACTOR:g} times the round's median step, at least "
+                             f"{JUMP_FLOOR_S:g} s)")
+    return None
+
+
+def _clock_problem(rec: Recording, out: Screen, key: tuple, row: int, why: str) -> None:
+    """A "clock" problem of the axis' round ``key`` (station, axis, round) at ``row``."""
+    station, axis, rnd = key
+    of = f" of station {station}" if station else ""
+    line = int(rec.line[row])
+    out.problems.append(DataProblem(
+        "clock", axis, int(rnd), float(rec.position[row]), (str(rec.point[row]),), (line,), 0.0,
+        f"line {line}: the time column is not what it claims in axis {axis} round {rnd}{of}: {why}; the readings "
+        "are kept, the time column is not used (nothing that reads the clock -- a drift, a knock, a creep -- is "
+        "tested)"))
 
 
 def _pair_distances(rec: Recording, passes: dict) -> dict[tuple[str, str], dict[tuple, float]]:
