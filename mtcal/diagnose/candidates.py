@@ -91,41 +91,69 @@ def _spare_shapes(prep: Prepared, axis: str, max_degree: int) -> int:
 
 def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], list[dict]]:
     """All candidates that can be tested, and notes on the ones this recording cannot show."""
-    g, rec = prep.geometry, prep.rec
+    g = prep.geometry
     out: list[fx.Candidate] = []
     notes: list[dict] = []
     for a in prep.axes:
-        on = rec.axis == a
-        dirs = set(rec.direction[on].tolist())
-        if {1, -1} <= dirs:
-            out += reversal_named(prep, a)
-            out.append(fx.reversal_free(g, a))
-        else:
-            why = NO_DIRECTION if dirs == {0} else None
-            notes += [{"name": nm, "axis": a, "not_separable": why or NOT_SEPARABLE[nm]}
-                      for nm in ("backlash", "reversal_angular", "reversal_straightness")]
-        grid, span = fx.pitch_grid(rec.position[on], g.linear(a), min(max_degree, ROTARY_HARMONICS))
-        spare = _spare_shapes(prep, a, max_degree)
-        if len(grid) and spare < PERIODIC_SPARE:
-            notes.append({"name": "periodic", "axis": a, "not_separable": NOT_SEPARABLE["periodic few"].format(
-                n=len(np.unique(rec.position[on])), spare=spare, need=PERIODIC_SPARE)})
-            grid = []
-        for pitch in grid:
-            out.append(fx.periodic(g, a, pitch, span))
-        out.append(fx.scale(g, a))
-        rounds = len(set(rec.round[on].tolist()))
-        if np.isfinite(rec.time_s[on]).all() and rounds >= 2:  # a change over rounds: linear from two on
-            out += [fx.growing_free(g, a, full) for full in ((False, True) if rounds > 2 else (False,))]
-            if rounds > 2:  # two rounds: one motion's bow changing between them is as much its stops' scatter
-                out += [fx.growing_free(g, a, motion=e) for e in prep.machine.error_motions(a)]  # (gen2 3502/16)
-        for e in prep.machine.error_motions(a):
-            out.append(fx.second_order(g, a, e))
-        notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})
+        out += _axis_candidates(prep, a, max_degree, notes)
     groups: dict[tuple[str, str, bool], list[str]] = {}
     for e, (name, a) in fx.constants(prep.machine).items():
         if a in prep.axes:
             groups.setdefault((name, a, e[2] in "XYZ"), []).append(e)  # offsets and tilts apart
     out += [fx.constant(g, name, errors) for (name, _, _), errors in groups.items()]
+    out += _time_candidates(prep, notes)
+    out += _temperature(prep, notes)
+    if g.trackers:  # the first station's scale is the frame's: a scale common to every station is the machine's
+        out += [fx.tracker_scale(g, st) for st in g.stations()[1:]]
+        notes.append({"name": "tracker_scale", "axis": None, "not_separable": NOT_SEPARABLE["tracker_scale common"]})
+    elif g.tracker is not None:
+        out.append(fx.tracker_scale(g))
+    for s, (_a, r, label) in enumerate(prep.seq_keys):
+        rows = np.flatnonzero(prep.seq == s)
+        out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
+    out += grammar_members(prep, notes)
+    return out, notes
+
+
+def _axis_candidates(prep: Prepared, a: str, max_degree: int, notes: list[dict]) -> list[fx.Candidate]:
+    """The candidates of one axis: reversals, periodic errors, scale, changes over rounds, second-order terms
+    (``notes``: what this recording cannot show of them)."""
+    g, rec = prep.geometry, prep.rec
+    out: list[fx.Candidate] = []
+    on = rec.axis == a
+    dirs = set(rec.direction[on].tolist())
+    if {1, -1} <= dirs:
+        out += reversal_named(prep, a)
+        out.append(fx.reversal_free(g, a))
+    else:
+        why = NO_DIRECTION if dirs == {0} else None
+        notes += [{"name": nm, "axis": a, "not_separable": why or NOT_SEPARABLE[nm]}
+                  for nm in ("backlash", "reversal_angular", "reversal_straightness")]
+    grid, span = fx.pitch_grid(rec.position[on], g.linear(a), min(max_degree, ROTARY_HARMONICS))
+    spare = _spare_shapes(prep, a, max_degree)
+    if len(grid) and spare < PERIODIC_SPARE:
+        notes.append({"name": "periodic", "axis": a, "not_separable": NOT_SEPARABLE["periodic few"].format(
+            n=len(np.unique(rec.position[on])), spare=spare, need=PERIODIC_SPARE)})
+        grid = []
+    for pitch in grid:
+        out.append(fx.periodic(g, a, pitch, span))
+    out.append(fx.scale(g, a))
+    rounds = len(set(rec.round[on].tolist()))
+    if np.isfinite(rec.time_s[on]).all() and rounds >= 2:  # a change over rounds: linear from two on
+        out += [fx.growing_free(g, a, full) for full in ((False, True) if rounds > 2 else (False,))]
+        if rounds > 2:  # two rounds: one motion's bow changing between them is as much its stops' scatter
+            out += [fx.growing_free(g, a, motion=e) for e in prep.machine.error_motions(a)]  # (gen2 3502/16)
+    for e in prep.machine.error_motions(a):
+        out.append(fx.second_order(g, a, e))
+    notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})
+    return out
+
+
+def _time_candidates(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
+    """The candidates that change with time: the sides' and trackers' drifts, nest creep, the tracker's
+    settling (``notes``: why none where the recording has no time)."""
+    g, rec = prep.geometry, prep.rec
+    out: list[fx.Candidate] = []
     if np.isfinite(rec.time_s).all():
         t0 = float(np.min(rec.time_s))
         sides = set(g.side.tolist())
@@ -149,17 +177,7 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
     else:
         notes += [{"name": nm, "axis": None, "not_separable": NOT_SEPARABLE[nm]}
                   for nm in ("thermal_drift", "nest_creep", "tracker_settling")]
-    out += _temperature(prep, notes)
-    if g.trackers:  # the first station's scale is the frame's: a scale common to every station is the machine's
-        out += [fx.tracker_scale(g, st) for st in g.stations()[1:]]
-        notes.append({"name": "tracker_scale", "axis": None, "not_separable": NOT_SEPARABLE["tracker_scale common"]})
-    elif g.tracker is not None:
-        out.append(fx.tracker_scale(g))
-    for s, (_a, r, label) in enumerate(prep.seq_keys):
-        rows = np.flatnonzero(prep.seq == s)
-        out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))
-    out += grammar_members(prep, notes)
-    return out, notes
+    return out
 
 
 def grammar_members(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:

@@ -232,34 +232,7 @@ class Engine:
         delta_G / tr(M) is referred to F(h, df_pe), Satterthwaite's h = tr(M)^2 / tr(M^2).  With S = s^2 I and units
         of one reading this is the classical lack-of-fit test (delta_G / k) / (SS_pe / df_pe) on (k, df_pe).  None
         where the units leave no pure error or G is not separable."""
-        own = self.score(G)
-        if not own.separable:
-            return None
-        with_g = self.copy()
-        with_g.add(G)
-        u_sc, c_sc = with_g.score_blocks(units), with_g.score_blocks(cells)
-        df_pe = (u_sc.k if u_sc.separable else 0) - (c_sc.k if c_sc.separable else 0)
-        ss_pe = (u_sc.delta if u_sc.separable else 0.0) - (c_sc.delta if c_sc.separable else 0.0)
-        S = _pooled_scatter(with_g.r, units, cells)
-        if df_pe < 1 or ss_pe <= 0 or S is None:
-            return None
-        m = sum(len(rows) for rows, _ in units) / (3 * len(units))  # readings per unit, on average
-        S *= 3.0 * (ss_pe / df_pe) / (m * np.trace(S))  # a unit's mean of m readings scatters 1/m of their sum
-        U = self.residualized(G)
-        inside = np.zeros(self.N, bool)
-        M = np.zeros((U.shape[1], U.shape[1]))
-        for rows, _ in units:
-            inside[rows] = True
-            u = U[rows].reshape(-1, 3, U.shape[1]).sum(axis=0)
-            M += u.T @ S @ u
-        M += with_g.rss / max(with_g.dof, 1) * (U[~inside].T @ U[~inside])
-        c, c2 = float(np.trace(M)), float(np.sum(M * M))
-        h = c * c / c2
-        F = own.delta / c
-        logp = float(_tails.f_logsf(F, h, df_pe))
-        if not math.isfinite(logp):
-            logp = -0.5 * h * F
-        return Score(True, own.sep, own.k, df_pe, own.delta, F, logp)
+        return _lack_of_fit(self, G, units, cells)
 
     def _f_test(self, delta: float, k: int, sep: float) -> Score:
         """The F test of ``k`` added columns that explain ``delta`` of the residual sum of squares."""
@@ -302,6 +275,39 @@ class Engine:
         theta, *_ = np.linalg.lstsq(Gp, base.r, rcond=None)
         cov = self.sigma**2 * np.linalg.pinv(Gp.T @ Gp)
         return theta, cov
+
+
+def _lack_of_fit(eng: Engine, G: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],
+                 cells: list[tuple[np.ndarray, np.ndarray]]) -> Score | None:
+    """``Engine.lack_of_fit`` (its docstring states the test)."""
+    own = eng.score(G)
+    if not own.separable:
+        return None
+    with_g = eng.copy()
+    with_g.add(G)
+    u_sc, c_sc = with_g.score_blocks(units), with_g.score_blocks(cells)
+    df_pe = (u_sc.k if u_sc.separable else 0) - (c_sc.k if c_sc.separable else 0)
+    ss_pe = (u_sc.delta if u_sc.separable else 0.0) - (c_sc.delta if c_sc.separable else 0.0)
+    S = _pooled_scatter(with_g.r, units, cells)
+    if df_pe < 1 or ss_pe <= 0 or S is None:
+        return None
+    m = sum(len(rows) for rows, _ in units) / (3 * len(units))  # readings per unit, on average
+    S *= 3.0 * (ss_pe / df_pe) / (m * np.trace(S))  # a unit's mean of m readings scatters 1/m of their sum
+    U = eng.residualized(G)
+    inside = np.zeros(eng.N, bool)
+    M = np.zeros((U.shape[1], U.shape[1]))
+    for rows, _ in units:
+        inside[rows] = True
+        u = U[rows].reshape(-1, 3, U.shape[1]).sum(axis=0)
+        M += u.T @ S @ u
+    M += with_g.rss / max(with_g.dof, 1) * (U[~inside].T @ U[~inside])
+    c, c2 = float(np.trace(M)), float(np.sum(M * M))
+    h = c * c / c2
+    F = own.delta / c
+    logp = float(_tails.f_logsf(F, h, df_pe))
+    if not math.isfinite(logp):
+        logp = -0.5 * h * F
+    return Score(True, own.sep, own.k, df_pe, own.delta, F, logp)
 
 
 def _pooled_scatter(r: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],

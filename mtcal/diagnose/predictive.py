@@ -59,6 +59,14 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
     if x.get("station"):
         return "an effect of one station of several: the simulator has one tracker"
     n = c.name
+    out = _of_errors(n, c, th, x)
+    if out is None:
+        out = _of_readings(n, f, prep, th, x)
+    return f"no model of {n} in the simulator" if out is None else out
+
+
+def _of_errors(n: str, c, th: np.ndarray, x: dict) -> list[Effect] | None:
+    """``effects_of`` for the effects on the machine's error functions (None: not one of them)."""
     if n in ("backlash", "scale", "reversal_angular"):
         key = {"backlash": "amount", "scale": "ppm", "reversal_angular": "amount"}[n]
         where = {"error": x["error"]} if n == "reversal_angular" else {"axis": c.axis}
@@ -71,6 +79,14 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
     if n == "periodic":  # a_s sin + a_c cos = A sin(. + phase)
         return [Effect(n, {"axis": c.axis, "amplitude": float(math.hypot(th[0], th[1])), "pitch": x["pitch"],
                            "phase_deg": math.degrees(math.atan2(th[1], th[0]))})]
+    if n == "backlash_travel":
+        return [Effect(n, {"axis": c.axis, "amount": float(th[0]), "slope": float(th[1])})]
+    return None
+
+
+def _of_readings(n: str, f: Finding, prep: Prepared, th: np.ndarray, x: dict) -> list[Effect] | str | None:
+    """``effects_of`` for the effects on the readings (None: not one of them)."""
+    c = f.candidate
     if n == "thermal_drift":
         size, d = _vector(th)
         return [Effect(n, {"amplitude": size, "direction": d, "tau_s": x["tau_s"], "t0_s": x["t0_s"],
@@ -101,8 +117,6 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
             return "an effect of several stations: the simulator has one tracker"
         law = {"ppm_per_h": float(th[0])} if x["law"] == "ramp" else {"ppm": float(th[0]), "tau_s": x["tau_s"]}
         return [Effect(n, {"law": x["law"], "t0_s": x["t0_s"], **law})]
-    if n == "backlash_travel":
-        return [Effect(n, {"axis": c.axis, "amount": float(th[0]), "slope": float(th[1])})]
     if n == "tracker_relevel":
         if x.get("pivot"):
             return "a turn about the readings' centre (no station known): the simulator turns about its tracker"
@@ -119,7 +133,7 @@ def effects_of(f: Finding, prep: Prepared) -> list[Effect] | str:
         size, d = _vector(th)
         return [Effect(n, {"ppm_per_k": 0.0, "drift_mm_per_k": size, "direction": d, "target": x["target"],
                            "t_ref_c": t_ref})]
-    return f"no model of {n} in the simulator"
+    return None
 
 
 def _displaced(f: Finding, prep: Prepared, th: np.ndarray) -> list[Effect]:

@@ -108,11 +108,7 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level}")
     level /= STAGES  # each stage's share (STAGES)
-    prior = as_tracker_model(tracker_model)
-    machine = machine if isinstance(machine, Machine) else load_machine(machine)
-    rec, gross = _screened(rec, machine)
-    tracker = _station_tracker(rec, tracker)
-    prep = prepare(rec, machine, model, tracker, max_degree, tie_positions, prior, level)
+    prep, gross = _prepared(rec, model, machine, tracker, level, max_degree, tie_positions, tracker_model)
     say(f"noise model: {prep.noise.kind} ({prep.noise.how})")
     wy, w = whiten(prep.W, prep.y), Columns(prep.W)
     # the null of every test: the quasi-static family at its largest degree (or the given model), not the
@@ -164,6 +160,15 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     return Diagnosis(base_sigma, base_ratio, raw_sigma(prep, after.r, after.dof), after.sigma, effects, located,
                      base_info, prep.noise, unexplained, _noise_notes(prep), residuals_before=r_before,
                      residuals_after=after.r.copy(), prep=prep, data_problems=[p.to_dict() for p in gross.problems])
+
+
+def _prepared(rec, model, machine, tracker, level, max_degree, tie_positions, tracker_model):
+    """(the prepared data, the gross-error screen) of a recording: screened, its station placed, weighted."""
+    prior = as_tracker_model(tracker_model)
+    machine = machine if isinstance(machine, Machine) else load_machine(machine)
+    rec, gross = _screened(rec, machine)
+    tracker = _station_tracker(rec, tracker)
+    return prepare(rec, machine, model, tracker, max_degree, tie_positions, prior, level), gross
 
 
 def _noise_notes(prep) -> list[str]:
