@@ -23,6 +23,7 @@ from mtcal.measurement.tracker_position import (
     estimate_shape,
     refine,
     rigid_law,
+    rigid_station,
     station_interval,
 )
 
@@ -122,12 +123,12 @@ def test_a_station_about_which_the_distances_show_no_tracker_noise_is_not_determ
     -1586) mm, 1.08 m from the readings, "determined" 0.95-1.27 m; about it the mutual distances' transverse factor
     was 3e-8, not determined (about the tracker's origin: 0.18, 0.17-0.18), and the rounds' radial factor 7.5 was
     within 2x of the distances' 15, so the disagreement rule said nothing and the station stood.  The replica
-    about the same point: the transverse scale is not determined, and the station is said not to be, for that."""
-    from mtcal.diagnose.noise import _trusted
-    sh = estimate_shape(_replica(), np.array([2418.5, 611.2, -1586.2]), AT960, known=False)
-    assert not sh.rigid["transverse"]["determined"] and sh.rigid["transverse"]["factor"] < 1e-3
-    out = _trusted({"distance_mm": 1080.6, "interval_95_mm": [948.7, 1265.1], "determined": True}, sh)
-    assert not out["determined"] and "show no tracker's noise" in out["note"]
+    about the same point: the mutual distances, all of a pass's jointly with the station free (rigid_station),
+    put it where the tracker stood (2.84 m from the readings), not where the rounds did."""
+    rec = _replica()
+    st = rigid_station(rec, np.array([2418.5, 611.2, -1586.2]), AT960)
+    lo, hi = st["interval_95_mm"]
+    assert 1265.1 < lo < 2837.0 < hi, st["interval_95_mm"]
 
 
 def test_a_station_beyond_the_search_bound_is_not_determined():
