@@ -790,34 +790,37 @@ def _profile_set(prof: list[tuple[float, float]]) -> tuple[list[float] | None, b
 
 
 def rigid_station(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
-    """Where the reflectors' mutual distances put the station: the profile likelihood of its distance from the
-    readings' centre under RigidLikelihood (the station and both scales free, the direction tilted from ``t``'s
-    (mm), _distance_profile), under each detrend (DETRENDS); the 95 % interval is the hull of the detrends' sets
-    (_profile_set), determined where both are.  No rigid motion of a side moves a mutual distance, so a shared
-    motion that the rounds' scatter counts as noise places nothing here.  None where there are fewer than
-    RIGID_MIN_PAIRS distances.  Returns {"interval_95_mm", "determined", "by_detrend": {kind: {"interval_95_mm",
-    "determined", "profile"}}} (mm)."""
+    """Whether the reflectors' mutual distances allow the station ``t`` (mm), and where they put it: under
+    RigidLikelihood with the bending detrend (a spline holds a line: valid whether or not the distances bend; under
+    a line, icelinker's bend pushed the station out to 12.7-30 m), the likelihood-ratio test of the station t
+    (chi^2, 3 dof) against the best the distances reach from it (t and both scales free; a local best, so the
+    test leans to agreement); where it rejects at LR_LEVEL, the profile likelihood of the station's distance from
+    the readings' centre (_distance_profile: the direction and both scales re-fitted) and its 95 % set
+    (_profile_set).  No rigid motion of a side moves a mutual distance, so a shared motion that the rounds'
+    scatter counts as noise places nothing here.  None where there are fewer than RIGID_MIN_PAIRS distances.
+    Returns {"likelihood_ratio", "p", and where it rejects "interval_95_mm", "determined", "profile"} (mm)."""
+    t = np.asarray(t, float)
     groups = _trimmed(_pass_groups(rec), rec.xyz, t, base)
     if sum(g.count for g in groups) < RIGID_MIN_PAIRS:
         return None
-    c = rec.xyz.mean(axis=0)
-    per = {}
-    for kind in DETRENDS:
-        lik = RigidLikelihood(groups, rec.xyz, kind, base)
-        parts = lik.parts(t)
-        if parts is None:
-            return None
-        law = _scale_intervals(lambda v, p=parts, lik=lik: lik.given(p, v))
-        x0 = np.array([max(2 * math.log(max(law[k]["factor"], 1e-300)), LOG_FLOOR) for k in ("radial",
-                                                                                             "transverse")])
-        prof = _distance_profile(lambda q, v, lik=lik: lik(np.append(q, np.maximum(v, LOG_FLOOR))), c, t, x0,
-                                 lik(np.append(t, x0)))
-        interval, det = _profile_set(prof)
-        per[kind] = {"interval_95_mm": interval, "determined": det,
-                     "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
-    sets = [v["interval_95_mm"] for v in per.values()]
-    hull = None if None in sets else [min(v[0] for v in sets), max(v[1] for v in sets)]
-    return {"interval_95_mm": hull, "determined": all(v["determined"] for v in per.values()), "by_detrend": per}
+    lik = RigidLikelihood(groups, rec.xyz, "bending", base)
+    parts = lik.parts(t)
+    if parts is None:
+        return None
+    law = _scale_intervals(lambda v, p=parts: lik.given(p, v), intervals=False)
+    x0 = np.array([max(2 * math.log(max(law[k]["factor"], 1e-300)), LOG_FLOOR) for k in ("radial", "transverse")])
+    f_t = lik.given(parts, x0)
+    scale = np.array([100.0, 100.0, 100.0, 1.0, 1.0])  # mm, log: the local search in comparable steps
+    res = _profile_point(lambda v: lik(np.append(t, x0) + v * scale), np.zeros(5))
+    lr = max(2.0 * (f_t - min(float(res.fun), f_t)), 0.0)
+    out = {"likelihood_ratio": round(float(lr), 2), "p": float(_tails.chi2_sf(lr, 3))}
+    if out["p"] >= LR_LEVEL:
+        return out
+    prof = _distance_profile(lambda q, v: lik(np.append(q, np.maximum(v, LOG_FLOOR))), rec.xyz.mean(axis=0), t, x0,
+                             f_t)
+    interval, det = _profile_set(prof)
+    return {**out, "interval_95_mm": interval, "determined": det,
+            "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
 
 
 def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.ndarray, nll_best: float,
@@ -829,7 +832,8 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
     data allow.  A curvature sigma (the Hessian) says nothing of either.  With ``rec`` (the readings' recording),
     the mutual distances as well (rigid_station): where their interval and the scatter's do not meet, the scatter
     holds what is not the tracker's noise (a motion shared by a side) -- the interval stated is the distances',
-    not determined, and said.  Returns {"distance_mm", "interval_95_mm", "determined", "profile": [[s mm, 2 (nll -
+    not determined, and said (where the distances allow the estimate, rigid_station's test, nothing changes).
+    Returns {"distance_mm", "interval_95_mm", "determined", "profile": [[s mm, 2 (nll -
     best)], ...], "note", "mutual_distances", "scatter"} (mm)."""
     c = xyz.mean(axis=0)
     s0 = float(np.linalg.norm(np.asarray(t, float) - c))
@@ -847,10 +851,11 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
                        "weights, and the findings that depend on them, are conditional on it: give the tracker's "
                        "position (--tracker or the tracker_x,y,z columns)")
     rigid = None if rec is None else rigid_station(rec, np.asarray(t, float), spec)
-    if rigid is None or rigid["interval_95_mm"] is None:
+    if rigid is None:
         return out
-    out["mutual_distances"] = {**{k: rigid[k] for k in ("interval_95_mm", "determined")},
-                               "by_detrend": {k: v["interval_95_mm"] for k, v in rigid["by_detrend"].items()}}
+    out["mutual_distances"] = {k: v for k, v in rigid.items() if k != "profile"}
+    if rigid.get("interval_95_mm") is None:
+        return out
     a, b = rigid["interval_95_mm"]
     if interval is not None and interval[0] < b and a < interval[1]:  # the sets meet
         return out
