@@ -85,7 +85,7 @@ def test_the_validation_pages_quote_every_measured_figure(name):
 
 GUIDES = sorted((ROOT / "docs" / "guide").glob("*.md"))
 # Pages another helper rewrites in this session (their figures are theirs to mark): strict, so the mark goes with it.
-NOT_YET = {"diagnose.md": "rewritten in w55 by another branch"}
+NOT_YET: dict[str, str] = {}
 
 
 @pytest.mark.parametrize("guide", [pytest.param(g, marks=pytest.mark.xfail(strict=True, reason=NOT_YET[g.name]))

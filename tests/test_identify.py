@@ -312,7 +312,7 @@ def test_a_disagreeing_round_missing_positions_and_single_rounds_are_reported():
     assert len(res.warnings) == 1 and "round 3 disagrees" in res.warnings[0] and "at 300" in res.warnings[0]
     keep = ~((rec.round == 2) & (rec.position == 100))
     res = identify(rec.select(keep), outlier_k=0)
-    assert any("not measured" in w and "(2, 100.0)" in w for w in res.warnings)
+    assert any("not measured" in w and "round 2 at X = 100" in w for w in res.warnings)
     assert res.axes["X"].n.tolist()[2] == 3
     res = identify(rec.select(rec.round == 1))
     assert any("only one round" in w for w in res.warnings)
