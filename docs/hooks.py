@@ -23,6 +23,8 @@ from pathlib import Path
 
 MARK = "<!-- cli-reference -->"
 RESULTS = Path(__file__).resolve().parents[1] / "benchmarks" / "results.json"
+RATES = RESULTS.parent / "gen3"  # benchmarks/diagnose_gen3_rates.py --json rates_<code>_seed<S>_<mix>.json
+RATES_BLOCK = re.compile(r"(<!-- rates -->\n)(.*?)(<!-- /rates -->)", re.S)
 QUOTE = re.compile(r"<!-- bench (\w+)(?: ([^ ]+))? -->")
 NUMBER = re.compile(r"-?\d[\d,]*(?:\.\d+)?")
 
@@ -61,10 +63,38 @@ def quoted(before: str) -> re.Match | None:
     return found[-1] if found else None
 
 
-def check(markdown: str, figures: dict | None = None) -> list[str]:
+def _rates_row(path: Path) -> str:
+    """One table row of a kept rates run: its code, seed, mix and campaigns, then per way (defaults / tracker)."""
+    d = json.loads(path.read_text())
+    code = path.stem.removeprefix("rates_").split("_seed")[0]
+    ways = [d["summary"][m] for m in ("defaults", "tracker") if m in d["summary"]]
+    cells = [
+        [f"{w['totals']['wrong']} of {w['planted_runs']} (≤ {100 * w['wrong_upper95']:.0f} %)" for w in ways],
+        [f"{w['false_alarms']} of {w['clean_runs']}" for w in ways],
+        [f"{w['gen3_in_reach_right']} of {w['gen3_in_reach_runs']}" for w in ways],
+        [f"{w['sizes_beyond_1_5x']} of {w['sizes_checked']}" for w in ways]]
+    ratio = max(w["largest_size_ratio"] or 0.0 for w in ways)
+    return " | ".join(["", code, f"{d['seed']}, {d['mix']}, {d['n']}", *(" / ".join(c) for c in cells),
+                       f"{ratio:.1f}", ""]).strip()
+
+
+def rates_table(folder: Path = RATES) -> str:
+    """The markdown table of every kept gen3 rates run (benchmarks/gen3/rates_*.json), in file-name order: what a
+    page's ``<!-- rates -->`` block must read (``python docs/hooks.py PAGE`` rewrites it)."""
+    head = ("| code | seed, mix, campaigns | wrong, defaults / tracker (95 % bound) | clean false alarms "
+            "| gen3 physics within reach located right | located sizes beyond 1.5x the planted displacement "
+            "| largest size ratio |\n|---|---|---|---|---|---|---|\n")
+    return head + "".join(_rates_row(p) + "\n" for p in sorted(folder.glob("rates_*.json")))
+
+
+def check(markdown: str, figures: dict | None = None, rates: Path = RATES) -> list[str]:
     """Every quoted figure of a page that differs from benchmarks/results.json: ``line: quoted ... , file ...``."""
     figures = results() if figures is None else figures
     problems = []
+    block = RATES_BLOCK.search(markdown)
+    if block and block.group(2) != rates_table(rates):
+        problems.append(f"line {markdown.count(chr(10), 0, block.start()) + 1}: the rates table differs from "
+                        f"benchmarks/gen3/rates_*.json: run python docs/hooks.py on the page")
     for m in QUOTE.finditer(markdown):
         line = markdown.count("\n", 0, m.start()) + 1
         want = expected(m.group(1), m.group(2), figures)
@@ -91,7 +121,8 @@ def update(markdown: str, figures: dict | None = None) -> str:
         end = start + len(got.group(0))
         out += [markdown[last:start], expected(m.group(1), m.group(2), figures)]
         last = end
-    return "".join(out) + markdown[last:]
+    markdown = "".join(out) + markdown[last:]
+    return RATES_BLOCK.sub(lambda m: m.group(1) + rates_table() + m.group(3), markdown)
 
 
 def on_page_markdown(markdown: str, page, config, files) -> str:
@@ -111,4 +142,4 @@ if __name__ == "__main__":
         new = update(text)
         if new != text:
             p.write_text(new)
-            print(f"{arg}: figures rewritten from {RESULTS.name}")
+            print(f"{arg}: figures rewritten from {RESULTS.name} and {RATES.name}'s rates")

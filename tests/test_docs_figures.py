@@ -113,3 +113,26 @@ def test_the_checker_fails_on_what_it_guards():
     shown = "```text\nB 4.19 um\n```\nB is 4.19<!-- output --> µm, E 9.9<!-- output --> µm"
     assert unquoted_figures(shown) == [] and unshown_outputs(shown) == ["line 4: 9.9"]
     assert unquoted_figures("found 4.3 µm and 4.19<!-- output --> µm") == ["line 1: 4.3 µm"]
+
+
+def test_the_rates_table_is_generated_from_the_kept_runs_and_a_stale_one_fails(tmp_path):
+    """issue 52 item 5: the diagnosis' rates on the validation page are gen3's kept runs
+    (benchmarks/gen3/rates_*.json), never typed: the page's block is what the files give, and a changed file makes
+    the page stale (the docs build and this test fail)."""
+    page = (ROOT / "docs" / "reference" / "validation.md").read_text()
+    block = hooks.RATES_BLOCK.search(page)
+    assert block, "validation.md has no <!-- rates --> block"
+    runs = sorted(hooks.RATES.glob("rates_*.json"))
+    rows = block.group(2).strip().split("\n")[2:]
+    assert len(rows) == len(runs) >= 3
+    assert hooks.check(page) == []
+    import json
+    first = json.loads(runs[0].read_text())
+    first["summary"]["defaults"]["totals"]["wrong"] += 1
+    (tmp_path / runs[0].name).write_text(json.dumps(first))
+    for p in runs[1:]:
+        (tmp_path / p.name).write_text(p.read_text())
+    stale = hooks.check(page, rates=tmp_path)
+    assert len(stale) == 1 and "rates table differs" in stale[0], stale
+    wrong = first["summary"]["defaults"]["totals"]["wrong"]
+    assert f"| {wrong} of {first['summary']['defaults']['planted_runs']} (" in hooks.rates_table(tmp_path)
