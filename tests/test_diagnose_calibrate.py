@@ -129,6 +129,32 @@ def test_bare_calibrate_simulates_the_default_count(clean, tmp_path):
     assert campaigns(parse_args(["diagnose", "r.csv"])) is None
 
 
+def test_interrupted_calibration_says_what_was_done(clean, tmp_path, capsys, monkeypatch):
+    import mtcal.diagnose.run as run
+
+    path = tmp_path / "clean.csv"
+    write_recording(clean, path)
+    real, calls = run.diagnose, []
+
+    def second_interrupts(*a, **k):  # the calibration's own diagnoses (the command's first one is not run's)
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*a, **k)
+    monkeypatch.setattr(run, "diagnose", second_interrupts)
+    rc, out, err = _cli(capsys, path, "--calibrate", 3, "-q")
+    assert rc == 130 and out == "" and "interrupted: 1 of 3 null campaigns diagnosed" in err
+
+
+def test_claims_are_counted_per_kind_and_name():
+    from mtcal.diagnose.calibrate import Calibration
+
+    c = Calibration(0.005, 20, 0, 2, {"named": 2, "located": 1, "unexplained": 0, "axis_scatter": 0},
+                    {"backlash": 1, "outlier": 1}, 0, 100, 1.0, 3.0, 3.0)
+    assert c.rate == pytest.approx(0.1) and c.upper == pytest.approx(_upper(2, 20))
+    assert "claims in 2 of 20" in c.says() and "named 2 (backlash 1, outlier 1), located 1" in c.says()
+
+
 def test_seed_without_calibrate_is_refused(clean, tmp_path, capsys):
     path = tmp_path / "clean.csv"
     write_recording(clean, path)

@@ -31,7 +31,7 @@ import contextlib
 import dataclasses
 import logging
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -76,7 +76,6 @@ class Calibration:
     scale: float
     cpu_s: float
     wall_s: float
-    notes: list[str] = field(default_factory=list)
 
     @property
     def rate(self) -> float:
@@ -87,8 +86,9 @@ class Calibration:
         return clopper_pearson_upper(self.alarms, self.campaigns, CONFIDENCE)
 
     def says(self) -> str:
-        what = "; claimed: " + ", ".join(f"{k} {v}" for k, v in {**self.claims, **self.named}.items() if v) \
-            if self.alarms else ""
+        names = f" ({', '.join(f'{k} {v}' for k, v in sorted(self.named.items()))})" if self.named else ""
+        kinds = [f"{k} {v}" + (names if k == "named" else "") for k, v in self.claims.items() if v]
+        what = f"; claimed (campaigns): {', '.join(kinds)}" if kinds else ""
         return (f"calibrated: claims in {self.alarms} of {self.campaigns} campaigns simulated from the fitted null "
                 f"(seed {self.seed}): false-alarm rate {self.rate:.3g}, one-sided {CONFIDENCE:.0%} upper bound "
                 f"{self.upper:.3g} (Clopper-Pearson){what}; {self.cpu_s:.0f} CPU-s").replace("95%", "95 %")
@@ -102,8 +102,7 @@ class Calibration:
                         "the readings were weighted by, times the base's sigma ratio",
                 "simulated": "the readings at the recording's plan (the rows the screen kept), one draw of the law "
                              "each; the diagnosis run again with the same options",
-                "held_fixed": "the fitted null (not re-drawn from its uncertainty), the plan, the options",
-                "notes": list(self.notes)}
+                "held_fixed": "the fitted null (not re-drawn from its uncertainty), the plan, the options"}
 
 
 def nominal(level: float) -> dict:
