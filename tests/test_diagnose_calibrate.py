@@ -28,6 +28,24 @@ def clean():
     return rec
 
 
+def _law_ratios(sims, null, tracker, spec, on=slice(None)):
+    """(along, across): the RMS of the simulated readings' deviations from the fitted null along the beam and per
+    direction across it, in units of the law's sigmas about ``tracker``."""
+    ray = null.xyz[on] - tracker
+    dist = np.linalg.norm(ray, axis=1)
+    u = np.tile(ray / dist[:, None], (len(sims), 1))
+    s_r, s_t = (np.tile(s, len(sims)) for s in spec.sigmas(dist))
+    e = np.concatenate([s.xyz[on] - null.xyz[on] for s in sims])
+    along = np.einsum("ij,ij->i", e, u)
+    across = e - along[:, None] * u
+    return np.sqrt(np.mean((along / s_r) ** 2)), np.sqrt(np.mean(np.sum(across**2, axis=1) / s_t**2) / 2)
+
+
+def _spec(law: dict) -> TrackerSpec:
+    return TrackerSpec(law["radial_um"], law["radial_um_per_m"], law["transverse_um"], law["transverse_um_per_m"],
+                       law["k"])
+
+
 def _cli(capsys, *argv):
     rc = main(["diagnose", *map(str, argv)])
     cap = capsys.readouterr()
@@ -88,24 +106,39 @@ def test_null_campaigns_have_the_recordings_plan_and_the_stated_law(clean):
         assert not np.allclose(sim.xyz, clean.xyz)
     assert np.array_equal(null_campaign(null, np.random.default_rng(1)).xyz, sims[0].xyz)  # reproducible
     # the scatter about the fitted null, along and across the beam, against the law the diagnosis states
-    law, t = d.noise.law, np.asarray(d.noise.tracker)
-    spec = TrackerSpec(law["radial_um"], law["radial_um_per_m"], law["transverse_um"], law["transverse_um_per_m"],
-                       law["k"])
-    ray = null.xyz - t
-    dist = np.linalg.norm(ray, axis=1)
-    u = ray / dist[:, None]
-    s_r, s_t = spec.sigmas(dist)
-    e = np.concatenate([s.xyz - null.xyz for s in sims])
-    u3, sr3, st3 = np.tile(u, (3, 1)), np.tile(s_r, 3), np.tile(s_t, 3)
-    along = np.einsum("ij,ij->i", e, u3)
-    across = e - along[:, None] * u3
-    scale = d.base_sigma_ratio
-    ratio_along = np.sqrt(np.mean((along / sr3) ** 2))
-    ratio_across = np.sqrt(np.mean(np.sum(across**2, axis=1) / st3**2) / 2)
-    assert ratio_along == pytest.approx(scale, rel=0.08) and ratio_across == pytest.approx(scale, rel=0.08)
+    spec, scale = _spec(d.noise.law), d.base_sigma_ratio
+    along, across = _law_ratios(sims, null, np.asarray(d.noise.tracker), spec)
+    assert along == pytest.approx(scale, rel=0.08) and across == pytest.approx(scale, rel=0.08)
     assert null.scale == pytest.approx(scale)
-    # the fitted null is the base's prediction: the recording less the base's residuals
-    assert np.sqrt(np.mean(np.sum((clean.xyz - null.xyz) ** 2, axis=1))) < 3 * np.sqrt(np.mean(s_t**2 * 2))
+    # the fitted null is the base's prediction: the recording less it is the base's residual, whose whitened RMS
+    # is the sigma ratio (over 3n - p degrees of freedom, p a few per cent of 3n here)
+    white = np.einsum("nij,nj->ni", d.prep.W, clean.xyz - null.xyz)
+    assert np.sqrt(np.mean(white**2)) == pytest.approx(scale, rel=0.1)
+
+
+def test_null_campaigns_of_two_stations_have_each_stations_law():
+    """Each station's readings scatter about its own tracker by the law scaled to that station (per_station)."""
+    import sys
+    from pathlib import Path
+
+    from mtcal.diagnose import diagnose
+    from mtcal.diagnose.calibrate import null_campaign, null_fit
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_diagnose_multistation import campaign
+
+    rec, _ = campaign(3)
+    d = diagnose(rec)
+    factors = d.noise.details["per_station"]["factors"]
+    null = null_fit(d)
+    sims = [null_campaign(null, np.random.default_rng(s)) for s in (1, 2, 3)]
+    assert np.array_equal(sims[0].stations(), rec.stations()) and len(factors) == 2
+    for label, tracker in d.noise.details["trackers"].items():
+        on = rec.stations() == label
+        along, across = _law_ratios(sims, null, np.asarray(tracker), _spec(d.noise.law), on)
+        f = factors[label]
+        assert along == pytest.approx(f["radial"] * d.base_sigma_ratio, rel=0.08)
+        assert across == pytest.approx(f["transverse"] * d.base_sigma_ratio, rel=0.08)
 
 
 @pytest.mark.parametrize("bad", ["0", "-1", "x", "2.5"])
@@ -149,10 +182,24 @@ def test_interrupted_calibration_says_what_was_done(clean, tmp_path, capsys, mon
 def test_claims_are_counted_per_kind_and_name():
     from mtcal.diagnose.calibrate import Calibration
 
-    c = Calibration(0.005, 20, 0, 2, {"named": 2, "located": 1, "unexplained": 0, "axis_scatter": 0},
+    c = Calibration(0.005, 20, 0, 2, {"named": 2, "located": 1, "unexplained": 0, "beyond_family": 0,
+                                              "axis_scatter": 0},
                     {"backlash": 1, "outlier": 1}, 0, 100, 1.0, 3.0, 3.0)
     assert c.rate == pytest.approx(0.1) and c.upper == pytest.approx(_upper(2, 20))
     assert "claims in 2 of 20" in c.says() and "named 2 (backlash 1, outlier 1), located 1" in c.says()
+
+
+def test_a_diagnosis_that_names_something_counts_as_a_claim(clean):
+    from mtcal.diagnose import diagnose
+    from mtcal.diagnose.calibrate import KINDS, _tally, claims
+
+    rec, _ = simulate(rounds=3, seed=5, plan={"axes": {"X": {}}}, effects=["backlash:axis=X,amount=0.008"])
+    found = diagnose(rec, tracker=(250, -1500, 150))
+    assert claims(found)["named"] == ["backlash"]
+    tally = {"alarms": 0, "screen": 0, "claims": dict.fromkeys(KINDS, 0), "named": {}}
+    for d in (found, diagnose(clean, tracker=(250, -1500, 150))):
+        _tally(tally, d)
+    assert tally["alarms"] == 1 and tally["claims"]["named"] == 1 and tally["named"] == {"backlash": 1}
 
 
 def test_seed_without_calibrate_is_refused(clean, tmp_path, capsys):

@@ -10,8 +10,9 @@ the recording's own design instead.
   degrees the diagnosis chose, the reflectors' positions, every station's alignment; or the given model with its
   offsets) -- plus noise of the law the diagnosis weighted the readings by (its along/across-beam shape about each
   station's tracker, any station's or axis' own scale, ``Prepared.W``) times the base's sigma ratio (the fitted
-  null's scale).  Alternative: anything the diagnosis claims -- an effect named, a located or unexplained entry, an
-  axis repeating worse than the others -- is, on these campaigns, a false alarm.
+  null's scale).  Alternative: the diagnosis' own (whatever departure it claims).  On these campaigns every
+  claim -- an effect named, a located or unexplained entry, a shape located beyond the quasi-static family, an axis
+  repeating worse than the others -- is a false alarm.
 * Simulated: N campaigns at exactly the recording's plan (the rows the screen kept: the same poses, order, times,
   temperatures, stations, directions and missing readings), each the fitted readings plus one draw of that law
   (mtcal.measurement.tracker.draw, the simulator's draw).  Held fixed: the fitted null itself (not re-drawn from
@@ -44,7 +45,7 @@ CAMPAIGNS = 20  # the default count of null campaigns (--calibrate bare): a rate
 CONFIDENCE = 0.95  # the one-sided Clopper-Pearson bound of the calibrated rate
 NOMINAL = ("nominal, not calibrated: the level bounds the false alarms only where the noise law and the fitted "
            "model hold (use --calibrate N: N campaigns simulated from the fitted null)")
-KINDS = ("named", "located", "unexplained", "axis_scatter")  # what a diagnosis claims at the level
+KINDS = ("named", "located", "unexplained", "beyond_family", "axis_scatter")  # what a diagnosis claims at the level
 
 
 @dataclass
@@ -135,10 +136,12 @@ def null_campaign(null: NullFit, rng: np.random.Generator, label: str = "null ca
 
 def claims(d: Diagnosis) -> dict[str, list[str]]:
     """What a diagnosis claims at its level, per kind (KINDS): the effect names, the located and unexplained
-    entries' axes, an axis found repeating worse."""
+    entries' axes, the shapes located beyond the quasi-static family (``base_model.shape_beyond_family``), an axis
+    found repeating worse."""
     found = (d.noise.details.get("axis_scatter") or {}).get("found")
     return {"named": [e["name"] for e in d.effects if e["significant"]],
             "located": [str(x.axis) for x in d.located], "unexplained": [str(x.axis) for x in d.unexplained],
+            "beyond_family": [str(u.get("axis")) for u in d.base.get("shape_beyond_family", [])],
             "axis_scatter": [str(found.get("axis", ""))] if found else []}
 
 
