@@ -133,6 +133,7 @@ def test_null_campaigns_of_two_stations_have_each_stations_law():
     null = null_fit(d)
     sims = [null_campaign(null, np.random.default_rng(s)) for s in (1, 2, 3)]
     assert np.array_equal(sims[0].stations(), rec.stations()) and len(factors) == 2
+    assert np.array_equal(sims[0].tracker_xyz, rec.tracker_xyz)
     for label, tracker in d.noise.details["trackers"].items():
         on = rec.stations() == label
         along, across = _law_ratios(sims, null, np.asarray(tracker), _spec(d.noise.law), on)

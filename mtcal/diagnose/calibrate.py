@@ -43,8 +43,8 @@ from mtcal.measurement.tracker import draw
 
 CAMPAIGNS = 20  # the default count of null campaigns (--calibrate bare): a rate bound of 14 % at zero alarms
 CONFIDENCE = 0.95  # the one-sided Clopper-Pearson bound of the calibrated rate
-NOMINAL = ("nominal, not calibrated: the level bounds the false alarms only where the noise law and the fitted "
-           "model hold (use --calibrate N: N campaigns simulated from the fitted null)")
+NOMINAL = ("nominal, not calibrated: it bounds the false alarms where the noise law and the fitted model hold "
+           "(use --calibrate N)")
 KINDS = ("named", "located", "unexplained", "beyond_family", "axis_scatter")  # what a diagnosis claims at the level
 
 
