@@ -164,18 +164,18 @@ def test_bare_calibrate_simulates_the_default_count(clean, tmp_path):
 
 
 def test_interrupted_calibration_says_what_was_done(clean, tmp_path, capsys, monkeypatch):
-    import mtcal.diagnose.run as run
+    import mtcal.diagnose.calibrate as cal
 
     path = tmp_path / "clean.csv"
     write_recording(clean, path)
-    real, calls = run.diagnose, []
+    real, calls = cal.diagnose, []
 
-    def second_interrupts(*a, **k):  # the calibration's own diagnoses (the command's first one is not run's)
+    def second_interrupts(*a, **k):  # the calibration's own diagnoses (the command's own first one is not these)
         calls.append(1)
         if len(calls) == 2:
             raise KeyboardInterrupt
         return real(*a, **k)
-    monkeypatch.setattr(run, "diagnose", second_interrupts)
+    monkeypatch.setattr(cal, "diagnose", second_interrupts)
     rc, out, err = _cli(capsys, path, "--calibrate", 3, "-q")
     assert rc == 130 and out == "" and "interrupted: 1 of 3 null campaigns diagnosed" in err
 

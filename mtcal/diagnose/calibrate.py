@@ -37,7 +37,9 @@ from typing import Callable
 
 import numpy as np
 
+from mtcal.diagnose.prepared import LEVEL
 from mtcal.diagnose.report import Diagnosis
+from mtcal.diagnose.run import diagnose
 from mtcal.measurement.recordings import Recording
 from mtcal.measurement.tracker import draw
 
@@ -91,8 +93,8 @@ class Calibration:
         kinds = [f"{k} {v}" + (names if k == "named" else "") for k, v in self.claims.items() if v]
         what = f"; claimed (campaigns): {', '.join(kinds)}" if kinds else ""
         return (f"calibrated: claims in {self.alarms} of {self.campaigns} campaigns simulated from the fitted null "
-                f"(seed {self.seed}): false-alarm rate {self.rate:.3g}, one-sided {CONFIDENCE:.0%} upper bound "
-                f"{self.upper:.3g} (Clopper-Pearson){what}; {self.cpu_s:.0f} CPU-s").replace("95%", "95 %")
+                f"(seed {self.seed}): false-alarm rate {self.rate:.3g}, one-sided {CONFIDENCE * 100:g} % upper bound "
+                f"{self.upper:.3g} (Clopper-Pearson){what}; {self.cpu_s:.0f} CPU-s")
 
     def to_dict(self) -> dict:
         return {"level": self.level, "calibrated": True, "says": self.says(), "campaigns": self.campaigns,
@@ -175,9 +177,6 @@ def calibrate(d: Diagnosis, campaigns: int = CAMPAIGNS, *, seed: int = 0, level:
     KeyboardInterrupt
         Interrupted: its message says how many campaigns were done and what they claimed (nothing is written).
     """
-    from mtcal.diagnose.prepared import LEVEL
-    from mtcal.diagnose.run import diagnose
-
     level = LEVEL if level is None else level
     null, t0, c0 = null_fit(d), time.perf_counter(), time.process_time()
     tally = {"alarms": 0, "screen": 0, "claims": dict.fromkeys(KINDS, 0), "named": {}}
