@@ -17,14 +17,16 @@ import pytest
 from mtcal.campaign.simulate import simulate
 from mtcal.cli import main
 from mtcal.measurement.recordings import write_recording
-from mtcal.measurement.tracker import TrackerSpec
+from mtcal.measurement.tracker import AT960, TrackerSpec
 
 SEED = 7  # the calibration's seed; the campaign's is 5 (development seeds)
 
 
 @pytest.fixture(scope="module")
 def clean():
-    rec, _ = simulate(rounds=3, seed=5, plan={"axes": {"X": {}}})
+    """A clean campaign whose tracker is 1.6 times noisier than the AT960's law (the diagnosis' prior): the fitted
+    null's scale is then far from 1, and the scatter check below sees whether it is simulated."""
+    rec, _ = simulate(rounds=3, seed=5, plan={"axes": {"X": {}}}, spec=AT960.scaled(1.6, 1.6))
     return rec
 
 
@@ -107,6 +109,7 @@ def test_null_campaigns_have_the_recordings_plan_and_the_stated_law(clean):
     assert np.array_equal(null_campaign(null, np.random.default_rng(1)).xyz, sims[0].xyz)  # reproducible
     # the scatter about the fitted null, along and across the beam, against the law the diagnosis states
     spec, scale = _spec(d.noise.law), d.base_sigma_ratio
+    assert scale > 1.3  # the campaign's noise, 1.6 times the law's
     along, across = _law_ratios(sims, null, np.asarray(d.noise.tracker), spec)
     assert along == pytest.approx(scale, rel=0.08) and across == pytest.approx(scale, rel=0.08)
     assert null.scale == pytest.approx(scale)
