@@ -3,12 +3,14 @@ from __future__ import annotations
 
 import argparse
 import logging
+import time
 
-from mtcal.cli._options import machine_argument, probability, tracker_model_argument, xyz
+from mtcal.cli._options import integer, machine_argument, probability, tracker_model_argument, xyz
 
 NAME = "diagnose"
 log = logging.getLogger("mtcal." + NAME)
 HELP = "fit a quasi-static base model to tracker recordings, locate the misfit, name and model left-out effects"
+BARE = object()  # --calibrate without N: mtcal.diagnose.calibrate.CAMPAIGNS (kept out of the parser: no numpy there)
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -33,7 +35,21 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="write residuals_before.png, residuals_after.png and a picture per finding "
                         "(finding_N_NAME_AXIS.png: a reversal by approach direction, a drift or knock against time, "
                         "a periodic error against position) to DIR")
+    p.add_argument("--calibrate", metavar="N", nargs="?", const=BARE, type=integer(1),
+                   help="calibrate the level: simulate N campaigns (default 20 when N is not given) from the fitted "
+                        "null -- the base and the noise law, at the recording's plan -- diagnose each with the same "
+                        "options and report the share with any claim and its 95 %% upper bound (N times the "
+                        "diagnosis' CPU time; docs/guide/diagnose.md)")
+    p.add_argument("--seed", type=integer(0), default=None,
+                   help="seed of --calibrate's campaigns: campaign k draws from (seed, k) (default 0)")
     machine_argument(p)
+
+
+def campaigns(args: argparse.Namespace) -> int | None:
+    """The null campaigns ``--calibrate`` asks for (None: the level stays nominal)."""
+    from mtcal.diagnose.calibrate import CAMPAIGNS
+
+    return CAMPAIGNS if args.calibrate is BARE else args.calibrate
 
 
 def _fmt(e: dict) -> str:
@@ -46,18 +62,24 @@ def _fmt(e: dict) -> str:
 def run(args: argparse.Namespace) -> int:
     from mtcal.diagnose import diagnose, plot_findings, plot_residuals
     from mtcal.diagnose.run import LEVEL
+    from mtcal.errors import InputError
     from mtcal.io import dumps, refuse_overwrite
     from mtcal.kinematics.machine import DEFAULT_MACHINE
     from mtcal.model.errormodel import load_model
 
+    if args.seed is not None and args.calibrate is None:
+        raise InputError("--seed sets the campaigns of --calibrate N: give --calibrate too")
     refuse_overwrite([], args.recording, args.model, dirs={args.plots: ["residuals_*.png", "finding_*.png"]})
     model = load_model(args.model) if args.model else None
     machine = args.machine or (model.machine if model is not None else DEFAULT_MACHINE)
     rec = _recording(args, machine)
     level = LEVEL if args.level is None else args.level
-    d = diagnose(rec, model, machine=machine, tracker=args.tracker, level=level,
-                 tie_positions=not args.per_axis_positions, tracker_model=args.tracker_model)
+    options = dict(machine=machine, tracker=args.tracker, tie_positions=not args.per_axis_positions,
+                   tracker_model=args.tracker_model)
+    cpu = time.process_time()
+    d = diagnose(rec, model, level=level, **options)
     out = d.to_dict()
+    out["level"] = _level(args, d, level, time.process_time() - cpu, dict(options, model=model))
     if args.plots:
         out["plots"] = plot_residuals(d, args.plots) + plot_findings(d, args.plots)
     if args.json:
@@ -66,9 +88,30 @@ def run(args: argparse.Namespace) -> int:
     _print_model(d, rec, args.recording)
     _print_effects(d, out, level)
     _print_rest(d)
+    print(f"level {level:g} (family-wise): {out['level']['says']}")
     for p in out.get("plots", []):
         log.info("plot: %s", p)
     return 0
+
+
+def _level(args: argparse.Namespace, d, level: float, cpu_s: float, options: dict) -> dict:
+    """The JSON answer's ``level``: nominal, or calibrated by ``--calibrate N`` null campaigns (with a progress
+    bar on a terminal; mtcal.diagnose.calibrate)."""
+    from mtcal.cli._words import Bar
+    from mtcal.diagnose.calibrate import calibrate, nominal
+
+    n = campaigns(args)
+    if n is None:
+        return nominal(level)
+    log.info("calibrating the level: %d campaigns simulated from the fitted null, each diagnosed (about %.0f "
+             "CPU-s: %.1f each)", n, n * cpu_s, cpu_s)
+    bar = None if args.quiet or args.json else Bar(n, "mtcal diagnose --calibrate")
+    try:
+        cal = calibrate(d, n, seed=args.seed or 0, level=level, progress=bar.update if bar else None, **options)
+    finally:
+        if bar:
+            bar.close()
+    return cal.to_dict()
 
 
 def _recording(args: argparse.Namespace, machine: str):

@@ -53,7 +53,7 @@ projection), effects (each candidate effect's columns), candidates (the candidat
 and pairs of factors; outlier and knock scans), selection (forward / backward, confounding, validation), profile
 (intervals over nuisance parameters), report (typed findings, JSON), predictive (each named finding planted through
 the physical simulator must reproduce its pattern), pictures (one per finding), plate (plate fits), run
-(``diagnose()``)."""
+(``diagnose()``), calibrate (the whole diagnosis' level measured on null campaigns simulated from its fit)."""
 from mtcal._verb import callable_package
 from mtcal.diagnose.engine import Engine, Score
 from mtcal.diagnose.pictures import plot_findings

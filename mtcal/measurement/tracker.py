@@ -151,8 +151,13 @@ def covariance(points, tracker, spec: TrackerSpec = AT960) -> np.ndarray:
 
 def sample(points, tracker, rng: np.random.Generator, spec: TrackerSpec = AT960) -> np.ndarray:
     """One noise draw (..., 3) mm with the covariance of ``covariance``."""
-    cov = covariance(points, tracker, spec)
-    return np.einsum("...ij,...j->...i", np.linalg.cholesky(cov), rng.standard_normal(np.shape(points)))
+    return draw(covariance(points, tracker, spec), rng)
+
+
+def draw(cov: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """One noise draw (..., 3) mm of the covariances ``cov`` (..., 3, 3) mm^2 (``sample``'s, or a diagnosis' law:
+    mtcal.diagnose.calibrate)."""
+    return np.einsum("...ij,...j->...i", np.linalg.cholesky(cov), rng.standard_normal(np.shape(cov)[:-1]))
 
 
 def parse_xyz(text: str, what: str | None = "tracker position") -> np.ndarray:
