@@ -178,10 +178,11 @@ def test_a_member_and_its_place_are_tested_against_one_error_term_of_the_stops()
     a backlash at F = 99.7) is "found" in 41 of 100 runs at 0.01; against the one error term of its place
     (Engine.pure_error on the fullest model: the member and the free form fitted) it holds the level, and so does
     the free form beside it, on the same degrees of freedom.  A contrast within the stops (one nest against another)
-    is set against the readings' own scatter (the within-unit component E): on bc347f2 Engine.lack_of_fit set it
-    against the stops' means only, which it does not touch, and rejected it in 30 of 30 runs."""
+    is set against the readings' own scatter (the within-unit component E, about the unit's mean or, with the nests
+    coded, the round x nest interaction): on bc347f2 Engine.lack_of_fit set it against the stops' means only, which
+    it does not touch, and rejected it in 30 of 30 runs."""
     rng = np.random.default_rng(7)
-    runs, plain, member_lof, free_lof, within_lof = 100, 0, 0, 0, 0
+    runs, plain, member_lof, free_lof, within_lof, nest_lof = 100, 0, 0, 0, 0, 0
     for _ in range(runs):
         eng, free, member, within, units, cells = _stops(rng, 3.0)
         full = eng.copy()
@@ -195,8 +196,10 @@ def test_a_member_and_its_place_are_tested_against_one_error_term_of_the_stops()
         member_lof += a.logp < np.log(0.01)
         free_lof += b.logp < np.log(0.01)
         within_lof += eng.lack_of_fit(within, units, cells).logp < np.log(0.01)
+        codes = np.concatenate([np.tile(np.arange(3), 40), np.full(eng.N // 3 - 120, -1)])
+        nest_lof += eng.lack_of_fit(within, units, cells, codes).logp < np.log(0.01)
     assert plain > 0.3 * runs and member_lof <= 0.03 * runs and free_lof <= 0.03 * runs, (plain, member_lof, free_lof)
-    assert within_lof <= 0.03 * runs, within_lof
+    assert within_lof <= 0.03 * runs and nest_lof <= 0.03 * runs, (within_lof, nest_lof)
 
 
 def test_a_member_against_the_stops_error_term_is_found_where_it_is_there():

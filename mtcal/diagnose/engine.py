@@ -235,18 +235,19 @@ class Engine:
         return e.score(off(G))
 
     def lack_of_fit(self, G: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],
-                    cells: list[tuple[np.ndarray, np.ndarray]]) -> Score | None:
+                    cells: list[tuple[np.ndarray, np.ndarray]], nests: np.ndarray | None = None) -> Score | None:
         """The lack-of-fit F test of the columns G (N, k) beside this fit, against the pure error of replicates:
-        ``against(G, e.pure_error(units, cells))`` with ``e`` this fit and G (the error pure of both).  Null: the fit
-        is adequate, G adds no mean; alternative: G adds one; error term: PureError (Engine.pure_error); the
-        multiplicity is the caller's.  None where the units leave no pure error or G is not separable."""
+        ``against(G, e.pure_error(units, cells, nests))`` with ``e`` this fit and G (the error pure of both).
+        Null: the fit is adequate, G adds no mean; alternative: G adds one; error term: PureError
+        (Engine.pure_error); the multiplicity is the caller's.  None where the units leave no pure error or G is
+        not separable."""
         with_g = self.copy()
         with_g.add(G)
-        err = with_g.pure_error(units, cells)
+        err = with_g.pure_error(units, cells, nests)
         return None if err is None else self.against(G, err)
 
-    def pure_error(self, units: list[tuple[np.ndarray, np.ndarray]],
-                   cells: list[tuple[np.ndarray, np.ndarray]]) -> PureError | None:
+    def pure_error(self, units: list[tuple[np.ndarray, np.ndarray]], cells: list[tuple[np.ndarray, np.ndarray]],
+                   nests: np.ndarray | None = None) -> PureError | None:
         """The error term of replicates, from this fit's residual: pure of every column fitted (the caller fits
         what the error must not hold -- the columns under test, the selected effects in time).
 
@@ -258,9 +259,10 @@ class Engine:
         (df_pe m), m the readings a unit holds on average (the mean of m readings varies 1/m of what their sum's
         projection explains): where the weights' law is off in shape (along against across the beam, an axis
         repeating worse along its motion), S says so.  The variance components by the method of moments (balanced
-        nesting, the ANOVA estimator REML equals there): E, the readings' scatter about their unit's mean (pooled,
-        nu_e = readings less units), and B = S - E / m, its negative directions set to zero.  None where the units
-        leave no pure error."""
+        nesting, the ANOVA estimator REML equals there): E, the readings' own scatter -- with ``nests`` (n,) codes
+        of each reading's nest, their round x nest interaction within the cells (pure of every nest's mean at
+        every cell), else their scatter about their unit's mean -- and B = S - E / m, its negative directions set
+        to zero.  None where the units leave no pure error."""
         u_sc, c_sc = self.score_blocks(units), self.score_blocks(cells)
         df_pe = (u_sc.k if u_sc.separable else 0) - (c_sc.k if c_sc.separable else 0)
         ss_pe = (u_sc.delta if u_sc.separable else 0.0) - (c_sc.delta if c_sc.separable else 0.0)
@@ -270,7 +272,7 @@ class Engine:
         S, nu = pooled
         m = sum(len(rows) for rows, _ in units) / (3 * len(units))  # readings per unit, on average
         S *= 3.0 * (ss_pe / df_pe) / (m * np.trace(S))  # a unit's mean of m readings scatters 1/m of their sum
-        E, nu_e = _within_scatter(self.r, units)
+        E, nu_e = _within_scatter(self.r, units, cells, nests)
         lam, V = np.linalg.eigh(S - E / m)
         B = (V * np.maximum(lam, 0.0)) @ V.T
         return PureError(B, E, S, df_pe, nu, nu_e, [rows for rows, _ in units], self.rss / max(self.dof, 1))
@@ -286,7 +288,7 @@ class Engine:
         residual variance, on rows outside the units): a contrast between units is set against what a unit's
         readings share, a contrast within them against each reading's own scatter.  F = delta_G / tr(M) is
         referred to F(h, d): Satterthwaite's h = tr(M)^2 / tr(M^2), and d the degrees of freedom of tr(M)'s
-        estimate (Satterthwaite over S's and E's, each tr(X C) varying 2 tr(X C X C) / nu; no more than df_pe):
+        estimate (Satterthwaite over S's and E's, each tr(X C) varying 2 tr(X C X C) / nu; no more than theirs):
         the scatter along one coordinate is estimated from nu units, not 3 nu.  With B = s^2 I, E = 0 and units of
         one reading this is the classical lack-of-fit test (delta_G / k) / (SS_pe / df_pe).  The multiplicity is
         the caller's.  None where G is not separable."""
@@ -308,7 +310,7 @@ class Engine:
         c, c2 = float(np.trace(M)), float(np.sum(M * M))
         XS, XE = Au @ err.S, Ae @ err.E
         var = np.sum(XS * XS.T) / err.nu + (np.sum(XE * XE.T) / err.nu_e if err.nu_e else 0.0)
-        d = min(float(err.df), (float(np.trace(XS)) + float(np.trace(XE))) ** 2 / max(float(var), 1e-300))
+        d = min(float(err.df + 3 * err.nu_e), (float(np.trace(XS + XE))) ** 2 / max(float(var), 1e-300))
         F = own.delta / c
         logp = float(_tails.f_logsf(F, c * c / c2, d))
         if not math.isfinite(logp):
@@ -379,11 +381,31 @@ def _pooled_scatter(r: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],
     return (S / df, df) if df and np.trace(S) > 0 else None
 
 
-def _within_scatter(r: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, int]:
-    """The 3 x 3 covariance of the readings of the whitened residual ``r`` (three rows per reading) about their
-    unit's mean, pooled over the units, and its degrees of freedom (readings less units); zero where every unit is
-    one reading."""
+def _within_scatter(r: np.ndarray, units: list[tuple[np.ndarray, np.ndarray]],
+                    cells: list[tuple[np.ndarray, np.ndarray]], nests: np.ndarray | None
+                    ) -> tuple[np.ndarray, int]:
+    """The 3 x 3 covariance of a reading's own scatter in the whitened residual ``r`` (three rows per reading) and
+    its degrees of freedom: with ``nests`` (a code per reading), the round x nest interaction of the units' nest
+    means within each cell (the nests every unit of the cell reads), (J - 1)(K - 1) degrees of freedom for J units
+    of K nests; else the readings about their unit's mean (readings less units).  Zero where there is none."""
     E, df = np.zeros((3, 3)), 0
+    if nests is not None:
+        cell_of = {int(i): k for k, (rows, _) in enumerate(cells) for i in rows[::3] // 3}
+        by_cell: dict[int, list[dict[int, np.ndarray]]] = {}
+        for rows, _ in units:
+            reads = rows[::3] // 3
+            x = r[rows].reshape(-1, 3)
+            means = {int(n): x[nests[reads] == n].mean(axis=0) for n in np.unique(nests[reads])}
+            by_cell.setdefault(cell_of[int(reads[0])], []).append(means)
+        for ms in by_cell.values():
+            common = sorted(set.intersection(*(set(m) for m in ms)))
+            if len(ms) < 2 or len(common) < 2:
+                continue
+            X = np.array([[m[n] for n in common] for m in ms])  # (J, K, 3)
+            D = X - X.mean(axis=0) - X.mean(axis=1, keepdims=True) + X.mean(axis=(0, 1))
+            E += np.einsum("jki,jkl->il", D, D)
+            df += (len(ms) - 1) * (len(common) - 1)
+        return (E / df if df else E), df
     for rows, _ in units:
         x = r[rows].reshape(-1, 3)
         if len(x) > 1:

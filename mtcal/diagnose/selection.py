@@ -563,11 +563,11 @@ def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: 
 
 def lack_of_fit(prep: Prepared, e: Engine, x: fx.Candidate, w: Columns) -> Score:
     """The score of the free form ``x`` beside the fit ``e`` (the named members of its place fitted): where ``x``
-    is a function of the stop (places.replicate_strata: the same at every reading repeated at one stop), the
-    classical lack-of-fit F test against the pure error of those repeated readings (Engine.lack_of_fit; null: the
-    named members are adequate, x adds no mean; error term: the replicates' scatter about their cells' means;
-    multiplicity: the caller's); else, or where no stop is read twice, the F test against the fit's residual
-    (Engine.score)."""
+    is the same at each nest of a stop over the rounds (places.replicate_strata), the lack-of-fit F test against
+    the replicates' variance components (Engine.lack_of_fit; null: the named members are adequate, x adds no
+    mean; error term: what a stop shares from round to round for a contrast between stops, the readings' own
+    round x nest scatter for one between the nests of a stop; multiplicity: the caller's); else, or where no stop
+    is read twice, the F test against the fit's residual (Engine.score)."""
     strata = replicate_strata(prep, w.W, x.G)
     sc = e.lack_of_fit(w(x), *strata) if strata else None
     return sc if sc is not None else e.score(w(x))
