@@ -251,18 +251,19 @@ def stop_motions(prep, W: np.ndarray, pattern: np.ndarray) -> list[tuple[np.ndar
 REPLICATE_TOL = 1e-9  # columns equal within this share of their largest over a group's readings: its mean
 
 
-def replicate_strata(prep, W: np.ndarray, G: np.ndarray) -> tuple[list, list] | None:
-    """(units, cells) of the readings the columns ``G`` ((n, 3, k), mm per unit, unwhitened) move, for
-    Engine.lack_of_fit: the replicates whose scatter is the error term of G's test, at the stratum where G varies.
+def replicate_strata(prep, W: np.ndarray, G: np.ndarray) -> tuple[list, list, np.ndarray] | None:
+    """(units, cells, nests) of the readings the columns ``G`` ((n, 3, k), mm per unit, unwhitened) move, for
+    Engine.pure_error and Engine.lack_of_fit: the replicates whose scatter is the error term of G's test.
 
-    A cell is what is repeated over the rounds: one station, axis, position and direction of approach.  Where G
-    moves every nest of a cell's stop alike (a reversal free per position: a contrast between stops), a unit is
-    one stop -- the cell in one round, its nests together -- and the error is the stops' scatter from round to
-    round (the split plot: the nests of one stop share whatever the stop shares).  Otherwise (G differs between
-    the nests: a reversal free per nest), the cells are also split by nest and a unit is one reading.  Each as
-    Engine.score_blocks' blocks: its rows of the whitened vector (``W``, (n, 3, 3)) and an orthonormal basis of its
-    mean (the three whitened coordinates of a translation of its readings).  None where G is not constant over
-    the cells (a function of the time, not of the stop) or no cell is repeated (no pure error)."""
+    A cell is what is repeated over the rounds: one station, axis, position and direction of approach; a unit is
+    one stop -- the cell in one round, its nests together (the split plot: the nests of one stop share whatever
+    the stop shares); ``nests`` (n,) codes each reading's nest, so that the readings' own scatter is their round x
+    nest interaction within the cells (Engine.pure_error's variance components: a contrast between stops is set
+    against what a stop shares, one between the nests of a stop against what each reading has of its own).  Each
+    unit and cell as Engine.score_blocks' blocks: its rows of the whitened vector (``W``, (n, 3, 3)) and an
+    orthonormal basis of its mean (the three whitened coordinates of a translation of its readings).  None where G
+    is not the same at each nest over the rounds (a function of the time, not of the stop) or no cell is repeated
+    (no pure error)."""
     rec, g = prep.rec, prep.geometry
     moved = np.any(G.reshape(len(G), -1) != 0, axis=1)
     if not moved.any():
@@ -270,15 +271,12 @@ def replicate_strata(prep, W: np.ndarray, G: np.ndarray) -> tuple[list, list] | 
     idx = np.flatnonzero(moved)
     cell = [(s, a, q, d) for s, a, q, d in zip(rec.stations()[idx], rec.axis[idx], g.position[idx],
                                                  g.direction[idx])]
-    stop = [(*c, r) for c, r in zip(cell, rec.round[idx])]
-    by_stop = _groups(idx, stop)
-    if not _constant(G, by_stop):
-        cell = [(*c, p) for c, p in zip(cell, rec.point[idx])]
-        by_stop = [[i] for i in idx]
+    by_stop = _groups(idx, [(*c, r) for c, r in zip(cell, rec.round[idx])])
     by_cell = _groups(idx, cell)
-    if not _constant(G, by_cell) or len(by_stop) == len(by_cell):
+    if not _constant(G, _groups(idx, [(*c, p) for c, p in zip(cell, rec.point[idx])])) or len(by_stop) == len(by_cell):
         return None
-    return [_mean_block(W, rows) for rows in by_stop], [_mean_block(W, rows) for rows in by_cell]
+    nests = np.unique(rec.point.astype(str), return_inverse=True)[1]
+    return [_mean_block(W, rows) for rows in by_stop], [_mean_block(W, rows) for rows in by_cell], nests
 
 
 def _groups(idx: np.ndarray, keys: list[tuple]) -> list[list[int]]:

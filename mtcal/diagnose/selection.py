@@ -26,7 +26,7 @@ from mtcal import _tails
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
-from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
+from mtcal.diagnose.engine import WEAK_TOL, Engine, PureError, Score
 from mtcal.diagnose.places import (
     REVERSALS,
     bump,
@@ -270,13 +270,17 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             why, back = found
             fallback = fallback or _in_place(back, v, level, taken)
         if why is None:
-            place = place_needed(prep, eng, v.candidate, w, level)
+            place = place_needed(prep, eng, v, w, level)
             if place is None:
-                return _stops_alike(prep, eng, v, w) or _one_name(eng, _simplest(prep, eng, v, sig, w, level), pool, w,
-                                                                  level)
+                chosen = _simplest(prep, eng, v, sig, w, level)
+                # the member named is tested against its place's error term too (one stratum for both)
+                place = None if chosen is v else place_needed(prep, eng, chosen, w, level)
+                if place is None:
+                    return _stops_alike(prep, eng, v, w) or _one_name(eng, chosen, pool, w, level)
             free, sc, why = place
-            fallback = fallback or _in_place(_stops_instead(prep, eng, v, free, w, level) or (free, sc), v, level,
-                                             taken)
+            if free is not None:
+                fallback = fallback or _in_place(_stops_instead(prep, eng, v, free, w, level) or (free, sc), v,
+                                                 level, taken)
         v.inadequate = why
         inadequate.setdefault(v.candidate.family, v)
     return fallback
@@ -486,26 +490,64 @@ def _within(eng: Engine, free: fx.Candidate, v: Step, w: Columns) -> bool:
     return not sc.separable or sc.delta < WITHIN * v.score.delta
 
 
-def place_needed(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
-                 ) -> tuple[fx.Candidate, Score, str] | None:
-    """One finding per mismatch (mtcal.diagnose.places): when the free form of ``c``'s place is still needed
-    beside the named effects of that place (F tests at ``level``, Bonferroni over the free form and its sharper
-    members), the free form (an UNEXPLAINED candidate), its
-    score on the current fit and why ``c`` is not named; else None."""
+def place_needed(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
+                 ) -> tuple[fx.Candidate | None, Score | None, str] | None:
+    """One finding per mismatch (mtcal.diagnose.places), the member ``v`` and its place tested against one error
+    term: why ``v``'s candidate is not named, or None.
+
+    Error term (_place_error): where the place's free form F_P is a function of the stop (places.replicate_strata),
+    the scatter of the stops repeated over the rounds, estimated once on the fullest model of the place (the fit,
+    the place's named members and F_P: Engine.pure_error), so that it holds neither the member nor the free
+    form's shape, nor the effects in time already selected; else the fit's residual.  Two tests against it:
+    1. the member's own: null, M adds no mean beyond the fit; alternative, it adds one; at v's multiplicity (the
+       Bonferroni factor of its entry test).  Not significant: (None, None, why) -- the stops' scatter from round
+       to round makes the member as well (a stop-level contrast whose test against the readings' scatter alone
+       counts every nest of a stop as if it landed on its own);
+    2. the place's: null, the named members of the place (M and every named effect of the same kind there) are
+       adequate, F_P (and its sharper members) adds nothing beside them; alternative, it adds a mean; Bonferroni
+       over F_P and its sharper members at ``level``.  Significant: (F_P, its score on the current fit, why)."""
+    c = v.candidate
     place = place_of(prep, c, lambda axis: reversal_named(prep, axis))
     if place is None:
         return None
-    e = eng.copy()
-    e.add(np.hstack([w(x) for x in place.named]))
+    e, err = _place_error(prep, eng, place, w)
+    if err is not None:
+        own = eng.against(w(c), err)
+        if own is not None and own.logp + v.log_multiplicity >= math.log(level):
+            return None, None, (f"against the scatter of its place's stops repeated over the rounds (the error term "
+                                f"of the place's free form beside it) it is not significant (F = {own.F:.2g} on "
+                                f"{own.k} and {own.dof} degrees of freedom, p = {math.exp(own.logp):.2g} before its "
+                                "multiplicity): the stops landing off from round to round make it as well")
     tests = (*place.sharper, place.candidate)
-    scores = [lack_of_fit(prep, e, x, w) for x in tests]
-    beside = min((sc for sc in scores if sc.separable), key=lambda sc: sc.logp, default=None)
+    scores = [sc for sc in (_tested(e, w(x), err) for x in tests) if sc is not None and sc.separable]
+    beside = min(scores, key=lambda sc: sc.logp, default=None)
     if beside is None or beside.logp >= math.log(level / len(tests)):
         return None
     sc = eng.score(w(place.candidate))
     if not sc.separable:
         return None
     return place.candidate, sc, place.why.format(F=f"{beside.F:.1f}", p=f"{math.exp(beside.logp):.2g}")
+
+
+def _place_error(prep: Prepared, eng: Engine, place, w: Columns) -> tuple[Engine, PureError | None]:
+    """The fit with the named members of ``place`` (places.Place), and the error term of every test at the place:
+    the pure error of the stops its free form moves, repeated over the rounds (places.replicate_strata), pure of
+    the fit, the named members and the free form (Engine.pure_error); None where the free form is not a function
+    of the stop or no stop is repeated (the fit's residual is the error term)."""
+    e = eng.copy()
+    e.add(np.hstack([w(x) for x in place.named]))
+    strata = replicate_strata(prep, w.W, place.candidate.G)
+    if not strata:
+        return e, None
+    full = e.copy()
+    full.add(w(place.candidate))
+    return e, full.pure_error(*strata)
+
+
+def _tested(e: Engine, G: np.ndarray, err: PureError | None) -> Score | None:
+    """The F test of the columns ``G`` beside the fit ``e`` against the error term ``err`` (Engine.against), or
+    against the fit's residual where there is none (Engine.score)."""
+    return e.score(G) if err is None else e.against(G, err)
 
 
 def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: float) -> Score | None:
@@ -521,11 +563,11 @@ def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: 
 
 def lack_of_fit(prep: Prepared, e: Engine, x: fx.Candidate, w: Columns) -> Score:
     """The score of the free form ``x`` beside the fit ``e`` (the named members of its place fitted): where ``x``
-    is a function of the stop (places.replicate_strata: the same at every reading repeated at one stop), the
-    classical lack-of-fit F test against the pure error of those repeated readings (Engine.lack_of_fit; null: the
-    named members are adequate, x adds no mean; error term: the replicates' scatter about their cells' means;
-    multiplicity: the caller's); else, or where no stop is read twice, the F test against the fit's residual
-    (Engine.score)."""
+    is the same at each nest of a stop over the rounds (places.replicate_strata), the lack-of-fit F test against
+    the replicates' variance components (Engine.lack_of_fit; null: the named members are adequate, x adds no
+    mean; error term: what a stop shares from round to round for a contrast between stops, the readings' own
+    round x nest scatter for one between the nests of a stop; multiplicity: the caller's); else, or where no stop
+    is read twice, the F test against the fit's residual (Engine.score)."""
     strata = replicate_strata(prep, w.W, x.G)
     sc = e.lack_of_fit(w(x), *strata) if strata else None
     return sc if sc is not None else e.score(w(x))
