@@ -747,22 +747,29 @@ def _change_points(prep: Prepared, eng: Engine, v: Step, w: Columns, level: floa
                 f"beside them: F = {cp.drift.F:.2g}, p = {math.exp(cp.drift.logp):.2g}): a drift or wander, not "
                 "steps", [_knock_stops(prep, eng, v, w), _path(prep, eng, v, w, path)])
     if cp.k == 2:
-        motion = [np.linalg.norm(np.einsum("nij,j->ni", G, t)) for t in (cp.theta.sum(axis=0), cp.theta[0],
-                                                                          cp.theta[1])]
-        moved = [np.isin(np.arange(len(pattern)), r) for r in cp.rows]
-        between = motion[1] if moved[0].sum() >= moved[1].sum() else motion[2]
-        if motion[0] >= BACK * between:
-            return None
-        back = bump(prep, c, moved[0] ^ moved[1])
-        return (f"a second step of its place takes it back ({motion[0] / between:.0%} of it left after; p = "
-                f"{math.exp(cp.logp_adj[1]):.2g} over {cp.scanned[1]} change points): displaced for a while and "
-                "back, not a step that stays", [(back, eng.score(w(back)))])
+        return _back(prep, eng, c, G, cp, w)
     if cp.k < 3:
         return None
     steps = _steps_of(prep, c, G, cp)
     free = unsteady(steps)
     return (f"its place steps {cp.k} times (each change point at p_adj < {level:g} over those scanned for it): "
             "not one step", [(free, eng.score(w(free)))])
+
+
+def _back(prep: Prepared, eng: Engine, c: fx.Candidate, G: np.ndarray, cp, w: Columns
+          ) -> tuple[str, list[tuple[fx.Candidate, Score]]] | None:
+    """_change_points' reading of k-hat = 2 steps of the place of ``c`` (its motion per parameter ``G``): where less
+    than BACK of the motion between the two change points is left after both, the words and the place displaced
+    for a while and back (places.bump, with its score on ``eng``); else None (the step stands)."""
+    motion = [np.linalg.norm(np.einsum("nij,j->ni", G, t)) for t in (cp.theta.sum(axis=0), *cp.theta)]
+    moved = [np.isin(np.arange(len(G)), r) for r in cp.rows]
+    between = motion[1] if moved[0].sum() >= moved[1].sum() else motion[2]  # the earlier step's motion
+    if motion[0] >= BACK * between:
+        return None
+    back = bump(prep, c, moved[0] ^ moved[1])
+    return (f"a second step of its place takes it back ({motion[0] / between:.0%} of it left after; p = "
+            f"{math.exp(cp.logp_adj[1]):.2g} over {cp.scanned[1]} change points): displaced for a while and back, "
+            "not a step that stays", [(back, eng.score(w(back)))])
 
 
 def _steps_of(prep: Prepared, c: fx.Candidate, G: np.ndarray, cp) -> list[fx.Candidate]:
