@@ -721,7 +721,7 @@ def _change_points(prep: Prepared, eng: Engine, v: Step, w: Columns, level: floa
       the steps sampling it where it moved most (and, for a frame, its stops landing off, _knock_stops);
     * k-hat = 2 and less than BACK of the motion between the two change points left after them: the place
       displaced for a while and back (places.bump: a nest bumped and re-seated, a side tilted for a while);
-    * k-hat >= 3: the place stepping again and again (places.unsteady);
+    * k-hat >= 3: the place stepping again and again (places.unsteady; for a frame, or its stops landing off);
     * k-hat = 2 not coming back: the first step stands; the second is tested afresh by the forward selection, and
       the steps selected at one place are read together at the end (steps_per_place).
 
@@ -753,7 +753,7 @@ def _change_points(prep: Prepared, eng: Engine, v: Step, w: Columns, level: floa
     steps = _steps_of(prep, c, G, cp)
     free = unsteady(steps)
     return (f"its place steps {cp.k} times (each change point at p_adj < {level:g} over those scanned for it): "
-            "not one step", [(free, eng.score(w(free)))])
+            "not one step", [_knock_stops(prep, eng, v, w), (free, eng.score(w(free)))])
 
 
 def _back(prep: Prepared, eng: Engine, c: fx.Candidate, G: np.ndarray, cp, w: Columns
