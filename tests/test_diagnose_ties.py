@@ -1,7 +1,7 @@
 """Issue 34 item 2, a finding named only when the data need it: two named changes at different places that fit one
 misfit alike are not named (mtcal.diagnose.selection._tied); a side warming about a point away from its reflectors
 is one expansion, its centre fitted, not an expansion and a drift (mtcal.diagnose.effects.side_expansion); several
-knocks of one station in one axis' round are one located misfit (selection.one_knock_per_block).
+knocks of one station in one axis' round are one located misfit (selection.steps_per_place).
 
 Most campaigns are an independent generator's (benchmarks/gen2, written from the physics by a helper that had not
 read mtcal/diagnose), runs that were wrong on the code named in each test (the seeds 3503-3507 were generated and
@@ -100,7 +100,7 @@ def test_an_axis_repeating_worse_is_not_a_tracker_knocked_twice(tmp_path, how):
     """gen2 seed 3505 campaign 7: Y lands 3.1 um off at every stop, shared by the nests read there (gen2's
     "axis_scatter"; the per-stop test reads p_adj 0.0067 here, just above the level).  c64bc20 named two knocks of
     the tracker in Y's second round, 210 s apart (+3.3 um, then -7.0 um along Y); several knocks of one station in
-    one block of readings are now one located misfit on Y (selection.one_knock_per_block; since the stops' free
+    one block of readings are now one located misfit on Y (selection.steps_per_place; since the stops' free
     form, places.stops_off, the first knock is already Y's stops landing off), nothing named."""
     d, verdict = _run(tmp_path, 3505, 7, how)
     assert _named(d) == [], _named(d)

@@ -121,7 +121,7 @@ def test_a_frame_wandering_smoothly_is_located_at_the_tracker_not_named_as_knock
     """Issue 34 ("one finding per mismatch"; icelinker's findings the same with and without --tracker): the
     replica's three reflectors moving together smoothly with time (_wandering) beside the pose-to-pose motion.  A
     step of the tracker's frame is named only where the frame moving smoothly in the order of the readings
-    (places.frame_path) is not still needed beside it (selection._path_instead); the wander is then one mismatch
+    (places.frame_path) is not still needed beside it (selection._change_points); the wander is then one mismatch
     located at the tracker.  Before, steps were named wherever the frame moved most: tracker knocks, without the
     tracker's position and with it, 1 and 2 (seed 3), 2 and 4 (seed 4), 2 and 1 (seed 6), and the tool side
     "expanding" in three of the six runs; icelinker four and three knocks."""
@@ -156,7 +156,7 @@ def _replica(seed: int, n: int = 300) -> tuple[np.ndarray, int]:
 def test_a_nest_wandering_smoothly_is_located_at_the_nest_not_named_as_knocks(seed):
     """One base reflector (base_2) wandering smoothly against the other two, 10-15 um each way over the record: a
     nest's step is named only where the nest moving smoothly in the order of the readings (places.nest_path) is not
-    still needed beside it (selection._path_instead), and that path is then the one located mismatch.  Before,
+    still needed beside it (selection._change_points), and that path is then the one located mismatch.  Before,
     seed 3 had three knocks of base_2 named without the tracker's position and one with it (beside a side
     expanding), seed 4 two knocks without, one knock and a creep with."""
     from mtcal.diagnose import diagnose
@@ -222,7 +222,7 @@ def _tilted(x: np.ndarray, poses: slice, um: float) -> np.ndarray:
 def test_a_base_tilted_for_a_while_is_not_named_a_knock(seed):
     """The replica's base tilted 80 um at base_2 for poses 101-122 and back (_tilted): icelinker's base_2 named
     knocked at pose 573 and back at 595 with the tracker given, nothing without.  A step that a second step along
-    its own motion takes back gives way to its place displaced for a while (selection._comes_back), and a nest's
+    its own motion takes back gives way to its place displaced for a while (selection._change_points), and a nest's
     step that only turns the stops it is read at, where they move at random, is not the nest's
     (selection._stops_tilt).  Before: a knock of base_2 without the tracker (seed 4), a re-levelling of the tracker
     both ways (seed 5)."""

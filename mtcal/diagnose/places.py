@@ -86,23 +86,26 @@ def tie(c: fx.Candidate, rivals: list[fx.Candidate], leads: list[float]) -> fx.C
                                     "physics outside the list may fit it as well"})
 
 
-def unsteady(knocks: list[fx.Candidate]) -> fx.Candidate:
-    """Several knocks of one station's tracker within one block of readings (an axis' round) as one free form: their
-    steps together (3 columns each, mm, machine frame) -- every reading of the station stepping again and again
-    within minutes (the tracker disturbed and settling, the machine's stops landing off: an axis repeating worse,
-    something in the beam), not a tracker knocked several times."""
-    x = knocks[0].extra
-    t0 = [k.extra["t0_s"] for k in knocks]
-    of = f" of station {x['station']}" if x.get("station") else ""
+def unsteady(steps: list[fx.Candidate]) -> fx.Candidate:
+    """Several steps of one place (a station's frame: knocks, re-levellings; one nest) found by its change-point
+    search (mtcal.diagnose.scans.change_points: k >= 2 steps that do not come back) as one free form: their columns
+    together -- the place's readings stepping again and again (the tracker disturbed and settling, the machine's
+    stops landing off: an axis repeating worse, something in the beam; a nest loose in its seat), not a tracker or
+    a nest knocked several times."""
+    x = steps[0].extra
+    t0 = [k.extra["t0_s"] for k in steps]
     at = ", ".join(f"{t:.6g}" for t in t0)
-    return fx.Candidate(fx.UNEXPLAINED, x["from_axis"], f"every reading stepping at t = {at} s, within axis "
-                        f"{x['from_axis']} round {x['round']}", np.concatenate([k.G for k in knocks], axis=-1),
-                        [f"step {i + 1} {k} (mm)" for i in range(len(knocks)) for k in "xyz"],
-                        family=f"{fx.UNEXPLAINED} place unsteady", extra=_at_the_tracker(x.get("station"), (
-                            f"the readings of the tracker{of} step {len(knocks)} times within axis "
-                            f"{x['from_axis']} round {x['round']} (at {at} s): the tracker disturbed and settling, "
-                            "the machine's stops landing off (an axis repeating worse), something in the beam -- "
-                            "not a tracker knocked again and again"), t0_s=min(t0)))
+    causes = ("the nest loose in its seat, the side under it settling" if "side" in x else
+              "the tracker disturbed and settling, the machine's stops landing off (an axis repeating worse), "
+              "something in the beam")
+    what = f"the reflector {x['point']} ({x['side']} side)" if "side" in x else "every reading"
+    words = (f"{what} steps {len(steps)} times (at {at} s, from axis {x['from_axis']} round {x['round']}): {causes} "
+             "-- not one knock after another")
+    extra = (_at_the_nest(x, words) if "side" in x else _at_the_tracker(x.get("station"), words)) | {"t0_s": min(t0)}
+    return fx.Candidate(fx.UNEXPLAINED, x["from_axis"], f"{what} stepping at t = {at} s, from axis "
+                        f"{x['from_axis']} round {x['round']}", np.concatenate([k.G for k in steps], axis=-1),
+                        [f"step {i + 1} {q}" for i, k in enumerate(steps) for q in k.params],
+                        family=f"{fx.UNEXPLAINED} place unsteady", extra=extra)
 
 
 def _at_the_tracker(station: str | None, note: str, **more) -> dict:
@@ -156,7 +159,7 @@ def frame_path(prep, c: fx.Candidate) -> fx.Candidate:
     a turn, rad, about the tracker, else the readings' centre: with the translation beside it, a turn about any
     point is the same motion) smooth in the order of the readings (_smooth_order: cubic B-splines), relative to the
     first reading (the frame's alignment is the base's).  A step of the frame (a knock, a re-levelling) gives way
-    where this path is still needed beside it (selection._path_instead)."""
+    where this path is still needed beside it (selection._change_points)."""
     g = prep.geometry
     station = c.extra.get("station")
     rows, _, of = g.at(station)
@@ -174,7 +177,7 @@ def frame_path(prep, c: fx.Candidate) -> fx.Candidate:
 def nest_path(prep, c: fx.Candidate) -> fx.Candidate:
     """The nest of a nest knock ``c`` moving smoothly with time: a translation (mm, its side's frame: the creep's
     generated signature with a smooth function of the readings' order, _smooth_order), relative to the first
-    reading.  A nest's step gives way where this path is still needed beside it (selection._path_instead): a base
+    reading.  A nest's step gives way where this path is still needed beside it (selection._change_points): a base
     reflector of icelinker's replica wandering 10-15 um against the other two was named knocked one to three
     times (tests/test_real_icelinker.py)."""
     g, x = prep.geometry, c.extra
@@ -346,12 +349,20 @@ def step_pattern(prep, c: fx.Candidate, theta: np.ndarray) -> np.ndarray:
     return out
 
 
+def place_motion(prep, c: fx.Candidate) -> np.ndarray:
+    """(n, 3, p) mm per parameter, machine frame: the motion of the step ``c``'s place (step_rows) per parameter of
+    ``c`` (step_pattern of each unit vector) at every reading of the place, before its t0 as well as after -- the
+    columns a change point of that place switches on (mtcal.diagnose.scans.change_points)."""
+    p = c.G.shape[2]
+    return np.stack([step_pattern(prep, c, e) for e in np.eye(p)], axis=-1)
+
+
 def bump(prep, c: fx.Candidate, inside: np.ndarray) -> fx.Candidate:
     """The place of a step ``c`` (its station's frame, or its nest) displaced for a while and back: the readings
     ``inside`` (bool (n,), the place's readings between the two change points) moved together -- the frame by a
     rigid motion (a translation, mm, machine frame, and a turn, rad, about the tracker, else the readings' centre),
     the nest by a translation in its side's frame, mm -- and every other reading not at all.  A step that a second
-    step along its own motion takes back gives way to it (selection._comes_back): icelinker's replica with base_2
+    step takes back gives way to it (selection._change_points): icelinker's replica with base_2
     64 um off for poses 101-125 had base_2 named knocked at 101 and again at 126 (tests/test_real_icelinker.py)."""
     g, x, rec = prep.geometry, c.extra, prep.rec
     first, last = (int(i) for i in np.flatnonzero(inside)[np.argsort(prep.order[inside])[[0, -1]]])

@@ -23,8 +23,8 @@ from mtcal.diagnose.selection import (
     folds,
     forward,
     growing_confounds,
-    one_knock_per_block,
     select_degrees,
+    steps_per_place,
     with_steps,
 )
 from mtcal.errors import InputError
@@ -120,7 +120,7 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
         cands = screen(cands, notes, eng, w)
     say(f"{len(cands)} candidate effects; null model {eng.p} parameters, sigma ratio {eng.sigma:.3f}")
     steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
-    steps = one_knock_per_block(backward(eng, steps, w, level, say), say)
+    steps = steps_per_place(backward(eng, steps, w, level, say), say)
     growing_confounds(prep, eng, steps, w)
     air_confounds(steps, notes)
     null = ("the given model" if prep.given_model else

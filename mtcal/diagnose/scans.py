@@ -351,33 +351,48 @@ def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None,
     """Change point of a knock: every reading from t0 on (all axes, all reflectors; of the readings ``among``, bool
     (n,), e.g. one tracker station's or one nest's, else all) shifted by one vector (machine frame; with ``frame``
     (n, 3, 3), the rotation of each reading's local frame, one vector in that frame: a knocked nest turns with its
-    side).  t0 is scanned over the gaps between distinct reading times; each step column (whitened W_i R_i on the
-    readings after t0) is scored by running sums in time order (Frisch-Waugh: G^T G, Q^T G and G^T r), across the
-    base blocks.  Returns (best {"delta", "t0", "rows"}, number of separable change points scanned)."""
+    side).  The step_scan of those three columns; returns (best {"delta", "t0", "rows", "before_s", "after_s"},
+    number of separable change points scanned)."""
+    rows = np.ones(len(prep.rec), bool) if among is None else among
+    return step_scan(prep, eng, rows, prep.W if frame is None else prep.W @ frame)
+
+
+def return_scan(prep: Prepared, eng: Engine, rows: np.ndarray, pattern: np.ndarray) -> tuple[dict | None, int]:
+    """Second change point of a step along its own motion: the step_scan of one column, the readings ``rows`` (bool
+    (n,), the step's place) from t1 on moved by ``pattern`` ((n, 3) mm, machine frame: the step's fitted motion at
+    every reading), one amount, scored on ``eng`` (the step fitted).  Returns (best, change points scanned)."""
+    return step_scan(prep, eng, rows, np.einsum("nij,nj->ni", prep.W, pattern)[:, :, None])
+
+
+def step_scan(prep: Prepared, eng: Engine, rows: np.ndarray, Gw: np.ndarray) -> tuple[dict | None, int]:
+    """The best change point of a step of a place: of the readings ``rows`` (bool (n,)) in time order, every one
+    from t0 on moved by the per-reading whitened columns ``Gw`` ((n, 3, p): W_i times the place's motion per
+    parameter at reading i), one amount per column.  t0 is scanned over the gaps between distinct reading times;
+    each step's reduction of the residual sum of squares on ``eng`` (Frisch-Waugh: G^T G, Q^T G and G^T r) is
+    formed by running sums in time order, across the base blocks.  A change point whose columns lie within
+    ALIAS_TOL of the fit (sin^2 of the smallest angle, relative to G^T G: as Engine.score) is not counted.
+    Returns (best {"delta", "t0", "rows": the readings from t0 on, "before_s", "after_s"}, number of separable
+    change points scanned), (None, 0) where none is."""
     rec = prep.rec
     n = len(rec)
     o = np.argsort(prep.order)
-    if among is not None:
-        o = o[among[o]]
-    if len(o) < 3 or not np.isfinite(rec.time_s).all():
+    o = o[rows[o]]
+    if len(o) < 3 or not np.isfinite(rec.time_s[o]).all():
         return None, 0
-    W = prep.W
     r = eng.r.reshape(n, 3)
-    Qf = eng.full_rows()
     t = rec.time_s[o]
-    Wo = W[o] if frame is None else W[o] @ frame[o]
-    A = np.cumsum((Wo.transpose(0, 2, 1) @ Wo)[::-1], axis=0)[::-1]                  # G^T G
-    B = np.cumsum(np.einsum("nkp,nkj->npj", Qf[o], Wo)[::-1], axis=0)[::-1]          # Q^T G
-    b = np.cumsum(np.einsum("nki,nk->ni", Wo, r[o])[::-1], axis=0)[::-1]             # G^T r
+    Go = Gw[o]
+    A = np.cumsum((Go.transpose(0, 2, 1) @ Go)[::-1], axis=0)[::-1]                          # G^T G
+    B = np.cumsum(np.einsum("nkp,nkj->npj", eng.full_rows()[o], Go)[::-1], axis=0)[::-1]     # Q^T G
+    b = np.cumsum(np.einsum("nki,nk->ni", Go, r[o])[::-1], axis=0)[::-1]                     # G^T r
     j = np.flatnonzero(np.diff(t) > 0) + 1       # the step starts at reading j (distinct times only)
     if len(j) == 0:
         return None, 0
     M = A[j] - np.einsum("npi,npj->nij", B[j], B[j])
-    # separability as in Engine.score: sin^2 of the angles between G and the base, relative to G^T G
-    L = np.linalg.cholesky(A[j])
-    Li = np.linalg.inv(L)
-    mu = np.linalg.eigvalsh(Li @ M @ Li.transpose(0, 2, 1))
-    ok = mu[:, 0] > ALIAS_TOL**2
+    lam, V = np.linalg.eigh(A[j])   # A^(-1/2) M A^(-1/2): the step's share outside the fit, per direction
+    Li = V / np.sqrt(np.where(lam > 0, lam, 1.0))[:, None, :]
+    mu = np.linalg.eigvalsh(np.einsum("nji,njk,nkl->nil", Li, M, Li))
+    ok = (lam[:, 0] > 0) & (mu[:, 0] > ALIAS_TOL**2)
     if not ok.any():
         return None, 0
     delta = np.full(len(j), -np.inf)
@@ -388,31 +403,118 @@ def knock_scan(prep: Prepared, eng: Engine, among: np.ndarray | None = None,
             "before_s": float(t[jj - 1]), "after_s": float(t[jj])}, int(ok.sum())
 
 
-def return_scan(prep: Prepared, eng: Engine, rows: np.ndarray, pattern: np.ndarray) -> tuple[dict | None, int]:
-    """Second change point of a step along its own motion: of the readings ``rows`` (bool (n,), the step's place)
-    in time order, every reading from t1 on moved by ``pattern`` ((n, 3) mm, machine frame: the step's fitted
-    motion at every reading), one amount; t1 scanned over the gaps between distinct reading times, each one-column
-    step scored on ``eng`` (the step fitted) by running sums in time order (as knock_scan).  Returns (best {"delta",
-    "rows": the readings from t1 on}, number of separable change points scanned)."""
+K_MAX = 4  # change points a place's search goes up to (its own step and three more)
+
+
+@dataclass
+class ChangePoints:
+    """A place's change points found by change_points: for each, in the order found, ``rows`` (the place's readings
+    from it on), ``t0`` (s, mid-gap), ``scanned`` (change points scanned for it) and ``logp_adj`` (its test's log p
+    times that multiplicity); ``theta`` (k, p) their amplitudes fitted together beside the fit searched on;
+    ``drift``: the score of the place's smooth path beside the k steps where it is still needed (the place moving
+    smoothly, the steps only sampling it), else None."""
+
+    rows: list[np.ndarray]
+    t0: list[float]
+    scanned: list[int]
+    logp_adj: list[float]
+    theta: np.ndarray
+    drift: Any = None
+
+    @property
+    def k(self) -> int:
+        return len(self.rows)
+
+
+def change_points(prep: Prepared, eng: Engine, rows: np.ndarray, G: np.ndarray, level: float,
+                  k_max: int = K_MAX, given: list[np.ndarray] = (),
+                  against: Callable[[Engine, np.ndarray, np.ndarray, Any], float | None] | None = None,
+                  smooth: np.ndarray | None = None) -> ChangePoints:
+    """The change points of one place, one penalised search over their number k = 0, 1, 2, ...: the readings
+    ``rows`` (bool (n,), the place's: a station's frame, one nest) step k times in time, each step moving them by
+    the place's own motion ``G`` ((n, 3, p) mm per parameter, machine frame: a translation; a turn about the tracker
+    and a translation; a nest's translation in its side's frame) with its own free amplitude (a step and back is
+    k = 2, the second amplitude free).  ``given``: change points already fitted (their readings from t0 on, each
+    a step of G), counted in k.
+
+    Search: greedy (binary segmentation along the fit): the best change point on the fit so far (step_scan, every
+    gap between reading times), added where it enters; the k-th enters when its F test beside the fit and the k-1
+    before it (Engine.score: null, no step there; alternative, a step of G's p columns; error term, the fit's
+    residual mean square -- or, with ``against``, the caller's: it returns the step's log p against another
+    stratum, e.g. the scatter of the stops it moves, or None for the usual test) has a log p that, multiplied by
+    the m_k change points scanned for it (Bonferroni: the max of the scanned statistics), is below log ``level``.
+    Equivalently k-hat minimises, along the greedy path, -2 ln L + sum_j q_j with q_j the critical value of the
+    j-th change point's test at level/m_j: the scan's own max-statistic calibration as the penalty, so that no
+    step enters on noise at more than ``level`` per place.  The search stops at ``k_max`` or at the first change
+    point that does not enter.  A drift instead of steps: with ``smooth`` ((n, 3, q) mm, the place moving smoothly
+    in the order of the readings, places.frame_path / nest_path) is the other model of the place: beside the given
+    steps, significant itself (F test at ``level``, one per place, no location scanned) and ahead of the k-hat
+    steps found in the same penalised likelihood (_drift: each term's reduction of the residual sum of squares
+    less its critical value), it sets ``drift``: steps cannot hold a smooth motion, which a greedy search samples
+    with as many steps as it is allowed.  What the k steps are (a knock, a re-seated nest,
+    displaced for a while and back, stepping again and again, a drift sampled by steps) is read by the caller
+    from k-hat, the amplitudes and the place, never by a rule per effect name."""
     n = len(prep.rec)
-    o = np.argsort(prep.order)
-    o = o[rows[o]]
-    t = prep.rec.time_s[o]
-    j = np.flatnonzero(np.diff(t) > 0) + 1
-    if len(j) == 0:
-        return None, 0
-    g = np.einsum("nij,nj->ni", prep.W[o], pattern[o])                             # whitened column, (m, 3)
-    A = np.cumsum(np.einsum("ni,ni->n", g, g)[::-1])[::-1]                            # G^T G
-    B = np.cumsum(np.einsum("nkp,nk->np", eng.full_rows()[o], g)[::-1], axis=0)[::-1]  # Q^T G
-    b = np.cumsum(np.einsum("ni,ni->n", g, eng.r.reshape(n, 3)[o])[::-1])[::-1]       # G^T r
-    M = A[j] - np.einsum("np,np->n", B[j], B[j])
-    ok = M > ALIAS_TOL**2 * A[j]
-    if not ok.any():
-        return None, 0
-    delta = np.full(len(j), -np.inf)
-    delta[ok] = b[j][ok] ** 2 / M[ok]
-    k = int(np.argmax(delta))
-    return {"delta": float(delta[k]), "rows": o[j[k]:]}, int(ok.sum())
+    e = eng.copy()
+    Gw = np.einsum("nij,njk->nik", prep.W, G)
+    cols = []
+
+    def step(on: np.ndarray) -> np.ndarray:
+        X = np.zeros_like(Gw)
+        X[on] = Gw[on]
+        return X.reshape(3 * n, -1)
+
+    given = [np.flatnonzero(on) if on.dtype == bool else on for on in given]  # readings from t0 on, indices
+    for on in given:
+        cols.append(step(on))
+        e.add(cols[-1])
+    start, gains = e.copy(), []
+    out = ChangePoints([*given], [float(np.min(prep.rec.time_s[on])) for on in given], [0] * len(given),
+                       [-math.inf] * len(given), np.zeros((0, G.shape[2])))
+    while out.k < k_max:
+        found, m = step_scan(prep, e, rows, Gw)
+        if found is None:
+            break
+        X = step(found["rows"])
+        sc = e.score(X)
+        if not sc.separable:
+            break
+        logp = against(e, X, found["rows"], sc) if against is not None else None
+        logp = sc.logp if logp is None else logp
+        if logp + math.log(m) >= math.log(level):
+            break
+        e.add(X)
+        cols.append(X)
+        gains.append((sc.delta, sc.k))
+        out.rows.append(found["rows"])
+        out.t0.append(found["t0"])
+        out.scanned.append(m)
+        out.logp_adj.append(logp + math.log(m))
+    if cols:
+        A = np.hstack(cols)
+        theta = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)[0]
+        out.theta = theta.reshape(len(cols), -1)
+    if smooth is not None:
+        out.drift = _drift(start, e, np.einsum("nij,njk->nik", prep.W, smooth).reshape(3 * n, -1), out, gains,
+                           level)
+    return out
+
+
+def _drift(start: Engine, steps: Engine, P: np.ndarray, cp: ChangePoints, gains: list[tuple[float, int]],
+           level: float):
+    """The score of the smooth path ``P`` (whitened columns) beside the given steps (``start``) where the path
+    model beats the k-hat steps found (``steps``, their reductions and columns ``gains``) in the penalised
+    likelihood of change_points -- the reduction of the residual sum of squares less each term's critical value at
+    its level (the path: F test at ``level``, one per place; a change point: at level over those scanned for it),
+    both in the residual mean square of the better of the two fits -- and is significant itself; else None."""
+    sc = start.score(P)
+    if not sc.separable or sc.logp >= math.log(level):
+        return None
+    s2 = min(steps.rss / steps.dof, (start.rss - sc.delta) / sc.dof)
+    pen = sum(k * float(_tails.f_ppf(1.0 - min(level / m, 0.5), k, steps.dof))
+              for (_, k), m in zip(gains, cp.scanned[len(cp.scanned) - len(gains):]))
+    path = sc.delta / s2 - sc.k * float(_tails.f_ppf(1.0 - level, sc.k, sc.dof))
+    return sc if path > sum(d for d, _ in gains) / s2 - pen else None
 
 
 def where_of(prep: Prepared, rows: np.ndarray) -> dict:

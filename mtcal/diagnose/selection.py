@@ -32,6 +32,7 @@ from mtcal.diagnose.places import (
     bump,
     frame_path,
     nest_path,
+    place_motion,
     place_of,
     replicate_strata,
     step_pattern,
@@ -44,7 +45,7 @@ from mtcal.diagnose.places import (
     unsteady,
 )
 from mtcal.diagnose.prepare import Prepared
-from mtcal.diagnose.scans import return_scan
+from mtcal.diagnose.scans import change_points
 
 CONFOUND_COS = 0.9
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
@@ -263,12 +264,9 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and _frame_step(v.candidate):
             fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), _path(prep, eng, v, w)], v,
                                                        level, taken)
-        if why is None and (found := _path_instead(prep, eng, v, w, level)):
-            why, path = found
-            fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), path], v, level, taken)
-        if why is None and (found := _comes_back(prep, eng, v, w, level)):
-            why, back = found
-            fallback = fallback or _in_place(back, v, level, taken)
+        if why is None and (found := _change_points(prep, eng, v, w, level)):
+            why, free = found
+            fallback = fallback or _strongest_in_place(free, v, level, taken)
         if why is None:
             place = place_needed(prep, eng, v, w, level)
             if place is None:
@@ -748,74 +746,85 @@ def _split_plot(prep: Prepared, eng: Engine, G: np.ndarray, own: Score, pattern:
     return F, float(_tails.f_logsf(F, own.k, between.k)), between
 
 
-def _path_instead(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
-                  ) -> tuple[str, tuple[fx.Candidate, Score]] | None:
-    """Why a step of a station's frame (a knock, a re-levelling) or of a nest (a nest knock) is not what happened,
-    with the free form of its place instead and that form's score on the current fit, or None: the frame or the
-    nest moving smoothly in the order of the readings (places.frame_path, places.nest_path) is still needed beside
-    the step (F test at ``level``), so the mismatch is a motion the step only samples where it moved most -- a
-    drift or a wander.  Once that path is fitted, a step is named only where it is significant beside it.
-    icelinker (a robot's base read 1000 times, its three reflectors drifting 56 um and settling,
-    docs/guide/real-data-tracker.md) had four tracker knocks named without the tracker's position and three with
-    it, two of them the same."""
-    c = v.candidate
-    if not _place_step(c):
-        return None
-    path = frame_path(prep, c) if _frame_step(c) else nest_path(prep, c)
-    e = eng.copy()
-    e.add(w(c))
-    sc = e.score(w(path))
-    if not sc.separable or sc.logp >= math.log(level):
-        return None
-    what = "the tracker's frame" if _frame_step(c) else f"the nest of {c.extra['point']}"
-    return (f"{what} moves smoothly beyond the step (a smooth path in the order of the readings beside it: "
-            f"F = {sc.F:.2g}, p = {math.exp(sc.logp):.2g}): a drift or wander, not one step",
-            _path(prep, eng, v, w, path))
+BACK = 0.5  # two steps come back when what is left after both is less than this share of the motion between them
 
 
-BACK = 0.5  # a step comes back when what is left of it after the second step is less than this share of it
+def _change_points(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
+                   ) -> tuple[str, list[tuple[fx.Candidate, Score] | None]] | None:
+    """What a step of a place -- a station's frame (a knock, a re-levelling) or a nest (a nest knock) -- is, read
+    from its place's one change-point search (scans.change_points over k = 1, 2, ... steps of the place's own
+    motion, places.place_motion, each amplitude free, from ``v``'s step on; each further change point at ``level``
+    over the change points scanned for it, against the stops' own motion where it moves whole stops,
+    _against_stops; then the place's smooth path, places.frame_path / nest_path, beside the steps found): the
+    words for why it is not one step and the free forms of its place that may stand instead (with their scores on
+    ``eng``), or None where the search reads one step (k-hat = 1, no drift).
 
+    * a drift instead of steps (the smooth path still needed beside the k-hat steps): the place moving smoothly,
+      the steps sampling it where it moved most (and, for a frame, its stops landing off, _knock_stops);
+    * k-hat = 2 and less than BACK of the motion between the two change points left after them: the place
+      displaced for a while and back (places.bump: a nest bumped and re-seated, a side tilted for a while);
+    * k-hat >= 3: the place stepping again and again (places.unsteady; for a frame, or its stops landing off);
+    * k-hat = 2 not coming back: the first step stands; the second is tested afresh by the forward selection, and
+      the steps selected at one place are read together at the end (steps_per_place).
 
-def _comes_back(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
-                ) -> tuple[str, tuple[fx.Candidate, Score]] | None:
-    """Why a step of a station's frame (a knock, a re-levelling) or of a nest (a nest knock) is not what happened,
-    with the free form of its place displaced for a while and back (places.bump) and that form's score on the
-    current fit, or None: a second step of the place along the first one's own motion (scans.return_scan, its
-    change point scanned before t0 and after) is significant beside it (F test at ``level`` over the change points
-    scanned) and takes it back (less than BACK of the displacement is left outside the two).  A knock stays; a
-    place displaced for a while and back is outside the grammar (a side tilted, a nest bumped and re-seated).
-    icelinker's replica (tests/test_real_icelinker.py) with base_2 64 um off for poses 101-125 had base_2 named
-    knocked at 101 and again, back, at 126 in three runs of four; with its base tilted for 22 poses, a re-levelling
-    or a nest knock in three of six."""
+    icelinker's replica (tests/test_real_icelinker.py): a frame or a nest wandering smoothly had one to four
+    knocks named; base_2 64 um off for poses 101-125, knocked at 101 and again, back, at 126."""
     c = v.candidate
     if not _place_step(c):
         return None
     pattern = _fitted_motion(prep, eng, c, w)
-    e = eng.copy()
-    e.add(w(c))
-    found, count = return_scan(prep, e, step_rows(prep, c), pattern)
-    if found is None:
+    path = frame_path(prep, c) if _frame_step(c) else nest_path(prep, c)
+
+    def against(e: Engine, X: np.ndarray, later: np.ndarray, sc: Score) -> float | None:
+        on = np.zeros(len(pattern), bool)
+        on[later] = True
+        found = _against_stops(prep, e, c, X, on, sc, pattern, w, level)
+        return found[0] if found else None
+
+    G = place_motion(prep, c)
+    cp = change_points(prep, eng, step_rows(prep, c), G, level, given=[c.moved], against=against, smooth=path.G)
+    if cp.drift is not None:
+        what = "the tracker's frame" if _frame_step(c) else f"the nest of {c.extra['point']}"
+        return (f"{what} moves smoothly beyond {cp.k} step(s) of it (a smooth path in the order of the readings "
+                f"beside them: F = {cp.drift.F:.2g}, p = {math.exp(cp.drift.logp):.2g}): a drift or wander, not "
+                "steps", [_knock_stops(prep, eng, v, w), _path(prep, eng, v, w, path)])
+    if cp.k == 2:
+        return _back(prep, eng, c, G, cp, w)
+    if cp.k < 3:
         return None
-    later = np.zeros(len(pattern), bool)
-    later[found["rows"]] = True
-    steps = [fx.Candidate("step", None, "", (pattern * on[:, None])[:, :, None], ["s"]) for on in (c.moved, later)]
-    sc = e.score(w(steps[1]))
-    if not sc.separable:
+    steps = _steps_of(prep, c, G, cp)
+    free = unsteady(steps)
+    return (f"its place steps {cp.k} times (each change point at p_adj < {level:g} over those scanned for it): "
+            "not one step", [_knock_stops(prep, eng, v, w), (free, eng.score(w(free)))])
+
+
+def _back(prep: Prepared, eng: Engine, c: fx.Candidate, G: np.ndarray, cp, w: Columns
+          ) -> tuple[str, list[tuple[fx.Candidate, Score]]] | None:
+    """_change_points' reading of k-hat = 2 steps of the place of ``c`` (its motion per parameter ``G``): where less
+    than BACK of the motion between the two change points is left after both, the words and the place displaced
+    for a while and back (places.bump, with its score on ``eng``); else None (the step stands)."""
+    motion = [np.linalg.norm(np.einsum("nij,j->ni", G, t)) for t in (cp.theta.sum(axis=0), *cp.theta)]
+    moved = [np.isin(np.arange(len(G)), r) for r in cp.rows]
+    between = motion[1] if moved[0].sum() >= moved[1].sum() else motion[2]  # the earlier step's motion
+    if motion[0] >= BACK * between:
         return None
-    against = _against_stops(prep, e, c, w(steps[1]), later, sc, pattern, w, level)
-    logp = against[0] if against else sc.logp
-    if logp + math.log(count) >= math.log(level):
-        return None
-    A = np.hstack([w(x) for x in steps])
-    first, second = np.linalg.lstsq(A - eng.project(A), eng.r, rcond=None)[0]
-    after = first if c.moved[later].all() else second  # the displacement between the two change points
-    if abs(first + second) >= BACK * abs(after):
-        return None
-    back = bump(prep, c, c.moved ^ later)
-    return (f"a second step along its own motion takes it back ({abs(first + second) / abs(after):.0%} of it left "
-            f"after; p = {math.exp(logp):.2g} over {count} change points"
-            + (", against its stops' own motion" if against else "") + "): displaced for a while and back, not a "
-            "step that stays", (back, eng.score(w(back))))
+    back = bump(prep, c, moved[0] ^ moved[1])
+    return (f"a second step of its place takes it back ({motion[0] / between:.0%} of it left after; p = "
+            f"{math.exp(cp.logp_adj[1]):.2g} over {cp.scanned[1]} change points): displaced for a while and back, "
+            "not a step that stays", [(back, eng.score(w(back)))])
+
+
+def _steps_of(prep: Prepared, c: fx.Candidate, G: np.ndarray, cp) -> list[fx.Candidate]:
+    """The change points ``cp`` of the place of the step ``c`` (its motion per parameter ``G``) as steps, in time
+    order: each ``c``'s columns switched on from its t0 (its ``extra`` with that t0)."""
+    out = []
+    for rows, t0 in sorted(zip(cp.rows, cp.t0), key=lambda x: x[1]):
+        X = np.zeros_like(G)
+        X[rows] = G[rows]
+        first = rows[np.argmin(prep.order[rows])]
+        out.append(fx.Candidate(c.name, c.axis, c.label, X, c.params, family=c.family, extra={
+            **c.extra, "t0_s": float(t0), "from_axis": str(prep.rec.axis[first]), "round": int(prep.rec.round[first])}))
+    return out
 
 
 def _fitted_motion(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns) -> np.ndarray:
@@ -1021,22 +1030,25 @@ def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
     return selected
 
 
-def one_knock_per_block(steps: list[Step], say: Callable[[str], None]) -> list[Step]:
-    """``steps`` with the tracker knocks of one station within one block of readings (an axis' round), where there
-    are several, replaced by one free form of their steps together (mtcal.diagnose.places.unsteady), with the
-    strongest one's evidence: a tracker knocked again within minutes is not what the data show, readings that step
-    again and again are (gen2 seed 3505 campaign 7: Y repeating worse, 3 um per stop, was two knocks 210 s apart in
-    Y's second round, +3.3 um then -7.0 um along Y)."""
-    blocks: dict[tuple, list[Step]] = {}
+def steps_per_place(steps: list[Step], say: Callable[[str], None]) -> list[Step]:
+    """``steps`` with the steps selected at one place (a station's frame: knocks, re-levellings; one nest), where
+    there are several, replaced by one free form of them together (mtcal.diagnose.places.unsteady), with the
+    strongest one's evidence.  The forward selection is the place's change-point search continued (each step
+    entered at the level over the change points scanned for it: scans.change_points' penalty); k-hat >= 2 steps
+    of one place that did not come back when the second was tested (_change_points) read as the place stepping
+    again and again, not as one knock after another (gen2 seed 3505 campaign 7: Y repeating worse, 3 um per
+    stop, was two knocks 210 s apart in Y's second round, +3.3 um then -7.0 um along Y)."""
+    places: dict[tuple, list[Step]] = {}
     for s in steps:
-        x = s.candidate.extra
-        if x.get("variant") == "tracker knock":
-            blocks.setdefault((x.get("station"), x["from_axis"], x["round"]), []).append(s)
+        c = s.candidate
+        if _place_step(c):
+            key = ("frame", c.extra.get("station")) if _frame_step(c) else (c.extra["point"], c.extra["side"])
+            places.setdefault(key, []).append(s)
     out = list(steps)
-    for group in (g for g in blocks.values() if len(g) > 1):
+    for group in (g for g in places.values() if len(g) > 1):
         free = unsteady(sorted((s.candidate for s in group), key=lambda c: c.extra["t0_s"]))
         strong = min(group, key=lambda s: s.logp_adj)
-        say(f"{len(group)} knocks in one block of readings: {free.label}")
+        say(f"{len(group)} steps at one place: {free.label}")
         out = [s for s in out if all(s is not k for k in group)] + [Step(free, strong.score, strong.logp_adj)]
     return out
 
