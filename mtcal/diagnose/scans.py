@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import weakref
 from dataclasses import asdict, dataclass, replace
 from typing import Any, Callable
 
@@ -104,12 +105,27 @@ def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float) -> Be
     A = G - beside.project(G)
     theta, *_ = np.linalg.lstsq(A, beside.r, rcond=None)
     cov = sigma ** 2 * np.linalg.pinv(A.T @ A)
-    Wi = np.linalg.inv(W)
-    raw = np.einsum("nij,njk->nik", Wi, G.reshape(n, 3, -1)).reshape(3 * n, -1)
-    U = np.linalg.qr(np.einsum("nij,njp->nip", Wi, beside.full_rows()).reshape(3 * n, -1))[0]
-    J = (raw - U @ (U.T @ raw)).reshape(n, 3, -1)
     moved = np.any(G.reshape(n, 3, -1) != 0, axis=(1, 2))
+    Wi = np.linalg.inv(W)
+    raw = np.zeros((n, 3, G.shape[1]))
+    raw[moved] = np.einsum("nij,njk->nik", Wi[moved], G.reshape(n, 3, -1)[moved])
+    U = _mm_basis(Wi, beside)
+    on = np.repeat(moved, 3)
+    J = (raw.reshape(3 * n, -1) - U @ (U[on].T @ raw.reshape(3 * n, -1)[on])).reshape(n, 3, -1)
     return Beyond(theta, cov, np.einsum("nik,k->ni", J, theta), J, moved)
+
+
+_MM_BASES: "weakref.WeakKeyDictionary[Engine, tuple[int, np.ndarray]]" = weakref.WeakKeyDictionary()
+
+
+def _mm_basis(Wi: np.ndarray, eng: Engine) -> np.ndarray:
+    """(3n, P) an orthonormal basis, in mm (machine frame), of the columns of the fit ``eng`` (``Wi`` (n, 3, 3) the
+    inverse whitening), kept per engine and its column count: every group a scan locates is sized beside one fit."""
+    kept = _MM_BASES.get(eng)
+    if kept is None or kept[0] != eng.p:
+        kept = eng.p, np.linalg.qr(np.einsum("nij,njp->nip", Wi, eng.full_rows()).reshape(Wi.shape[0] * 3, -1))[0]
+        _MM_BASES[eng] = kept
+    return kept[1]
 
 
 def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray) -> tuple[float, float]:
