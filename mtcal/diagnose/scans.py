@@ -97,10 +97,10 @@ def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float) -> Be
     to its residual with its columns projected out (Frisch-Waugh, whitened by ``W`` (n, 3, 3)); their displacement
     (mm) then taken beyond what ``beside``'s columns can take of it in the machine frame (least squares in mm, the
     metric of a displacement: in the whitened one, the part beyond the fit moves a reading across the beam by
-    many times what it moves it along -- a cyclic error of the tracker's distances of 4 um came out as 15-22 um
-    beyond the base).  ``sigma``: the residual scale of the covariance.  What the base (or another entry) can
-    take is not counted: a reported size is what the data show beyond it, never a raw coefficient of columns
-    the base trades against."""
+    many times what it moves it along -- a cyclic error of the tracker's distances of 4 um was located at up to
+    49 um, tests/test_diagnose_sizes.py).  ``sigma``: the residual scale of the covariance.  What the base (or
+    another entry) can take is not counted: a reported size is what the data show beyond it, never a raw
+    coefficient of columns the base trades against."""
     n = len(W)
     A = G - beside.project(G)
     theta, *_ = np.linalg.lstsq(A, beside.r, rcond=None)
