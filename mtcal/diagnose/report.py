@@ -191,7 +191,7 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, b: Beyond,
             "temperature (e.g. a ball screw warming): record a temperature channel (temperature_c) and the "
             "diagnosis names it (thermal_temperature), or let the axis reach a steady temperature first")
     return Located(c.axis, "position x time", errors[j], float(-s.logp_adj / math.log(10)),
-                   min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(np.linalg.norm(b.disp, axis=1) > 0)),
+                   min(1.0, math.exp(s.logp_adj)), "mean", int(b.moved.sum()),
                    s.score.F, 0.0, size, note, sd)
 
 
@@ -223,7 +223,7 @@ def _place_located(prep: Prepared, c: fx.Candidate, s, b: Beyond, axis: str | No
           + (f", t = {rec.time_s[k]:.0f} s" if np.isfinite(rec.time_s[k]) else ""))
     return Located(axis or c.axis or str(rec.axis[k]), c.extra["by"], f"{c.extra['place']}: {c.label}",
                    float(-s.logp_adj / math.log(10)), min(1.0, math.exp(s.logp_adj)), "mean",
-                   int(np.sum(np.linalg.norm(b.disp, axis=1) > 0)), s.score.F, 0.0, size, c.extra["note"] + at, sd)
+                   int(b.moved.sum()), s.score.F, 0.0, size, c.extra["note"] + at, sd)
 
 
 def headline(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import weakref
 from dataclasses import asdict, dataclass, replace
 from typing import Any, Callable
 
@@ -47,49 +48,84 @@ SEEN = 3.0  # a displacement's component larger than this many of its standard d
 
 @dataclass
 class Beyond:
-    """What columns' fit adds beyond another fit (its columns projected out of theirs): ``theta`` and ``cov`` their
-    estimate (Frisch-Waugh on that fit) and covariance, ``disp`` (n, 3) mm the displacement they add at every
-    reading (machine frame), ``J`` (n, 3, k) mm per parameter (its Jacobian)."""
+    """What columns' fit adds beyond another fit: ``theta`` and ``cov`` their estimate (Frisch-Waugh on that fit,
+    whitened) and covariance, ``disp`` (n, 3) mm the displacement they add at every reading beyond what that fit's
+    columns can take of it in the machine frame, ``J`` (n, 3, k) mm per parameter (its Jacobian), ``moved`` (n,) the
+    readings the columns touch."""
 
     theta: np.ndarray
     cov: np.ndarray
     disp: np.ndarray
     J: np.ndarray
+    moved: np.ndarray | None = None
 
-    def seen(self) -> np.ndarray:
-        """(n, 3) mm: the part of every reading's displacement the data determine -- its components, in the
-        principal axes of its covariance J cov J^T, larger than SEEN standard deviations (the others are the
-        noise of a direction the readings hardly see: across a tracker's beam, a free form's 3-vector is mostly
-        that, and its norm is biased up by it)."""
+    def seen(self) -> tuple[np.ndarray, np.ndarray]:
+        """((n, 3) mm, (n,) mm^2): the part of every reading's displacement the data determine -- its components,
+        in the principal axes of its covariance J cov J^T, larger than SEEN standard deviations (the others are
+        the noise of a direction the readings hardly see: across a tracker's beam, a free form's 3-vector is mostly
+        that, and its norm is biased up by it) -- and the variance those kept components carry (their noise's
+        expected share of its squared norm)."""
         C = np.einsum("nik,kl,njl->nij", self.J, self.cov, self.J)
         lam, V = np.linalg.eigh(C)
         a = np.einsum("nji,nj->ni", V, self.disp)
-        a = np.where(np.abs(a) > SEEN * np.sqrt(np.maximum(lam, 0.0)), a, 0.0)
-        return np.einsum("nij,nj->ni", V, a)
+        keep = np.abs(a) > SEEN * np.sqrt(np.maximum(lam, 0.0))
+        return np.einsum("nij,nj->ni", V, np.where(keep, a, 0.0)), np.sum(np.where(keep, lam, 0.0), axis=1)
 
     def largest(self) -> tuple[int, float, float]:
-        """(reading, size mm, its standard uncertainty mm) of the largest displacement the data determine
-        (``seen``; where none is, the largest displacement)."""
-        d = self.seen()
-        size = np.linalg.norm(d, axis=1)
-        if not size.any():
-            d, size = self.disp, np.linalg.norm(self.disp, axis=1)
-        k = int(np.argmax(size))
-        g = d[k] / size[k] if size[k] > 0 else np.zeros(3)
+        """(reading, size mm, its standard uncertainty mm) of the largest displacement the data determine at a
+        reading the columns move (``seen``; where none is, the largest displacement), its noise removed by its
+        expected value: sqrt(|d|^2 - the variance of its kept components), the estimate of the true displacement's
+        norm under the fit's error term (a largest norm over many readings of a many-column fit is otherwise the
+        largest of its noise)."""
+        d, var = self.seen()
+        size2 = np.sum(d ** 2, axis=1)
+        if not size2.any():
+            d, size2 = self.disp, np.sum(self.disp ** 2, axis=1)
+            var = np.zeros(len(d))
+        size2 = np.maximum(size2 - var, 0.0)
+        if self.moved is not None and self.moved.any():  # at the readings the columns move (the base's own
+            size2 = np.where(self.moved, size2, 0.0)     # motion spread over the others is not the entry's)
+        k = int(np.argmax(size2))
+        norm = float(np.linalg.norm(d[k]))
+        g = d[k] / norm if norm > 0 else np.zeros(3)
         Jk = g @ self.J[k]
-        return k, float(size[k]), float(math.sqrt(max(Jk @ self.cov @ Jk, 0.0)))
+        return k, float(math.sqrt(size2[k])), float(math.sqrt(max(Jk @ self.cov @ Jk, 0.0)))
 
 
 def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float) -> Beyond:
-    """The displacement the whitened columns ``G`` (3n, k) add beyond the fit ``beside``: G with that fit
-    projected out, fitted to its residual, the result un-whitened by ``W`` (n, 3, 3) to mm; ``sigma`` the residual
-    scale of the covariance.  What the base (or another entry) can take is not counted: a reported size is what
-    the data show beyond it, never a raw coefficient of columns the base trades against."""
+    """The displacement the whitened columns ``G`` (3n, k) add beyond the fit ``beside``: their coefficients fitted
+    to its residual with its columns projected out (Frisch-Waugh, whitened by ``W`` (n, 3, 3)); their displacement
+    (mm) then taken beyond what ``beside``'s columns can take of it in the machine frame (least squares in mm, the
+    metric of a displacement: in the whitened one, the part beyond the fit moves a reading across the beam by
+    many times what it moves it along -- a cyclic error of the tracker's distances of 4 um was located at up to
+    49 um, tests/test_diagnose_sizes.py).  ``sigma``: the residual scale of the covariance.  What the base (or
+    another entry) can take is not counted: a reported size is what the data show beyond it, never a raw
+    coefficient of columns the base trades against."""
+    n = len(W)
     A = G - beside.project(G)
     theta, *_ = np.linalg.lstsq(A, beside.r, rcond=None)
     cov = sigma ** 2 * np.linalg.pinv(A.T @ A)
-    J = np.einsum("nij,njk->nik", np.linalg.inv(W), A.reshape(len(W), 3, -1))
-    return Beyond(theta, cov, np.einsum("nik,k->ni", J, theta), J)
+    moved = np.any(G.reshape(n, 3, -1) != 0, axis=(1, 2))
+    Wi = np.linalg.inv(W)
+    raw = np.zeros((n, 3, G.shape[1]))
+    raw[moved] = np.einsum("nij,njk->nik", Wi[moved], G.reshape(n, 3, -1)[moved])
+    U = _mm_basis(Wi, beside)
+    on = np.repeat(moved, 3)
+    J = (raw.reshape(3 * n, -1) - U @ (U[on].T @ raw.reshape(3 * n, -1)[on])).reshape(n, 3, -1)
+    return Beyond(theta, cov, np.einsum("nik,k->ni", J, theta), J, moved)
+
+
+_MM_BASES: "weakref.WeakKeyDictionary[Engine, tuple[int, np.ndarray]]" = weakref.WeakKeyDictionary()
+
+
+def _mm_basis(Wi: np.ndarray, eng: Engine) -> np.ndarray:
+    """(3n, P) an orthonormal basis, in mm (machine frame), of the columns of the fit ``eng`` (``Wi`` (n, 3, 3) the
+    inverse whitening), kept per engine and its column count: every group a scan locates is sized beside one fit."""
+    kept = _MM_BASES.get(eng)
+    if kept is None or kept[0] != eng.p:
+        kept = eng.p, np.linalg.qr(np.einsum("nij,njp->nip", Wi, eng.full_rows()).reshape(Wi.shape[0] * 3, -1))[0]
+        _MM_BASES[eng] = kept
+    return kept[1]
 
 
 def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray) -> tuple[float, float]:
