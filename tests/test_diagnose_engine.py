@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtcal.diagnose import Engine
+from mtcal.diagnose.strata import against, lack_of_fit, pure_error
 
 
 def test_engine_refuses_a_column_inside_the_base():
@@ -128,7 +129,7 @@ def test_lack_of_fit_against_the_replicates_holds_its_level_where_the_weights_ar
     runs = 300
     for _ in range(runs):
         eng, G, units, cells = _replicated(rng, 3.0)
-        s = eng.lack_of_fit(G, units, cells)
+        s = lack_of_fit(eng, G, units, cells)
         assert s is not None and s.dof == 30 and s.k == 10
         lof += s.logp < np.log(0.01)
         plain += eng.score(G).logp < np.log(0.01)
@@ -142,7 +143,7 @@ def test_lack_of_fit_finds_a_mean_the_replicates_do_not_scatter_by():
     for sd in (1.0, 3.0):
         eng, G, units, cells = _replicated(rng, sd)
         eng = Engine([(np.arange(eng.N), np.tile(np.eye(3), (eng.N // 3, 1)))], eng.y + 4 * sd * G[:, 3])
-        assert eng.lack_of_fit(G, units, cells).logp < np.log(1e-4)
+        assert lack_of_fit(eng, G, units, cells).logp < np.log(1e-4)
 
 
 def _stops(rng, sd_stop: float, cells: int = 10, rounds: int = 4, nests: int = 3, others: int = 100):
@@ -189,15 +190,15 @@ def test_a_member_and_its_place_are_tested_against_one_error_term_of_the_stops()
         full.add(member)
         beside = full.copy()
         full.add(free)
-        err = full.pure_error(units, cells)
-        a, b = eng.against(member, err), beside.against(free, err)
+        err = pure_error(full, units, cells)
+        a, b = against(eng, member, err), against(beside, free, err)
         assert a.dof == b.dof == 30, (a, b)  # the stops' scatter along the first coordinate: 40 units less 10 cells
         plain += eng.score(member).logp < np.log(0.01)
         member_lof += a.logp < np.log(0.01)
         free_lof += b.logp < np.log(0.01)
-        within_lof += eng.lack_of_fit(within, units, cells).logp < np.log(0.01)
+        within_lof += lack_of_fit(eng, within, units, cells).logp < np.log(0.01)
         codes = np.concatenate([np.tile(np.arange(3), 40), np.full(eng.N // 3 - 120, -1)])
-        nest_lof += eng.lack_of_fit(within, units, cells, codes).logp < np.log(0.01)
+        nest_lof += lack_of_fit(eng, within, units, cells, codes).logp < np.log(0.01)
     assert plain > 0.3 * runs and member_lof <= 0.03 * runs and free_lof <= 0.03 * runs, (plain, member_lof, free_lof)
     assert within_lof <= 0.03 * runs and nest_lof <= 0.03 * runs, (within_lof, nest_lof)
 
@@ -211,4 +212,4 @@ def test_a_member_against_the_stops_error_term_is_found_where_it_is_there():
         eng = Engine([(np.arange(eng.N), np.tile(np.eye(3), (eng.N // 3, 1)))], eng.y + 3.0 * member[:, 0])
         full = eng.copy()
         full.add(np.hstack([member, free]))
-        assert eng.against(member, full.pure_error(units, cells)).logp < np.log(1e-4)
+        assert against(eng, member, pure_error(full, units, cells)).logp < np.log(1e-4)

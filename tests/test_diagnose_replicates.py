@@ -1,5 +1,5 @@
 """Error terms from the data's own strata (issue 52 item 2): a named member's place is tested beside it by the
-classical lack-of-fit F test against the replicates' scatter (mtcal.diagnose.engine.Engine.lack_of_fit,
+classical lack-of-fit F test against the replicates' scatter (mtcal.diagnose.strata.lack_of_fit,
 mtcal.diagnose.places.replicate_strata), not against whitened residuals assumed i.i.d. under the estimated law.
 
 The oldest case: a constant 1.5 um backlash of Y on a low-noise tracker, Y repeating worse by 0.5 um along its

@@ -256,12 +256,12 @@ REPLICATE_TOL = 1e-9  # columns equal within this share of their largest over a 
 
 def replicate_strata(prep, W: np.ndarray, G: np.ndarray) -> tuple[list, list, np.ndarray] | None:
     """(units, cells, nests) of the readings the columns ``G`` ((n, 3, k), mm per unit, unwhitened) move, for
-    Engine.pure_error and Engine.lack_of_fit: the replicates whose scatter is the error term of G's test.
+    strata.pure_error and strata.lack_of_fit: the replicates whose scatter is the error term of G's test.
 
     A cell is what is repeated over the rounds: one station, axis, position and direction of approach; a unit is
     one stop -- the cell in one round, its nests together (the split plot: the nests of one stop share whatever
     the stop shares); ``nests`` (n,) codes each reading's nest, so that the readings' own scatter is their round x
-    nest interaction within the cells (Engine.pure_error's variance components: a contrast between stops is set
+    nest interaction within the cells (strata.pure_error's variance components: a contrast between stops is set
     against what a stop shares, one between the nests of a stop against what each reading has of its own).  Each
     unit and cell as Engine.score_blocks' blocks: its rows of the whitened vector (``W``, (n, 3, 3)) and an
     orthonormal basis of its mean (the three whitened coordinates of a translation of its readings).  None where G

@@ -24,9 +24,10 @@ from scipy import optimize
 
 from mtcal import _tails
 from mtcal.diagnose import effects as fx
+from mtcal.diagnose import strata as stratum
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
-from mtcal.diagnose.engine import WEAK_TOL, Engine, PureError, Score
+from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
 from mtcal.diagnose.places import (
     REVERSALS,
     bump,
@@ -495,7 +496,7 @@ def place_needed(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
 
     Error term (_place_error): where the place's free form F_P is a function of the stop (places.replicate_strata),
     the scatter of the stops repeated over the rounds, estimated once on the fullest model of the place (the fit,
-    the place's named members and F_P: Engine.pure_error), so that it holds neither the member nor the free
+    the place's named members and F_P: strata.pure_error), so that it holds neither the member nor the free
     form's shape, nor the effects in time already selected; else the fit's residual.  Two tests against it:
     1. the member's own: null, M adds no mean beyond the fit; alternative, it adds one; at v's multiplicity (the
        Bonferroni factor of its entry test).  Not significant: (None, None, why) -- the stops' scatter from round
@@ -510,7 +511,7 @@ def place_needed(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
         return None
     e, err = _place_error(prep, eng, place, w)
     if err is not None:
-        own = eng.against(w(c), err)
+        own = stratum.against(eng, w(c), err)
         if own is not None and own.logp + v.log_multiplicity >= math.log(level):
             return None, None, (f"against the scatter of its place's stops repeated over the rounds (the error term "
                                 f"of the place's free form beside it) it is not significant (F = {own.F:.2g} on "
@@ -527,10 +528,10 @@ def place_needed(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float
     return place.candidate, sc, place.why.format(F=f"{beside.F:.1f}", p=f"{math.exp(beside.logp):.2g}")
 
 
-def _place_error(prep: Prepared, eng: Engine, place, w: Columns) -> tuple[Engine, PureError | None]:
+def _place_error(prep: Prepared, eng: Engine, place, w: Columns) -> tuple[Engine, stratum.PureError | None]:
     """The fit with the named members of ``place`` (places.Place), and the error term of every test at the place:
     the pure error of the stops its free form moves, repeated over the rounds (places.replicate_strata), pure of
-    the fit, the named members and the free form (Engine.pure_error); None where the free form is not a function
+    the fit, the named members and the free form (strata.pure_error); None where the free form is not a function
     of the stop or no stop is repeated (the fit's residual is the error term)."""
     e = eng.copy()
     e.add(np.hstack([w(x) for x in place.named]))
@@ -539,13 +540,13 @@ def _place_error(prep: Prepared, eng: Engine, place, w: Columns) -> tuple[Engine
         return e, None
     full = e.copy()
     full.add(w(place.candidate))
-    return e, full.pure_error(*strata)
+    return e, stratum.pure_error(full, *strata)
 
 
-def _tested(e: Engine, G: np.ndarray, err: PureError | None) -> Score | None:
-    """The F test of the columns ``G`` beside the fit ``e`` against the error term ``err`` (Engine.against), or
+def _tested(e: Engine, G: np.ndarray, err: stratum.PureError | None) -> Score | None:
+    """The F test of the columns ``G`` beside the fit ``e`` against the error term ``err`` (strata.against), or
     against the fit's residual where there is none (Engine.score)."""
-    return e.score(G) if err is None else e.against(G, err)
+    return e.score(G) if err is None else stratum.against(e, G, err)
 
 
 def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: float) -> Score | None:
@@ -562,12 +563,12 @@ def _reversal_misfit(prep: Prepared, eng: Engine, axis: str, w: Columns, level: 
 def lack_of_fit(prep: Prepared, e: Engine, x: fx.Candidate, w: Columns) -> Score:
     """The score of the free form ``x`` beside the fit ``e`` (the named members of its place fitted): where ``x``
     is the same at each nest of a stop over the rounds (places.replicate_strata), the lack-of-fit F test against
-    the replicates' variance components (Engine.lack_of_fit; null: the named members are adequate, x adds no
+    the replicates' variance components (strata.lack_of_fit; null: the named members are adequate, x adds no
     mean; error term: what a stop shares from round to round for a contrast between stops, the readings' own
     round x nest scatter for one between the nests of a stop; multiplicity: the caller's); else, or where no stop
     is read twice, the F test against the fit's residual (Engine.score)."""
     strata = replicate_strata(prep, w.W, x.G)
-    sc = e.lack_of_fit(w(x), *strata) if strata else None
+    sc = stratum.lack_of_fit(e, w(x), *strata) if strata else None
     return sc if sc is not None else e.score(w(x))
 
 
