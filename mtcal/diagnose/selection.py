@@ -303,9 +303,10 @@ def _may_tie(base: Engine, w: Columns, v: Step, u: Step) -> bool:
     misfit alike: of other families, not one motion by two clocks (_two_clocks), not one nesting the other (its
     columns within the other's to rounding, NESTED_COS, beside the base ``base``: a member and the simpler one it
     contains, which _simplest orders), nor the rival giving way to ``v`` (_gives_way: its columns within v's, which
-    fits as much), at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly the same readings (at least half of
-    the fewer they move: effects that move different readings fit alike only through the base's freedoms,
-    reflector positions and station alignments, where the base's rules and same_fit_as decide)."""
+    fits as much), at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly
+    the same readings (at least half of the fewer they move: effects that move different readings fit alike only
+    through the base's freedoms, reflector positions and station alignments, where the base's rules and
+    same_fit_as decide)."""
     c, o = v.candidate, u.candidate
     pc, po = _place(c), _place(o)
     if None in (pc, po) or o.family == c.family or _two_clocks(c, o):
