@@ -114,3 +114,37 @@ def test_separate_by_names_the_measurement_of_the_attribute_that_differs(setup):
     settling = fx.tracker_settling(g, 1800.0, t0)
     assert separate_by(relevel, settling).startswith("log the times")
     assert "is a step that stays" in separate_by(relevel, settling)
+
+
+WHERE_WORDS = {"axis": "one axis", "side": "side", "nest": "one reflector", "reading": "one reflector",
+               "frame": "tracker", "air": "tracker"}
+
+
+def test_every_candidates_attributes_agree_with_the_grammars_members(setup):
+    """derive/grammar.py states every member's where x what x how in words (MEMBERS); each candidate's structured
+    attributes, stated where mtcal.diagnose.effects builds it, say the same: the place, what moves, what it depends
+    on and its time law."""
+    from derive.grammar import MEMBERS
+    from mtcal.diagnose.candidates import candidates
+
+    prep, _, _ = setup
+    g = prep.geometry
+    built, _ = candidates(prep, MAX_DEGREE)
+    rows = np.flatnonzero(prep.seq == 0)[:1]
+    where = {"round": 1, "point": str(prep.rec.point[rows[0]]), "position": 0.0, "approach": 1, "readings": 1,
+             "from_axis": "X"}
+    t0 = float(np.nanmin(prep.rec.time_s))
+    built += [*_knock(prep), fx.outlier(g, rows, "reading", where), fx.air_index_drift(g, t0),
+              fx.nest_knock(g, str(prep.rec.point[rows[0]]), str(g.side[rows[0]]), t0 + 600.0, where)]
+    names = set()
+    for c in (c for c in built if not c.free and c.name in MEMBERS):
+        m, gr = MEMBERS[c.name], c.grammar
+        assert WHERE_WORDS[gr.where.at] in m.where, (c.name, gr, m)
+        assert gr.what in m.what or gr.what in ("translation", "rotation") and "error" in m.what, (c.name, gr, m)
+        for v in ("direction", "position", "temperature"):
+            assert (v in gr.how.on) <= (v in m.how), (c.name, v, m)
+        assert gr.how.on or "constant" in m.how, (c.name, m)
+        assert gr.how.law not in (fx.LAW_STEP, "ramp", "lag") or gr.how.law in m.how, (c.name, gr.how.law, m)
+        assert "round" not in gr.how.on or fx.LAW_STEP in m.how, (c.name, m)
+        names.add(c.name)
+    assert len(names) >= 17, sorted(names)  # every member this XYZ campaign (no temperature channel) offers

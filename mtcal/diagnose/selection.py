@@ -302,8 +302,11 @@ def _may_tie(base: Engine, w: Columns, v: Step, u: Step) -> bool:
     """Whether the candidates ``c`` of ``v`` and ``o`` of ``u`` are changes in time (_place) that may fit one
     misfit alike: of other families, not one motion by two clocks (_two_clocks), not one nesting the other (its
     columns within the other's to rounding, NESTED_COS, beside the base ``base``: a member and the simpler one it
-    contains, which _simplest orders), nor the rival giving way to ``v`` (_gives_way: its columns within v's, which
-    fits as much), at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly
+    contains, which _simplest orders), nor, at two wheres, one whose columns lie within the other's (_contains) where
+    ``v``, the leader, fits at least as much (across places the columns and the fit decide, as in
+    _contained_elsewhere: a drift along the beams that holds the air's one column and fits less; within one place
+    two laws fitting alike tie: a knock within a re-levelling with its shift at another t0 to |cos| 0.95, gen2
+    3553/21), at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly
     the same readings (at least half of the fewer they move: effects that move different readings fit alike only
     through the base's freedoms, reflector positions and station alignments, where the base's rules and
     same_fit_as decide)."""
@@ -316,8 +319,10 @@ def _may_tie(base: Engine, w: Columns, v: Step, u: Step) -> bool:
     a, b = (x.moved for x in (c, o))
     if not (a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0:
         return False
-    return not (_contains(base, w, c, o, NESTED_COS) or _contains(base, w, o, c, NESTED_COS)
-                or _gives_way(base, w, u, v))
+    if _contains(base, w, c, o, NESTED_COS) or _contains(base, w, o, c, NESTED_COS):
+        return False
+    return not (c.grammar.where != o.grammar.where and v.score.delta >= u.score.delta
+                and (_contains(base, w, c, o) or _contains(base, w, o, c)))
 
 
 def _two_clocks(c: fx.Candidate, o: fx.Candidate) -> bool:
@@ -332,9 +337,7 @@ def _two_clocks(c: fx.Candidate, o: fx.Candidate) -> bool:
 def _gives_way(base: Engine, w: Columns, small: Step, big: Step) -> bool:
     """Whether ``small`` gives way to ``big``: big's columns contain small's (_contains, beside the base ``base``)
     and big explains at least as much of the misfit (its sum of squares, on the same fit), so that small's lead in
-    the evidence is its fewer columns, not the data (a knock within a re-levelling with its shift; the air's one
-    column within a drift along the beams).  A turn about a far tracker within a shift to |cos| 0.975 that fits
-    less than the turn (gen2 3560/32) does not: the two fit alike and may tie."""
+    the evidence is its fewer columns, not the data (the air's one column within a drift along the beams)."""
     return big.score.delta >= small.score.delta and _contains(base, w, big.candidate, small.candidate)
 
 
