@@ -299,17 +299,16 @@ def _place(c: fx.Candidate) -> tuple | None:
 
 
 def _may_tie(base: Engine, w: Columns, v: Step, u: Step) -> bool:
-    """Whether the candidates ``c`` of ``v`` and ``o`` of ``u`` are changes in time (_place) that may fit one
-    misfit alike: of other families, not one motion by two clocks (_two_clocks), not one nesting the other (its
-    columns within the other's to rounding, NESTED_COS, beside the base ``base``: a member and the simpler one it
-    contains, which _simplest orders), nor, at two wheres, one whose columns lie within the other's (_contains) where
-    ``v``, the leader, fits at least as much (across places the columns and the fit decide, as in
-    _contained_elsewhere: a drift along the beams that holds the air's one column and fits less; within one place
-    two laws fitting alike tie: a knock within a re-levelling with its shift at another t0 to |cos| 0.95, gen2
-    3553/21), at other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly
-    the same readings (at least half of the fewer they move: effects that move different readings fit alike only
-    through the base's freedoms, reflector positions and station alignments, where the base's rules and
-    same_fit_as decide)."""
+    """Whether the candidates ``c`` of ``v`` and ``o`` of ``u`` are changes in time (_place) that may fit one misfit
+    alike: of other families, not one motion by two clocks (_two_clocks), not one nesting the other (its columns within
+    the other's to rounding, NESTED_COS, beside the base ``base``: a member and the simpler one it contains, which
+    _simplest orders), nor, one dependence at two wheres (_across_places), one whose columns lie within the other's
+    (_contains) where ``v``, the leader, fits at least as much (across places the columns and the fit decide, as in
+    _contained_elsewhere: a drift along the beams that holds the air's one column and fits less; within one place two
+    laws fitting alike tie: a knock within a re-levelling with its shift at another t0 to |cos| 0.95, gen2 3553/21), at
+    other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly the same readings (at
+    least half of the fewer they move: effects that move different readings fit alike only through the base's freedoms,
+    reflector positions and station alignments, where the base's rules and same_fit_as decide)."""
     c, o = v.candidate, u.candidate
     pc, po = _place(c), _place(o)
     if None in (pc, po) or o.family == c.family or _two_clocks(c, o):
@@ -321,8 +320,15 @@ def _may_tie(base: Engine, w: Columns, v: Step, u: Step) -> bool:
         return False
     if _contains(base, w, c, o, NESTED_COS) or _contains(base, w, o, c, NESTED_COS):
         return False
-    return not (c.grammar.where != o.grammar.where and v.score.delta >= u.score.delta
+    return not (_across_places(c, o) and v.score.delta >= u.score.delta
                 and (_contains(base, w, c, o) or _contains(base, w, o, c)))
+
+
+def _across_places(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether ``c`` and ``o`` are one dependence at two wheres (the same how-variables): what the data then decide
+    is the place, from the columns and the fit (_contained_elsewhere, _may_tie).  Where the dependence differs (a
+    location error, constant, and a reflector re-seated for a round) the evidence and the parsimony decide."""
+    return c.grammar.where != o.grammar.where and c.grammar.how.on == o.grammar.how.on
 
 
 def _two_clocks(c: fx.Candidate, o: fx.Candidate) -> bool:
@@ -394,17 +400,17 @@ def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> l
 
 
 def _contained_elsewhere(eng: Engine, v: Step, sig: list[Step], w: Columns) -> str | None:
-    """Why the named candidate of ``v`` gives way (_gives_way) to a significant named candidate of ``sig`` at another
-    place, with more columns that contain its own (beside the base) and that explains at least as much of the misfit
-    (its sum of squares): v's lead in the evidence is then its fewer columns, not the data.  From one station in
-    front of an XY campaign a spindle drifting along the beams is a scale about the tracker to 1 part in 300 (the
-    columns' |cos| after the base 0.992-0.9997), and the air (one column) was named in its place; the drift, named,
-    lists the air beside it."""
+    """Why the named candidate of ``v`` gives way (_gives_way) to a significant named candidate of ``sig`` with the same
+    dependence at another place (_across_places), with more columns that contain its own (beside the base) and that
+    explains at least as much of the misfit (its sum of squares): v's lead in the evidence is then its fewer columns,
+    not the data. From one station in front of an XY campaign a spindle drifting along the beams is a scale about the
+    tracker to 1 part in 300 (the columns' |cos| after the base 0.992-0.9997), and the air (one column) was named in its
+    place; the drift, named, lists the air beside it."""
     c = v.candidate
     if c.free:
         return None
     base = eng.copy_base()
-    o = max((o for o in sig if not o.candidate.free and o.candidate.grammar.where != c.grammar.where
+    o = max((o for o in sig if not o.candidate.free and _across_places(c, o.candidate)
              and o.candidate.G.shape[2] > c.G.shape[2] and _gives_way(base, w, v, o)),
             key=lambda o: o.score.delta, default=None)
     if o is None:
