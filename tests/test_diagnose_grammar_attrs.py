@@ -18,7 +18,7 @@ from mtcal.diagnose.engine import Score
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare
 from mtcal.diagnose.run import MAX_DEGREE
 from mtcal.diagnose.selection import Columns, Step, _contains, _may_tie, folds
-from mtcal.diagnose.separate import separate_by
+from mtcal.diagnose.separate import MEASURE_HOW, WITNESS, separate_by
 from mtcal.measurement.tracker import AT960
 
 
@@ -112,6 +112,7 @@ def test_separate_by_names_the_measurement_of_the_attribute_that_differs(setup):
     knock, relevel = _knock(prep)
     assert "grows with the lever" in separate_by(relevel, knock)
     settling = fx.tracker_settling(g, 1800.0, t0)
+    assert set(WITNESS) == set(fx.WHERE) and set(MEASURE_HOW) == set(fx.HOW)  # a template for every value
     assert separate_by(relevel, settling).startswith("log the times")
     assert "is a step that stays" in separate_by(relevel, settling)
 

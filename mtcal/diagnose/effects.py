@@ -95,7 +95,7 @@ class Grammar:
         """Where a change in time (or of one round) acts, as the ties compare it: the tracker (a station's frame and
         the air about it are one place, ("tracker", station)), a side, one nest; None for what is constant in time
         and for an axis' error motions or one reading, whose rivals the columns order."""
-        if self.where.at in ("axis", "reading") or not self.how.on & {"time", "temperature", "round"}:
+        if self.where.at in ("axis", "reading") or not self.varies_in_time:
             return None
         if self.where.at in ("frame", "air"):
             return ("tracker", self.where.station)
