@@ -113,7 +113,7 @@ def test_a_clean_campaign_names_no_air_change():
 def test_gen2_air_changes_are_named_not_a_thermal_drift(tmp_path, index):
     """gen2 seed 3502 campaigns 8 and 13 (two stations each, the tracker given): on e58d8c4 named a thermal_drift
     alone (judged wrong). A drift of the spindle or of one station's tracker explains as much of these as the air
-    (whitened sums of squares 117.8 against 116.8, 148.2 against 141.6: selection._drift_fits_as_much): the two are
+    (whitened sums of squares 117.8 against 116.8, 148.2 against 141.6: selection._contained_elsewhere): the two are
     not told apart here, so the drift named lists the air's drift beside it and the judge takes that; where the air
     is named, its fit holds the planted change at the last reading within its 95 % interval.  Where a drift of the
     tracker and a change at another place (a side growing) fit alike (selection._tied), nothing is named: one
@@ -150,30 +150,38 @@ def test_a_gen2_clean_campaign_of_two_stations_names_no_air_change(tmp_path, ind
 
 
 def test_a_drift_lists_the_air_where_the_station_is_not_determined():
-    """Where the air's drift could not be tested (candidates' note: the station not determined), a selected drift
-    lists it in confounded_with with what separates them (gen2 seed 9000 campaign 2, B and C from one station, the
-    tracker columns removed: a 4.6 ppm air ramp came out as a drift of the table alone); a tested station adds
-    nothing; nor does a note of another kind."""
+    """Where the air's drift could not be tested (candidates' note: the station not determined, the untested
+    member's grammar with it), a selected drift lists it in confounded_with with what separates them (gen2 seed
+    9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm air ramp came out as a drift
+    of the table alone); a tested station adds nothing; nor does a note of another kind, nor a step (a knock is
+    no gradual change)."""
     from mtcal.diagnose import effects as fx
     from mtcal.diagnose.candidates import NOT_SEPARABLE
     from mtcal.diagnose.engine import Score
-    from mtcal.diagnose.selection import Step, air_confounds
+    from mtcal.diagnose.selection import Step, untested_confounds
 
-    def drift() -> Step:
-        c = fx.Candidate("thermal_drift", None, "table, tau=1800 s", np.zeros((2, 3, 3)), ["A_x", "A_y", "A_z"])
+    def drift(law: str = "lag") -> Step:
+        g = fx.Grammar(fx.Where("side", "table"), "translation", fx.How(frozenset({"time"}), law))
+        c = fx.Candidate("thermal_drift", None, "table, tau=1800 s", np.zeros((2, 3, 3)), ["A_x", "A_y", "A_z"],
+                         grammar=g)
         return Step(c, Score(True, 1.0), -50.0)
 
+    undetermined = {"name": "air_index_drift", "axis": None, "kind": "station undetermined",
+                    "not_separable": NOT_SEPARABLE["air_index_drift undetermined"], "untested": fx.air_grammar(),
+                    "where": "the air's refractive index drifting (not tested: the station is not determined)"}
     s = drift()
-    air_confounds([s], [{"name": "air_index_drift", "axis": None, "kind": "station undetermined",
-                         "not_separable": NOT_SEPARABLE["air_index_drift undetermined"]}])
+    untested_confounds([s], [undetermined])
     (rival,) = s.confounded_with
     assert rival["name"] == "air_index_drift" and "not determined" in rival["where"]
     assert rival["separate_by"].startswith("measure from a second station at a right angle")
     s = drift()
-    air_confounds([s], [{"name": "air_index_drift", "axis": None,
-                         "not_separable": NOT_SEPARABLE["air_index_drift station"]}])
-    air_confounds([s], [])
+    untested_confounds([s], [{"name": "air_index_drift", "axis": None,
+                              "not_separable": NOT_SEPARABLE["air_index_drift station"]}])
+    untested_confounds([s], [])
     assert s.confounded_with == []
+    knock = drift(fx.LAW_STEP)
+    untested_confounds([knock], [undetermined])
+    assert knock.confounded_with == []
 
 
 @pytest.mark.slow
@@ -181,7 +189,7 @@ def test_a_drift_lists_the_air_where_the_rounds_do_not_place_the_station(tmp_pat
     """gen2 seed 3537 campaign 12 (one station, the tracker columns removed, an isotropic tracker: the rounds'
     scatter has no shape to place the station; the air ramps to 5 ppm): the air cannot be offered, a drift of the
     tracker along the beams is named.  4814652 named it alone (the note of an unplaced station was not the kind
-    air_confounds reads); the drift now lists the air beside it, with what separates them."""
+    untested_confounds reads); the drift now lists the air beside it, with what separates them."""
     path, truth = _gen2(tmp_path, 3537, 12)
     assert [e["name"] for e in truth["effects"]] == ["air_temperature"]
     rec = parse_recording(path.read_text(), path.name)

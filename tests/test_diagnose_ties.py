@@ -65,9 +65,9 @@ def test_a_spindle_warming_about_the_gauge_point_is_one_expansion(tmp_path):
 def test_a_drift_is_not_an_expansion_about_a_fitted_centre():
     """A side's expansion about a fitted centre contains that side's drift with the same law (e = 0: its translation
     alone); where the expansion adds nothing significant beside the drift, the drift is named (selection._simplest,
-    NESTED; on icelinker's base reflectors, drifting 56 um together, the expansion was named).  A spindle drifting
-    20 um along +X (tau 5000 s), no expansion planted: both scored on the diagnosis' null, the centre-fitted
-    expansion (the drift's columns and e) gives way to the drift; on c64bc20 it was kept."""
+    computed column inclusion; on icelinker's base reflectors, drifting 56 um together, the expansion was named).
+    A spindle drifting 20 um along +X (tau 5000 s), no expansion planted: both scored on the diagnosis' null, the
+    centre-fitted expansion (the drift's columns and e) gives way to the drift; on c64bc20 it was kept."""
     import math
 
     import campaigns as C

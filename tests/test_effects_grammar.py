@@ -20,7 +20,7 @@ from derive import grammar
 from mtcal.campaign.plans import Plan
 from mtcal.campaign.simulate import simulate
 from mtcal.cli import main
-from mtcal.diagnose import diagnose, selection
+from mtcal.diagnose import diagnose
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.candidates import layout_offsets, round_starts
 from mtcal.diagnose.prepare import prepare
@@ -135,14 +135,6 @@ def test_cli_new_members_bad_input(tmp_path, capsys, args, message):
 
 
 # ----------------------------------------------------------------------------- planted and diagnosed
-@pytest.fixture
-def time_folds(monkeypatch):
-    """The hook selection.ALTERNATE_FOLDS needs (fx.ALTERNATE_FOLDS: changes in time validated on held-out
-    alternate readings; a held-out round fitted alone absorbs a step between rounds)."""
-    monkeypatch.setattr(selection, "ALTERNATE_FOLDS", tuple(dict.fromkeys(selection.ALTERNATE_FOLDS
-                                                                          + fx.ALTERNATE_FOLDS)))
-
-
 def _rounds_plan(axes: str = "XYC") -> dict:
     return {"axes": {a: {"positions": Plan().positions[a].tolist()} for a in axes}, "rounds": 3}
 
@@ -157,7 +149,7 @@ def _diagnosed(effect: str, seed: int, axes: str = "XYC", extra: tuple = ()):
 
 
 @pytest.mark.slow
-def test_a_warming_table_is_named_in_words(time_folds):
+def test_a_warming_table_is_named_in_words():
     f, truth = _diagnosed("side_expansion:side=table,ppm_per_h=30", 11)
     assert (f.name, f["side"], f["unit"]) == ("side_expansion", "table", "ppm/h")
     assert f["law"] in ("ramp", "ramp over the record")  # a lag longer than the record is a ramp there
@@ -181,7 +173,7 @@ def test_a_backlash_growing_along_the_travel_is_named_with_both_ends():
 
 
 @pytest.mark.slow
-def test_a_tracker_re_levelled_between_rounds_is_one_finding(time_folds):
+def test_a_tracker_re_levelled_between_rounds_is_one_finding():
     f, truth = _diagnosed("tracker_relevel:axis=Y,round=2,angle_rad=30e-6,about=+X", 13)
     assert f.name == "tracker_relevel" and f["t0_s"] == truth["t0_s"] and f["round"] == 2
     lo, hi = f["interval_95"]
@@ -192,7 +184,7 @@ def test_a_tracker_re_levelled_between_rounds_is_one_finding(time_folds):
 
 
 @pytest.mark.slow
-def test_a_tracker_re_levelled_and_shifted_is_one_finding(time_folds):
+def test_a_tracker_re_levelled_and_shifted_is_one_finding():
     """The head moved 30 um along +Z as the tracker was re-levelled (30 urad about +X) before Y's second round: one
     re-levelling with its shift (gen2's tracker_relevel plants both); 4814652 offered the turn alone, which cannot
     take the shift: it named a knock of the tracker at the same t0 and left the turn a located misfit of Y

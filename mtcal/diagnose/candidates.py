@@ -238,7 +238,9 @@ def air_index_drift(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
            NOT_SEPARABLE["air_index_drift undetermined"] if undetermined(prep) else None)
     if why is not None:
         notes.append({"name": "air_index_drift", "axis": None, "not_separable": why,
-                      **({"kind": "station undetermined"} if why != NOT_SEPARABLE["thermal_drift"] else {})})
+                      **({"kind": "station undetermined", "untested": fx.air_grammar(),
+                          "where": "the air's refractive index drifting (not tested: the station is not determined)"}
+                         if why != NOT_SEPARABLE["thermal_drift"] else {})})
         return []
     t0, how = float(np.min(rec.time_s)), "estimated" if interval is not None else "given"
     return [fx.air_index_drift(g, t0, None, how)] + [fx.air_index_drift(g, t0, tau, how) for tau in fx.TAUS_S]

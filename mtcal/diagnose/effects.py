@@ -11,6 +11,8 @@ reversal_straightness mm (straightness(+ approach) - straightness(- approach));
 nest_creep mm/s (3-vector in the side's local frame); tracker_settling rad/s and rad (rotation vector about the
 tracker: ramp rate and settled angle); thermal_temperature ppm/K (expansion) or mm/K (3-vector drift).
 
+Each builder states its candidate's grammar attributes (``Grammar``: where x what x how, derive/grammar.py's
+lattice), from which the selection decides (nesting by the columns, ties, rivals, folds, what separates two).
 Effect names and vocabulary follow docs/design.md; ``QUASI_STATIC`` are the effects that are themselves smooth
 functions of the measured axis' position (part of the fitted base model's family when no model is given).
 """
@@ -44,6 +46,94 @@ def constants(machine: Machine) -> dict[str, tuple[str, str]]:
             **{e: ("rotary_location", e[-1]) for e in g["location"]}}
 
 
+@dataclass(frozen=True)
+class Where:
+    """Where a member acts (derive/grammar.py's *where*): ``at`` one of WHERE (an axis' error motions, a side's
+    nests, one nest, a station's frame, the air about the stations, one reading), ``key`` which one (the axis, the
+    side, the nest's label; None for the frame, the air and a reading), ``station`` the station of a frame (None:
+    the only one, or every one)."""
+
+    at: str
+    key: str | None = None
+    station: str | None = None
+
+
+WHERE = ("axis", "side", "nest", "frame", "air", "reading")
+WHAT = ("translation", "rotation", "expansion", "scatter")  # an error motion is a translation or a rotation
+HOW = ("time", "temperature", "round", "position", "direction")  # what a member depends on
+LAW_STEP = "step"  # the time law of a change at one moment (the others: "ramp", "lag"; position: "periodic", ...)
+
+
+@dataclass(frozen=True)
+class How:
+    """How a member depends (derive/grammar.py's *how*): ``on`` the variables of HOW it changes with (none: a
+    constant), ``law`` its shape in them (a time law "step" / "ramp" / "lag", a position law "periodic" /
+    "polynomial"; "" none stated)."""
+
+    on: frozenset = frozenset()
+    law: str = ""
+
+    @property
+    def gradual(self) -> bool:
+        """A change in time that is not a step at one moment."""
+        return "time" in self.on and self.law != LAW_STEP
+
+
+@dataclass(frozen=True)
+class Grammar:
+    """A candidate's place in the grammar (where x what x how), stated where the candidate is built; the selection
+    decides from these attributes and from the candidates' columns, never from their names.  ``free``: a free form
+    of its place (named UNEXPLAINED), not a member."""
+
+    where: Where
+    what: str
+    how: How = How()
+    free: bool = False
+
+    @property
+    def place(self) -> tuple | None:
+        """Where a change in time (or of one round) acts, as the ties compare it: the tracker (a station's frame and
+        the air about it are one place, ("tracker", station)), a side, one nest; None for what is constant in time
+        and for an axis' error motions or one reading, whose rivals the columns order."""
+        if self.where.at in ("axis", "reading") or not self.varies_in_time:
+            return None
+        if self.where.at in ("frame", "air"):
+            return ("tracker", self.where.station)
+        return (self.where.at, self.where.key)
+
+    @property
+    def varies_in_time(self) -> bool:
+        """Depends on time (or on a temperature that follows it) or is specific to one round: validated on held-out
+        alternate readings, not held-out rounds (a held-out round fitted alone absorbs a step or a slow change into
+        its reflector positions)."""
+        return bool(self.how.on & {"time", "temperature", "round"})
+
+    @property
+    def step(self) -> bool:
+        """A change at one moment that stays (the time law LAW_STEP)."""
+        return self.how.law == LAW_STEP
+
+    @property
+    def jump(self) -> bool:
+        """A rigid shift at one moment: a translation of one round, or a step in time."""
+        return self.what == "translation" and ("round" in self.how.on or self.how.law == LAW_STEP)
+
+
+def _g(at: str, key: str | None = None, what: str = "translation", on: tuple = (), law: str = "",
+       station: str | None = None, free: bool = False) -> Grammar:
+    return Grammar(Where(at, key, station), what, How(frozenset(on), law), free)
+
+
+def _motion(error: str) -> str:
+    """The *what* of an ISO error motion (E_XX, E_YX: a translation; E_AX: a rotation)."""
+    return "translation" if error[2] in "XYZ" else "rotation"
+
+
+def _side_or_frame(target: str) -> tuple[str, str | None]:
+    """(at, key) of a drift's target: the tracker's frame, or the side it moves."""
+    return ("frame", None) if target == "tracker" else ("side", SIDE[target])
+
+
 @dataclass
 class Candidate:
     """One candidate effect: ``G`` (n, 3, k) in mm per parameter unit, zero on readings it does not touch."""
@@ -60,6 +150,20 @@ class Candidate:
     refine_range: tuple[float, float] | None = None
     refine_value: float | None = None
     nested: "Candidate | None" = None  # the simpler member it contains at its place (selection._simplest)
+    grammar: Grammar | None = None  # where x what x how (None: a check beside a candidate, not a member)
+
+    @property
+    def title(self) -> str:
+        """A short name for a sentence: the name in words (with its variant), or a free form's label."""
+        if self.grammar is not None and self.grammar.free:
+            return f"the free form of {self.axis or 'the place'} ({self.label})"
+        variant = self.extra.get("variant")
+        return self.name.replace("_", " ") + (f" ({variant})" if variant else "")
+
+    @property
+    def free(self) -> bool:
+        """A free form of a place (or a check), not a member of the grammar."""
+        return self.grammar is None or self.grammar.free
 
     @property
     def moved(self) -> np.ndarray:
@@ -121,21 +225,23 @@ def backlash(g: Geometry, axis: str) -> Candidate:
     G = S.backlash_signature(g.col(e), g.direction.astype(float)) * _on(g, axis)
     unit = "mm" if g.linear(axis) else "rad"
     return Candidate("backlash", axis, e, G[:, :, None], [f"reversal value ({unit})"], family=f"backlash {axis}",
-                     extra={"error": e})
+                     extra={"error": e}, grammar=_g("axis", axis, _motion(e), ("direction",)))
 
 
 def scale(g: Geometry, axis: str) -> Candidate:
     e = g.machine.positioning_errors[axis]
     q = g.position if g.linear(axis) else np.deg2rad(g.position)
     G = S.scale_signature(g.col(e), q) * _on(g, axis)
-    return Candidate("scale", axis, e, G[:, :, None], ["ppm"], family=f"scale {axis}", extra={"error": e})
+    return Candidate("scale", axis, e, G[:, :, None], ["ppm"], family=f"scale {axis}", extra={"error": e},
+                     grammar=_g("axis", axis, _motion(e), ("position",), "polynomial"))
 
 
 def second_order(g: Geometry, axis: str, error: str) -> Candidate:
     G = S.second_order_signature(g.col(error), g.position) * _on(g, axis)
     unit = ("mm" if error[2] in "XYZ" else "rad") + "/" + ("mm^2" if g.linear(axis) else "deg^2")
     return Candidate("second_order", axis, error, G[:, :, None], [f"coefficient ({unit})"],
-                     family=f"second_order {axis}", extra={"error": error})
+                     family=f"second_order {axis}", extra={"error": error},
+                     grammar=_g("axis", axis, _motion(error), ("position",), "polynomial"))
 
 
 def constant(g: Geometry, name: str, errors: str | list[str]) -> Candidate:
@@ -146,7 +252,8 @@ def constant(g: Geometry, name: str, errors: str | list[str]) -> Candidate:
     G = np.stack([g.col(e) for e in errors], axis=-1) * _on(g, axis)[:, :, None]
     units = ["mm" if e[2] in "XY" and name == "rotary_location" else "rad" for e in errors]
     return Candidate(name, axis, ", ".join(errors), G, [f"{e} ({u})" for e, u in zip(errors, units)],
-                     family=f"{name} {axis}", extra={"error": errors[0] if len(errors) == 1 else list(errors)})
+                     family=f"{name} {axis}", extra={"error": errors[0] if len(errors) == 1 else list(errors)},
+                     grammar=_g("axis", axis, _motion(errors[0])))
 
 
 def periodic(g: Geometry, axis: str, pitch: float, span: tuple[float, float]) -> Candidate:
@@ -155,7 +262,8 @@ def periodic(g: Geometry, axis: str, pitch: float, span: tuple[float, float]) ->
     unit, amp_unit = g.machine.unit(axis), "mm" if g.linear(axis) else "rad"
     c = Candidate("periodic", axis, f"pitch={pitch:.4g} {unit}", G, [f"sin amplitude ({amp_unit})", "cos amplitude"],
                   family=f"periodic {axis}", extra={"error": e, "pitch": float(pitch), "pitch_unit": unit,
-                                                    "amplitude_unit": amp_unit})
+                                                    "amplitude_unit": amp_unit},
+                  grammar=_g("axis", axis, _motion(e), ("position",), "periodic"))
     c.refine = lambda p: periodic(g, axis, p, span)
     c.refine_range, c.refine_value = span, float(pitch)
     return c
@@ -185,7 +293,8 @@ def thermal_drift(g: Geometry, target: str, tau: float, t0: float, station: str 
     c = Candidate("thermal_drift", None, f"{target}{of}, tau={tau:.0f} s", G,
                   ["A_x (mm)", "A_y (mm)", "A_z (mm)"], family="thermal_drift",
                   extra={"target": target, "tau_s": float(tau), "t0_s": float(t0),
-                         **_tag(station)})
+                         **_tag(station)}, grammar=_g(*_side_or_frame(target), on=("time",), law="lag",
+                                                       station=station))
     c.refine = lambda t: thermal_drift(g, target, t, t0, station)
     c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c
@@ -205,7 +314,8 @@ def tracker_scale(g: Geometry, station: str | None = None) -> Candidate:
     rel = f" relative to station {g.stations()[0]}" if station is not None else ""
     return Candidate("tracker_scale", None, f"about the tracker{of}{rel}", G[:, :, None], ["ppm"],
                      family="tracker_scale",
-                     extra={"tracker": [float(v) for v in t], **_tag(station)})
+                     extra={"tracker": [float(v) for v in t], **_tag(station)},
+                     grammar=_g("frame", what="expansion", station=station))
 
 
 def outlier(g: Geometry, rows: np.ndarray, mode: str, where: dict) -> Candidate:
@@ -216,7 +326,8 @@ def outlier(g: Geometry, rows: np.ndarray, mode: str, where: dict) -> Candidate:
              f"({where['approach']:+d}), {where['readings']} reading(s)")
     return Candidate("outlier", str(g.axis[rows[0]]), label, G,
                      ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="outlier",
-                     extra={"mode": mode, "rows": [int(r) for r in rows], **where})
+                     extra={"mode": mode, "rows": [int(r) for r in rows], **where},
+                     grammar=_g("reading", on=("round",)))
 
 
 def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
@@ -227,7 +338,8 @@ def offset(g: Geometry, rows: np.ndarray, where: dict) -> Candidate:
     G = S.outlier_signature(on)
     return Candidate("offset", str(g.axis[rows[0]]), f"round {where['round']} point {where['point']}", G,
                      ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family=f"offset {g.axis[rows[0]]}",
-                     extra={"variant": "re-seated nest", "rows": [int(r) for r in rows], **where})
+                     extra={"variant": "re-seated nest", "rows": [int(r) for r in rows], **where},
+                     grammar=_g("nest", str(where["point"]), on=("round",)))
 
 
 def tracker_knock(g: Geometry, t0: float, where: dict, station: str | None = None) -> Candidate:
@@ -242,14 +354,15 @@ def tracker_knock(g: Geometry, t0: float, where: dict, station: str | None = Non
              f"point {where['point']} at {where['position']:g}, {where['readings']} reading(s) after)")
     return Candidate("offset", None, label, G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="offset",
                      extra={"variant": "tracker knock", "t0_s": float(t0), **where,
-                            **_tag(station)})
+                            **_tag(station)}, grammar=_g("frame", on=("time",), law=LAW_STEP, station=station))
 
 
 def reversal_angular(g: Geometry, axis: str, error: str) -> Candidate:
     """An angular error (pitch, yaw or roll) of a linear axis that differs between + and - approach by r (rad)."""
     G = S.reversal_angular_signature(g.col(error), g.direction.astype(float)) * _on(g, axis)
     return Candidate("reversal_angular", axis, error, G[:, :, None], ["r = angle(+) - angle(-) (rad)"],
-                     family=f"reversal_angular {axis}", extra={"error": error})
+                     family=f"reversal_angular {axis}", extra={"error": error},
+                     grammar=_g("axis", axis, _motion(error), ("direction",)))
 
 
 def reversal_straightness(g: Geometry, axis: str, error: str) -> Candidate:
@@ -259,7 +372,7 @@ def reversal_straightness(g: Geometry, axis: str, error: str) -> Candidate:
     G = S.backlash_signature(g.col(error), g.direction.astype(float)) * _on(g, axis)
     return Candidate("reversal_straightness", axis, error, G[:, :, None],
                      ["r = straightness(+) - straightness(-) (mm)"], family=f"reversal_straightness {axis}",
-                     extra={"error": error})
+                     extra={"error": error}, grammar=_g("axis", axis, _motion(error), ("direction",)))
 
 
 def nest_creep(g: Geometry, label: str, side: str, t0: float) -> Candidate:
@@ -270,7 +383,8 @@ def nest_creep(g: Geometry, label: str, side: str, t0: float) -> Candidate:
     G = S.nest_creep_signature(g.rotation.reshape(-1, 9), dt) * on[:, None, None]
     return Candidate("nest_creep", None, f"point {label} ({side} side)", G,
                      ["v_x (mm/s)", "v_y (mm/s)", "v_z (mm/s)"], family="nest_creep",
-                     extra={"point": str(label), "side": side, "t0_s": float(t0)})
+                     extra={"point": str(label), "side": side, "t0_s": float(t0)},
+                     grammar=_g("nest", str(label), on=("time",), law="ramp"))
 
 
 def nest_knock(g: Geometry, label: str, side: str, t0: float, where: dict) -> Candidate:
@@ -285,7 +399,7 @@ def nest_knock(g: Geometry, label: str, side: str, t0: float, where: dict) -> Ca
                      f"{where['from_axis']} round {where['round']} at {where['position']:g}, {where['readings']} "
                      f"reading(s) after)", G, ["s_x (mm)", "s_y (mm)", "s_z (mm)"], family="nest_knock",
                      extra={"point": str(label), "side": side, "t0_s": float(t0), "frame": f"the {side} side's",
-                            **where})
+                            **where}, grammar=_g("nest", str(label), on=("time",), law=LAW_STEP))
 
 
 def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = None) -> Candidate:
@@ -301,7 +415,8 @@ def tracker_settling(g: Geometry, tau: float, t0: float, station: str | None = N
                   family="tracker_settling", extra={"tau_s": float(tau), "t0_s": float(t0),
                                                     "t_end_s": float(np.nanmax(g.time_s[on])),
                                                     "tracker": [float(v) for v in t],
-                                                    **_tag(station)})
+                                                    **_tag(station)},
+                  grammar=_g("frame", what="rotation", on=("time",), law="lag", station=station))
     c.refine = lambda t: tracker_settling(g, t, t0, station)
     c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
     return c
@@ -312,7 +427,8 @@ def thermal_temperature_scale(g: Geometry, axis: str, dT: np.ndarray) -> Candida
     e = g.machine.positioning_errors[axis]
     G = S.thermal_temperature_signature(g.col(e), g.position, dT) * _on(g, axis)
     return Candidate("thermal_temperature", axis, f"expansion of {e} with temperature", G[:, :, None],
-                     ["k (ppm/K)"], family="thermal_temperature", extra={"error": e, "variant": "expansion"})
+                     ["k (ppm/K)"], family="thermal_temperature", extra={"error": e, "variant": "expansion"},
+                     grammar=_g("axis", axis, _motion(e), ("position", "temperature"), "polynomial"))
 
 
 def thermal_temperature_drift(g: Geometry, target: str, dT: np.ndarray) -> Candidate:
@@ -321,7 +437,8 @@ def thermal_temperature_drift(g: Geometry, target: str, dT: np.ndarray) -> Candi
     G = S.thermal_temperature_drift_signature(dT) * on[:, None, None]
     return Candidate("thermal_temperature", None, f"{target} drifting with temperature", G,
                      ["c_x (mm/K)", "c_y (mm/K)", "c_z (mm/K)"], family="thermal_temperature",
-                     extra={"target": target, "variant": "drift"})
+                     extra={"target": target, "variant": "drift"},
+                     grammar=_g(*_side_or_frame(target), on=("temperature",)))
 
 
 # ----------------------------------------------------------------------------- free-form checks of a named effect
@@ -338,7 +455,8 @@ def reversal_free(g: Geometry, axis: str) -> Candidate:
                         for p in labels], axis=-1)
     return Candidate(UNEXPLAINED, axis, "direction of approach x reflector (free-form reversal)", G,
                      [f"r_{c}({p}) (mm)" for p in labels for c in "xyz"], family=f"{UNEXPLAINED} reversal {axis}",
-                     extra={"points": labels, "kind": "reversal"})
+                     extra={"points": labels, "kind": "reversal"},
+                     grammar=_g("axis", axis, on=("direction",), free=True))
 
 
 def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None = None) -> Candidate:
@@ -380,7 +498,8 @@ def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None =
              "position x time (error motions changing while measured)" if full else
              "position x time, linear (error motions growing steadily while measured)")
     return Candidate(UNEXPLAINED, axis, label, np.stack(cols, axis=-1), names, family=f"{UNEXPLAINED} growing {axis}",
-                     extra={"kind": "growing", "errors": errors})
+                     extra={"kind": "growing", "errors": errors},
+                     grammar=_g("axis", axis, on=("position", "time"), free=True))
 
 
 def repeated(g: Geometry, c: Candidate) -> Candidate:
@@ -431,10 +550,6 @@ def tabulated(g: Geometry, axis: str) -> Candidate:
 
 
 # ----------------------------------------------------------------------------- the grammar's members of issue 34
-# members whose change is in time (a ramp, a lag, a step between rounds): validated on held-out alternate readings,
-# not held-out rounds (a round held out and fitted alone absorbs a step or a slow change into its reflector
-# positions) -- the hook selection.ALTERNATE_FOLDS needs to name them (mtcal.diagnose.selection.folds)
-ALTERNATE_FOLDS = ("side_expansion", "tracker_relevel", "air_index_drift")
 def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: float | None = None,
                    centre: bool = False) -> Candidate:
     """The reflectors of ``side`` (tool or table) moving apart about their layout's centroid from t0 (s):
@@ -459,7 +574,8 @@ def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: f
                   family="side_expansion",
                   extra={"side": side, "law": "ramp" if tau is None else "lag", "t0_s": float(t0),
                          **({} if tau is None else {"tau_s": float(tau)}), "centre": centre,
-                         "t_end_s": float(np.nanmax(g.time_s[on])) if on.any() else float(t0)})
+                         "t_end_s": float(np.nanmax(g.time_s[on])) if on.any() else float(t0)},
+                  grammar=_g("side", side, "expansion", ("time",), "ramp" if tau is None else "lag"))
     if tau is not None:
         c.refine = lambda t: side_expansion(g, offset, side, t0, t, centre)
         c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)
@@ -477,7 +593,8 @@ def backlash_travel(g: Geometry, axis: str) -> Candidate:
     return Candidate("backlash_travel", axis, e, G, [f"b at 0 {qunit} ({unit})", f"g ({unit}/{qunit})"],
                      family=f"backlash_travel {axis}",
                      extra={"error": e, "travel": [float(q.min()), float(q.max())], "unit": unit,
-                            "position_unit": qunit})
+                            "position_unit": qunit},
+                     grammar=_g("axis", axis, _motion(e), ("position", "direction")))
 
 
 def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, station: str | None = None,
@@ -506,7 +623,12 @@ def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, stat
                             "tracker": [float(v) for v in t], "shift": knock is not None,
                             **({} if pivot is None else {"pivot": "the readings' centre (no station known)"}),
                             **_tag(station)},
-                     nested=knock)
+                     nested=knock, grammar=_g("frame", what="rotation", on=("time",), law=LAW_STEP, station=station))
+
+
+def air_grammar(law: str = "") -> Grammar:
+    """The air's drift in the grammar: an expansion about every station, changing with time."""
+    return _g("air", what="expansion", on=("time",), law=law)
 
 
 def air_index_drift(g: Geometry, t0: float, tau: float | None = None, station: str = "given") -> Candidate:
@@ -527,7 +649,7 @@ def air_index_drift(g: Geometry, t0: float, tau: float | None = None, station: s
                   G[:, :, None], ["e (ppm/h)" if tau is None else "e (ppm)"], family="air_index_drift",
                   extra={"law": "ramp" if tau is None else "lag", "t0_s": float(t0),
                          **({} if tau is None else {"tau_s": float(tau)}), "stations": n, "tracker_from": station,
-                         "t_end_s": float(np.nanmax(g.time_s))})
+                         "t_end_s": float(np.nanmax(g.time_s))}, grammar=air_grammar("ramp" if tau is None else "lag"))
     if tau is not None:
         c.refine = lambda t: air_index_drift(g, t0, t, station)
         c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)

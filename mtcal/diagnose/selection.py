@@ -10,8 +10,10 @@ A candidate whose own model does not explain the pattern it fits (a reversal tha
 beyond the named reversal effects; a one-off displacement that recurs in the other rounds) is not chosen
 (``inadequate``); a free-form candidate (mtcal.diagnose.effects.reversal_free) that wins is reported as unexplained.
 Validation: held-out rounds for effects that repeat over rounds; interleaved halves (alternate readings of every
-sequence in time order) for round-specific and time-dependent ones (re-seated nest, bump, tracker knock, drifts); a
-single-reading outlier has nothing to predict (its test is its studentized displacement)."""
+sequence in time order) for those whose grammar says they depend on time (or a temperature) or are specific to one
+round (fx.Grammar.varies_in_time); a single-reading outlier has nothing to predict (its test is its studentized
+displacement).  Nesting, ties, rivals and the measurement that separates two candidates follow from the candidates'
+grammar attributes (where x what x how) and their columns, not from their names."""
 from __future__ import annotations
 
 import math
@@ -27,7 +29,7 @@ from mtcal.diagnose import effects as fx
 from mtcal.diagnose import strata as stratum
 from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
-from mtcal.diagnose.engine import WEAK_TOL, Engine, Score
+from mtcal.diagnose.engine import ALIAS_TOL, WEAK_TOL, Engine, Score
 from mtcal.diagnose.places import (
     REVERSALS,
     bump,
@@ -47,92 +49,19 @@ from mtcal.diagnose.places import (
 )
 from mtcal.diagnose.prepare import Prepared
 from mtcal.diagnose.scans import change_points
+from mtcal.diagnose.separate import separate_by
 
 CONFOUND_COS = 0.9
 RIVAL_LOGP_SHARE = 0.5  # a rival absorbed by the chosen effect, with at least this share of its log p: confounded
-ROUND_SPECIFIC = ("outlier", "offset")
 # two changes in time fitting one misfit: one is named over the other only when the likelihood ratio between them
 # (equal columns; Akaike's penalty for a difference in columns) is at least 100, Jeffreys' "decisive" -- else the
 # mismatch is reported once, located, with both as what it may be (_tied)
 TIE_CHI2 = 2 * math.log(100)
-# validated on held-out alternate readings: round-specific and time-dependent effects (a held-out round fitted
-# alone absorbs most of a drift into its reflector positions)
-ALTERNATE_FOLDS = ROUND_SPECIFIC + ("thermal_drift", "nest_creep", "tracker_settling", "thermal_temperature",
-                                    "nest_knock") + fx.ALTERNATE_FOLDS  # and the grammar's time members
-
-SEPARATE_BY = {
-    frozenset(("rotary_location", "offset")): "measure the rotary axis again at the end of the campaign, or from a "
-                                              "second tracker station: a location error repeats, a knock does not",
-    frozenset(("thermal_drift", "offset")): "repeat the first axis at the end of the campaign and log the "
-                                            "temperature: a warm-up grows gradually, a tracker knock is a step",
-    frozenset(("backlash", "offset")): "measure the axis bidirectionally in every round: backlash reverses with the "
-                                       "direction of approach, a shift does not",
-    frozenset(("periodic", "second_order")): "measure at a finer, non-uniform position step",
-    frozenset(("thermal_drift", "thermal_temperature")): "record a temperature that does not follow the warm-up "
-                                                         "(e.g. a pause or cool-down): a temperature-driven drift "
-                                                         "follows the temperature, a time-driven one the clock",
-    frozenset(("nest_creep", "thermal_drift")): "measure with a second reflector in the same nest position (or "
-                                                "swap reflectors between nests): a creeping nest moves one point",
-    frozenset(("nest_knock", "offset")): "measure a second reflector in the same nest, or re-measure the first "
-                                         "axis at the end: a knocked nest moves one point, a knocked tracker all",
-    frozenset(("nest_knock", "nest_creep")): "re-measure the nest's first positions at the end and log the times: a "
-                                             "creep grows with time, a knock is a step",
-    frozenset(("tracker_settling", "thermal_drift")): "measure a fixed reference nest off the machine at the start "
-                                                      "and end: a settling tracker turns every reading about itself",
-    frozenset(("reversal_angular", "backlash")): "measure with reflectors at several offsets from the axis: an "
-                                                 "angular reversal grows with the offset (Abbe), backlash does not",
-    frozenset(("reversal_angular", "reversal_straightness")): "measure with reflectors at several heights and "
-                                                              "offsets from the axis: an angular reversal grows "
-                                                              "with the lever (Abbe), a straightness reversal "
-                                                              "does not",
-    frozenset(("periodic",)): "measure at a finer, non-uniform position step (below half the shortest pitch)",
-    frozenset(("backlash_travel", "backlash")): "measure the reversal at more positions over the whole travel: a "
-                                                "worn screw's lost motion changes along it, a constant one does not",
-    frozenset(("backlash_travel", "reversal_straightness")): "measure with reflectors at several offsets from the "
-                                                             "axis and over the whole travel: a lateral play moves "
-                                                             "across the axis, a lost motion along it",
-    frozenset(("backlash_travel", "reversal_angular")): "measure with reflectors at several offsets from the axis: "
-                                                        "an angular reversal grows with the offset (Abbe), a lost "
-                                                        "motion does not",
-    frozenset(("side_expansion", "thermal_drift")): "measure a second nest far from the others on the same side: "
-                                                    "an expanding side moves its nests apart, a drifting one moves "
-                                                    "them alike",
-    frozenset(("tracker_relevel", "offset")): "measure a fixed reference nest off the machine before and after "
-                                              "each round: a re-levelled tracker turns every reading about itself, "
-                                              "a knock shifts them alike",
-    frozenset(("tracker_relevel", "tracker_settling")): "log when the tracker is touched or re-levelled and measure "
-                                                        "a fixed reference nest at each round: a re-levelling is a "
-                                                        "step between rounds, a settling a gradual turn",
-    # the air's drift scales the distances about each station: along the beams, growing with their length
-    frozenset(("air_index_drift", "thermal_drift")): "measure from a second station at a right angle to the first "
-                                                     "(one air scales both about their own stations, a drifting "
-                                                     "tracker moves one), or log the air's temperature and pressure "
-                                                     "at the beam: a scale grows with the distance, a drift does not",
-    frozenset(("air_index_drift", "offset")): "log the air's temperature and pressure with the readings, and "
-                                              "measure a fixed reference nest off the machine at each round: a "
-                                              "scale follows the air gradually, a knock is a step",
-    frozenset(("air_index_drift", "tracker_settling")): "measure reflectors at several distances along one beam: "
-                                                        "the air lengthens a beam, a settling tracker turns it",
-    frozenset(("air_index_drift", "side_expansion")): "measure from a second station, or a reflector off the side: "
-                                                      "the air scales every distance about the tracker, an expanding "
-                                                      "side only its own nests about their centroid",
-    frozenset(("air_index_drift", "tracker_scale")): "log the air's temperature and pressure with the readings: a "
-                                                     "scale that changes during the campaign is the air's drift, a "
-                                                     "constant one a station's",
-}
-DEFAULT_SEPARATE = "repeat the campaign with the axes in another order and from a second tracker station"
-
-
-GROWING_SEPARATE = ("measure more rounds of the axis and record a temperature channel: an error motion growing "
-                    "with the heat goes on growing with the position and the time, {} does not")
-
-
-def separate_by(a: str, b: str) -> str:
-    """The measurement that would separate effects ``a`` and ``b`` (names of docs/design.md; the free form of
-    error motions changing while measured, fx.UNEXPLAINED, from any named effect)."""
-    if fx.UNEXPLAINED in (a, b):
-        return GROWING_SEPARATE.format(f"a {b if a == fx.UNEXPLAINED else a}")
-    return SEPARATE_BY.get(frozenset((a, b)), DEFAULT_SEPARATE)
+# a candidate nests another (at the same place: _simplest; a tie: _may_tie) or holds it at another place
+# (_contained_elsewhere) when every direction of the other's columns lies within its own beside the base to
+# |cos| > CONFOUND_COS (_contains): the column spaces decide, not a table of names; to rounding (NESTED_COS), it is
+# a member and the simpler one it contains (a backlash changing along the travel and the constant one), never tied
+NESTED_COS = 1.0 - 1e-6
 
 
 class Columns:
@@ -226,8 +155,7 @@ def forward(prep: Prepared, eng: Engine, cands: list[fx.Candidate], w: Columns, 
         say(f"step {step + 1}: {c.name} {c.axis or ''} {c.label}: F = {best.score.F:.1f}, "
             f"sigma ratio {before:.3f} -> {eng.sigma:.3f}")
         selected.append(best)
-        if c.family not in ROUND_SPECIFIC:  # one member per family (outliers and knocks are scanned afresh)
-            cands = [x for x in cands if x.family != c.family]
+        cands = [x for x in cands if x.family != c.family]  # one member per family (scanned ones: afresh, score_all)
     return selected, last, list(inadequate.values())
 
 
@@ -261,7 +189,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
                 return v  # the named reversal effects of the axis cannot explain it
             continue
-        why = inadequate_because(prep, eng, v.candidate, w, level) or _drift_fits_as_much(v, sig)
+        why = inadequate_because(prep, eng, v.candidate, w, level) or _contained_elsewhere(eng, v, sig, w)
         if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and _frame_step(v.candidate):
             fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), _path(prep, eng, v, w)], v,
                                                        level, taken)
@@ -287,10 +215,11 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
 
 def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> bool:
     """Whether a significant named candidate of ``sig`` leaves the free form of ``v`` insignificant beside it
-    (its own test at ``level``, its multiplicity): the free form's misfit is that effect's."""
+    (its own test at ``level``, its multiplicity): the free form's misfit is that effect's.  A rigid shift at one
+    moment (fx.Grammar.jump: one round's, or a step) does not count: a growth is no jump."""
     own = level * math.exp(-v.log_multiplicity)
     return any(_significant_beside(eng, w(o.candidate), w(v.candidate), own) is None for o in sig
-               if o.candidate.name != fx.UNEXPLAINED and o.candidate.name not in ROUND_SPECIFIC)
+               if not o.candidate.free and not o.candidate.grammar.jump)
 
 
 def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> Step:
@@ -367,41 +296,86 @@ def _lead(eng: Engine, v: Step, other: Score) -> float:
 
 
 def _place(c: fx.Candidate) -> tuple | None:
-    """Where a named change in time acts: the tracker (of a station), a side, one nest; None for a quasi-static
-    effect (of an axis' error motions) or a one-off reading, whose rivals the grammar orders and confounded_with
-    reports."""
-    e = c.extra
-    if c.name in ("tracker_settling", "tracker_relevel", "air_index_drift") or e.get("variant") == "tracker knock":
-        return ("tracker", e.get("station"))
-    if c.name in ("thermal_drift", "thermal_temperature") and "target" in e:
-        return ("tracker", e.get("station")) if e["target"] == "tracker" else ("side", fx.SIDE[e["target"]])
-    if c.name == "side_expansion":
-        return ("side", e["side"])
-    if c.name in ("nest_knock", "nest_creep") or e.get("variant") == "re-seated nest":
-        return ("nest", e.get("point"))
-    return None
+    """Where a named change in time acts (fx.Grammar.place): the tracker (of a station), a side, one nest; None for
+    what is constant in time, an axis' error motions or one reading, whose rivals the columns order."""
+    return None if c.grammar is None else c.grammar.place
 
 
-def _may_tie(c: fx.Candidate, o: fx.Candidate) -> bool:
-    """Whether ``c`` and ``o`` are changes in time (_place) that may fit one misfit alike: of other families, not
-    a pair ORDERED nor one nesting the other (_nests), at other places (at the tracker also two time laws: a knock,
-    a drift, the air), moving mostly the same readings (at least half of the fewer they move: effects that move
-    different readings fit alike only through the base's freedoms, reflector positions and station alignments,
-    where the base's rules and same_fit_as decide)."""
+def _may_tie(base: Engine, w: Columns, v: Step, u: Step) -> bool:
+    """Whether the candidates ``c`` of ``v`` and ``o`` of ``u`` are changes in time (_place) that may fit one misfit
+    alike: of other families, not one motion by two clocks (_two_clocks), not one nesting the other (its columns within
+    the other's to rounding, NESTED_COS, beside the base ``base``: a member and the simpler one it contains, which
+    _simplest orders), nor, one dependence at two wheres (_across_places), one whose columns lie within the other's
+    (_contains) where ``v``, the leader, fits at least as much (across places the columns and the fit decide, as in
+    _contained_elsewhere: a drift along the beams that holds the air's one column and fits less; within one place two
+    laws fitting alike tie: a knock within a re-levelling with its shift at another t0 to |cos| 0.95, gen2 3553/21), at
+    other places (at the tracker also two time laws: a knock, a drift, the air), moving mostly the same readings (at
+    least half of the fewer they move: effects that move different readings fit alike only through the base's freedoms,
+    reflector positions and station alignments, where the base's rules and same_fit_as decide)."""
+    c, o = v.candidate, u.candidate
     pc, po = _place(c), _place(o)
-    if None in (pc, po) or o.family == c.family or frozenset((c.name, o.name)) in ORDERED or _nests(c, o):
+    if None in (pc, po) or o.family == c.family or _two_clocks(c, o):
         return False
     if pc == po and pc[0] != "tracker":
         return False
     a, b = (x.moved for x in (c, o))
-    return bool((a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0)
+    if not (a & b).sum() >= 0.5 * min(a.sum(), b.sum()) > 0:
+        return False
+    if _contains(base, w, c, o, NESTED_COS) or _contains(base, w, o, c, NESTED_COS):
+        return False
+    return not (_across_places(c, o) and v.score.delta >= u.score.delta
+                and (_contains(base, w, c, o) or _contains(base, w, o, c)))
 
 
-def _nests(c: fx.Candidate, o: fx.Candidate) -> bool:
-    """Whether one of ``c`` and ``o`` is the other's ``nested`` member (of its name, moving the same readings: a
-    re-levelling with its shift and the knock at its t0), which _simplest orders: the two are never tied."""
-    return any(x.nested is not None and y.name == x.nested.name and np.array_equal(y.moved, x.nested.moved)
-               for x, y in ((c, o), (o, c)))
+def _across_places(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether ``c`` and ``o`` are one dependence at two wheres (the same how-variables): what the data then decide
+    is the place, from the columns and the fit (_contained_elsewhere, _may_tie).  Where the dependence differs (a
+    location error, constant, and a reflector re-seated for a round) the evidence and the parsimony decide."""
+    return c.grammar.where != o.grammar.where and c.grammar.how.on == o.grammar.how.on
+
+
+def _two_clocks(c: fx.Candidate, o: fx.Candidate) -> bool:
+    """Whether ``c`` and ``o`` are one gradual motion (the same where and what, neither a step) by two clocks (they
+    depend on different variables: the time, a temperature that follows it): the name and its place are the
+    data's, the clock is said in confounded_with, never a tie."""
+    gc, go = c.grammar, o.grammar
+    return ((gc.where.at, gc.where.key, gc.what) == (go.where.at, go.where.key, go.what)
+            and gc.how.on != go.how.on and not (gc.step or go.step))
+
+
+def _gives_way(base: Engine, w: Columns, small: Step, big: Step) -> bool:
+    """Whether ``small`` gives way to ``big``: big's columns contain small's (_contains, beside the base ``base``)
+    and big explains at least as much of the misfit (its sum of squares, on the same fit), so that small's lead in
+    the evidence is its fewer columns, not the data (the air's one column within a drift along the beams)."""
+    return big.score.delta >= small.score.delta and _contains(base, w, big.candidate, small.candidate)
+
+
+def _contains(base: Engine, w: Columns, c: fx.Candidate, o: fx.Candidate, cos: float = CONFOUND_COS) -> bool:
+    """Whether the columns of ``c`` contain those of ``o`` beside the base ``base``: every principal direction of
+    o's columns (residualized on the base) lies within c's to |cos| > ``cos`` (CONFOUND_COS: the campaign cannot tell
+    them apart; NESTED_COS: to rounding), i.e. the projection of o on c leaves less than 1 - cos^2 of any of o's
+    directions (a backlash within a backlash changing along the
+    travel, exactly; a knock within a re-levelling with its shift; a side's drift within its expansion about a
+    fitted centre with the same law; the air's scale about a station within a drift along the beams, to 1 part in
+    300).  o with more directions than c, or none beside the base, is not contained."""
+    a, b = _beside(base, w(o)), _beside(base, w(c))
+    if a.shape[1] == 0 or a.shape[1] > b.shape[1]:
+        return False
+    return float(np.linalg.svd(a.T @ b, compute_uv=False).min()) > cos
+
+
+def _beside(base: Engine, G: np.ndarray) -> np.ndarray:
+    """An orthonormal basis of the whitened columns ``G`` with the base projected out, each column scaled to unit
+    size first (a turn's columns in mm/rad dwarf a shift's in mm: Engine.residualized's tolerance, relative to all
+    of G, would drop the shift); a column the base takes (less than ALIAS_TOL of it left) is dropped."""
+    Gp = G - base.project(G)
+    Gp = Gp - base.project(Gp)
+    size = np.linalg.norm(Gp, axis=0)
+    keep = size > ALIAS_TOL * np.maximum(np.linalg.norm(G, axis=0), 1e-300)
+    if not keep.any():
+        return np.zeros((G.shape[0], 0))
+    u, sv, _ = np.linalg.svd(Gp[:, keep] / size[keep], full_matrices=False)
+    return u[:, sv > ALIAS_TOL * sv[0]]
 
 
 def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> list[tuple[Step, float]]:
@@ -414,8 +388,8 @@ def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> l
     bowing with time was a tracker re-levelled before X's third round (24.4), beside a knock of the tracker that
     fitted 23.8 but, its t0 scanned, was not itself significant."""
     c = v.candidate
-    out, beside = [], None
-    for o in (o for o in pool if _may_tie(c, o.candidate)):
+    out, beside, base = [], None, eng.copy_base()
+    for o in (o for o in pool if _may_tie(base, w, v, o)):
         lead = _lead(eng, v, o.score)
         if lead >= TIE_CHI2:
             continue
@@ -428,47 +402,43 @@ def _tied(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> l
     return out
 
 
-# a member -> the simpler member it contains at the same axis and place: a backlash_travel at g = 0, a side's
-# expansion about a fitted centre at e = 0 (its translation with the expansion's law: the side's drift)
-NESTED = {"backlash_travel": "backlash", "side_expansion": "thermal_drift"}
-# pairs never tied (_tied): a member and the simpler one it contains (NESTED); one drift by either clock, the time or
-# a temperature that follows it (the name and its place are the data's, the clock is said in confounded_with); the
-# air's one column against a drift (_drift_fits_as_much)
-ORDERED = {frozenset(pair) for pair in [("backlash_travel", "backlash"), ("thermal_drift", "thermal_temperature"),
-                                        ("air_index_drift", "thermal_drift")]}
-
-
-def _drift_fits_as_much(v: Step, sig: list[Step]) -> str | None:
-    """Why the air's drift (one column: every distance scaling about its station) gives way to a significant drift
-    of a side or of the tracker that explains at least as much of the misfit (its sum of squares): the air's lead in
-    the evidence is then its one column against the drift's three, not the data.  From one station in front of an
-    XY campaign a spindle drifting along the beams is a scale about the tracker to 1 part in 300 (the columns' |cos|
-    after the base 0.992-0.9997), and the air was named in its place; the drift, named, lists the air beside it."""
-    if v.candidate.name != "air_index_drift":
+def _contained_elsewhere(eng: Engine, v: Step, sig: list[Step], w: Columns) -> str | None:
+    """Why the named candidate of ``v`` gives way (_gives_way) to a significant named candidate of ``sig`` with the same
+    dependence at another place (_across_places), with more columns that contain its own (beside the base) and that
+    explains at least as much of the misfit (its sum of squares): v's lead in the evidence is then its fewer columns,
+    not the data. From one station in front of an XY campaign a spindle drifting along the beams is a scale about the
+    tracker to 1 part in 300 (the columns' |cos| after the base 0.992-0.9997), and the air (one column) was named in its
+    place; the drift, named, lists the air beside it."""
+    c = v.candidate
+    if c.free:
         return None
-    o = max((o for o in sig if o.candidate.name == "thermal_drift"), key=lambda o: o.score.delta, default=None)
-    if o is None or o.score.delta < v.score.delta:
+    base = eng.copy_base()
+    o = max((o for o in sig if not o.candidate.free and _across_places(c, o.candidate)
+             and o.candidate.G.shape[2] > c.G.shape[2] and _gives_way(base, w, v, o)),
+            key=lambda o: o.score.delta, default=None)
+    if o is None:
         return None
-    return (f"a drift of the {o.candidate.extra['target']} ({o.candidate.label}) explains as much of the misfit "
-            f"({o.score.delta:.4g} against {v.score.delta:.4g}, whitened sums of squares)")
+    return (f"{o.candidate.title} ({o.candidate.label}) explains as much of the misfit ({o.score.delta:.4g} against "
+            f"{v.score.delta:.4g}, whitened sums of squares) with columns that contain its own")
 
 
 def _simplest(prep: Prepared, eng: Engine, v: Step, sig: list[Step], w: Columns, level: float) -> Step:
     """``v``, or the simpler member it contains where what ``v`` adds beside it is not significant (lack_of_fit:
     against the replicates' scatter where what it adds is a function of the stop -- a reversal's change along the
     travel beside a constant one -- else against the fit's residual; at v's own multiplicity): its own
-    ``nested`` member (a re-levelling with its shift: the knock at its t0), or one of ``sig`` (NESTED, same axis and
-    place); beyond the float range of p, the chi^2 tail that orders the evidence favours the member with more
-    columns (xyzac: a constant 50 urad backlash of A was named backlash_travel, F = 2082 on 2 columns; icelinker's
-    base reflectors drifting 56 um together were a tool side expanding about a fitted centre)."""
+    ``nested`` member (a re-levelling with its shift: the knock at its t0), or a named one of ``sig`` at the same
+    where with fewer columns that v's columns contain (_contains, beside the base); beyond the float range of p,
+    the chi^2 tail that orders the evidence favours the member with more columns (xyzac: a constant 50 urad
+    backlash of A was named backlash_travel, F = 2082 on 2 columns; icelinker's base reflectors drifting 56 um
+    together were a tool side expanding about a fitted centre)."""
     c = v.candidate
     if c.nested is not None:
         sc = eng.score(w(c.nested))
         o = Step(c.nested, sc, v.logp_adj) if sc.separable else None
     else:
-        simple = NESTED.get(c.name) if c.extra.get("centre", True) else None
-        o = next((o for o in sig if o.candidate.name == simple and o.candidate.axis == c.axis
-                  and _place(o.candidate) == _place(c)), None)
+        base = eng.copy_base()
+        o = next((o for o in sig if not (o.candidate.free or c.free) and o.candidate.grammar.where == c.grammar.where
+                  and o.candidate.G.shape[2] < c.G.shape[2] and _contains(base, w, c, o.candidate)), None)
     if o is None:
         return v
     e = eng.copy()
@@ -716,13 +686,14 @@ def _against_stops(prep: Prepared, eng: Engine, c: fx.Candidate, G: np.ndarray, 
 
 
 def _frame_step(c: fx.Candidate) -> bool:
-    """Whether ``c`` is a step of a station's frame: a tracker knock or a re-levelling."""
-    return c.name == "tracker_relevel" or (c.name == "offset" and c.extra.get("variant") == "tracker knock")
+    """Whether ``c`` is a step of a station's frame (its grammar: where the frame, how a step in time): a tracker
+    knock or a re-levelling."""
+    return c.grammar is not None and c.grammar.where.at == "frame" and c.grammar.step
 
 
 def _place_step(c: fx.Candidate) -> bool:
     """Whether ``c`` is a step of a place: of a station's frame (_frame_step) or of a nest (a nest knock)."""
-    return _frame_step(c) or c.name == "nest_knock"
+    return c.grammar is not None and c.grammar.where.at in ("frame", "nest") and c.grammar.step
 
 
 def _whole_stops(prep: Prepared, moved: np.ndarray) -> bool:
@@ -939,59 +910,69 @@ def _absorbed(eng: Engine, best: Step, v: Step, w: Columns, level: float) -> boo
 
 
 def _rival(c: fx.Candidate, o: fx.Candidate) -> bool:
-    """Whether ``o`` may be reported as confounded with the selected ``c``: named effects with each other, and a
-    named effect with the position x time free form (an error motion growing while measured: a named effect
-    that absorbs it may be that instead); never a free form selected itself."""
-    return c.name != fx.UNEXPLAINED and (o.name != fx.UNEXPLAINED or o.extra.get("kind") == "growing")
+    """Whether ``o`` may be reported as confounded with the selected ``c``: members of the grammar with each other,
+    and a member with a free form that changes with time (an axis' error motions changing while measured: a named
+    effect that absorbs it may be that instead); never a free form selected itself, nor one constant in time (the
+    reversal's free form holds its axis' reversal members: place_needed weighs it)."""
+    return not c.free and (not o.free or o.grammar is not None and o.grammar.varies_in_time)
 
 
 def _confound(c: fx.Candidate, v: Step, cos: float) -> dict:
     o = v.candidate
     return {"name": o.name, "axis": o.axis, "where": o.label, "overlap_cos": cos,
-            "p_adjusted": min(1.0, math.exp(v.logp_adj)), "separate_by": separate_by(c.name, o.name)}
+            "p_adjusted": min(1.0, math.exp(v.logp_adj)), "separate_by": separate_by(c, o)}
 
 
-GROWING_SHARE = 0.8  # a drift changing this much (whitened, beside the base) within one axis' block
+GROWING_SHARE = 0.8  # a change in time changing this much (whitened, beside the base) within one axis' block
 
 
 def growing_confounds(prep: Prepared, eng: Engine, steps: list[Step], w: Columns) -> None:
-    """A drift (of a side or of the tracker) whose change falls within the block of one axis (GROWING_SHARE of its
-    columns beside the base: the base's per-axis positions take what stays constant after it) cannot be told from
-    that axis' error motions changing with time as seen from its reference position (the base's error functions
-    vanish there, so their growth there moves every reading of the axis alike).  Where such a growing error motion
-    of that axis is also selected, the drift lists it in ``confounded_with`` (gen2 seed 17: a scale of X growing
-    while X is measured, from a reference position away from its zero, came out as the growth and a drift)."""
-    grow = {s.candidate.axis: s for s in steps if s.candidate.extra.get("kind") == "growing"}
+    """A translation of a side or of the tracker changing with time (its grammar) whose change falls within the
+    block of one axis (GROWING_SHARE of its columns beside the base: the base's per-axis positions take what stays
+    constant after it) cannot be told from that axis' error motions changing with time as seen from its reference
+    position (the base's error functions vanish there, so their growth there moves every reading of the axis
+    alike).  Where such a free form of that axis (depending on the position and the time) is also selected, the
+    change lists it in ``confounded_with`` (gen2 seed 17: a scale of X growing while X is measured, from a
+    reference position away from its zero, came out as the growth and a drift)."""
+    grow = {s.candidate.axis: s for s in steps if s.candidate.grammar is not None and s.candidate.grammar.free
+            and s.candidate.grammar.how.on >= {"position", "time"}}
     n, base = len(prep.rec), eng.copy_base()
-    for s in (s for s in steps if s.candidate.name == "thermal_drift" and grow):
+    for s in (s for s in steps if grow and _moves_in_time(s.candidate)):
         G = w(s.candidate)
         e = np.sum((G - base.project(G)).reshape(n, 3, -1) ** 2, axis=(1, 2))
         for a, g in grow.items():
             share = float(e[prep.rec.axis == a].sum() / e.sum())
-            if share > GROWING_SHARE and all(c["name"] != fx.UNEXPLAINED or c.get("axis") != a
+            if share > GROWING_SHARE and all((c["name"], c.get("axis")) != (g.candidate.name, a)
                                              for c in s.confounded_with):
                 s.confounded_with.append({**_confound(s.candidate, g, 0.0), "overlap_cos": None,
                                           "share_in_block": share})
 
 
-def air_confounds(steps: list[Step], notes: list[dict]) -> None:
-    """Where the air's drift could not be tested because the station is not determined or not placed at all (a
-    note of mtcal.diagnose.candidates.air_index_drift), a selected drift (of a side or of the tracker) lists it in
-    ``confounded_with``: about a station the data do not place, a scale of the distances changing with time is a
-    drift along the unknown beam with a remainder too small to tell apart, so the drift may be the air's (gen2 seed
-    9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air came out as a
-    drift of the table alone; seed 3537 campaign 12, an isotropic tracker whose rounds show no shape to place it: a
-    5 ppm ramp a drift of the tracker)."""
-    why = next((n["not_separable"] for n in notes if n["name"] == "air_index_drift"
-                and n.get("kind") == "station undetermined"), None)
-    if why is None:
-        return
-    for s in steps:
-        if s.candidate.name == "thermal_drift" and all(c["name"] != "air_index_drift" for c in s.confounded_with):
-            s.confounded_with.append({"name": "air_index_drift", "axis": None, "where": "the air's refractive index "
-                                      "drifting (not tested: the station is not determined)", "overlap_cos": None,
-                                      "p_adjusted": None, "why": why,
-                                      "separate_by": separate_by("air_index_drift", "thermal_drift")})
+def _moves_in_time(c: fx.Candidate) -> bool:
+    """A member translating a side or the tracker's frame with time."""
+    g = c.grammar
+    return not c.free and g.what == "translation" and g.where.at in ("side", "frame") and "time" in g.how.on
+
+
+def untested_confounds(steps: list[Step], notes: list[dict]) -> None:
+    """Where a member could not be tested because the data do not locate its place (a note carrying the member's
+    grammar, ``untested``: the air's drift about a station that is not determined or not placed at all,
+    mtcal.diagnose.candidates.air_index_drift), a selected gradual translation of a side or of the tracker with
+    the same dependence (its grammar) lists it in ``confounded_with``: an expansion about a place the data do not
+    locate is, to first order, a translation along the unknown direction with a remainder too small to tell apart
+    (gen2 seed 9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air
+    came out as a drift of the table alone; seed 3537 campaign 12, an isotropic tracker whose rounds show no shape
+    to place it: a 5 ppm ramp a drift of the tracker)."""
+    for nt in (nt for nt in notes if "untested" in nt):
+        g = nt["untested"]
+        other = fx.Candidate(nt["name"], nt["axis"], nt["where"], np.zeros((0, 3, 0)), [], grammar=g)
+        for s in steps:
+            c = s.candidate
+            if (_moves_in_time(c) and c.grammar.how.gradual and c.grammar.how.on == g.how.on
+                    and all(o["name"] != nt["name"] for o in s.confounded_with)):
+                s.confounded_with.append({"name": nt["name"], "axis": nt["axis"], "where": nt["where"],
+                                          "overlap_cos": None, "p_adjusted": None, "why": nt["not_separable"],
+                                          "separate_by": separate_by(c, other)})
 
 
 def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
@@ -1093,7 +1074,7 @@ def folds(prep: Prepared, c: fx.Candidate) -> tuple[list[np.ndarray], str]:
     rec = prep.rec
     touched = c.moved
     rounds = sorted(set(rec.round[touched].tolist()))
-    if c.name not in ALTERNATE_FOLDS and len(rounds) >= 2:
+    if not (c.grammar is not None and c.grammar.varies_in_time) and len(rounds) >= 2:
         return [rec.round == k for k in sorted(set(rec.round.tolist()))], "held-out rounds"
     if touched.sum() < 2:
         return [], "one reading: tested by its studentized displacement only"
