@@ -31,7 +31,6 @@ from mtcal.diagnose.candidates import reversal_named, scanned
 from mtcal.diagnose.design import Base, base_design, engine_for, whiten
 from mtcal.diagnose.engine import ALIAS_TOL, WEAK_TOL, Engine, Score
 from mtcal.diagnose.places import (
-    REVERSALS,
     bump,
     frame_path,
     nest_path,
@@ -543,55 +542,73 @@ def lack_of_fit(prep: Prepared, e: Engine, x: fx.Candidate, w: Columns) -> Score
 
 
 def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
-    """Why the effect ``c`` does not explain the misfit it fits, or None.  A reversal effect (``REVERSALS``) must
-    leave no reversal that differs between reflectors beyond what the named reversal effects of its axis explain
-    together (free-form check, F test at ``level``); a scanned one-off displacement (outlier reading or bump) must
-    not be found, in the same direction, at the same places in the other rounds; it and a re-seated nest must not be
-    shared, in the same direction, by the other nests read at the same stops (icelinker's pose 976: the three base
-    reflectors 45 um off together, one of them named re-seated); a periodic error must leave no
-    misfit of its error motion over the positions (the free shape beside it, F test); a knocked nest's displacement must
-    persist beyond the sequence it starts in; a knock (of the tracker or of a nest) must be a step, not a change
-    that goes on growing after t0; an effect that moves whole stops of a linear axis must be significant against
-    the scatter of those stops (_against_the_stops)."""
-    why = _against_the_stops(prep, eng, c, w, level)
-    if why:
-        return why
-    if c.name in REVERSALS:
-        sc = _reversal_misfit(prep, eng, c.axis, w, level)
-        if sc is not None:
-            return (f"no reversal effect explains the direction-dependent misfit on {c.axis}: it differs between "
-                    f"reflectors beyond their signatures (free-form reversal per reflector: F = {sc.F:.1f}, "
-                    f"p = {math.exp(sc.logp):.2g})")
-    if c.name == "nest_knock":
-        why = _knock_does_not_persist(prep, eng, c, w, level)
+    """Why the effect ``c`` does not explain the misfit it fits, or None: the first of its place's free forms
+    (_adequacy_checks, chosen by its grammar attributes) that is still needed beside it, in words.  Null of each
+    check: ``c`` is adequate, the free form adds nothing beside it; alternative: it adds a mean; F test at
+    ``level`` against the fit's residual (the stops' scatter for whole stops, _against_the_stops); the multiplicity
+    is the candidate's (one check failing is enough to refuse the name, so no adjustment widens the refusal)."""
+    for check in _adequacy_checks(c):
+        why = check(prep, eng, c, w, level)
         if why:
             return why
-    if "t0_s" in c.extra:
-        why = _knock_keeps_growing(prep, eng, c, w, level)
-        if why:
-            return why
-    if c.name == "thermal_drift":
-        why = _drift_grows_with_position(prep, eng, c, w, level)
-        if why:
-            return why
-    if c.name == "periodic":
-        sc = _significant_beside(eng, w(c), w(fx.by_position(prep.geometry, c)), level)
-        if sc is not None:
-            return (f"the error motion's misfit over the positions goes beyond the periodic error (the shapes beside "
-                    f"it: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a shape of the error function, not a period")
-    if c.name == "outlier":
-        # given the one-off displacement: else the base's share of it shows at those places
-        sc = _same_way_beside(eng, w(c), w(fx.repeated(prep.geometry, c)), level)
-        if sc is not None:
-            return (f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
-                    f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
-    if c.name == "outlier" or c.extra.get("variant") == "re-seated nest":
-        sc = _same_way_beside(eng, w(c), w(fx.same_stops(prep.geometry, c, prep.stop)), level)
-        if sc is not None:
-            return (f"the other nests read at the same stop(s) are displaced the same way (F = {sc.F:.1f}, "
-                    f"p = {math.exp(sc.logp):.2g}): the stop landed off or the tracker moved, not "
-                    + ("one reading" if c.name == "outlier" else "the nest"))
     return None
+
+
+def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
+    """The free forms of ``c``'s place that must not be needed beside it (inadequate_because), chosen by its grammar
+    attributes (effects.Grammar), never its name: a member that moves whole stops is checked against them; one
+    depending on the direction of approach at an axis against the reversal free per reflector; a nest's step
+    against its persisting; a step in time (t0) against going on growing; a gradual translation of a side or the
+    tracker's frame against a misfit growing with an axis' position; a periodic law against the free shape over
+    the positions; a translation of one round against recurring in the other rounds (one reading) and against the
+    other nests of its stops."""
+    g = c.grammar
+    checks: list[Callable] = [_against_the_stops]
+    if g is None or g.free:
+        return checks
+    if g.where.at == "axis" and "direction" in g.how.on:
+        checks.append(_reversal_differs)
+    if g.where.at == "nest" and g.step:
+        checks.append(_knock_does_not_persist)
+    if "t0_s" in c.extra:
+        checks.append(_knock_keeps_growing)
+    if g.what == "translation" and g.how.gradual and g.where.at in ("side", "frame"):
+        checks.append(_drift_grows_with_position)
+    if g.how.law == "periodic":
+        checks.append(_shape_beyond_period)
+    if g.what == "translation" and "round" in g.how.on:
+        checks += [_recurs_in_other_rounds] * (g.where.at == "reading") + [_shared_by_its_stops]
+    return checks
+
+
+def _reversal_differs(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    sc = _reversal_misfit(prep, eng, c.axis, w, level)
+    return None if sc is None else (
+        f"no reversal effect explains the direction-dependent misfit on {c.axis}: it differs between reflectors "
+        f"beyond their signatures (free-form reversal per reflector: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g})")
+
+
+def _shape_beyond_period(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    sc = _significant_beside(eng, w(c), w(fx.by_position(prep.geometry, c)), level)
+    return None if sc is None else (
+        f"the error motion's misfit over the positions goes beyond the periodic error (the shapes beside it: "
+        f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a shape of the error function, not a period")
+
+
+def _recurs_in_other_rounds(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    # given the one-off displacement: else the base's share of it shows at those places
+    sc = _same_way_beside(eng, w(c), w(fx.repeated(prep.geometry, c)), level)
+    return None if sc is None else (
+        f"the same displacement recurs at the same places in the other rounds (F = {sc.F:.1f}, "
+        f"p = {math.exp(sc.logp):.2g}): a systematic pattern, not a one-off event")
+
+
+def _shared_by_its_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    sc = _same_way_beside(eng, w(c), w(fx.same_stops(prep.geometry, c, prep.stop)), level)
+    return None if sc is None else (
+        f"the other nests read at the same stop(s) are displaced the same way (F = {sc.F:.1f}, "
+        f"p = {math.exp(sc.logp):.2g}): the stop landed off or the tracker moved, not "
+        + ("one reading" if c.grammar.where.at == "reading" else "the nest"))
 
 
 def _against_the_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
