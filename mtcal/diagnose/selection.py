@@ -180,8 +180,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         todo.remove(v)
         if fallback is not None and not _within(eng, fallback.candidate, v, w):
             return fallback  # the stronger mismatch first; this one is scored again at the next step
-        if v.candidate.name == fx.UNEXPLAINED:
-            if v.candidate.extra.get("kind") == "growing":
+        if v.candidate.free:
+            if v.candidate.free_in_time:
                 if _explained_by_a_name(eng, v, sig, w, level):
                     continue  # a member of the grammar (a side expanding) moves the axis' readings so
                 return v  # no named effect changes an error motion's shape with time (without a temperature)
