@@ -8,7 +8,8 @@ import pathlib
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 # mtcal/diagnose/selection.py at 83feade: 43 in 17 functions (issue 52's "before"); with the grammar's attributes
-# deciding nesting, ties, rivals, folds and separate_by, and change points one search per place, the adequacy checks chosen by attributes, free forms by theirs: 2 in 2 functions
+# deciding nesting, ties, rivals, folds, separate_by, the adequacy checks and the free forms, and change points one
+# search per place: 2 in 2 functions
 SELECTION_BRANCHES = 2
 
 

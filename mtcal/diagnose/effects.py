@@ -166,11 +166,6 @@ class Candidate:
         return self.grammar is None or self.grammar.free
 
     @property
-    def free(self) -> bool:
-        """A free form of a place (reported as unexplained), not a member: its grammar says so, or it has none."""
-        return self.grammar is None or self.grammar.free
-
-    @property
     def free_in_time(self) -> bool:
         """A free form of an error motion's shape changing with time (growing_free)."""
         return self.free and self.grammar is not None and "time" in self.grammar.how.on
