@@ -38,22 +38,36 @@ def _replica(n=400, seed=3):
     return rec.select(screen(rec).keep)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 52, open: under the joint restricted likelihood (outlying passes "
-                   "left out) the replica's radial interval, hull of the two detrends, is 0.677-0.890 um where "
-                   "0.6755 um was planted: 0.3 % beyond its lower end")
 def test_the_law_from_the_mutual_distances_is_the_planted_one_whatever_moves_the_side():
     rec = _replica()
     s_r, s_t = (1e3 * s for s in SPEC.sigmas(2837.0))
     law = rigid_law(rec, np.zeros(3), AT960)
-    assert law["transverse"]["determined"]
+    assert law["transverse"]["determined"] and law["radial"]["determined"], law
     assert law["transverse"]["sigma_um"] == pytest.approx(s_t, rel=0.15), (law, s_t)
-    lo, hi = (v * law["radial"]["sigma_um"] / law["radial"]["factor"] for v in law["radial"]["interval_95"])
-    assert lo < s_r < hi, (lo, s_r, hi)
     # the rounds count the 8 um shared motion as noise: the used law is the distances', and that is said
     sh = estimate_shape(rec, np.zeros(3), AT960)
     assert sh.rigid["used"] == "mutual distances" and "the distances' law is used" in sh.note
     used_r, used_t = (1e3 * s for s in sh.spec.sigmas(2837.0))
     assert used_t == pytest.approx(s_t, rel=0.15) and used_r < 2 * s_r, (used_r, used_t, s_r, s_t)
+
+
+@pytest.mark.slow
+def test_the_laws_intervals_hold_the_planted_law_in_as_many_draws_as_they_say():
+    """The replica (8 um and 4 urad of shared motion a pose, a drift, an outlier, stray readings) in 30 draws: both
+    scales determined in every draw, and each 95 % interval (the hull of the two detrends') holds the planted sigma
+    in at least 26 (four misses or more has probability 0.06 at a true 95 %, five or more 0.016).  Seed 3's radial
+    interval, 0.677-0.890 um, misses the planted 0.6755 um by 0.3 % (seed 31 too, by 0.1 %): two of 44 draws,
+    95.5 %.  Pair by pair (each distance alone, less a line) the radial scale was not determined (an upper bound
+    only)."""
+    holds = {"radial": 0, "transverse": 0}
+    for seed in range(30):
+        law = rigid_law(_replica(seed=seed), np.zeros(3), AT960)
+        at = law["at_distance_m"] * 1e3  # mm: the planted sigma and the interval at the law's median distance
+        for k, name in enumerate(holds):
+            assert law[name]["determined"], (seed, name, law[name])
+            lo, hi = (v * AT960.sigmas(at)[k] * 1e3 for v in law[name]["interval_95"])
+            holds[name] += bool(lo <= SPEC.sigmas(at)[k] * 1e3 <= hi)
+    assert min(holds.values()) >= 26, holds
 
 
 def test_where_the_rounds_and_the_distances_agree_the_rounds_law_is_kept_and_nothing_is_said():
@@ -121,20 +135,19 @@ def test_a_station_placed_by_rounds_that_hold_a_shared_motion_is_not_determined(
     assert _trusted(interval, agree) is interval
 
 
-@pytest.mark.xfail(strict=True, reason="issue 52, open: the mutual distances' station profile on the replica is "
-                   "4.0-30 m from the readings, the tracker 2.84 m: the distances' covariance barely depends on "
-                   "the distance along the beams, and this replica's profile excludes it")
 def test_a_station_about_which_the_distances_show_no_tracker_noise_is_not_determined():
     """icelinker without --tracker (benchmarks/real_icelinker.py's data): the rounds put the station at (2418, 611,
     -1586) mm, 1.08 m from the readings, "determined" 0.95-1.27 m; about it the mutual distances' transverse factor
     was 3e-8, not determined (about the tracker's origin: 0.18, 0.17-0.18), and the rounds' radial factor 7.5 was
     within 2x of the distances' 15, so the disagreement rule said nothing and the station stood.  The replica
     about the same point: the mutual distances, all of a pass's jointly with the station free (rigid_station),
-    put it where the tracker stood (2.84 m from the readings), not where the rounds did."""
-    rec = _replica()
-    st = rigid_station(rec, np.array([2418.5, 611.2, -1586.2]), AT960)
-    lo, hi = st["interval_95_mm"]
-    assert 1265.1 < lo < 2837.0 < hi, st["interval_95_mm"]
+    put it where the tracker stood (2.84 m from the readings), not where the rounds did.  Profiled about the
+    rounds' station, its direction held near theirs (86 deg from the tracker's as seen from the readings), the
+    distance read 4.0-30 m (seed 0: 5.3-30 m); about the distances' own best (_rigid_best) it holds 2.84 m."""
+    for seed in (3, 0):
+        st = rigid_station(_replica(seed=seed), np.array([2418.5, 611.2, -1586.2]), AT960)
+        lo, hi = st["interval_95_mm"]
+        assert 1080.6 < lo < 2837.0 < hi, (seed, st["interval_95_mm"])
 
 
 def test_a_station_beyond_the_search_bound_is_not_determined():

@@ -15,6 +15,7 @@ its base family) and by identify (scatter = readings about their mean over the r
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -405,29 +406,38 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, ac
                  ) -> tuple[float, float, dict | None]:
     """The round scatter's factors (radial ``fr``, transverse ``ft`` against ``base``) checked against the mutual
     distances' (rigid_law): where the round scatter's sigma exceeds a determined sigma of the distances by more than
-    RIGID_DISAGREE (or the distances' upper bound by as much), the round scatter
-    counts a motion shared by a side (a drift, the machine's own motion) as noise: the distances' sigmas are used
-    and the disagreement said.  Where they agree, the scale across the beams is still the distances' wherever they
-    determine it (the tighter of the two, blind to what moves a side; on 43 gen2 campaigns within 25 % of the
-    generator's law in all, the rounds' in 93 %) and the radial one the rounds' (the distances' is poorly
-    conditioned where the pairs lie across the beams); not with ``across`` False (a model's residuals, shrunk by
-    the fit in both directions alike: their ratio is kept).  Returns the factors used and ``rigid`` with "used"
-    ("mutual distances", ACROSS or "round scatter") and "disagreement" or "cross_check"."""
+    RIGID_DISAGREE, the round scatter counts a motion shared by a side (a drift, the machine's own motion) as noise:
+    the distances' sigmas are used and the disagreement said; so too their upper bound where they do not determine
+    the scale but see it (an interval with a lower end: the detrend changes it, or it spans 4x or more) and the
+    rounds' exceeds the bound by as much.  Where the interval has no lower end (the distances' best is nil: no
+    distance needs that noise), the bound says only how little they see of it, not how large it is: that is said
+    ("bounded") and the rounds' sigma kept (icelinker's replica with a nest wandering, about a station the
+    distances reject: radial 0-3.9 of the law's; the bound as the weight took the along-beam sigma from 14 to 1.7
+    um and named a false knock of the wandering nest). Where they agree, the scale across the
+    beams is still the distances' wherever they determine it (the tighter of the two, blind to what moves a side; on
+    43 gen2 campaigns within 25 % of the generator's law in all, the rounds' in 93 %) and the radial one the rounds'
+    (the distances' is poorly conditioned where the pairs lie across the beams); not with ``across`` False (a
+    model's residuals, shrunk by the fit in both directions alike: their ratio is kept). Returns the factors used
+    and ``rigid`` with "used" ("mutual distances", ACROSS or "round scatter") and "disagreement" or "cross_check"."""
     if rigid is None:
         return fr, ft, None
-    out, say = [fr, ft], []
+    out, say, bounds = [fr, ft], [], []
     for k, (name, f0) in enumerate((("radial", fr), ("transverse", ft))):
         g = rigid[name]
         hi = g["interval_95"][1]
+        sig0 = float(base.sigmas(rigid["at_distance_m"] * 1e3)[k]) * 1e3  # um: the base law's at that distance
         if g["determined"] and f0 > RIGID_DISAGREE * g["factor"]:  # a shared motion only adds to the rounds'
             out[k] = g["factor"]
+        elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi and g["interval_95"][0] is None:
+            bounds.append(f"{name} {f0 * sig0:.3g} um from the rounds, at most {hi * sig0:.3g} um from the "
+                          "distances, whose best is nil (the rounds' is kept)")
+            continue
         elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi:
-            out[k] = hi   # only an upper bound from the distances: the largest sigma they allow
+            out[k] = hi   # the distances see this noise, not closely: the largest sigma they allow
         else:
             if name == "transverse" and g["determined"] and across:
                 out[k] = g["factor"]  # the distances determine the scale across the beams best: theirs
             continue
-        sig0 = g["sigma_um"] / g["factor"]
         say.append(f"{name} {f0 * sig0:.3g} um from the rounds against {out[k] * sig0:.3g} um from the distances"
                    + ("" if g["determined"] else " (their upper bound)"))
     text = (f"the tracker's noise (1 sigma at {rigid['at_distance_m']:.3g} m) from the scatter of the rounds and "
@@ -437,9 +447,11 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, ac
     used = "mutual distances" if say else ACROSS if theirs else "round scatter"
     return out[0], out[1], {**rigid, "used": used,
                             "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
+                            **({"bounded": "; ".join(bounds)} if bounds else {}),
                             **({"disagreement": text} if text else
                                {"cross_check": f"the round scatter agrees with the mutual distances within "
-                                               f"{RIGID_DISAGREE:g}x: " + (
+                                               f"{RIGID_DISAGREE:g}x"
+                                               + (" where they determine a scale" if bounds else "") + ": " + (
                                                    "the distances' scale across the beams and the rounds' along "
                                                    "them are used" if theirs else "its law is used")})}
 
@@ -488,10 +500,27 @@ def _detrend_design(tm: np.ndarray, kind: str) -> np.ndarray:
                                              3).toarray()
 
 
-def _framework(k: int) -> list[tuple[int, int]]:
-    """The pairs of a minimally rigid set of ``k`` reflectors (3 k - 6 distances, 1 for two): every distance of
-    the pass follows from these, so their covariance is not singular."""
-    return [(0, 1)] if k == 2 else [(0, 1), (0, 2), (1, 2)] + [(i, j) for j in range(3, k) for i in range(3)]
+FRAMEWORK_RANK = 1e-3  # a distance whose derivative (by the readings) lies within this of the others' span adds
+# nothing a reading can move independently: it is left out of the pass's set (_framework)
+
+
+def _framework(X: np.ndarray) -> list[tuple[int, int]]:
+    """The pairs of an independent set of distances among the reflectors at ``X`` ((k, 3) mm, their mean
+    readings): pair by pair, each kept only where its derivative by the readings (the rigidity matrix's row, +-w on
+    its two reflectors) is not within FRAMEWORK_RANK of the span of those kept.  Every distance of the pass then
+    follows from these to first order and their covariance is not singular: 3 k - 6 for k >= 3 in general position,
+    2 k - 3 where the reflectors lie in a plane, k - 1 on a line (a collinear set, which identify refuses later)."""
+    k = len(X)
+    rows, pairs = np.zeros((0, 3 * k)), []
+    for a, b in itertools.combinations(range(k), 2):
+        w = X[a] - X[b]
+        row = np.zeros(3 * k)
+        row[3 * a:3 * a + 3], row[3 * b:3 * b + 3] = w, -w
+        row /= max(float(np.linalg.norm(row)), 1e-300)
+        trial = np.vstack([rows, row])
+        if np.linalg.svd(trial, compute_uv=False)[-1] > FRAMEWORK_RANK:
+            rows, pairs = trial, pairs + [(a, b)]
+    return pairs
 
 
 @dataclass(frozen=True)
@@ -530,7 +559,7 @@ def _pass_groups(rec: Recording) -> list[_PassGroup]:
             continue
         idx = np.array(rows)
         X = rec.xyz[idx]
-        pairs = _framework(idx.shape[1])
+        pairs = _framework(X.mean(axis=0))
         S = np.zeros((len(idx), len(pairs), idx.shape[1], 3))
         D = np.empty((len(idx), len(pairs)))
         for j, (a, b) in enumerate(pairs):
@@ -789,6 +818,31 @@ def _profile_set(prof: list[tuple[float, float]]) -> tuple[list[float] | None, b
     return [lo, hi], bool(det)
 
 
+RIGID_STARTS = np.array([v for v in itertools.product((-1.0, 0.0, 1.0), repeat=3) if sum(map(abs, v)) in (1, 3)])
+RIGID_STARTS = RIGID_STARTS / np.linalg.norm(RIGID_STARTS, axis=1)[:, None]  # the 14 directions of a cube's faces
+# and corners (none more than 55 deg from the tracker's): where the station from what is rigid is looked for beside
+# the rounds' estimate (_rigid_best)
+
+
+def _rigid_best(lik: RigidLikelihood, c: np.ndarray, v: np.ndarray, f_v: float, scale: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, float]:
+    """The best station of the mutual distances' likelihood ``lik``: the local best ``v`` (position mm, two log
+    scales; ``f_v`` its value) found from the rounds' estimate, against local searches from START_DISTANCE (or
+    v's distance, if farther) from the readings' centre ``c`` along each of RIGID_STARTS (the scales from v's).
+    The profile of the distance is then taken about it: about the rounds' estimate, its direction held near theirs,
+    it reads the distance in a direction the distances reject (the icelinker replica: the rounds' station 86 deg
+    from the tracker's as seen from the readings, the profile 4-30 m where the tracker stood 2.84 m away).
+    Returns (position, log scales, value)."""
+    best, f_best = v, f_v
+    d = max(START_DISTANCE, float(np.linalg.norm(v[:3] - c)))
+    for u in RIGID_STARTS:
+        start = np.append(c + d * u, v[3:])
+        res = _profile_point(lambda w, s=start: lik(s + w * scale), np.zeros(5))
+        if math.isfinite(res.fun) and res.fun < f_best:
+            best, f_best = start + res.x * scale, float(res.fun)
+    return best[:3], np.maximum(best[3:], LOG_FLOOR), f_best
+
+
 def rigid_station(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
     """Whether the reflectors' mutual distances allow the station ``t`` (mm), and where they put it: under
     RigidLikelihood with the bending detrend (a spline holds a line: valid whether or not the distances bend; under
@@ -816,8 +870,9 @@ def rigid_station(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> d
     out = {"likelihood_ratio": round(float(lr), 2), "p": float(_tails.chi2_sf(lr, 3))}
     if out["p"] >= LR_LEVEL:
         return out
-    prof = _distance_profile(lambda q, v: lik(np.append(q, np.maximum(v, LOG_FLOOR))), rec.xyz.mean(axis=0), t, x0,
-                             f_t)
+    c = rec.xyz.mean(axis=0)
+    q, x, f_q = _rigid_best(lik, c, np.append(t, x0) + res.x * scale, float(res.fun), scale)
+    prof = _distance_profile(lambda q, v: lik(np.append(q, np.maximum(v, LOG_FLOOR))), c, q, x, f_q)
     interval, det = _profile_set(prof)
     return {**out, "interval_95_mm": interval, "determined": det,
             "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
@@ -830,9 +885,10 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
     (_profile_set); it is "not determined" when that set reaches the grid's ends or the search's bounds, spans
     STATION_DETERMINED or more, or is not one piece (no interval then): the station found is one of several the
     data allow.  A curvature sigma (the Hessian) says nothing of either.  With ``rec`` (the readings' recording),
-    the mutual distances as well (rigid_station): where their interval and the scatter's do not meet, the scatter
-    holds what is not the tracker's noise (a motion shared by a side) -- the interval stated is the distances',
-    not determined, and said (where the distances allow the estimate, rigid_station's test, nothing changes).
+    the mutual distances as well (rigid_station): where they reject the estimate (their test), the scatter that
+    placed it holds what is not the tracker's noise (a motion shared by a side) -- the interval stated is the
+    distances' (none where their profile is not one piece), not determined, and said; where they allow it,
+    nothing changes.
     Returns {"distance_mm", "interval_95_mm", "determined", "profile": [[s mm, 2 (nll -
     best)], ...], "note", "mutual_distances", "scatter"} (mm)."""
     c = xyz.mean(axis=0)
@@ -854,16 +910,17 @@ def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.nda
     if rigid is None:
         return out
     out["mutual_distances"] = {k: v for k, v in rigid.items() if k != "profile"}
-    if rigid.get("interval_95_mm") is None:
+    if rigid["p"] >= LR_LEVEL:
         return out
-    a, b = rigid["interval_95_mm"]
-    if interval is not None and interval[0] < b and a < interval[1]:  # the sets meet
-        return out
-    out.update(scatter={"interval_95_mm": interval, "determined": det}, interval_95_mm=[a, b], determined=False,
+    iv = rigid.get("interval_95_mm")
+    where = (f"put it {iv[0] / 1e3:.3g}-{iv[1] / 1e3:.3g} m from the readings" if iv else
+             "leave its distance many-moded")
+    out.update(scatter={"interval_95_mm": interval, "determined": det}, interval_95_mm=iv, determined=False,
                note=f"the station is not determined: the reflectors' mutual distances, which no motion of a side "
-                    f"moves, put it {a / 1e3:.3g}-{b / 1e3:.3g} m from the readings, where the scatter of the "
-                    f"rounds does not ({'-'.join(f'{v / 1e3:.3g}' for v in (interval or [lo, hi]))} m; the "
-                    f"estimate {s0 / 1e3:.3g} m): the rounds hold a motion shared by a side, not only the "
-                    "tracker's noise; the weights, and the findings that depend on them, are conditional on it: "
-                    "give the tracker's position (--tracker or the tracker_x,y,z columns)")
+                    f"moves, reject the estimate {s0 / 1e3:.3g} m from the readings (likelihood ratio "
+                    f"{rigid['likelihood_ratio']:.1f}, p = {rigid['p']:.2g}) and {where}, the scatter of the "
+                    f"rounds {'-'.join(f'{v / 1e3:.3g}' for v in (interval or [lo, hi]))} m: the rounds hold a "
+                    "motion shared by a side, not only the tracker's noise; the weights, and the findings that "
+                    "depend on them, are conditional on it: give the tracker's position (--tracker or the "
+                    "tracker_x,y,z columns)")
     return out
