@@ -46,7 +46,7 @@ def test_the_law_from_the_mutual_distances_is_the_planted_one_whatever_moves_the
     assert law["transverse"]["sigma_um"] == pytest.approx(s_t, rel=0.15), (law, s_t)
     # the rounds count the 8 um shared motion as noise: the used law is the distances', and that is said
     sh = estimate_shape(rec, np.zeros(3), AT960)
-    assert sh.rigid["used"] == "mutual distances" and "the distances' law is used" in sh.note
+    assert sh.rigid["used"] == "mutual distances" and f"the law from {sh.source} is used" in sh.note
     used_r, used_t = (1e3 * s for s in sh.spec.sigmas(2837.0))
     assert used_t == pytest.approx(s_t, rel=0.15) and used_r < 2 * s_r, (used_r, used_t, s_r, s_t)
 
@@ -303,3 +303,16 @@ def test_the_joint_law_of_the_distances_holds_the_simulators_law():
         for kind, v in law[k]["by_detrend"].items():
             assert v["interval_95"][0] <= 1.0 <= v["interval_95"][1], (k, kind, v)
     assert law["transverse"]["determined"]
+
+
+def test_the_distances_of_a_pass_are_an_independent_set_whatever_the_reflectors_shape():
+    """Three reflectors on a line: their three distances have a singular covariance (the fixed 3 k - 6 set made
+    identify fail with LinAlgError before its collinear refusal, tests/fuzz's identify_collinear_points); the set
+    kept is the rank of the rigidity matrix: k - 1 on a line, 2 k - 3 in a plane, 3 k - 6 in general."""
+    from mtcal.measurement.tracker_position import _framework
+
+    line = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [250.0, 0.0, 0.0]])
+    plane = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [0.0, 120.0, 0.0], [90.0, 80.0, 0.0]])
+    space = np.vstack([plane[:3], [[30.0, 40.0, 110.0]]])
+    assert len(_framework(line)) == 2 and len(_framework(plane)) == 5 and len(_framework(space)) == 6
+    assert len(_framework(np.vstack([space, [[70.0, -20.0, 60.0]]]))) == 9

@@ -347,7 +347,8 @@ class ShapeEstimate:
         """Where the law's sigmas come from, in words: the one statement every field that reports the law uses."""
         used = (self.rigid or {}).get("used", "round scatter")
         return {"mutual distances": "the reflectors' mutual distances within each pass",
-                ACROSS: "the reflectors' mutual distances across the beams and the repeated rounds along them"}.get(
+                ACROSS: "the reflectors' mutual distances across the beams and the repeated rounds along them",
+                ALONG: "the reflectors' mutual distances along the beams and the repeated rounds across them"}.get(
             used, "the repeated rounds")
 
     @property
@@ -355,7 +356,7 @@ class ShapeEstimate:
         """Where the round scatter and the mutual distances disagree: what differs and which law was used (the
         distances', or the base's where their shape is the base's: replaces_base)."""
         text = None if self.rigid is None else self.rigid.get("disagreement")
-        return text and text + (": the distances' law is used" if self.replaces_base else
+        return text and text + (f": the law from {self.source} is used" if self.replaces_base else
                                 f": their shape is {self.base.whose}, whose law is used")
 
     def to_dict(self) -> dict:
@@ -392,8 +393,8 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     rho_c, scale_c = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
     c = math.sqrt(scale)
     rigid = rigid_law(rec, t, base)
-    fr, ft, rigid = _cross_check(c * rho, c, rigid, base, across=unbiased)
-    if rigid is not None and rigid["used"] == "mutual distances":
+    fr, ft, rigid = _cross_check(c * rho, c, rigid, base, across=unbiased, known=known)
+    if rigid is not None and rigid["used"] in ("mutual distances", ALONG):
         rho = rho_c = fr / ft   # immune to a round's mean: both ratios are the distances'
         scale, c = ft**2, ft
     elif rigid is not None and rigid["used"] == ACROSS:
@@ -402,49 +403,53 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known, rigid=rigid)
 
 
-def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, across: bool = True
-                 ) -> tuple[float, float, dict | None]:
+def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, across: bool = True,
+                 known: bool = True) -> tuple[float, float, dict | None]:
     """The round scatter's factors (radial ``fr``, transverse ``ft`` against ``base``) checked against the mutual
     distances' (rigid_law): where the round scatter's sigma exceeds a determined sigma of the distances by more than
     RIGID_DISAGREE, the round scatter counts a motion shared by a side (a drift, the machine's own motion) as noise:
     the distances' sigmas are used and the disagreement said; so too their upper bound where they do not determine
     the scale but see it (an interval with a lower end: the detrend changes it, or it spans 4x or more) and the
-    rounds' exceeds the bound by as much.  Where the interval has no lower end (the distances' best is nil: no
-    distance needs that noise), the bound says only how little they see of it, not how large it is: that is said
+    rounds' exceeds the bound by as much.  About an estimated station (not ``known``), where the interval has no
+    lower end (the distances' best is nil: no distance needs that noise about the estimate's beams), the bound says
+    only how little they see of it there, not how large it is: that is said
     ("bounded") and the rounds' sigma kept (icelinker's replica with a nest wandering, about a station the
     distances reject: radial 0-3.9 of the law's; the bound as the weight took the along-beam sigma from 14 to 1.7
-    um and named a false knock of the wandering nest). Where they agree, the scale across the
-    beams is still the distances' wherever they determine it (the tighter of the two, blind to what moves a side; on
-    43 gen2 campaigns within 25 % of the generator's law in all, the rounds' in 93 %) and the radial one the rounds'
-    (the distances' is poorly conditioned where the pairs lie across the beams); not with ``across`` False (a
-    model's residuals, shrunk by the fit in both directions alike: their ratio is kept). Returns the factors used
-    and ``rigid`` with "used" ("mutual distances", ACROSS or "round scatter") and "disagreement" or "cross_check"."""
+    um and named a false knock of the wandering nest; about a given tracker the beams are the tracker's and the
+    bound is kept: icelinker about its origin, radial 0-0.71 um, the rounds' 17.4 um named a side expanding).
+    Where they agree, the scale across the beams is still the distances' wherever they determine it (the tighter of
+    the two, blind to what moves a side; on 43 gen2 campaigns within 25 % of the generator's law in all, the rounds'
+    in 93 %) and the radial one the rounds' (the distances' is poorly conditioned where the pairs lie across the
+    beams); not with ``across`` False (a model's residuals, shrunk by the fit in both directions alike: their ratio
+    is kept). Returns the factors used and ``rigid`` with "used" ("mutual distances", ACROSS, ALONG or "round
+    scatter": where each scale used comes from), "bounded" where said, and "disagreement" or "cross_check"."""
     if rigid is None:
         return fr, ft, None
-    out, say, bounds = [fr, ft], [], []
+    out, say, bounds, theirs = [fr, ft], [], [], [False, False]
     for k, (name, f0) in enumerate((("radial", fr), ("transverse", ft))):
         g = rigid[name]
         hi = g["interval_95"][1]
         sig0 = float(base.sigmas(rigid["at_distance_m"] * 1e3)[k]) * 1e3  # um: the base law's at that distance
         if g["determined"] and f0 > RIGID_DISAGREE * g["factor"]:  # a shared motion only adds to the rounds'
-            out[k] = g["factor"]
-        elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi and g["interval_95"][0] is None:
+            out[k], theirs[k] = g["factor"], True
+        elif not (known or g["determined"]) and hi is not None and f0 > RIGID_DISAGREE * hi and \
+                g["interval_95"][0] is None:
             bounds.append(f"{name} {f0 * sig0:.3g} um from the rounds, at most {hi * sig0:.3g} um from the "
                           "distances, whose best is nil (the rounds' is kept)")
             continue
         elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi:
-            out[k] = hi   # the distances see this noise, not closely: the largest sigma they allow
+            out[k], theirs[k] = hi, True   # the distances see this noise, not closely: the largest they allow
         else:
             if name == "transverse" and g["determined"] and across:
-                out[k] = g["factor"]  # the distances determine the scale across the beams best: theirs
+                out[k], theirs[k] = g["factor"], True  # the distances determine the scale across the beams best
             continue
         say.append(f"{name} {f0 * sig0:.3g} um from the rounds against {out[k] * sig0:.3g} um from the distances"
                    + ("" if g["determined"] else " (their upper bound)"))
     text = (f"the tracker's noise (1 sigma at {rigid['at_distance_m']:.3g} m) from the scatter of the rounds and "
             f"from the reflectors' mutual distances within each pass differ: {'; '.join(say)} -- the rounds count "
             "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not") if say else None
-    theirs = across and rigid["transverse"]["determined"]  # the scale across the beams is the distances'
-    used = "mutual distances" if say else ACROSS if theirs else "round scatter"
+    used = ("mutual distances" if all(theirs) else ACROSS if theirs[1] else ALONG if theirs[0] else
+            "round scatter")  # where each scale used comes from
     return out[0], out[1], {**rigid, "used": used,
                             "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
                             **({"bounded": "; ".join(bounds)} if bounds else {}),
@@ -453,10 +458,11 @@ def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, ac
                                                f"{RIGID_DISAGREE:g}x"
                                                + (" where they determine a scale" if bounds else "") + ": " + (
                                                    "the distances' scale across the beams and the rounds' along "
-                                                   "them are used" if theirs else "its law is used")})}
+                                                   "them are used" if theirs[1] else "its law is used")})}
 
 
-ACROSS = "mutual distances across the beams, round scatter along them"  # _cross_check's "used" where they agree
+ACROSS = "mutual distances across the beams, round scatter along them"  # _cross_check's "used": the scales' sources
+ALONG = "mutual distances along the beams, round scatter across them"
 
 
 RIGID_DISAGREE = 2.0    # the round scatter's sigma exceeds the mutual distances' by more than this: say so and weight
