@@ -23,6 +23,7 @@ from mtcal.measurement.tracker_position import (
     estimate_shape,
     refine,
     rigid_law,
+    rigid_station,
     station_interval,
 )
 
@@ -41,15 +42,32 @@ def test_the_law_from_the_mutual_distances_is_the_planted_one_whatever_moves_the
     rec = _replica()
     s_r, s_t = (1e3 * s for s in SPEC.sigmas(2837.0))
     law = rigid_law(rec, np.zeros(3), AT960)
-    assert law["transverse"]["determined"]
+    assert law["transverse"]["determined"] and law["radial"]["determined"], law
     assert law["transverse"]["sigma_um"] == pytest.approx(s_t, rel=0.15), (law, s_t)
-    lo, hi = (v * law["radial"]["sigma_um"] / law["radial"]["factor"] for v in law["radial"]["interval_95"])
-    assert lo < s_r < hi, (lo, s_r, hi)
     # the rounds count the 8 um shared motion as noise: the used law is the distances', and that is said
     sh = estimate_shape(rec, np.zeros(3), AT960)
-    assert sh.rigid["used"] == "mutual distances" and "the distances' law is used" in sh.note
+    assert sh.rigid["used"] == "mutual distances" and f"the law from {sh.source} is used" in sh.note
     used_r, used_t = (1e3 * s for s in sh.spec.sigmas(2837.0))
     assert used_t == pytest.approx(s_t, rel=0.15) and used_r < 2 * s_r, (used_r, used_t, s_r, s_t)
+
+
+@pytest.mark.slow
+def test_the_laws_intervals_hold_the_planted_law_in_as_many_draws_as_they_say():
+    """The replica (8 um and 4 urad of shared motion a pose, a drift, an outlier, stray readings) in 30 draws: both
+    scales determined in every draw, and each 95 % interval (the hull of the two detrends') holds the planted sigma
+    in at least 26 (four misses or more has probability 0.06 at a true 95 %, five or more 0.016).  Seed 3's radial
+    interval, 0.677-0.890 um, misses the planted 0.6755 um by 0.3 % (seed 31 too, by 0.1 %): two of 44 draws,
+    95.5 %.  Pair by pair (each distance alone, less a line) the radial scale was not determined (an upper bound
+    only)."""
+    holds = {"radial": 0, "transverse": 0}
+    for seed in range(30):
+        law = rigid_law(_replica(seed=seed), np.zeros(3), AT960)
+        at = law["at_distance_m"] * 1e3  # mm: the planted sigma and the interval at the law's median distance
+        for k, name in enumerate(holds):
+            assert law[name]["determined"], (seed, name, law[name])
+            lo, hi = (v * AT960.sigmas(at)[k] * 1e3 for v in law[name]["interval_95"])
+            holds[name] += bool(lo <= SPEC.sigmas(at)[k] * 1e3 <= hi)
+    assert min(holds.values()) >= 26, holds
 
 
 def test_where_the_rounds_and_the_distances_agree_the_rounds_law_is_kept_and_nothing_is_said():
@@ -122,12 +140,14 @@ def test_a_station_about_which_the_distances_show_no_tracker_noise_is_not_determ
     -1586) mm, 1.08 m from the readings, "determined" 0.95-1.27 m; about it the mutual distances' transverse factor
     was 3e-8, not determined (about the tracker's origin: 0.18, 0.17-0.18), and the rounds' radial factor 7.5 was
     within 2x of the distances' 15, so the disagreement rule said nothing and the station stood.  The replica
-    about the same point: the transverse scale is not determined, and the station is said not to be, for that."""
-    from mtcal.diagnose.noise import _trusted
-    sh = estimate_shape(_replica(), np.array([2418.5, 611.2, -1586.2]), AT960, known=False)
-    assert not sh.rigid["transverse"]["determined"] and sh.rigid["transverse"]["factor"] < 1e-3
-    out = _trusted({"distance_mm": 1080.6, "interval_95_mm": [948.7, 1265.1], "determined": True}, sh)
-    assert not out["determined"] and "show no tracker's noise" in out["note"]
+    about the same point: the mutual distances, all of a pass's jointly with the station free (rigid_station),
+    put it where the tracker stood (2.84 m from the readings), not where the rounds did.  Profiled about the
+    rounds' station, its direction held near theirs (86 deg from the tracker's as seen from the readings), the
+    distance read 4.0-30 m (seed 0: 5.3-30 m); about the distances' own best (_rigid_best) it holds 2.84 m."""
+    for seed in (3, 0):
+        st = rigid_station(_replica(seed=seed), np.array([2418.5, 611.2, -1586.2]), AT960)
+        lo, hi = st["interval_95_mm"]
+        assert 1080.6 < lo < 2837.0 < hi, (seed, st["interval_95_mm"])
 
 
 def test_a_station_beyond_the_search_bound_is_not_determined():
@@ -248,3 +268,51 @@ def test_without_the_tracker_the_weights_hold_the_mutual_distances_and_only_the_
         named = [ri.same_as(f) for f in d.effects if f.significant]
         assert "name=thermal_drift variant=ramp over the record" in named, named
         assert set(named) <= _planted(planted_round), named
+
+
+def _simulated(seed: int):
+    """The demo plan on the DMU 50, four rounds, the AT960's law about a known tracker (tests/test_noise_shape.py's
+    station): the truth of both scales is 1."""
+    from dataclasses import replace
+
+    from mtcal.campaign.plans import as_plan
+    from mtcal.campaign.simulate import simulate
+    from mtcal.data import path
+    from mtcal.data.make_demo_data import DEMO_PLAN
+    from mtcal.kinematics.machine import load_machine
+    from mtcal.model.errormodel import load_model
+
+    m = load_machine("dmu50")
+    plan = replace(as_plan(DEMO_PLAN, m), tracker=SIM_T, rounds=4)
+    return simulate(load_model(path("demo_truth.json")), machine=m, plan=plan, seed=seed)[0]
+
+
+SIM_T = (250.0, -1500.0, 150.0)
+
+
+def test_the_joint_law_of_the_distances_holds_the_simulators_law():
+    """A clean simulated campaign (AT960 noise only): the law from the mutual distances, all of a pass's jointly
+    under the restricted likelihood, determines both scales here and holds the truth (1, 1) in their intervals,
+    under either detrend.  Pair by pair the radial scale was not determined (1.01, interval 0-3.2: an upper bound
+    only; seed 2: no bound at all)."""
+    law = rigid_law(_simulated(0), np.array(SIM_T), AT960)
+    for k in ("radial", "transverse"):
+        lo, hi = law[k]["interval_95"]
+        assert law[k]["determined"] and lo is not None and hi is not None, (k, law[k])
+        assert lo <= 1.0 <= hi, (k, law[k])
+        for kind, v in law[k]["by_detrend"].items():
+            assert v["interval_95"][0] <= 1.0 <= v["interval_95"][1], (k, kind, v)
+    assert law["transverse"]["determined"]
+
+
+def test_the_distances_of_a_pass_are_an_independent_set_whatever_the_reflectors_shape():
+    """Three reflectors on a line: their three distances have a singular covariance (the fixed 3 k - 6 set made
+    identify fail with LinAlgError before its collinear refusal, tests/fuzz's identify_collinear_points); the set
+    kept is the rank of the rigidity matrix: k - 1 on a line, 2 k - 3 in a plane, 3 k - 6 in general."""
+    from mtcal.measurement.tracker_position import _framework
+
+    line = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [250.0, 0.0, 0.0]])
+    plane = np.array([[0.0, 0.0, 0.0], [100.0, 0.0, 0.0], [0.0, 120.0, 0.0], [90.0, 80.0, 0.0]])
+    space = np.vstack([plane[:3], [[30.0, 40.0, 110.0]]])
+    assert len(_framework(line)) == 2 and len(_framework(plane)) == 5 and len(_framework(space)) == 6
+    assert len(_framework(np.vstack([space, [[70.0, -20.0, 60.0]]]))) == 9

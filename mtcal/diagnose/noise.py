@@ -63,7 +63,7 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
         sh = estimate_shape(prep.rec, t, prior) if several else None
         if sh is not None and sh.replaces_base:
             return NoiseModel.at960(xyz, t, "tracker law estimated (given tracker)",
-                                    f"tracker position given; the repeated rounds are not shaped like {prior.whose}: "
+                                    f"tracker position given; {sh.source} are not shaped like {prior.whose}: "
                                     f"{sh.law_text()}", sh.spec, _law(sh, prior), shape=sh.to_dict())
         return NoiseModel.at960(xyz, t, f"{name} (given tracker)",
                                 "tracker position given (`tracker` or the recording's tracker_x,y,z columns)",
@@ -84,13 +84,14 @@ def noise_model(prep: Prepared, tracker: np.ndarray | None, max_degree: int, pri
     details = {"likelihood_ratio": lr, "p_isotropic": p,
                "distance_mm": float(np.linalg.norm(t - c)), "shape": sh.to_dict()}
     if p < LR_LEVEL:
-        details["station_interval"] = _trusted(station_interval(xyz, r, t, logs, nll, prior), sh)
+        details["station_interval"] = _trusted(station_interval(xyz, r, t, logs, nll, prior, rec=prep.rec), sh)
     if p >= LR_LEVEL:
         return NoiseModel.isotropic(n, f"the scatter of the repeated rounds shows no tracker shape (likelihood "
                                        f"ratio {lr:.1f}, p = {p:.2g}): equal weights, sigma from the residuals")
     if sh.replaces_base:
         return NoiseModel.at960(xyz, t, "tracker law estimated (estimated tracker)",
-                                f"tracker position and noise law estimated from the scatter of the repeated rounds: "
+                                "tracker position estimated from the scatter of the repeated rounds, the noise "
+                                f"law from {sh.source}: "
                                 f"{sh.law_text()}", spec, _law(sh, prior), **details)
     return NoiseModel.at960(xyz, t, f"{name} (estimated tracker)",
                             "tracker position estimated from the shape of the scatter of the repeated rounds "

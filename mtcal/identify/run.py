@@ -42,6 +42,7 @@ from mtcal.measurement.tracker_position import (
     estimate_position,
     estimate_shape,
     round_scatter,
+    station_interval,
     station_scatter,
 )
 from mtcal.model.errormodel import ErrorModel
@@ -165,11 +166,15 @@ def identify(rec: Recording, tracker=None, machine: str | Machine = DEFAULT_MACH
     results = {a: replace(r, fits=fits[a]) for a, r in results.items()}
     meta = dict(model.meta, method=METHOD_TEXT[method])
     if estimated is not None:
+        st = estimated.interval or {}
         meta["tracker_estimated"] = {"position_mm": estimated.position.tolist(),
-                                     "sigma_mm": estimated.sigma_mm.tolist(),
+                                     **({"sigma_mm": estimated.sigma_mm.tolist()} if st.get("determined", True)
+                                        else {}),
+                                     **{k: st[k] for k in ("determined", "interval_95_mm", "note") if k in st},
                                      "noise_scale_vs_at960": estimated.scale,  # vs the prior's (AT960 by default)
-                                     "how": "estimated from the scatter of the repeated rounds "
-                                            "(mtcal.measurement.tracker_position)"}
+                                     "how": "estimated from the scatter of the repeated rounds, its distance "
+                                            "checked against the reflectors' mutual distances "
+                                            "(mtcal.measurement.tracker_position.station_interval)"}
     meta.update({"noise_law": law} if law else {})
     if worth:
         w = _worth(rec, m, model, warnings, dict(tracker=t, reference=reference, max_degree=max_degree,
@@ -276,7 +281,7 @@ def _noise_law(rec: Recording, t: np.ndarray | None, warnings: list[str], prior:
     sh = estimate_shape(rec, t, prior, known=known)
     if not sh.replaces_base:
         return prior, sh.report()
-    warnings.append(f"noise law: the repeated rounds are not shaped like {prior.whose}; the fit weights by the "
+    warnings.append(f"noise law: {sh.source} are not shaped like {prior.whose}; the fit weights by the "
                     f"data's: {sh.law_text()}")
     return sh.spec, sh.report()
 
@@ -320,12 +325,23 @@ def estimate_station(rec: Recording, spec: trk.TrackerSpec = trk.AT960) -> tuple
         return None, (f"the scatter shows no tracker shape (likelihood ratio {est.likelihood_ratio:.1f}, "
                       f"p = {est.p_isotropic:.2g})" if est.p_isotropic >= LR_LEVEL else
                       "the scatter does not pin the position down")
-    return est, ""
+    return replace(est, interval=station_interval(rec.xyz, r, est.position, est.logs, est.nll, spec, rec=rec)), ""
 
 
 def station_text(est: PositionEstimate) -> str:
-    """'x, y, z +- sx, sy, sz' (mm)."""
-    return (", ".join(f"{v:.0f}" for v in est.position) + " +- " + ", ".join(f"{v:.0f}" for v in est.sigma_mm))
+    """'x, y, z +- sx, sy, sz' (mm) where the station is determined (station_interval: the profile of its
+    distance, and the mutual distances where they tell), else 'x, y, z mm, not determined: ...' with the profile
+    interval of its distance from the readings -- a curvature sigma says nothing where the profile is flat, and a
+    +- that excludes where the data put the station is never printed."""
+    xyz = ", ".join(f"{v:.0f}" for v in est.position)
+    st = est.interval
+    if st is None or st["determined"]:
+        return xyz + " +- " + ", ".join(f"{v:.0f}" for v in est.sigma_mm)
+    where = (f"the data put it {st['interval_95_mm'][0] / 1e3:.3g}-{st['interval_95_mm'][1] / 1e3:.3g} m from the "
+             "readings' centre" if st["interval_95_mm"] else "its distance's profile likelihood is many-moded")
+    by = " (the reflectors' mutual distances)" if "scatter" in st else ""
+    return (f"{xyz} mm, not determined: {where}{by}, this estimate {st['distance_mm'] / 1e3:.3g} m; give "
+            "`tracker` x,y,z")
 
 
 # ----------------------------------------------------------------------------- Inspire export layout

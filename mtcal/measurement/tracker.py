@@ -123,16 +123,18 @@ def as_tracker_model(value, what: str = "`tracker_model`") -> TrackerSpec:
     raise InputError(f"{what}: expected an instrument name, numbers or a TrackerSpec, got {value!r}")
 
 
-def law_report(used: TrackerSpec, prior: TrackerSpec, source: str, why: str = "") -> dict:
+def law_report(used: TrackerSpec, prior: TrackerSpec, source: str, why: str = "",
+               obtained_from: str = "the repeated rounds") -> dict:
     """How the JSON answers report the law that weights the readings (diagnose ``noise_model.law``, identify
     ``noise_law``): its MPE terms (um, um/m; sigma = MPE / k), the prior's instrument (its name or "given
     numbers"), ``source`` "prior" (the prior's law as it is) or "data" (estimated from the repeated rounds, the
-    prior's shape rejected), and how it was obtained, in words (+ ``why``)."""
+    prior's shape rejected; ``obtained_from``: from what, in words, tracker_position.ShapeEstimate.source), and how
+    it was obtained, in words (+ ``why``)."""
     if source == "prior":
         how = (f"the {prior.name}'s published MPE ({prior.source})" if prior.name else
                "the numbers given (`tracker_model`)")
     else:
-        how = f"estimated from the repeated rounds: {prior.whose} shape does not fit them"
+        how = f"estimated from {obtained_from}: {prior.whose} shape does not fit them"
     return {**{k: round(float(v), 6) for k, v in used.mpe().items()}, "instrument": prior.label,
             "source": source, "obtained": how + (f"; {why}" if why else "")}
 

@@ -15,11 +15,12 @@ its base family) and by identify (scatter = readings about their mean over the r
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
+from scipy import interpolate, optimize
 
 from mtcal import _tails
 from mtcal.measurement.passes import position_key
@@ -64,6 +65,9 @@ class PositionEstimate:
     likelihood_ratio: float
     p_isotropic: float
     shape: float = 1.0
+    logs: np.ndarray | None = None  # the fit's log scales (log c_r, log c_t) and negative log-likelihood
+    nll: float | None = None
+    interval: dict | None = None  # how far the data fix its distance (station_interval), where asked
 
     @property
     def accepted(self) -> bool:
@@ -222,7 +226,7 @@ def estimate_position(xyz: np.ndarray, r: np.ndarray, groups: list[np.ndarray], 
     t, logs, f = best_start(xyz, r, groups, spec)
     lr, p = against_isotropic(r, f)
     return PositionEstimate(t, _covariance(xyz, r, np.append(t, logs), spec), math.exp(logs[1]), lr, p,
-                            math.exp(0.5 * (logs[0] - logs[1])))
+                            math.exp(0.5 * (logs[0] - logs[1])), np.asarray(logs, float), f)
 
 
 def round_scatter(rec: Recording, values: np.ndarray | None = None) -> np.ndarray:
@@ -335,13 +339,25 @@ class ShapeEstimate:
         reject the base's shape, else the base's; the ratio said either way."""
         ratio = f"the data's radial : transverse ratio is {self.rho:.3g} times {self.base.whose}"
         if self.replaces_base:
-            return law_report(self.spec, self.base, "data", f"{ratio}, outside {self._band()}")
-        return law_report(self.base, self.base, "prior", f"the repeated rounds agree with its shape ({ratio})")
+            return law_report(self.spec, self.base, "data", f"{ratio}, outside {self._band()}", self.source)
+        return law_report(self.base, self.base, "prior", f"{self.source} agree with its shape ({ratio})")
+
+    @property
+    def source(self) -> str:
+        """Where the law's sigmas come from, in words: the one statement every field that reports the law uses."""
+        used = (self.rigid or {}).get("used", "round scatter")
+        return {"mutual distances": "the reflectors' mutual distances within each pass",
+                ACROSS: "the reflectors' mutual distances across the beams and the repeated rounds along them",
+                ALONG: "the reflectors' mutual distances along the beams and the repeated rounds across them"}.get(
+            used, "the repeated rounds")
 
     @property
     def note(self) -> str | None:
-        """Where the round scatter and the mutual distances disagree: what differs and which law was used."""
-        return None if self.rigid is None else self.rigid.get("disagreement")
+        """Where the round scatter and the mutual distances disagree: what differs and which law was used (the
+        distances', or the base's where their shape is the base's: replaces_base)."""
+        text = None if self.rigid is None else self.rigid.get("disagreement")
+        return text and text + (f": the law from {self.source} is used" if self.replaces_base else
+                                f": their shape is {self.base.whose}, whose law is used")
 
     def to_dict(self) -> dict:
         return {**({"mutual_distances": self.rigid} if self.rigid is not None else {}),
@@ -377,8 +393,8 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     rho_c, scale_c = shape_ratio(rec.xyz, _round_centred(rec, r), t, base, rec.point)
     c = math.sqrt(scale)
     rigid = rigid_law(rec, t, base)
-    fr, ft, rigid = _cross_check(c * rho, c, rigid, base, across=unbiased)
-    if rigid is not None and rigid["used"] == "mutual distances":
+    fr, ft, rigid = _cross_check(c * rho, c, rigid, base, across=unbiased, known=known)
+    if rigid is not None and rigid["used"] in ("mutual distances", ALONG):
         rho = rho_c = fr / ft   # immune to a round's mean: both ratios are the distances'
         scale, c = ft**2, ft
     elif rigid is not None and rigid["used"] == ACROSS:
@@ -387,51 +403,66 @@ def estimate_shape(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960, r: 
     return ShapeEstimate(base.scaled(c * rho, c), rho, rho_c, scale, base, known, rigid=rigid)
 
 
-def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, across: bool = True
-                 ) -> tuple[float, float, dict | None]:
+def _cross_check(fr: float, ft: float, rigid: dict | None, base: TrackerSpec, across: bool = True,
+                 known: bool = True) -> tuple[float, float, dict | None]:
     """The round scatter's factors (radial ``fr``, transverse ``ft`` against ``base``) checked against the mutual
     distances' (rigid_law): where the round scatter's sigma exceeds a determined sigma of the distances by more than
-    RIGID_DISAGREE (or the distances' upper bound by as much), the round scatter
-    counts a motion shared by a side (a drift, the machine's own motion) as noise: the distances' sigmas are used
-    and the disagreement said.  Where they agree, the scale across the beams is still the distances' wherever they
-    determine it (the tighter of the two, blind to what moves a side; on 43 gen2 campaigns within 25 % of the
-    generator's law in all, the rounds' in 93 %) and the radial one the rounds' (the distances' is poorly
-    conditioned where the pairs lie across the beams); not with ``across`` False (a model's residuals, shrunk by
-    the fit in both directions alike: their ratio is kept).  Returns the factors used and ``rigid`` with "used"
-    ("mutual distances", ACROSS or "round scatter") and "disagreement" or "cross_check"."""
+    RIGID_DISAGREE, the round scatter counts a motion shared by a side (a drift, the machine's own motion) as noise:
+    the distances' sigmas are used and the disagreement said; so too their upper bound where they do not determine
+    the scale but see it (an interval with a lower end: the detrend changes it, or it spans 4x or more) and the
+    rounds' exceeds the bound by as much.  About an estimated station (not ``known``), where the interval has no
+    lower end (the distances' best is nil: no distance needs that noise about the estimate's beams), the bound says
+    only how little they see of it there, not how large it is: that is said
+    ("bounded") and the rounds' sigma kept (icelinker's replica with a nest wandering, about a station the
+    distances reject: radial 0-3.9 of the law's; the bound as the weight took the along-beam sigma from 14 to 1.7
+    um and named a false knock of the wandering nest; about a given tracker the beams are the tracker's and the
+    bound is kept: icelinker about its origin, radial 0-0.71 um, the rounds' 17.4 um named a side expanding).
+    Where they agree, the scale across the beams is still the distances' wherever they determine it (the tighter of
+    the two, blind to what moves a side; on 43 gen2 campaigns within 25 % of the generator's law in all, the rounds'
+    in 93 %) and the radial one the rounds' (the distances' is poorly conditioned where the pairs lie across the
+    beams); not with ``across`` False (a model's residuals, shrunk by the fit in both directions alike: their ratio
+    is kept). Returns the factors used and ``rigid`` with "used" ("mutual distances", ACROSS, ALONG or "round
+    scatter": where each scale used comes from), "bounded" where said, and "disagreement" or "cross_check"."""
     if rigid is None:
         return fr, ft, None
-    out, say = [fr, ft], []
+    out, say, bounds, theirs = [fr, ft], [], [], [False, False]
     for k, (name, f0) in enumerate((("radial", fr), ("transverse", ft))):
         g = rigid[name]
         hi = g["interval_95"][1]
+        sig0 = float(base.sigmas(rigid["at_distance_m"] * 1e3)[k]) * 1e3  # um: the base law's at that distance
         if g["determined"] and f0 > RIGID_DISAGREE * g["factor"]:  # a shared motion only adds to the rounds'
-            out[k] = g["factor"]
+            out[k], theirs[k] = g["factor"], True
+        elif not (known or g["determined"]) and hi is not None and f0 > RIGID_DISAGREE * hi and \
+                g["interval_95"][0] is None:
+            bounds.append(f"{name} {f0 * sig0:.3g} um from the rounds, at most {hi * sig0:.3g} um from the "
+                          "distances, whose best is nil (the rounds' is kept)")
+            continue
         elif not g["determined"] and hi is not None and f0 > RIGID_DISAGREE * hi:
-            out[k] = hi   # only an upper bound from the distances: the largest sigma they allow
+            out[k], theirs[k] = hi, True   # the distances see this noise, not closely: the largest they allow
         else:
             if name == "transverse" and g["determined"] and across:
-                out[k] = g["factor"]  # the distances determine the scale across the beams best: theirs
+                out[k], theirs[k] = g["factor"], True  # the distances determine the scale across the beams best
             continue
-        sig0 = g["sigma_um"] / g["factor"]
         say.append(f"{name} {f0 * sig0:.3g} um from the rounds against {out[k] * sig0:.3g} um from the distances"
                    + ("" if g["determined"] else " (their upper bound)"))
     text = (f"the tracker's noise (1 sigma at {rigid['at_distance_m']:.3g} m) from the scatter of the rounds and "
             f"from the reflectors' mutual distances within each pass differ: {'; '.join(say)} -- the rounds count "
-            "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not: the "
-            "distances' law is used") if say else None
-    theirs = across and rigid["transverse"]["determined"]  # the scale across the beams is the distances'
-    used = "mutual distances" if say else ACROSS if theirs else "round scatter"
+            "a motion shared by a side (a drift, the machine's motion) as noise, the distances do not") if say else None
+    used = ("mutual distances" if all(theirs) else ACROSS if theirs[1] else ALONG if theirs[0] else
+            "round scatter")  # where each scale used comes from
     return out[0], out[1], {**rigid, "used": used,
                             "round_scatter_factors": {"radial": round(fr, 4), "transverse": round(ft, 4)},
+                            **({"bounded": "; ".join(bounds)} if bounds else {}),
                             **({"disagreement": text} if text else
                                {"cross_check": f"the round scatter agrees with the mutual distances within "
-                                               f"{RIGID_DISAGREE:g}x: " + (
+                                               f"{RIGID_DISAGREE:g}x"
+                                               + (" where they determine a scale" if bounds else "") + ": " + (
                                                    "the distances' scale across the beams and the rounds' along "
-                                                   "them are used" if theirs else "its law is used")})}
+                                                   "them are used" if theirs[1] else "its law is used")})}
 
 
-ACROSS = "mutual distances across the beams, round scatter along them"  # _cross_check's "used" where they agree
+ACROSS = "mutual distances across the beams, round scatter along them"  # _cross_check's "used": the scales' sources
+ALONG = "mutual distances along the beams, round scatter across them"
 
 
 RIGID_DISAGREE = 2.0    # the round scatter's sigma exceeds the mutual distances' by more than this: say so and weight
@@ -450,79 +481,215 @@ def _t_consistency(nu: float) -> float:
 
 T_CONSISTENCY = math.sqrt(_t_consistency(NU))  # a t-fitted sigma over the normal sigma of the same readings
 PROFILE_SPAN = 9.0      # log variance factor searched either side of the best for the profile intervals
+PROFILE_STEPS = np.r_[np.arange(0.5, PROFILE_SPAN + 0.01, 0.5), np.arange(11.0, 41.0, 2.0)]  # beyond the span
+# in coarser steps: a scale whose best is 0 (log -> -inf) still has an upper end
+LOG_FLOOR = -30.0       # log variance factor below which a scale counts as nil (its sigma 3e-7 of the law's)
+DETRENDS = ("line", "bending")  # what each mutual distance is taken about over the passes (_detrend_design)
+BEND_KNOTS = 4          # interior knots of the bending detrend: a cubic regression spline in time
 
 
-def _pair_series(rec: Recording, t: np.ndarray):
-    """Per (station, axis, pair of reflectors): the pair's distance in every pass (station, axis, round, position,
-    direction) where both were read, with the variance coefficients of each (radial R, transverse T: var(d) =
-    c_r^2 R + c_t^2 T under the base law scaled by c_r, c_t) -- yields (d (m,) mm, time (m,), a (m,), b (m,))."""
+def _detrend_design(tm: np.ndarray, kind: str) -> np.ndarray:
+    """Columns (n, p) a pair's distances over its passes (times ``tm``) are taken about: a line in time ("line":
+    a side that expands steadily is not noise) or a curve that bends ("bending": a cubic spline with BEND_KNOTS
+    evenly spaced interior knots, fewer where the passes are few -- eight passes a column beyond the line's, a
+    parabola below that); a constant where the times are not known."""
+    n = len(tm)
+    if n < 4 or not np.isfinite(tm).all() or np.ptp(tm) <= 0:
+        return np.ones((n, 1))
+    s = (tm - tm.min()) / np.ptp(tm)
+    if kind == "line":
+        return np.column_stack([np.ones(n), s])
+    knots = min(BEND_KNOTS, (n - 4) // 8)
+    if knots < 1:
+        return np.column_stack([np.ones(n), s, s * s][:3 if n >= 6 else 2])
+    return interpolate.BSpline.design_matrix(s, np.r_[[0.0] * 3, np.linspace(0, 1, knots + 2), [1.0] * 3],
+                                             3).toarray()
+
+
+FRAMEWORK_RANK = 1e-3  # a distance whose derivative (by the readings) lies within this of the others' span adds
+# nothing a reading can move independently: it is left out of the pass's set (_framework)
+
+
+def _framework(X: np.ndarray) -> list[tuple[int, int]]:
+    """The pairs of an independent set of distances among the reflectors at ``X`` ((k, 3) mm, their mean
+    readings): pair by pair, each kept only where its derivative by the readings (the rigidity matrix's row, +-w on
+    its two reflectors) is not within FRAMEWORK_RANK of the span of those kept.  Every distance of the pass then
+    follows from these to first order and their covariance is not singular: 3 k - 6 for k >= 3 in general position,
+    2 k - 3 where the reflectors lie in a plane, k - 1 on a line (a collinear set, which identify refuses later)."""
+    k = len(X)
+    rows, pairs = np.zeros((0, 3 * k)), []
+    for a, b in itertools.combinations(range(k), 2):
+        w = X[a] - X[b]
+        row = np.zeros(3 * k)
+        row[3 * a:3 * a + 3], row[3 * b:3 * b + 3] = w, -w
+        row /= max(float(np.linalg.norm(row)), 1e-300)
+        trial = np.vstack([rows, row])
+        if np.linalg.svd(trial, compute_uv=False)[-1] > FRAMEWORK_RANK:
+            rows, pairs = trial, pairs + [(a, b)]
+    return pairs
+
+
+@dataclass(frozen=True)
+class _PassGroup:
+    """The passes of one (station, axis) that read the same reflectors: ``idx`` (P, k) reading rows, ``S`` (P, m,
+    k, 3) each distance's derivative by each reflector's reading (+-w, w the pair's unit vector), ``D`` (P, m) mm
+    the distances, ``F`` {detrend: (P, p)} the columns each distance is taken about (_detrend_design)."""
+
+    idx: np.ndarray
+    S: np.ndarray
+    D: np.ndarray
+    F: dict
+
+    @property
+    def count(self) -> int:
+        """The distances beyond their detrends' columns."""
+        return self.D.size - self.D.shape[1] * max(f.shape[1] for f in self.F.values())
+
+
+def _pass_groups(rec: Recording) -> list[_PassGroup]:
+    """Every pass (station, axis, round, position, direction) of two or more reflectors, grouped by (station, axis,
+    reflectors read), groups of three or more passes (the first reading of each reflector in a pass)."""
     keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist(),
                     position_key(rec.position).tolist(), rec.direction.tolist()))
     passes: dict = {}
     for i, k in enumerate(keys):
-        passes.setdefault(k, {}).setdefault(str(rec.point[i]), i)  # the first reading of each reflector
-    series: dict = {}
+        passes.setdefault(k, {}).setdefault(str(rec.point[i]), i)
+    groups: dict = {}
     for (st, ax, *_), pts in passes.items():
-        labels = sorted(pts)
-        for m, a in enumerate(labels):
-            for b in labels[m + 1:]:
-                series.setdefault((st, ax, a, b), []).append((pts[a], pts[b]))
-    for rows in series.values():
-        if len(rows) >= 3:
-            ia, ib = (np.array(v) for v in zip(*rows))
-            yield ia, ib
+        if len(pts) >= 2:
+            labels = tuple(sorted(pts))
+            groups.setdefault((st, ax, labels), []).append([pts[p] for p in labels])
+    out = []
+    for rows in groups.values():
+        if len(rows) < 3:
+            continue
+        idx = np.array(rows)
+        X = rec.xyz[idx]
+        pairs = _framework(X.mean(axis=0))
+        S = np.zeros((len(idx), len(pairs), idx.shape[1], 3))
+        D = np.empty((len(idx), len(pairs)))
+        for j, (a, b) in enumerate(pairs):
+            v = X[:, a] - X[:, b]
+            D[:, j] = np.linalg.norm(v, axis=1)
+            S[:, j, a], S[:, j, b] = v / np.maximum(D[:, j], 1e-12)[:, None], -v / np.maximum(D[:, j], 1e-12)[:, None]
+        tm = rec.time_s[idx].mean(axis=1)
+        F = {kind: _detrend_design(tm, kind) for kind in DETRENDS}
+        if len(idx) > max(f.shape[1] for f in F.values()):
+            out.append(_PassGroup(idx, S, D, F))
+    return out
 
 
-def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
-    """The tracker's noise law from what is rigid: within one pass (one pose of one axis) the reflectors sit on one
-    rigid side, so their mutual distances are the same in every pass up to the tracker's noise -- blind to any
-    motion of the side (a drift shared by it, the machine's own motion), unlike the scatter of the rounds.  Each
-    pair's distances, less a line in time (a side that slowly expands is not noise), have the variance
-    c_r^2 (s_ra^2 ca^2 + s_rb^2 cb^2) + c_t^2 (s_ta^2 (1 - ca^2) + s_tb^2 (1 - cb^2)) (s the ``base`` law's sigmas
-    at each reading's distance from ``t`` (mm, (3,) or (n, 3)), c the cosine between the pair and each beam); c_r,
-    c_t by maximum likelihood (Student-t, NU dof), each with its 95 % profile-likelihood interval (chi^2, 1 dof).  A
-    pair across the beams tells the transverse scale only: the radial one is then an upper bound.  None when there
-    are fewer than RIGID_MIN_PAIRS distances.  Returns {"radial", "transverse": {"factor", "interval_95",
-    "determined", "sigma_um"}, "distances", "at_distance_m"} (factors against ``base``, sigmas um at the median
-    distance)."""
-    xyz = rec.xyz
-    tt = np.broadcast_to(np.asarray(t, float), xyz.shape)
-    e, R, T = [], [], []
-    for ia, ib in _pair_series(rec, t):
-        d = np.linalg.norm(xyz[ia] - xyz[ib], axis=1)
-        tm = rec.time_s[ia]
-        F = np.column_stack([np.ones(len(d)), tm - tm.mean()]) if np.isfinite(tm).all() and len(d) >= 4 and \
-            np.ptp(tm) > 0 else np.ones((len(d), 1))
-        res = d - F @ np.linalg.lstsq(F, d, rcond=None)[0]
-        res = res * math.sqrt(len(d) / (len(d) - F.shape[1]))
-        w = (xyz[ia] - xyz[ib]) / np.maximum(d, 1e-12)[:, None]
-        coef = []
-        for i in (ia, ib):
-            v = xyz[i] - tt[i]
-            L = np.linalg.norm(v, axis=1)
-            c2 = np.einsum("ni,ni->n", w, v / L[:, None]) ** 2
-            s_r, s_t = base.sigmas(L)
-            coef.append((s_r**2 * c2, s_t**2 * (1.0 - c2)))
-        e.append(res)
-        R.append(coef[0][0] + coef[1][0])
-        T.append(coef[0][1] + coef[1][1])
-    if not e or sum(len(v) for v in e) < RIGID_MIN_PAIRS:
-        return None
-    e, R, T = (np.concatenate(v) for v in (e, R, T))
-    live = np.isfinite(e) & (R + T > 0)
-    e, R, T = e[live], R[live], T[live]
+class RigidLikelihood:
+    """The restricted (REML) negative log-likelihood of the mutual distances within the passes, all of a pass's
+    distances jointly: a pass's reflectors are read with independent normal errors e_i of covariance c_r s_r(L_i)^2
+    u_i u_i^T + c_t s_t(L_i)^2 (I - u_i u_i^T) (``base``'s sigmas at the reading's distance L_i from the tracker t,
+    u_i its beam), so the pass's distances d_p (one minimally rigid set, _framework), d_ab = w_ab . (e_a - e_b) to
+    first order about their mean, have the covariance Sigma_p = c_r R_p(t) + c_t T_p(t), R_p = sum_i s_r,i^2 (S_i
+    u_i)(S_i u_i)^T, T_p = sum_i s_t,i^2 (S_i S_i^T - (S_i u_i)(S_i u_i)^T) (S_i the distances' derivatives by e_i):
+    each distance's variance and the covariance of two sharing a reflector.  The mean of d_p is B^T f_p (each
+    distance's detrend, _detrend_design), B estimated by generalised least squares, and the likelihood is the
+    restricted one, 1/2 [sum_p log det Sigma_p + sum_p r_p^T Sigma_p^-1 r_p + log det sum_p (f_p f_p^T (x)
+    Sigma_p^-1)] (r_p the GLS residual): exact for the detrend's degrees of freedom, whatever the passes' leverage.
+    ``v`` = (t (3,) mm, log c_r, log c_t)."""
 
-    def f(v):
-        V = R * math.exp(v[0]) + T * math.exp(v[1])
-        return 0.5 * float(np.sum((NU + 1) * np.log1p(e**2 / (NU * V)) + np.log(V)))
+    def __init__(self, groups: list[_PassGroup], xyz: np.ndarray, kind: str, spec: TrackerSpec = AT960):
+        self.groups, self.xyz, self.spec, self.kind = groups, xyz, spec, kind
 
-    v0 = np.log(max(float(np.median(e**2)), 1e-30) / np.median(R + T)) * np.ones(2)
-    best = min((optimize.minimize(f, v0 + s, method="Nelder-Mead", options={"xatol": 1e-4, "fatol": 1e-6})
+    def parts(self, t: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]] | None:
+        """(R, T) of every group about the tracker ``t`` ((3,) or (n, 3) every reading's own), or None where a
+        reading is nearer than 100 mm or farther than MAX_DISTANCE."""
+        tt = np.broadcast_to(np.asarray(t, float), self.xyz.shape)
+        out = []
+        for g in self.groups:
+            v = self.xyz[g.idx] - tt[g.idx]
+            L = np.linalg.norm(v, axis=2)
+            if L.min() < 100.0 or L.max() > MAX_DISTANCE:
+                return None
+            s_r, s_t = self.spec.sigmas(L)
+            A = np.einsum("pmki,pki->pmk", g.S, v / L[..., None])
+            AA = np.einsum("pmk,pnk->pmnk", A, A)
+            out.append((np.einsum("pmnk,pk->pmn", AA, s_r**2),
+                        np.einsum("pmki,pnki,pk->pmn", g.S, g.S, s_t**2) - np.einsum("pmnk,pk->pmn", AA, s_t**2)))
+        return out
+
+    def given(self, parts, logs) -> float:
+        """The likelihood with the beams' parts (``parts``) fixed and the log scales ``logs``."""
+        if parts is None or not np.all(np.isfinite(logs)):
+            return math.inf
+        total = 0.0
+        for (R, T), g in zip(parts, self.groups):
+            S = R * math.exp(logs[0]) + T * math.exp(logs[1])
+            sign, logdet = np.linalg.slogdet(S)
+            if np.any(sign <= 0):
+                return math.inf
+            Si = np.linalg.inv(S)
+            F, D = g.F[self.kind], g.D
+            p, m = F.shape[1], D.shape[1]
+            FF = (F[:, :, None] * F[:, None, :]).reshape(len(F), p * p)
+            A = (FF.T @ Si.reshape(len(F), m * m)).reshape(p, p, m, m).transpose(0, 2, 1, 3).reshape(p * m, p * m)
+            b = (F.T @ np.einsum("pab,pb->pa", Si, D)).reshape(-1)
+            sa, la = np.linalg.slogdet(A)
+            if sa <= 0:
+                return math.inf
+            r = D - F @ np.linalg.solve(A, b).reshape(p, m)
+            total += 0.5 * (float(np.sum(logdet)) + float(np.einsum("pa,pab,pb->", r, Si, r)) + la)
+        return total
+
+    def __call__(self, v: np.ndarray) -> float:
+        return self.given(self.parts(v[:3]) if np.all(np.isfinite(v)) else None, v[3:5])
+
+    def outlying(self, parts, logs) -> list[np.ndarray]:
+        """Per group, the passes whose distances lie beyond the joint law: r_p^T Sigma_p^-1 r_p (r_p about the
+        detrend by ordinary least squares) beyond chi^2_m's 1 - OUTLIER_LEVEL / (all passes) quantile."""
+        n = sum(len(g.idx) for g in self.groups)
+        out = []
+        for (R, T), g in zip(parts, self.groups):
+            F, D = g.F[self.kind], g.D
+            r = D - F @ np.linalg.lstsq(F, D, rcond=None)[0]
+            q = np.einsum("pa,pab,pb->p", r, np.linalg.inv(R * math.exp(logs[0]) + T * math.exp(logs[1])), r)
+            out.append(q > _tails.chi2_ppf(1.0 - OUTLIER_LEVEL / n, D.shape[1]))
+        return out
+
+
+OUTLIER_LEVEL = 1e-3  # a pass whose distances the joint law puts beyond this level (Bonferroni over the passes) is
+# left out of the law and the station from what is rigid (a reading an effect moved: the replica's 40 um one read
+# the radial sigma 1.2-1.5 um where 0.68 was planted)
+
+
+def _trimmed(groups: list[_PassGroup], xyz: np.ndarray, t: np.ndarray, base: TrackerSpec) -> list[_PassGroup]:
+    """``groups`` less their outlying passes (RigidLikelihood.outlying about ``t``, the scales fitted under the
+    line), fitted again until none is left out (at most three times)."""
+    for _ in range(3):
+        lik = RigidLikelihood(groups, xyz, "line", base)
+        parts = lik.parts(t)
+        if parts is None:
+            return groups
+        law = _scale_intervals(lambda v, p=parts, lik=lik: lik.given(p, v), intervals=False)
+        logs = [max(2 * math.log(max(law[k]["factor"], 1e-300)), LOG_FLOOR) for k in ("radial", "transverse")]
+        drop = lik.outlying(parts, logs)
+        if not any(d.any() for d in drop):
+            return groups
+        groups = [_PassGroup(g.idx[~d], g.S[~d], g.D[~d], {k: f[~d] for k, f in g.F.items()})
+                  for g, d in zip(groups, drop) if (~d).sum() > max(f.shape[1] for f in g.F.values())]
+    return groups
+
+
+def _scale_intervals(f, intervals: bool = True) -> dict:
+    """The law's two scales by maximum likelihood (``f`` of (log c_r, log c_t)), each with its 95 % profile
+    interval (chi^2, 1 dof; the other scale at its best), as sigma factors: {"radial", "transverse": {"factor",
+    "interval_95", "determined"}}."""
+    f0 = f
+
+    def f(v):  # a scale below exp(LOG_FLOOR) is nil: the likelihood is flat there
+        return f0(np.maximum(np.asarray(v, float), LOG_FLOOR))
+    best = min((optimize.minimize(f, np.asarray(s, float), method="Nelder-Mead",
+                                  options={"xatol": 1e-4, "fatol": 1e-6})
                 for s in ([0.0, 0.0], [-4.0, 0.0], [0.0, -4.0])), key=lambda o: o.fun)
-    dist_m = float(np.median(np.linalg.norm(xyz - tt, axis=1))) / 1e3
-    s_r0, s_t0 = (float(s) * 1e3 for s in base.sigmas(dist_m * 1e3))
-    out = {"distances": int(len(e)), "at_distance_m": round(dist_m, 3)}
-    for k, (name, s0) in enumerate((("radial", s_r0), ("transverse", s_t0))):
+    best.x = np.maximum(best.x, LOG_FLOOR)
+    if not intervals:
+        return {name: {"factor": math.exp(0.5 * best.x[k])} for k, name in enumerate(("radial", "transverse"))}
+    out = {}
+    for k, name in enumerate(("radial", "transverse")):
         def prof(g, k=k):  # 2 x the profile negative log-likelihood over its best, the other scale at its best
             o = optimize.minimize_scalar(lambda x: f([g, x] if k == 0 else [x, g]),
                                          bounds=(best.x[1 - k] - PROFILE_SPAN, best.x[1 - k] + PROFILE_SPAN),
@@ -530,16 +697,67 @@ def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict 
             return 2.0 * (o.fun - best.fun) - _tails.chi2_ppf(0.95, 1)
         ends = []
         for sign in (-1.0, 1.0):
-            g = next((best.x[k] + sign * h for h in np.arange(0.5, PROFILE_SPAN + 0.01, 0.5)
-                      if prof(best.x[k] + sign * h) > 0), None)
-            ends.append(None if g is None else
-                        math.exp(0.5 * optimize.brentq(prof, g - sign * 0.5, g, xtol=1e-3)))
-        lo, hi = (None if v is None else v / T_CONSISTENCY for v in ends)
-        fac = math.exp(0.5 * best.x[k]) / T_CONSISTENCY
-        det = lo is not None and hi is not None and hi / lo < RIGID_DETERMINED
-        out[name] = {"factor": fac, "interval_95": [lo, hi], "determined": bool(det),
-                     "sigma_um": round(fac * s0, 3),
-                     "upper_um": None if hi is None else round(hi * s0, 3)}
+            inside, g = best.x[k], None
+            for h in PROFILE_STEPS:
+                if prof(best.x[k] + sign * h) > 0:
+                    g = best.x[k] + sign * h
+                    break
+                inside = best.x[k] + sign * h
+            ends.append(None if g is None else math.exp(0.5 * optimize.brentq(prof, inside, g, xtol=1e-3)))
+        lo, hi = ends
+        out[name] = {"factor": math.exp(0.5 * best.x[k]), "interval_95": [lo, hi],
+                     "determined": bool(lo is not None and hi is not None and hi / lo < RIGID_DETERMINED)}
+    return out
+
+
+def _within(x: float, interval: list) -> bool:
+    lo, hi = interval
+    return (lo is None or x >= lo) and (hi is None or x <= hi)
+
+
+def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
+    """The tracker's noise law from what is rigid: within one pass (one pose of one axis) the reflectors sit on one
+    rigid side, so their mutual distances are the same in every pass up to the tracker's noise -- blind to any
+    motion of the side (a drift shared by it, the machine's own motion), unlike the scatter of the rounds.  All the
+    distances of a pass jointly (RigidLikelihood: each one's variance and the covariance of two sharing a
+    reflector, from the law and the beams from ``t`` (mm, (3,) or (n, 3))), each pair's distances taken about a
+    line in time and, separately, about a curve that bends (_detrend_design); c_r, c_t by maximum likelihood, each
+    with its 95 % profile-likelihood interval (chi^2, 1 dof).  A scale is determined where, under both detrends,
+    its interval spans less than RIGID_DETERMINED and each detrend's estimate lies in the other's interval: a scale
+    the detrend changes is what the detrend leaves, not the tracker's noise.  The interval stated is the hull of
+    the two.  None when there are fewer than RIGID_MIN_PAIRS distances.  Returns {"radial", "transverse":
+    {"factor" (the line's), "interval_95", "determined", "sigma_um", "upper_um", "by_detrend"}, "distances",
+    "at_distance_m"} (factors against ``base``, sigmas um at the median distance)."""
+    tt = np.broadcast_to(np.asarray(t, float), rec.xyz.shape)
+    groups = _trimmed(_pass_groups(rec), rec.xyz, tt, base)
+    n = sum(g.count for g in groups)
+    if n < RIGID_MIN_PAIRS:
+        return None
+    fits = {}
+    for kind in DETRENDS:
+        lik = RigidLikelihood(groups, rec.xyz, kind, base)
+        parts = lik.parts(tt)
+        if parts is None:
+            return None
+        fits[kind] = _scale_intervals(lambda v, p=parts, lik=lik: lik.given(p, v))
+    dist_m = float(np.median(np.linalg.norm(rec.xyz - tt, axis=1))) / 1e3
+    s_r0, s_t0 = (float(s) * 1e3 for s in base.sigmas(dist_m * 1e3))
+    out = {"distances": int(n), "at_distance_m": round(dist_m, 3),
+           "detrends": "each distance about a line in time and about a cubic spline that bends; determined where "
+                       "they agree (rigid_law)"}
+    for name, s0 in (("radial", s_r0), ("transverse", s_t0)):
+        a, b = fits["line"][name], fits["bending"][name]
+        los, his = [a["interval_95"][0], b["interval_95"][0]], [a["interval_95"][1], b["interval_95"][1]]
+        lo = None if None in los else min(los)
+        hi = None if None in his else max(his)
+        det = a["determined"] and b["determined"] and _within(a["factor"], b["interval_95"]) and \
+            _within(b["factor"], a["interval_95"])
+        out[name] = {"factor": a["factor"], "interval_95": [lo, hi], "determined": bool(det),
+                     "sigma_um": round(a["factor"] * s0, 3), "upper_um": None if hi is None else round(hi * s0, 3),
+                     "by_detrend": {k: {"factor": round(v[name]["factor"], 4),
+                                        "interval_95": [None if x is None else round(x, 4)
+                                                        for x in v[name]["interval_95"]]}
+                                    for k, v in fits.items()}}
     return out
 
 
@@ -560,57 +778,155 @@ STATION_GRID = np.geomspace(300.0, MAX_DISTANCE, 17)  # mm from the readings' ce
 STATION_DETERMINED = 2.0  # the station is determined when its distance's 95 % interval spans less than 2x
 
 
-def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.ndarray, nll_best: float,
-                     spec: TrackerSpec = AT960) -> dict:
-    """How far the scatter ``r`` fixes the station's distance: the profile likelihood of the distance s from the
-    readings' centre (nll, the data's shape free), at every s of STATION_GRID the direction and both scales re-fitted
-    (_profile_point; from the estimate outwards both ways, each distance from the previous one's optimum), plus the
-    estimate itself. The 95 % interval spans every s within chi^2_1(0.95) / 2 of the best (to the grid's distances
-    either side of them: the grid is coarser than a sharp profile); it is "not determined" when that set reaches the
-    grid's ends or the search's bounds (an infinite likelihood beside it), spans STATION_DETERMINED or more, or is
-    not one piece (a flat or many-moded likelihood; no interval then): the station found is one of several the data
-    allow. A curvature sigma (the Hessian) says nothing of either.
-    Returns {"distance_mm",
-    "interval_95_mm", "determined", "profile": [[s mm, 2 (nll - best)], ...], "note"} (mm)."""
-    c = xyz.mean(axis=0)
+def _distance_profile(f, c: np.ndarray, t: np.ndarray, x0: np.ndarray, f_best: float) -> list[tuple[float, float]]:
+    """2 (nll - best) of ``f`` (of a trial station (3,) mm and the rest of its parameters) at every distance s of
+    STATION_GRID from ``c`` (mm), the direction tilted from c -> ``t`` and the rest re-fitted (_profile_point; from
+    the estimate outwards both ways, each distance from the previous one's optimum), and at ``t`` itself (``x0``
+    the rest's start there, ``f_best`` f's value there), sorted by distance; the best over them all is 0."""
     d0 = np.asarray(t, float) - c
     s0 = float(np.linalg.norm(d0))
     u0 = d0 / s0
-
     a, b = np.linalg.svd(u0[None])[2][1:]  # two unit vectors across u0 (their signs do not matter here)
 
     def at(s, v):  # position at distance s along the direction tilted by v[:2] (across u0)
         u = u0 + v[0] * a + v[1] * b
         return c + s * u / np.linalg.norm(u)
 
-    prof, best, lik = [], nll_best, Likelihood(xyz, r, spec)
+    prof, best = [], f_best
     for way in (STATION_GRID[STATION_GRID < s0][::-1], STATION_GRID[STATION_GRID >= s0]):
-        x = np.array([0.0, 0.0, *logs])  # from the estimate outwards, each distance from the previous one's
+        x = np.array([0.0, 0.0, *x0])  # from the estimate outwards, each distance from the previous one's
         for s in way:  # optimum (the profile is continuous; from the grid's near end a chain strays into
             # another basin of the tilts and scales and reads the profile thousands too high)
-            res = _profile_point(lambda v, s=s: lik(np.append(at(s, v[:2]), v[2:])), x)
-            prof.append((float(s), 2.0 * (float(res.fun) - nll_best)))
+            res = _profile_point(lambda v, s=s: f(at(s, v[:2]), v[2:]), x)
+            prof.append((float(s), float(res.fun)))
             best = min(best, float(res.fun))
             if math.isfinite(res.fun):
                 x = res.x
-    prof = [(s, v + 2.0 * (nll_best - best)) for s, v in prof] + [(s0, 2.0 * (nll_best - best))]
-    prof.sort()
+    return sorted((s, 2.0 * (v - best)) for s, v in prof + [(s0, f_best)])
+
+
+def _profile_set(prof: list[tuple[float, float]]) -> tuple[list[float] | None, bool]:
+    """The 95 % set of a distance profile (_distance_profile): every s within chi^2_1(0.95) of the best, to the
+    grid's distances either side of them (the grid is coarser than a sharp profile); (interval or None where it
+    is not one piece, determined: one piece inside the grid and the search's bounds, spanning less than
+    STATION_DETERMINED)."""
     ok = np.array([v <= _tails.chi2_ppf(0.95, 1) for _, v in prof])
     idx = np.flatnonzero(ok)
-    piece = idx.size and np.all(np.diff(idx) == 1)
-    det = bool(piece and idx[0] > 0 and idx[-1] < len(prof) - 1)
-    # the bracketing distances outside the set (conservative: the grid is coarser than a sharp profile)
-    ends = (max(idx[0] - 1, 0), min(idx[-1] + 1, len(prof) - 1)) if idx.size else None
-    lo, hi = (prof[ends[0]][0], prof[ends[1]][0]) if ends else (s0, s0)
+    piece = bool(idx.size and np.all(np.diff(idx) == 1))
+    if not piece:
+        return None, False
+    ends = (max(idx[0] - 1, 0), min(idx[-1] + 1, len(prof) - 1))
+    lo, hi = prof[ends[0]][0], prof[ends[1]][0]
     # an end where the likelihood is infinite is the search's bound (MAX_DISTANCE, 100 mm of a reading), not the
     # data's: the set may go on beyond it
-    det = det and hi / lo < STATION_DETERMINED and all(math.isfinite(prof[i][1]) for i in ends)
-    out = {"distance_mm": s0, "interval_95_mm": [lo, hi] if piece else None, "determined": det,
+    det = idx[0] > 0 and idx[-1] < len(prof) - 1 and hi / lo < STATION_DETERMINED and all(
+        math.isfinite(prof[i][1]) for i in ends)
+    return [lo, hi], bool(det)
+
+
+RIGID_STARTS = np.array([v for v in itertools.product((-1.0, 0.0, 1.0), repeat=3) if sum(map(abs, v)) in (1, 3)])
+RIGID_STARTS = RIGID_STARTS / np.linalg.norm(RIGID_STARTS, axis=1)[:, None]  # the 14 directions of a cube's faces
+# and corners (none more than 55 deg from the tracker's): where the station from what is rigid is looked for beside
+# the rounds' estimate (_rigid_best)
+
+
+def _rigid_best(lik: RigidLikelihood, c: np.ndarray, v: np.ndarray, f_v: float, scale: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, float]:
+    """The best station of the mutual distances' likelihood ``lik``: the local best ``v`` (position mm, two log
+    scales; ``f_v`` its value) found from the rounds' estimate, against local searches from START_DISTANCE (or
+    v's distance, if farther) from the readings' centre ``c`` along each of RIGID_STARTS (the scales from v's).
+    The profile of the distance is then taken about it: about the rounds' estimate, its direction held near theirs,
+    it reads the distance in a direction the distances reject (the icelinker replica: the rounds' station 86 deg
+    from the tracker's as seen from the readings, the profile 4-30 m where the tracker stood 2.84 m away).
+    Returns (position, log scales, value)."""
+    best, f_best = v, f_v
+    d = max(START_DISTANCE, float(np.linalg.norm(v[:3] - c)))
+    for u in RIGID_STARTS:
+        start = np.append(c + d * u, v[3:])
+        res = _profile_point(lambda w, s=start: lik(s + w * scale), np.zeros(5))
+        if math.isfinite(res.fun) and res.fun < f_best:
+            best, f_best = start + res.x * scale, float(res.fun)
+    return best[:3], np.maximum(best[3:], LOG_FLOOR), f_best
+
+
+def rigid_station(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
+    """Whether the reflectors' mutual distances allow the station ``t`` (mm), and where they put it: under
+    RigidLikelihood with the bending detrend (a spline holds a line: valid whether or not the distances bend; under
+    a line, icelinker's bend pushed the station out to 12.7-30 m), the likelihood-ratio test of the station t
+    (chi^2, 3 dof) against the best the distances reach from it (t and both scales free; a local best, so the
+    test leans to agreement); where it rejects at LR_LEVEL, the profile likelihood of the station's distance from
+    the readings' centre (_distance_profile: the direction and both scales re-fitted) and its 95 % set
+    (_profile_set).  No rigid motion of a side moves a mutual distance, so a shared motion that the rounds'
+    scatter counts as noise places nothing here.  None where there are fewer than RIGID_MIN_PAIRS distances.
+    Returns {"likelihood_ratio", "p", and where it rejects "interval_95_mm", "determined", "profile"} (mm)."""
+    t = np.asarray(t, float)
+    groups = _trimmed(_pass_groups(rec), rec.xyz, t, base)
+    if sum(g.count for g in groups) < RIGID_MIN_PAIRS:
+        return None
+    lik = RigidLikelihood(groups, rec.xyz, "bending", base)
+    parts = lik.parts(t)
+    if parts is None:
+        return None
+    law = _scale_intervals(lambda v, p=parts: lik.given(p, v), intervals=False)
+    x0 = np.array([max(2 * math.log(max(law[k]["factor"], 1e-300)), LOG_FLOOR) for k in ("radial", "transverse")])
+    f_t = lik.given(parts, x0)
+    scale = np.array([100.0, 100.0, 100.0, 1.0, 1.0])  # mm, log: the local search in comparable steps
+    res = _profile_point(lambda v: lik(np.append(t, x0) + v * scale), np.zeros(5))
+    lr = max(2.0 * (f_t - min(float(res.fun), f_t)), 0.0)
+    out = {"likelihood_ratio": round(float(lr), 2), "p": float(_tails.chi2_sf(lr, 3))}
+    if out["p"] >= LR_LEVEL:
+        return out
+    c = rec.xyz.mean(axis=0)
+    q, x, f_q = _rigid_best(lik, c, np.append(t, x0) + res.x * scale, float(res.fun), scale)
+    prof = _distance_profile(lambda q, v: lik(np.append(q, np.maximum(v, LOG_FLOOR))), c, q, x, f_q)
+    interval, det = _profile_set(prof)
+    return {**out, "interval_95_mm": interval, "determined": det,
+            "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
+
+
+def station_interval(xyz: np.ndarray, r: np.ndarray, t: np.ndarray, logs: np.ndarray, nll_best: float,
+                     spec: TrackerSpec = AT960, rec: Recording | None = None) -> dict:
+    """How far the data fix the station's distance from the readings' centre.  The scatter ``r``: its profile
+    likelihood (nll, the data's shape free; _distance_profile about the estimate ``t``) and the 95 % set of it
+    (_profile_set); it is "not determined" when that set reaches the grid's ends or the search's bounds, spans
+    STATION_DETERMINED or more, or is not one piece (no interval then): the station found is one of several the
+    data allow.  A curvature sigma (the Hessian) says nothing of either.  With ``rec`` (the readings' recording),
+    the mutual distances as well (rigid_station): where they reject the estimate (their test), the scatter that
+    placed it holds what is not the tracker's noise (a motion shared by a side) -- the interval stated is the
+    distances' (none where their profile is not one piece), not determined, and said; where they allow it,
+    nothing changes.
+    Returns {"distance_mm", "interval_95_mm", "determined", "profile": [[s mm, 2 (nll -
+    best)], ...], "note", "mutual_distances", "scatter"} (mm)."""
+    c = xyz.mean(axis=0)
+    s0 = float(np.linalg.norm(np.asarray(t, float) - c))
+    lik = Likelihood(xyz, r, spec)
+    prof = _distance_profile(lambda q, v: lik(np.append(q, v)), c, np.asarray(t, float), np.asarray(logs, float),
+                             nll_best)
+    interval, det = _profile_set(prof)
+    lo, hi = interval if interval else (s0, s0)
+    out = {"distance_mm": s0, "interval_95_mm": interval, "determined": det,
            "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
     if not det:
         out["note"] = (f"the station is not determined by the scatter: its distance's profile likelihood is "
-                       f"{'flat' if piece else 'many-moded'} over {lo / 1e3:.3g}-{hi / 1e3:.3g} m from the "
+                       f"{'flat' if interval else 'many-moded'} over {lo / 1e3:.3g}-{hi / 1e3:.3g} m from the "
                        f"readings (the estimate, {s0 / 1e3:.3g} m, is one of the stations the data allow); the "
                        "weights, and the findings that depend on them, are conditional on it: give the tracker's "
                        "position (--tracker or the tracker_x,y,z columns)")
+    rigid = None if rec is None else rigid_station(rec, np.asarray(t, float), spec)
+    if rigid is None:
+        return out
+    out["mutual_distances"] = {k: v for k, v in rigid.items() if k != "profile"}
+    if rigid["p"] >= LR_LEVEL:
+        return out
+    iv = rigid.get("interval_95_mm")
+    where = (f"put it {iv[0] / 1e3:.3g}-{iv[1] / 1e3:.3g} m from the readings" if iv else
+             "leave its distance many-moded")
+    out.update(scatter={"interval_95_mm": interval, "determined": det}, interval_95_mm=iv, determined=False,
+               note=f"the station is not determined: the reflectors' mutual distances, which no motion of a side "
+                    f"moves, reject the estimate {s0 / 1e3:.3g} m from the readings (likelihood ratio "
+                    f"{rigid['likelihood_ratio']:.1f}, p = {rigid['p']:.2g}) and {where}, the scatter of the "
+                    f"rounds {'-'.join(f'{v / 1e3:.3g}' for v in (interval or [lo, hi]))} m: the rounds hold a "
+                    "motion shared by a side, not only the tracker's noise; the weights, and the findings that "
+                    "depend on them, are conditional on it: give the tracker's position (--tracker or the "
+                    "tracker_x,y,z columns)")
     return out
