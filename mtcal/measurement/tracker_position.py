@@ -590,7 +590,7 @@ class RigidLikelihood:
     distance's detrend, _detrend_design), B estimated by generalised least squares, and the likelihood is the
     restricted one, 1/2 [sum_p log det Sigma_p + sum_p r_p^T Sigma_p^-1 r_p + log det sum_p (f_p f_p^T (x)
     Sigma_p^-1)] (r_p the GLS residual): exact for the detrend's degrees of freedom, whatever the passes' leverage.
-    ``v`` = (t (3,) mm, log c_r, log c_t)."""
+    ``v`` = (t (3,) mm, log c_r - log c_t), the common scale at its best (__call__)."""
 
     def __init__(self, groups: list[_PassGroup], xyz: np.ndarray, kind: str, spec: TrackerSpec = AT960):
         self.groups, self.xyz, self.spec, self.kind = groups, xyz, spec, kind
@@ -612,16 +612,20 @@ class RigidLikelihood:
                         np.einsum("pmki,pnki,pk->pmn", g.S, g.S, s_t**2) - np.einsum("pmnk,pk->pmn", AA, s_t**2)))
         return out
 
-    def given(self, parts, logs) -> float:
-        """The likelihood with the beams' parts (``parts``) fixed and the log scales ``logs``."""
-        if parts is None or not np.all(np.isfinite(logs)):
-            return math.inf
-        total = 0.0
+    @property
+    def count(self) -> int:
+        """N: the distances beyond their detrends' columns (the restricted likelihood's degrees of freedom)."""
+        return sum((len(g.F[self.kind]) - g.F[self.kind].shape[1]) * g.D.shape[1] for g in self.groups)
+
+    def forms(self, parts, w_r: float, w_t: float) -> tuple[float, float] | None:
+        """(sum_p r_p^T Sigma_p^-1 r_p, sum_p log det Sigma_p + log det A) at Sigma_p = w_r R_p + w_t T_p (the
+        beams' ``parts``), or None where a Sigma_p or A is not positive definite."""
+        quad = rest = 0.0
         for (R, T), g in zip(parts, self.groups):
-            S = R * math.exp(logs[0]) + T * math.exp(logs[1])
+            S = R * w_r + T * w_t
             sign, logdet = np.linalg.slogdet(S)
             if np.any(sign <= 0):
-                return math.inf
+                return None
             Si = np.linalg.inv(S)
             F, D = g.F[self.kind], g.D
             p, m = F.shape[1], D.shape[1]
@@ -630,13 +634,27 @@ class RigidLikelihood:
             b = (F.T @ np.einsum("pab,pb->pa", Si, D)).reshape(-1)
             sa, la = np.linalg.slogdet(A)
             if sa <= 0:
-                return math.inf
+                return None
             r = D - F @ np.linalg.solve(A, b).reshape(p, m)
-            total += 0.5 * (float(np.sum(logdet)) + float(np.einsum("pa,pab,pb->", r, Si, r)) + la)
-        return total
+            quad += float(np.einsum("pa,pab,pb->", r, Si, r))
+            rest += float(np.sum(logdet)) + la
+        return quad, rest
+
+    def given(self, parts, logs) -> float:
+        """The likelihood with the beams' parts (``parts``) fixed and the log scales ``logs``."""
+        if parts is None or not np.all(np.isfinite(logs)):
+            return math.inf
+        qr = self.forms(parts, math.exp(logs[0]), math.exp(logs[1]))
+        return math.inf if qr is None else 0.5 * (qr[0] + qr[1])
 
     def __call__(self, v: np.ndarray) -> float:
-        return self.given(self.parts(v[:3]) if np.all(np.isfinite(v)) else None, v[3:5])
+        """The likelihood at the station ``v[:3]`` (mm) and the log ratio of the scales ``v[3]``, their common
+        scale at its best (_concentrate)."""
+        parts = self.parts(v[:3]) if np.all(np.isfinite(v)) else None
+        if parts is None:
+            return math.inf
+        lw = _ratio_weights(float(v[3]))
+        return _concentrate(self.forms(parts, *np.exp(lw)), lw, self.count)[0]
 
     def outlying(self, parts, logs) -> list[np.ndarray]:
         """Per group, the passes whose distances lie beyond the joint law: r_p^T Sigma_p^-1 r_p (r_p about the
@@ -649,6 +667,84 @@ class RigidLikelihood:
             q = np.einsum("pa,pab,pb->p", r, np.linalg.inv(R * math.exp(logs[0]) + T * math.exp(logs[1])), r)
             out.append(q > _tails.chi2_ppf(1.0 - OUTLIER_LEVEL / n, D.shape[1]))
         return out
+
+
+class FixedBeams:
+    """RigidLikelihood.given at fixed beams, each pass's R_p and T_p diagonalised jointly once (W_p^T T_p W_p = I,
+    W_p^T R_p W_p = diag(lam_p): Cholesky of T_p, then the eigenvectors of L^-1 R_p L^-T), so that for any scales
+    Sigma_p^-1 = W_p diag(1 / (c_r lam_p + c_t)) W_p^T and log det Sigma_p = sum log(c_r lam_p + c_t) + log det T_p:
+    the restricted likelihood costs a few products per group.  With z = W^T d and V the rows f_p (x) W_p e_j,
+    b = V^T (z / q), A = V^T diag(1 / q) V (q = c_r lam + c_t) and the GLS residual's quadratic form is
+    sum z^2 / q - b^T A^-1 b.  ``concentrated``: the common scale c in Sigma = c (w_r R + w_t T) in closed form,
+    c = Q / N (Q the quadratic form at c = 1, N the distances beyond the detrends' columns).  ``ok`` is False where
+    some T_p is not positive definite (RigidLikelihood.given is then the one to use)."""
+
+    def __init__(self, lik: RigidLikelihood, parts):
+        self.lik, self.parts, self.ok, self.terms, self.count = lik, parts, parts is not None, [], lik.count
+        if parts is None:
+            return
+        for (R, T), g in zip(parts, lik.groups):
+            try:
+                L = np.linalg.cholesky(T)
+            except np.linalg.LinAlgError:
+                self.ok = False
+                return
+            Li = np.linalg.inv(L)
+            lam, U = np.linalg.eigh(Li @ R @ np.swapaxes(Li, 1, 2))
+            W = np.swapaxes(Li, 1, 2) @ U                       # (P, m, m): columns W_p e_j
+            F, D = g.F[lik.kind], g.D
+            D = D - F @ np.linalg.lstsq(F, D, rcond=None)[0]  # the GLS residual is the same about any fit in F's
+            # span; about this one the quadratic forms below hold no large cancelling parts
+            z = np.einsum("paj,pa->pj", W, D).reshape(-1)
+            V = np.einsum("pi,paj->pjia", F, W).reshape(len(z), -1)  # row (p, j): f_p (x) W_p e_j
+            logdet_t = 2.0 * float(np.sum(np.log(np.diagonal(L, axis1=1, axis2=2))))
+            self.terms.append((np.maximum(lam.reshape(-1), 0.0), z, V, logdet_t))
+
+    def forms(self, w_r: float, w_t: float) -> tuple[float, float] | None:
+        """RigidLikelihood.forms at Sigma = w_r R + w_t T, or None where A is singular."""
+        quad = rest = 0.0
+        for lam, z, V, logdet_t in self.terms:
+            d = 1.0 / (w_r * lam + w_t)
+            b = V.T @ (d * z)
+            A = (V.T * d) @ V
+            sa, la = np.linalg.slogdet(A)
+            if sa <= 0:
+                return None
+            quad += float(np.dot(d, z * z) - b @ np.linalg.solve(A, b))
+            rest += float(-np.sum(np.log(d))) + logdet_t + la
+        return quad, rest
+
+    def value(self, logs) -> float:
+        """The negative log-likelihood at the log scales ``logs`` (log c_r, log c_t), as RigidLikelihood.given."""
+        if not self.ok:
+            return self.lik.given(self.parts, logs)
+        if not np.all(np.isfinite(logs)):
+            return math.inf
+        qr = self.forms(math.exp(logs[0]), math.exp(logs[1]))
+        return math.inf if qr is None else 0.5 * (qr[0] + qr[1])
+
+    def concentrated(self, theta: float) -> tuple[float, np.ndarray]:
+        """The likelihood at log c_r - log c_t = ``theta`` with the common scale at its best: (value, log scales)."""
+        lw = _ratio_weights(theta)
+        if self.ok:
+            return _concentrate(self.forms(*np.exp(lw)), lw, self.count)
+        return _concentrate(None if self.parts is None else self.lik.forms(self.parts, *np.exp(lw)), lw, self.count)
+
+
+def _ratio_weights(theta: float) -> np.ndarray:
+    """log (w_r, w_t) of the log ratio ``theta`` = log c_r - log c_t, the larger weight 1 (well scaled both ways)."""
+    return np.array([min(theta, 0.0), min(-theta, 0.0)])
+
+
+def _concentrate(forms: tuple[float, float] | None, lw: np.ndarray, count: int) -> tuple[float, np.ndarray]:
+    """The restricted likelihood at Sigma = c (w_r R + w_t T) with the common scale c at its best: with Q, K the
+    quadratic form and the log determinants at c = 1 (``forms``) and N = ``count``, the likelihood is 1/2 (N log c
+    + Q / c + K), least at c = Q / N.  Returns (value, log scales (log c_r, log c_t)); infinite where ``forms`` is
+    None or Q is nil."""
+    if forms is None or forms[0] <= 0:
+        return math.inf, lw
+    c = forms[0] / count
+    return 0.5 * (count * math.log(c) + count + forms[1]), lw + math.log(c)
 
 
 OUTLIER_LEVEL = 1e-3  # a pass whose distances the joint law puts beyond this level (Bonferroni over the passes) is
@@ -664,7 +760,7 @@ def _trimmed(groups: list[_PassGroup], xyz: np.ndarray, t: np.ndarray, base: Tra
         parts = lik.parts(t)
         if parts is None:
             return groups
-        law = _scale_intervals(lambda v, p=parts, lik=lik: lik.given(p, v), intervals=False)
+        law = _scale_intervals(FixedBeams(lik, parts), intervals=False)
         logs = [max(2 * math.log(max(law[k]["factor"], 1e-300)), LOG_FLOOR) for k in ("radial", "transverse")]
         drop = lik.outlying(parts, logs)
         if not any(d.any() for d in drop):
@@ -674,18 +770,28 @@ def _trimmed(groups: list[_PassGroup], xyz: np.ndarray, t: np.ndarray, base: Tra
     return groups
 
 
-def _scale_intervals(f, intervals: bool = True) -> dict:
-    """The law's two scales by maximum likelihood (``f`` of (log c_r, log c_t)), each with its 95 % profile
-    interval (chi^2, 1 dof; the other scale at its best), as sigma factors: {"radial", "transverse": {"factor",
-    "interval_95", "determined"}}."""
-    f0 = f
+THETA_GRID = np.arange(-40.0, 40.01, 2.0)  # log c_r - log c_t searched for the law's best (_scale_best)
 
+
+def _scale_best(fb: FixedBeams) -> tuple[np.ndarray, float]:
+    """The law's two log scales by maximum likelihood on fixed beams: the common scale in closed form
+    (FixedBeams.concentrated), their log ratio over THETA_GRID and refined about the grid's best (bounded Brent);
+    a scale below LOG_FLOOR is nil.  Returns (log scales, negative log-likelihood there)."""
+    theta = THETA_GRID[int(np.argmin([fb.concentrated(x)[0] for x in THETA_GRID]))]
+    o = optimize.minimize_scalar(lambda x: fb.concentrated(x)[0], bounds=(theta - 2.0, theta + 2.0),
+                                 method="bounded", options={"xatol": 1e-5})
+    logs = np.maximum(fb.concentrated(float(o.x))[1], LOG_FLOOR)
+    return logs, fb.value(logs)
+
+
+def _scale_intervals(fb: FixedBeams, intervals: bool = True) -> dict:
+    """The law's two scales by maximum likelihood on the fixed beams ``fb`` (_scale_best), each with its 95 %
+    profile interval (chi^2, 1 dof; the other scale at its best), as sigma factors: {"radial", "transverse":
+    {"factor", "interval_95", "determined"}}."""
     def f(v):  # a scale below exp(LOG_FLOOR) is nil: the likelihood is flat there
-        return f0(np.maximum(np.asarray(v, float), LOG_FLOOR))
-    best = min((optimize.minimize(f, np.asarray(s, float), method="Nelder-Mead",
-                                  options={"xatol": 1e-4, "fatol": 1e-6})
-                for s in ([0.0, 0.0], [-4.0, 0.0], [0.0, -4.0])), key=lambda o: o.fun)
-    best.x = np.maximum(best.x, LOG_FLOOR)
+        return fb.value(np.maximum(np.asarray(v, float), LOG_FLOOR))
+    x, fun = _scale_best(fb)
+    best = optimize.OptimizeResult(x=x, fun=fun)
     if not intervals:
         return {name: {"factor": math.exp(0.5 * best.x[k])} for k, name in enumerate(("radial", "transverse"))}
     out = {}
@@ -739,7 +845,7 @@ def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict 
         parts = lik.parts(tt)
         if parts is None:
             return None
-        fits[kind] = _scale_intervals(lambda v, p=parts, lik=lik: lik.given(p, v))
+        fits[kind] = _scale_intervals(FixedBeams(lik, parts))
     dist_m = float(np.median(np.linalg.norm(rec.xyz - tt, axis=1))) / 1e3
     s_r0, s_t0 = (float(s) * 1e3 for s in base.sigmas(dist_m * 1e3))
     out = {"distances": int(n), "at_distance_m": round(dist_m, 3),
@@ -762,7 +868,7 @@ def rigid_law(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict 
 
 
 def _profile_point(f, x: np.ndarray) -> optimize.OptimizeResult:
-    """The minimum of ``f`` (a profile's negative log-likelihood: two tilts and two log scales) from ``x``: BFGS on
+    """The minimum of ``f`` (a profile's negative log-likelihood: two tilts and the log scales) from ``x``: BFGS on
     finite differences (smooth there, about a fifth of Nelder-Mead's evaluations for the same values on the demo
     campaign), Nelder-Mead where BFGS ends on no finite value from a finite start (a step into the region too near
     the readings or too far from them, where the likelihood is infinite); an infinite start stays infinite."""
@@ -832,21 +938,22 @@ RIGID_STARTS = RIGID_STARTS / np.linalg.norm(RIGID_STARTS, axis=1)[:, None]  # t
 
 def _rigid_best(lik: RigidLikelihood, c: np.ndarray, v: np.ndarray, f_v: float, scale: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray, float]:
-    """The best station of the mutual distances' likelihood ``lik``: the local best ``v`` (position mm, two log
-    scales; ``f_v`` its value) found from the rounds' estimate, against local searches from START_DISTANCE (or
-    v's distance, if farther) from the readings' centre ``c`` along each of RIGID_STARTS (the scales from v's).
+    """The best station of the mutual distances' likelihood ``lik``: the local best ``v`` (position mm, the log
+    ratio of the scales; ``f_v`` its value) found from the rounds' estimate, against local searches from
+    START_DISTANCE (or v's distance, if farther) from the readings' centre ``c`` along each of RIGID_STARTS (the
+    ratio from v's).
     The profile of the distance is then taken about it: about the rounds' estimate, its direction held near theirs,
     it reads the distance in a direction the distances reject (the icelinker replica: the rounds' station 86 deg
     from the tracker's as seen from the readings, the profile 4-30 m where the tracker stood 2.84 m away).
-    Returns (position, log scales, value)."""
+    Returns (position, log ratio, value)."""
     best, f_best = v, f_v
     d = max(START_DISTANCE, float(np.linalg.norm(v[:3] - c)))
     for u in RIGID_STARTS:
         start = np.append(c + d * u, v[3:])
-        res = _profile_point(lambda w, s=start: lik(s + w * scale), np.zeros(5))
+        res = _profile_point(lambda w, s=start: lik(s + w * scale), np.zeros(len(start)))
         if math.isfinite(res.fun) and res.fun < f_best:
             best, f_best = start + res.x * scale, float(res.fun)
-    return best[:3], np.maximum(best[3:], LOG_FLOOR), f_best
+    return best[:3], best[3:], f_best
 
 
 def rigid_station(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> dict | None:
@@ -867,18 +974,17 @@ def rigid_station(rec: Recording, t: np.ndarray, base: TrackerSpec = AT960) -> d
     parts = lik.parts(t)
     if parts is None:
         return None
-    law = _scale_intervals(lambda v, p=parts: lik.given(p, v), intervals=False)
-    x0 = np.array([max(2 * math.log(max(law[k]["factor"], 1e-300)), LOG_FLOOR) for k in ("radial", "transverse")])
-    f_t = lik.given(parts, x0)
-    scale = np.array([100.0, 100.0, 100.0, 1.0, 1.0])  # mm, log: the local search in comparable steps
-    res = _profile_point(lambda v: lik(np.append(t, x0) + v * scale), np.zeros(5))
+    x0, f_t = _scale_best(FixedBeams(lik, parts))
+    theta = np.array([x0[0] - x0[1]])
+    scale = np.array([100.0, 100.0, 100.0, 1.0])  # mm, log: the local search in comparable steps
+    res = _profile_point(lambda v: lik(np.append(t, theta) + v * scale), np.zeros(4))
     lr = max(2.0 * (f_t - min(float(res.fun), f_t)), 0.0)
     out = {"likelihood_ratio": round(float(lr), 2), "p": float(_tails.chi2_sf(lr, 3))}
     if out["p"] >= LR_LEVEL:
         return out
     c = rec.xyz.mean(axis=0)
-    q, x, f_q = _rigid_best(lik, c, np.append(t, x0) + res.x * scale, float(res.fun), scale)
-    prof = _distance_profile(lambda q, v: lik(np.append(q, np.maximum(v, LOG_FLOOR))), c, q, x, f_q)
+    q, x, f_q = _rigid_best(lik, c, np.append(t, theta) + res.x * scale, float(res.fun), scale)
+    prof = _distance_profile(lambda q, v: lik(np.append(q, v)), c, q, x, f_q)
     interval, det = _profile_set(prof)
     return {**out, "interval_95_mm": interval, "determined": det,
             "profile": [[round(s, 1), round(v, 2)] for s, v in prof]}
