@@ -343,3 +343,26 @@ def test_a_clean_campaigns_clock_is_not_a_problem():
     _, lines = _campaign(6)
     s = screen(parse_recording("\n".join(lines), "rec.csv"))
     assert not s.untimed and not [p for p in s.problems if p.kind == "clock"]
+
+
+def test_a_time_column_in_milliseconds_called_seconds_is_one_data_problem():
+    """Every time written 1000 times too large (milliseconds in time_s): each round in order, no jump beyond 100
+    times its median step, so the relative rules see nothing; the readings of a round lie tens of minutes apart
+    at the median, where a tracker reads a nest in seconds.  One clock problem for the recording, at the second
+    reading of the first round, the readings kept and the time column not used."""
+    _, lines = _campaign(6)
+    ms = []
+    for i, line in enumerate(lines):
+        f = line.split(",")
+        if i and f[7]:
+            f[7] = f"{float(f[7]) * 1000.0:.0f}"
+        ms.append(",".join(f))
+    rec = parse_recording("\n".join(ms), "rec.csv")
+    s = screen(rec)
+    clock = [p for p in s.problems if p.kind == "clock"]
+    assert len(clock) == 1 and "median" in clock[0].text and "milliseconds" in clock[0].text, \
+        [p.text for p in s.problems]
+    assert s.keep.all() and s.untimed
+    f = lines[1].split(",")
+    first_round = _rows(lines, f[0], int(f[1]))
+    assert clock[0].lines == (first_round[1] + 1,), (clock[0].lines, first_round[:3])  # its second reading's line

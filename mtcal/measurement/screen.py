@@ -16,8 +16,10 @@ far more than the noise is a data problem:
 * a clock that is not what it claims (_clock): within one axis' round of one station, written in time order, the
   time goes back from one row to the next, or jumps forward by more than max(JUMP_FLOOR_S, JUMP_FACTOR x the
   round's median step) between two rows; or two rounds of one station overlap in time (one station reads one
-  axis' round at a time).  The readings stand; the time column does not (``Screen.untimed``): what reads the
-  clock -- a drift, a knock at a time, a creep -- is not tested, and that is said.
+  axis' round at a time); or a round's readings lying more than SLOW_STEP_S apart at the median (a column in
+  milliseconds called seconds: one problem where every round is so).  The readings stand; the time column does
+  not (``Screen.untimed``): what reads the clock -- a drift, a knock at a time, a creep -- is not tested, and
+  that is said.
 
 Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
 is the unit every estimator uses).  When the left-out pass held a round's reference reading, that round of that
@@ -47,6 +49,8 @@ PASS_FLOOR_MM = 2.0    # a pass this far from the same pass of the other rounds 
 SAME_MM = 1e-6         # readings equal to this are one reading repeated
 JUMP_FLOOR_S = 3600.0  # a forward step of the clock within one axis' round longer than this ...
 JUMP_FACTOR = 100.0    # ... and than this many times the round's median step is a jump of the clock
+SLOW_STEP_S = 600.0    # a round whose readings lie further apart than this at the median is not timed in seconds
+# (a tracker reads a nest in seconds; the machine moves between positions in seconds to a minute)
 
 
 @dataclass
@@ -170,6 +174,7 @@ def _clock(rec: Recording, out: Screen) -> None:
         if why:
             flagged.add(key)
             _clock_problem(rec, out, key, *why)
+    flagged |= _slow_rounds(rec, out, {k: r for k, r in blocks.items() if k not in flagged})
     spans = sorted((t[r].min(), t[r].max(), k, r) for k, r in blocks.items() if k not in flagged)
     end: dict[str, tuple] = {}  # station -> (latest end so far, its round's key)
     for lo, hi, key, rows in spans:
@@ -204,6 +209,23 @@ def _clock_in_round(rec: Recording, rows: list[int]) -> tuple[int, str] | None:
                              f"{limit:.6g} s: {JUMP_FACTOR:g} times the round's median step, at least "
                              f"{JUMP_FLOOR_S:g} s)")
     return None
+
+
+def _slow_rounds(rec: Recording, out: Screen, blocks: dict[tuple, list[int]]) -> set[tuple]:
+    """The rounds (``blocks``: key -> rows in file order) whose readings lie more than SLOW_STEP_S apart at the
+    median, each a clock problem at its second reading -- one, for the first round in the file, where every round
+    with two readings is so (the whole column in another unit).  Returns their keys."""
+    med = {k: float(np.median(np.diff(rec.time_s[r]))) for k, r in blocks.items() if len(r) > 1}
+    slow = [k for k, m in med.items() if m > SLOW_STEP_S]
+    if not slow:
+        return set()
+    every = len(slow) == len(med)
+    for key in sorted(slow, key=lambda k: blocks[k][0])[:1 if every else None]:
+        _clock_problem(rec, out, key, blocks[key][1], (
+            f"{'the readings of every round' if every else 'its readings'} lie {med[key]:.6g} s apart at the median (more than "
+            f"{SLOW_STEP_S:g} s, where a tracker reads a nest in seconds): a time column in milliseconds or "
+            "another unit is not one in seconds"))
+    return set(slow)
 
 
 def _clock_problem(rec: Recording, out: Screen, key: tuple, row: int, why: str) -> None:
