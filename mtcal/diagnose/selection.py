@@ -188,7 +188,8 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
             if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
                 return v  # the named reversal effects of the axis cannot explain it
             continue
-        why = inadequate_because(prep, eng, v.candidate, w, level) or _contained_elsewhere(eng, v, sig, w)
+        why = (inadequate_because(prep, eng, v.candidate, w, level) or _contained_elsewhere(eng, v, sig, w)
+               or _within_its_nest(prep, eng, v, w, level))
         if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and _frame_step(v.candidate):
             fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), _path(prep, eng, v, w)], v,
                                                        level, taken)
@@ -609,6 +610,53 @@ def _shared_by_its_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
         f"the other nests read at the same stop(s) are displaced the same way (F = {sc.F:.1f}, "
         f"p = {math.exp(sc.logp):.2g}): the stop landed off or the tracker moved, not "
         + ("one reading" if c.grammar.where.at == "reading" else "the nest"))
+
+
+def _within_its_nest(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float) -> str | None:
+    """Why ``v``, a displacement of some readings of one nest in one round (a translation keyed by the round: an
+    outlier, a re-seated reflector), is not told from that nest's own scatter, or None.  The split-plot F test:
+    ``v`` is a contrast between the nest's readings, so its error term is their scatter: the 3 x 3 covariance of
+    the other readings of the nest (same reflector, station and axis; whitened residuals beside ``v``, scaled to
+    what each displaced on its own explains, so the fit's share is not counted as scatter) as every one of its
+    readings' own (strata.against: F on Satterthwaite's degrees of freedom; its shape kept, for a reflector that
+    scatters along the beam and not across it), at ``level`` over the step's own multiplicity (the same test,
+    against this error term); where the nest scatters as the law says this is the usual test.  A
+    dirty or chipped reflector scatters beyond the law at every reading: against the law alone its largest
+    readings are "outliers" and a round of it "re-seated" (gen3's damaged_reflector: five outliers and an offset
+    named at a reflector scattering 40-100 times the law)."""
+    c = v.candidate
+    g = c.grammar
+    rows = np.asarray(c.extra.get("rows", ()), int)
+    if g is None or g.what != "translation" or "round" not in g.how.on or not len(rows):
+        return None
+    geo, st = prep.geometry, np.asarray(prep.rec.stations())
+    nest = (geo.point == geo.point[rows[0]]) & (geo.axis == geo.axis[rows[0]]) & (st == st[rows[0]])
+    nest[rows] = False
+    own = eng.score(w(c))
+    if not own.separable or nest.sum() < 2:
+        return None
+    e = eng.copy()
+    e.add(w(c))
+    others = np.flatnonzero(nest)
+    between = e.score_blocks([(np.arange(3 * i, 3 * i + 3), np.eye(3)) for i in others])
+    if not between.separable:
+        return None
+    R = e.r.reshape(-1, 3)[others]
+    C = R.T @ R
+    C *= 3.0 * (between.delta / between.k) / max(float(np.trace(C)), 1e-300)  # the fit's share left out
+    units = [np.arange(3 * i, 3 * i + 3) for i in (*others, *rows)]
+    err = stratum.PureError(C, np.zeros((3, 3)), C, between.k, len(others), 0, units, e.rss / max(e.dof, 1))
+    sc = stratum.against(eng, w(c), err)
+    if sc is None:
+        return None
+    F, logp = sc.F, sc.logp
+    if logp + v.log_multiplicity < math.log(level):
+        return None
+    return (f"against the scatter of the other readings of its reflector (each displaced on its own, beside it: "
+            f"F = {between.F:.1f}, p = {math.exp(between.logp):.2g}) it is not significant (F = {F:.2g} on "
+            f"{sc.k} and {sc.dof} degrees of freedom, p_adj = {min(1.0, math.exp(logp + v.log_multiplicity)):.2g}"
+            "): the reflector scatters more than the law at every reading (dirty, chipped or weak), and such a "
+            "scatter makes it as well")
 
 
 def _against_the_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
