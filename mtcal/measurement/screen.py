@@ -222,9 +222,9 @@ def _slow_rounds(rec: Recording, out: Screen, blocks: dict[tuple, list[int]]) ->
     every = len(slow) == len(med)
     for key in sorted(slow, key=lambda k: blocks[k][0])[:1 if every else None]:
         _clock_problem(rec, out, key, blocks[key][1], (
-            f"{'the readings of every round' if every else 'its readings'} lie {med[key]:.6g} s apart at the median (more than "
-            f"{SLOW_STEP_S:g} s, where a tracker reads a nest in seconds): a time column in milliseconds or "
-            "another unit is not one in seconds"))
+            f"{'the readings of every round' if every else 'its readings'} lie {med[key]:.6g} s apart at the "
+            f"median (more than {SLOW_STEP_S:g} s, where a tracker reads a nest in seconds): a time column in "
+            "milliseconds or another unit is not one in seconds"))
     return set(slow)
 
 
