@@ -189,7 +189,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
                 return v  # the named reversal effects of the axis cannot explain it
             continue
         why = (inadequate_because(prep, eng, v.candidate, w, level) or _contained_elsewhere(eng, v, sig, w)
-               or _within_its_nest(prep, eng, v, w, level))
+               or _within_its_scatter(prep, eng, v, w, level))
         if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and _frame_step(v.candidate):
             fallback = fallback or _strongest_in_place([_knock_stops(prep, eng, v, w), _path(prep, eng, v, w)], v,
                                                        level, taken)
@@ -612,32 +612,56 @@ def _shared_by_its_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
         + ("one reading" if c.grammar.where.at == "reading" else "the nest"))
 
 
-def _within_its_nest(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float) -> str | None:
+NEIGHBOURS = 24  # readings of the station nearest in time either side of a displacement: its neighbours' stratum
+
+
+def _within_its_scatter(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float) -> str | None:
     """Why ``v``, a displacement of some readings of one nest in one round (a translation keyed by the round: an
-    outlier, a re-seated reflector), is not told from that nest's own scatter, or None.  The split-plot F test:
-    ``v`` is a contrast between the nest's readings, so its error term is their scatter: the 3 x 3 covariance of
-    the other readings of the nest (same reflector, station and axis; whitened residuals beside ``v``, scaled to
-    what each displaced on its own explains, so the fit's share is not counted as scatter) as every one of its
-    readings' own (strata.against: F on Satterthwaite's degrees of freedom; its shape kept, for a reflector that
-    scatters along the beam and not across it), at ``level`` over the step's own multiplicity (the same test,
-    against this error term); where the nest scatters as the law says this is the usual test.  A
-    dirty or chipped reflector scatters beyond the law at every reading: against the law alone its largest
-    readings are "outliers" and a round of it "re-seated" (gen3's damaged_reflector: five outliers and an offset
-    named at a reflector scattering 40-100 times the law)."""
+    outlier, a bump, a re-seated reflector), is not told from the scatter it lies in, or None.  The split-plot F
+    test: ``v`` is a contrast between its readings and those of its strata -- the nest's other readings on the
+    axis (same reflector, station and axis), and the station's readings nearest in time (NEIGHBOURS, half before
+    and half after) -- so each stratum's scatter is an error term: its 3 x 3 covariance (whitened residuals beside
+    ``v``, scaled to what each reading displaced on its own explains, so the fit's share is not counted as
+    scatter) as every one of the stratum's readings' own and ``v``'s (strata.against: F on Satterthwaite's degrees
+    of freedom, the covariance's shape kept: a reflector scattering along the beam and not across it).  Null: the
+    displaced readings scatter as the stratum's others; alternative: they are displaced beyond it.  ``v`` is
+    named only where it is significant against each, at ``level`` over its own multiplicity (the same test,
+    against these error terms); where the strata scatter as the law says this is the usual test.  A dirty or
+    chipped reflector scatters beyond the law at every reading, a floor shaking makes every reading of a while
+    scatter: against the law alone their largest readings were "outliers" and a round of the reflector
+    "re-seated" (gen3's damaged_reflector: five outliers and an offset; floor_vibration: an outlier)."""
     c = v.candidate
     g = c.grammar
     rows = np.asarray(c.extra.get("rows", ()), int)
     if g is None or g.what != "translation" or "round" not in g.how.on or not len(rows):
         return None
     geo, st = prep.geometry, np.asarray(prep.rec.stations())
-    nest = (geo.point == geo.point[rows[0]]) & (geo.axis == geo.axis[rows[0]]) & (st == st[rows[0]])
-    nest[rows] = False
-    own = eng.score(w(c))
-    if not own.separable or nest.sum() < 2:
+    here = st == st[rows[0]]
+    nest = (geo.point == geo.point[rows[0]]) & (geo.axis == geo.axis[rows[0]]) & here
+    rank = np.argsort(np.argsort(np.where(here, prep.order, np.inf), kind="stable"), kind="stable")
+    near = here & (rank >= rank[rows].min() - NEIGHBOURS // 2) & (rank <= rank[rows].max() + NEIGHBOURS // 2)
+    for of, what in ((nest, "the other readings of its reflector"), (near, "the readings nearest it in time")):
+        found = _against_scatter(eng, w(c), rows, np.setdiff1d(np.flatnonzero(of), rows))
+        if found is None or found[0].logp + v.log_multiplicity < math.log(level):
+            continue
+        sc, between = found
+        return (f"against the scatter of {what} (each displaced on its own, beside it: F = {between.F:.1f}, "
+                f"p = {math.exp(between.logp):.2g}) it is not significant (F = {sc.F:.2g} on {sc.k} and {sc.dof} "
+                f"degrees of freedom, p_adj = {min(1.0, math.exp(sc.logp + v.log_multiplicity)):.2g}): they scatter "
+                "more than the law (a reflector dirty, chipped or weak; the stand shaking for a while), and such a "
+                "scatter makes it as well")
+    return None
+
+
+def _against_scatter(eng: Engine, G: np.ndarray, rows: np.ndarray, others: np.ndarray
+                     ) -> tuple[Score, Score] | None:
+    """The F test of the whitened columns ``G`` (displacing the readings ``rows``) against the scatter of the
+    readings ``others`` (_within_its_scatter's error term): (its score, the others' each displaced on its own
+    beside G), or None where fewer than two others are left or either is not separable."""
+    if len(others) < 2:
         return None
     e = eng.copy()
-    e.add(w(c))
-    others = np.flatnonzero(nest)
+    e.add(G)
     between = e.score_blocks([(np.arange(3 * i, 3 * i + 3), np.eye(3)) for i in others])
     if not between.separable:
         return None
@@ -645,18 +669,9 @@ def _within_its_nest(prep: Prepared, eng: Engine, v: Step, w: Columns, level: fl
     C = R.T @ R
     C *= 3.0 * (between.delta / between.k) / max(float(np.trace(C)), 1e-300)  # the fit's share left out
     units = [np.arange(3 * i, 3 * i + 3) for i in (*others, *rows)]
-    err = stratum.PureError(C, np.zeros((3, 3)), C, between.k, len(others), 0, units, e.rss / max(e.dof, 1))
-    sc = stratum.against(eng, w(c), err)
-    if sc is None:
-        return None
-    F, logp = sc.F, sc.logp
-    if logp + v.log_multiplicity < math.log(level):
-        return None
-    return (f"against the scatter of the other readings of its reflector (each displaced on its own, beside it: "
-            f"F = {between.F:.1f}, p = {math.exp(between.logp):.2g}) it is not significant (F = {F:.2g} on "
-            f"{sc.k} and {sc.dof} degrees of freedom, p_adj = {min(1.0, math.exp(logp + v.log_multiplicity)):.2g}"
-            "): the reflector scatters more than the law at every reading (dirty, chipped or weak), and such a "
-            "scatter makes it as well")
+    sc = stratum.against(eng, G, stratum.PureError(C, np.zeros((3, 3)), C, between.k, len(others), 0, units,
+                                                   e.rss / max(e.dof, 1)))
+    return None if sc is None else (sc, between)
 
 
 def _against_the_stops(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
