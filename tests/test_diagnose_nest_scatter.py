@@ -71,8 +71,8 @@ def _shaken(c: C.Campaign, t0: float, t1: float, angular_urad: float, radial_um:
 @pytest.mark.parametrize("seed", [1, 2])
 def test_readings_of_a_while_the_stand_shook_are_no_outliers(seed):
     """The tracker's stand shaking for two minutes (a forklift passing): every reading then scatters 3 urad across
-    its beam and 3 um along it, seven times the AT960's.  Its largest readings are no outliers: against the readings nearest them in time they are not
-    beyond the scatter."""
+    its beam and 3 um along it, seven times the AT960's.  Its largest readings are no outliers: against the
+    readings nearest them in time they are not beyond the scatter."""
     c = C.make(C.Design(rounds=4), (), seed)
     t = c.recording.time_s
     t0 = float(np.quantile(t, 0.6))

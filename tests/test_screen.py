@@ -366,3 +366,25 @@ def test_a_time_column_in_milliseconds_called_seconds_is_one_data_problem():
     f = lines[1].split(",")
     first_round = _rows(lines, f[0], int(f[1]))
     assert clock[0].lines == (first_round[1] + 1,), (clock[0].lines, first_round[:3])  # its second reading's line
+
+
+def test_a_round_whose_direction_column_has_the_other_sign_is_a_data_problem():
+    """Y round 2's direction column written with the other sign (another export's convention): within the round
+    every reading approached moving in + is labelled -1.  The screen compares each reading's label with the sign
+    of the axis' motion to it from the previous reading of its reflector: that round says the opposite of the
+    other rounds at every reading, one "direction" problem at its first line, the round left out; a clean
+    campaign's labels agree with its motion."""
+    _, lines = _campaign(5)
+    rows = _rows(lines, "Y", 2)
+    bad = list(lines)
+    for i in rows:
+        f = bad[i].split(",")
+        f[8] = str(-int(f[8]))
+        bad[i] = ",".join(f)
+    s = screen(parse_recording("\n".join(bad), "rec.csv"))
+    found = [p for p in s.problems if p.kind == "direction"]
+    assert len(found) == 1 and (found[0].axis, found[0].round) == ("Y", 2), [p.text for p in s.problems]
+    assert found[0].lines[0] == rows[0] + 1 and "other sign" in found[0].text
+    assert not s.keep[np.array(rows) - 1].any() and s.keep.sum() == len(lines) - 1 - len(rows)
+    clean = screen(parse_recording("\n".join(lines), "rec.csv"))
+    assert not [p for p in clean.problems if p.kind == "direction"]

@@ -19,7 +19,10 @@ far more than the noise is a data problem:
   axis' round at a time); or a round's readings lying more than SLOW_STEP_S apart at the median (a column in
   milliseconds called seconds: one problem where every round is so).  The readings stand; the time column does
   not (``Screen.untimed``): what reads the clock -- a drift, a knock at a time, a creep -- is not tested, and
-  that is said.
+  that is said;
+* a round whose direction column has the other sign (_directions): each reading's label against the sign of the
+  axis' motion to it from the previous reading of its reflector; a round that says the opposite of the axis'
+  other rounds at DIRECTION_AGREE of its readings or more is left out (one export's convention).
 
 Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
 is the unit every estimator uses).  When the left-out pass held a round's reference reading, that round of that
@@ -49,6 +52,7 @@ PASS_FLOOR_MM = 2.0    # a pass this far from the same pass of the other rounds 
 SAME_MM = 1e-6         # readings equal to this are one reading repeated
 JUMP_FLOOR_S = 3600.0  # a forward step of the clock within one axis' round longer than this ...
 JUMP_FACTOR = 100.0    # ... and than this many times the round's median step is a jump of the clock
+DIRECTION_AGREE = 0.9  # a round whose labels say the opposite of the other rounds' at this share of its readings
 SLOW_STEP_S = 600.0    # a round whose readings lie further apart than this at the median is not timed in seconds
 # (a tracker reads a nest in seconds; the machine moves between positions in seconds to a minute)
 
@@ -97,6 +101,7 @@ def screen(rec: Recording, sides: Mapping[str, str] | None = None, machine=None)
     out = Screen(keep=np.ones(len(rec), bool))
     _duplicates(rec, out)
     _clock(rec, out)
+    _directions(rec, out)
     by_axis = {}
     for axis in rec.axes():
         rows = np.flatnonzero((rec.axis == axis) & out.keep)
@@ -209,6 +214,53 @@ def _clock_in_round(rec: Recording, rows: list[int]) -> tuple[int, str] | None:
                              f"{limit:.6g} s: {JUMP_FACTOR:g} times the round's median step, at least "
                              f"{JUMP_FLOOR_S:g} s)")
     return None
+
+
+def _directions(rec: Recording, out: Screen) -> None:
+    """Rounds whose direction column has the other sign (module docstring): a "direction" problem at the round's
+    first line, its readings left out.  An axis' convention is the majority's over its rounds, mtcal's (the label
+    is the sign of the motion) where they split evenly: an axis or a file in the other convention throughout is
+    that convention, not a slip; readings with no motion since the last of their reflector, or no label, are not
+    counted."""
+    if not np.any(rec.direction):
+        return
+    order = np.where(np.isfinite(rec.time_s), rec.time_s, np.inf)
+    blocks: dict[tuple, list[int]] = {}
+    for i in np.lexsort((rec.line, order)):
+        if out.keep[i]:
+            key = (rec.stations()[i], str(rec.axis[i]), int(rec.round[i]))
+            blocks.setdefault(key, []).append(int(i))
+    tally = {k: _motion_agreement(rec, rows) for k, rows in blocks.items()}
+    for key, (a, n) in tally.items():
+        same = [v for k, v in tally.items() if k[1] == key[1]]
+        sign = 1 if 2 * sum(x for x, _ in same) >= sum(m for _, m in same) else -1
+        off = n - a if sign > 0 else a
+        if n >= 3 and off >= DIRECTION_AGREE * n:
+            rows = blocks[key]
+            first = min(rows, key=lambda i: rec.line[i])
+            out.keep[rows] = False
+            station, axis, rnd = key
+            of = f" of station {station}" if station else ""
+            out.problems.append(DataProblem(
+                "direction", axis, rnd, float(rec.position[first]), tuple(sorted(set(map(str, rec.point[rows])))),
+                (int(rec.line[first]),), 0.0,
+                f"line {int(rec.line[first])}: the direction column of axis {axis} round {rnd}{of} says the "
+                f"opposite of the axis' motion at {off} of {n} readings, where the other rounds agree with it: "
+                "written with the other sign (another export's convention); the round is left out"))
+
+
+def _motion_agreement(rec: Recording, rows: list[int]) -> tuple[int, int]:
+    """(readings whose direction label is the sign of the axis' motion to them from the previous reading of their
+    reflector, readings with motion and a label) among ``rows`` in time order."""
+    last: dict[str, float] = {}
+    agree = n = 0
+    for i in rows:
+        p, q = str(rec.point[i]), float(rec.position[i])
+        if p in last and q != last[p] and rec.direction[i] != 0:
+            n += 1
+            agree += int(np.sign(q - last[p]) == rec.direction[i])
+        last[p] = q
+    return agree, n
 
 
 def _slow_rounds(rec: Recording, out: Screen, blocks: dict[tuple, list[int]]) -> set[tuple]:
