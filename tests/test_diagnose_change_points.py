@@ -164,3 +164,24 @@ def test_a_nest_stepping_three_times_is_one_located_entry_not_three_knocks(seed)
         assert steps == [], (t, steps)
         where = [u.where for u in d.unexplained if str(u.where).startswith("the nest of base_2")]
         assert any("stepping at" in s and s.count(",") >= 2 for s in where), (t, [u.where for u in d.unexplained])
+
+
+def test_a_step_whose_late_readings_move_in_fewer_directions_is_not_a_crash(tmp_path):
+    """gen3 (benchmarks/gen3) seed 1006 campaign 5, a tracker re-levelled before Z's last rounds: from a late t0 on,
+    the re-levelling's five columns (a turn and a translation) span fewer directions, G^T G's smallest eigenvalue
+    1e-20 of its largest but positive, and step_scan's solve raised LinAlgError ("internal error" from the
+    command).  Such a change point is not counted (scans.RANK_TOL, as Engine.score); the re-levelling is named."""
+    import importlib.util
+    from pathlib import Path
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import read_recording
+
+    spec = importlib.util.spec_from_file_location(
+        "gen3", Path(__file__).resolve().parents[1] / "benchmarks" / "gen3" / "gen3.py")
+    gen3 = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen3)
+    gen3.write_campaign(1006, 5, str(tmp_path), 0.3, "all", None)
+    d = diagnose(read_recording(tmp_path / "campaign_0005.csv"))
+    assert [f.name for f in d.effects if f.significant] == ["tracker_relevel"], [
+        (f.name, f.get("where")) for f in d.effects if f.significant]

@@ -406,7 +406,8 @@ def step_scan(prep: Prepared, eng: Engine, rows: np.ndarray, Gw: np.ndarray) -> 
     parameter at reading i), one amount per column.  t0 is scanned over the gaps between distinct reading times;
     each step's reduction of the residual sum of squares on ``eng`` (Frisch-Waugh: G^T G, Q^T G and G^T r) is
     formed by running sums in time order, across the base blocks.  A change point whose columns lie within
-    ALIAS_TOL of the fit (sin^2 of the smallest angle, relative to G^T G: as Engine.score) is not counted.
+    ALIAS_TOL of the fit (sin^2 of the smallest angle, relative to G^T G: as Engine.score), or that spans fewer
+    directions than G has columns (G^T G's smallest eigenvalue below RANK_TOL of its largest), is not counted.
     Returns (best {"delta", "t0", "rows": the readings from t0 on, "before_s", "after_s"}, number of separable
     change points scanned), (None, 0) where none is."""
     rec = prep.rec
@@ -428,7 +429,8 @@ def step_scan(prep: Prepared, eng: Engine, rows: np.ndarray, Gw: np.ndarray) -> 
     lam, V = np.linalg.eigh(A[j])   # A^(-1/2) M A^(-1/2): the step's share outside the fit, per direction
     Li = V / np.sqrt(np.where(lam > 0, lam, 1.0))[:, None, :]
     mu = np.linalg.eigvalsh(np.einsum("nji,njk,nkl->nil", Li, M, Li))
-    ok = (lam[:, 0] > 0) & (mu[:, 0] > ALIAS_TOL**2)
+    ok = (lam[:, 0] > RANK_TOL * lam[:, -1]) & (mu[:, 0] > ALIAS_TOL**2)  # as Engine.score: a direction of G
+    # below RANK_TOL of its largest is none (the readings from a late t0 on may not move in every direction)
     if not ok.any():
         return None, 0
     delta = np.full(len(j), -np.inf)
@@ -438,6 +440,8 @@ def step_scan(prep: Prepared, eng: Engine, rows: np.ndarray, Gw: np.ndarray) -> 
     return {"delta": float(delta[k]), "t0": 0.5 * float(t[jj - 1] + t[jj]), "rows": o[jj:],
             "before_s": float(t[jj - 1]), "after_s": float(t[jj])}, int(ok.sum())
 
+
+RANK_TOL = 1e-12  # step_scan: G^T G's eigenvalues below this share of its largest are nil
 
 K_MAX = 4  # change points a place's search goes up to (its own step and three more)
 
