@@ -225,11 +225,11 @@ def _directions(rec: Recording, out: Screen) -> None:
     if not np.any(rec.direction):
         return
     order = np.where(np.isfinite(rec.time_s), rec.time_s, np.inf)
+    keys = list(zip(rec.stations().tolist(), rec.axis.tolist(), rec.round.tolist()))
     blocks: dict[tuple, list[int]] = {}
     for i in np.lexsort((rec.line, order)):
         if out.keep[i]:
-            key = (rec.stations()[i], str(rec.axis[i]), int(rec.round[i]))
-            blocks.setdefault(key, []).append(int(i))
+            blocks.setdefault(keys[i], []).append(int(i))
     tally = {k: _motion_agreement(rec, rows) for k, rows in blocks.items()}
     for key, (a, n) in tally.items():
         same = [v for k, v in tally.items() if k[1] == key[1]]
