@@ -577,9 +577,14 @@ def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
         checks.append(_drift_grows_with_position)
     if g.how.law == "periodic":
         checks.append(_shape_beyond_period)
-    if g.what == "translation" and "round" in g.how.on:
+    if _one_round(g):
         checks += [_recurs_in_other_rounds] * (g.where.at == "reading") + [_shared_by_its_stops]
     return checks
+
+
+def _one_round(g: fx.Grammar) -> bool:
+    """A translation keyed by the round (an outlier, a bump, a re-seated reflector: some readings of one round)."""
+    return g.what == "translation" and "round" in g.how.on
 
 
 def _reversal_differs(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
@@ -633,7 +638,7 @@ def _within_its_scatter(prep: Prepared, eng: Engine, v: Step, w: Columns, level:
     c = v.candidate
     g = c.grammar
     rows = np.asarray(c.extra.get("rows", ()), int)
-    if g is None or g.what != "translation" or "round" not in g.how.on or not len(rows):
+    if g is None or not _one_round(g) or not len(rows):
         return None
     geo, st = prep.geometry, np.asarray(prep.rec.stations())
     here = st == st[rows[0]]

@@ -790,28 +790,27 @@ def _scale_intervals(fb: FixedBeams, intervals: bool = True) -> dict:
     {"factor", "interval_95", "determined"}}."""
     def f(v):  # a scale below exp(LOG_FLOOR) is nil: the likelihood is flat there
         return fb.value(np.maximum(np.asarray(v, float), LOG_FLOOR))
-    x, fun = _scale_best(fb)
-    best = optimize.OptimizeResult(x=x, fun=fun)
+    best, f_best = _scale_best(fb)
     if not intervals:
-        return {name: {"factor": math.exp(0.5 * best.x[k])} for k, name in enumerate(("radial", "transverse"))}
+        return {name: {"factor": math.exp(0.5 * best[k])} for k, name in enumerate(("radial", "transverse"))}
     out = {}
     for k, name in enumerate(("radial", "transverse")):
         def prof(g, k=k):  # 2 x the profile negative log-likelihood over its best, the other scale at its best
             o = optimize.minimize_scalar(lambda x: f([g, x] if k == 0 else [x, g]),
-                                         bounds=(best.x[1 - k] - PROFILE_SPAN, best.x[1 - k] + PROFILE_SPAN),
+                                         bounds=(best[1 - k] - PROFILE_SPAN, best[1 - k] + PROFILE_SPAN),
                                          method="bounded", options={"xatol": 1e-4})
-            return 2.0 * (o.fun - best.fun) - _tails.chi2_ppf(0.95, 1)
+            return 2.0 * (o.fun - f_best) - _tails.chi2_ppf(0.95, 1)
         ends = []
         for sign in (-1.0, 1.0):
-            inside, g = best.x[k], None
+            inside, g = best[k], None
             for h in PROFILE_STEPS:
-                if prof(best.x[k] + sign * h) > 0:
-                    g = best.x[k] + sign * h
+                if prof(best[k] + sign * h) > 0:
+                    g = best[k] + sign * h
                     break
-                inside = best.x[k] + sign * h
+                inside = best[k] + sign * h
             ends.append(None if g is None else math.exp(0.5 * optimize.brentq(prof, inside, g, xtol=1e-3)))
         lo, hi = ends
-        out[name] = {"factor": math.exp(0.5 * best.x[k]), "interval_95": [lo, hi],
+        out[name] = {"factor": math.exp(0.5 * best[k]), "interval_95": [lo, hi],
                      "determined": bool(lo is not None and hi is not None and hi / lo < RIGID_DETERMINED)}
     return out
 
