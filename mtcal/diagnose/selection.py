@@ -557,16 +557,18 @@ def inadequate_because(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns,
 
 def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
     """The free forms of ``c``'s place that must not be needed beside it (inadequate_because), chosen by its grammar
-    attributes (effects.Grammar), never its name: a member that moves whole stops is checked against them; one
-    depending on the direction of approach at an axis against the reversal free per reflector; a nest's step
-    against its persisting; a step in time (t0) against going on growing; a gradual translation of a side or the
-    tracker's frame against a misfit growing with an axis' position; a periodic law against the free shape over
-    the positions; a translation of one round against recurring in the other rounds (one reading) and against the
-    other nests of its stops."""
+    attributes (effects.Grammar), never its name: a member that moves whole stops is checked against them; a rigid
+    shift at one moment against moving one sequence to its nest's last reading (_to_its_end); one depending on the
+    direction of approach at an axis against the reversal free per reflector; a nest's step against its persisting;
+    a step in time (t0) against going on growing; a gradual translation of a side or the tracker's frame against a
+    misfit growing with an axis' position; a periodic law against the free shape over the positions; a translation
+    of one round against recurring in the other rounds (one reading) and against the other nests of its stops."""
     g = c.grammar
     checks: list[Callable] = [_against_the_stops]
     if g is None or g.free:
         return checks
+    if g.jump:
+        checks.append(_to_its_end)
     if g.where.at == "axis" and "direction" in g.how.on:
         checks.append(_reversal_differs)
     if g.where.at == "nest" and g.step:
@@ -599,6 +601,26 @@ def _shape_beyond_period(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
     return None if sc is None else (
         f"the error motion's misfit over the positions goes beyond the periodic error (the shapes beside it: "
         f"F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): a shape of the error function, not a period")
+
+
+def _to_its_end(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    """Why a rigid shift at one moment (fx.Grammar.jump: a translation of one round, a step in time of a nest or of
+    the tracker's frame) is not told from the others, or None: where the readings it moves are one sequence's (one
+    nest in one axis' round) and run to that nest's last reading, no later reading shows whether the nest came back
+    (displaced for a while) or stayed (knocked), nor whether the tracker or the nest moved -- the recording is
+    censored there and they are the same columns.  None is named; the mismatch stays located (the nest in that
+    round, from that time)."""
+    on = c.moved
+    g = prep.geometry
+    if len(set(prep.seq[on].tolist())) != 1:
+        return None
+    point, side = str(g.point[on][0]), str(g.side[on][0])
+    nest = (g.point == point) & (g.side == side)
+    if prep.order[nest].max() > prep.order[on].max():
+        return None
+    return (f"the readings it moves are {point}'s ({side} side) to its last: no later reading shows whether the nest "
+            "came back (displaced for a while) or stayed (knocked), or whether the tracker moved -- measure the nests "
+            "again at the end of the campaign")
 
 
 def _recurs_in_other_rounds(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
