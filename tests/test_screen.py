@@ -388,3 +388,24 @@ def test_a_round_whose_direction_column_has_the_other_sign_is_a_data_problem():
     assert not s.keep[np.array(rows) - 1].any() and s.keep.sum() == len(lines) - 1 - len(rows)
     clean = screen(parse_recording("\n".join(lines), "rec.csv"))
     assert not [p for p in clean.problems if p.kind == "direction"]
+
+
+@pytest.mark.parametrize("decimals, step", [(2, 0.01), (1, 0.1)])
+def test_coordinates_written_too_coarsely_are_one_data_problem_and_every_reading_stays(decimals, step):
+    """An export's number format set to 2 (or 1) decimals of a mm: every x, y, z a multiple of 0.01 (0.1) mm, a
+    rounding error of step / sqrt(12) per coordinate (2.9 um at 0.01 mm), more than the tracker's noise along its
+    beam.  One "resolution" problem naming the step and the first line; nothing is left out.  Written to 3
+    decimals (0.001 mm: 0.29 um) it is no problem, and neither is the simulator's full precision."""
+    _, lines = _campaign(6)
+    rec = parse_recording("\n".join(lines), "rec.csv")
+
+    def written(d):
+        return parse_recording(format_recording(replace(rec, xyz=np.round(rec.xyz, d)), precision=6), "rec.csv")
+
+    s = screen(written(decimals))
+    found = [p for p in s.problems if p.kind == "resolution"]
+    assert len(found) == 1 and f"multiple of {step:g} mm" in found[0].text, [p.text for p in s.problems]
+    assert found[0].lines == (2,) and found[0].size_mm == pytest.approx(step / np.sqrt(12.0))
+    assert s.keep.all()
+    for ok in (written(3), rec):
+        assert not [p.text for p in screen(ok).problems if p.kind == "resolution"]

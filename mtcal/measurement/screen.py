@@ -22,7 +22,10 @@ far more than the noise is a data problem:
   that is said;
 * a round whose direction column has the other sign (_directions): each reading's label against the sign of the
   axis' motion to it from the previous reading of its reflector; a round that says the opposite of the axis'
-  other rounds at DIRECTION_AGREE of its readings or more is left out (one export's convention).
+  other rounds at DIRECTION_AGREE of its readings or more is left out (one export's convention);
+* coordinates written too coarsely (_resolution): every x, y and z a multiple of a step of RESOLUTION_MM or more
+  (an export set to 2 decimals of a mm): the rounding's error, step / sqrt(12), is above a tracker's noise along
+  its beam.  The readings stand (nothing is left out); what the noise law reads of them is the rounding's.
 
 Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
 is the unit every estimator uses).  When the left-out pass held a round's reference reading, that round of that
@@ -53,6 +56,11 @@ SAME_MM = 1e-6         # readings equal to this are one reading repeated
 JUMP_FLOOR_S = 3600.0  # a forward step of the clock within one axis' round longer than this ...
 JUMP_FACTOR = 100.0    # ... and than this many times the round's median step is a jump of the clock
 DIRECTION_AGREE = 0.9  # a round whose labels say the opposite of the other rounds' at this share of its readings
+RESOLUTION_MM = 0.005  # coordinates all multiples of this step or a coarser one (mm) are rounded beyond the
+# tracker: step / sqrt(12) >= 1.4 um, above the AT960's noise along its beam in a machine's work zone (its MPE
+# 0.4 um + 0.3 um/m at k = 2: 0.5 um at 2 m)
+RESOLUTION_STEPS_MM = (1.0, 0.5, 0.1, 0.05, 0.01, 0.005)  # the steps an export's number format gives, coarsest first
+RESOLUTION_MIN = 20  # coordinates needed before their common step is read (a chance multiple: 1 in 200 ** 20)
 SLOW_STEP_S = 600.0    # a round whose readings lie further apart than this at the median is not timed in seconds
 # (a tracker reads a nest in seconds; the machine moves between positions in seconds to a minute)
 
@@ -63,7 +71,8 @@ class DataProblem:
     "round_off_side" (of two rounds that disagree, the one the other axes of its side do not agree with),
     "round_off_station" (of one station's two rounds that disagree, the one the other stations do not agree with;
     or a station's only round, where the other stations' rounds agree and it does not),
-    "duplicate_row", "clock" (the time column going back, jumping or overlapping within a station: _clock)."""
+    "duplicate_row", "clock" (the time column going back, jumping or overlapping within a station: _clock),
+    "direction" (_directions), "resolution" (every coordinate rounded to a coarse step: _resolution)."""
 
     kind: str
     axis: str
@@ -102,6 +111,7 @@ def screen(rec: Recording, sides: Mapping[str, str] | None = None, machine=None)
     _duplicates(rec, out)
     _clock(rec, out)
     _directions(rec, out)
+    _resolution(rec, out)
     by_axis = {}
     for axis in rec.axes():
         rows = np.flatnonzero((rec.axis == axis) & out.keep)
@@ -247,6 +257,28 @@ def _directions(rec: Recording, out: Screen) -> None:
                 f"line {int(rec.line[first])}: the direction column of axis {axis} round {rnd}{of} says the "
                 f"opposite of the axis' motion at {off} of {n} readings, where the other rounds agree with it: "
                 "written with the other sign (another export's convention); the round is left out"))
+
+
+def _resolution(rec: Recording, out: Screen) -> None:
+    """A "resolution" problem where every finite coordinate (x, y, z, mm) of the readings kept is a multiple of one
+    of RESOLUTION_STEPS_MM (the coarsest such step named); nothing is left out.  Fewer than RESOLUTION_MIN
+    coordinates are not read."""
+    xyz = rec.xyz[out.keep]
+    v = xyz[np.isfinite(xyz)]
+    if v.size < RESOLUTION_MIN:
+        return
+    step = next((q for q in RESOLUTION_STEPS_MM if np.all(np.abs(v / q - np.round(v / q)) < 1e-6)), None)
+    if step is None or step < RESOLUTION_MM:
+        return
+    first = int(np.flatnonzero(out.keep)[np.argmin(rec.line[out.keep])])
+    sigma = step / np.sqrt(12.0)
+    out.problems.append(DataProblem(
+        "resolution", str(rec.axis[first]), int(rec.round[first]), float(rec.position[first]), (),
+        (int(rec.line[first]),), float(sigma),
+        f"line {int(rec.line[first])} on: every coordinate (x, y, z) is a multiple of {step:g} mm: the export "
+        f"rounds to {step:g} mm, an error of {1e3 * sigma:.1f} um (1 sigma) per coordinate, more than the tracker's "
+        "noise along its beam; the readings are kept, and the noise law read from them holds the rounding -- "
+        "export at least 3 decimals (0.001 mm)"))
 
 
 def _motion_agreement(rec: Recording, rows: list[int]) -> tuple[int, int]:

@@ -176,7 +176,7 @@ def prepare(rec: Recording, options: dict, outputs: Outputs) -> tuple[Batched | 
         return None, "a given noise law is not batched"
     mach = options.get("machine", DEFAULT_MACHINE)
     m = mach if isinstance(mach, Machine) else load_machine(mach)
-    if screen(rec, m.sides).problems:
+    if not screen(rec, m.sides).keep.all():
         return None, "the screen leaves readings of the campaign out (a trial's screen may differ)"
     t = options.get("tracker")
     t = None if t is None else np.asarray(t, dtype=float).reshape(3)
@@ -542,7 +542,7 @@ def _differs(b: Batched, rec: Recording, xyz: np.ndarray) -> str:
     from mtcal.measurement.screen import screen
 
     trial = replace(rec, xyz=xyz)
-    if screen(trial, b.sides).problems:
+    if not screen(trial, b.sides).keep.all():
         return "screen"
     _, law = _noise_law(trial, b.tracker, [], b.prior, known=True)
     if (law is not None and law.get("source") != "prior") != b.law_replaced:
