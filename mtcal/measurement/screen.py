@@ -60,7 +60,7 @@ RESOLUTION_MM = 0.005  # coordinates all multiples of this step or a coarser one
 # tracker: step / sqrt(12) >= 1.4 um, above the AT960's noise along its beam in a machine's work zone (its MPE
 # 0.4 um + 0.3 um/m at k = 2: 0.5 um at 2 m)
 RESOLUTION_STEPS_MM = (1.0, 0.5, 0.1, 0.05, 0.01, 0.005)  # the steps an export's number format gives, coarsest first
-RESOLUTION_MIN = 20  # coordinates needed before their common step is read (a chance multiple: 1 in 200 ** 20)
+RESOLUTION_MIN = 20  # coordinates needed before their common step is read (by chance, 4-decimal data: 1 in 50 ** 20)
 SLOW_STEP_S = 600.0    # a round whose readings lie further apart than this at the median is not timed in seconds
 # (a tracker reads a nest in seconds; the machine moves between positions in seconds to a minute)
 
