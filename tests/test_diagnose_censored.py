@@ -46,7 +46,8 @@ def test_a_nest_displaced_to_the_end_of_the_recording_is_located_not_named(seed)
 
 
 def test_a_knock_alone_is_named():
-    """The guard's other side: the same knock with the frame still is named a knock, within 3 um."""
+    """The rule's other side: the tracker knocked at the middle of the campaign, with readings of every nest after
+    it, is still named a knock, within 3 um."""
     c = C.make(DESIGN, (), 1)
     rec = c.recording
     t0 = float(np.median(rec.time_s))
