@@ -25,7 +25,8 @@ far more than the noise is a data problem:
   other rounds at DIRECTION_AGREE of its readings or more is left out (one export's convention);
 * coordinates written too coarsely (_resolution): every x, y and z a multiple of a step of RESOLUTION_MM or more
   (an export set to 2 decimals of a mm): the rounding's error, step / sqrt(12), is above a tracker's noise along
-  its beam.  The readings stand (nothing is left out); what the noise law reads of them is the rounding's.
+  its beam.  The readings stand (nothing is left out); the noise law, read from their scatter over the rounds,
+  holds the rounding only as far as it differs from round to round: mismatches located beside it may be its.
 
 Each is reported naming axis, round, position, points and lines, and the pass is left out with a note (a pass
 is the unit every estimator uses).  When the left-out pass held a round's reference reading, that round of that
@@ -277,7 +278,8 @@ def _resolution(rec: Recording, out: Screen) -> None:
         (int(rec.line[first]),), float(sigma),
         f"line {int(rec.line[first])} on: every coordinate (x, y, z) is a multiple of {step:g} mm: the export "
         f"rounds to {step:g} mm, an error of {1e3 * sigma:.1f} um (1 sigma) per coordinate, more than the tracker's "
-        "noise along its beam; the readings are kept, and the noise law read from them holds the rounding -- "
+        "noise along its beam; the readings are kept, but the noise law read from their rounds holds the rounding "
+        "only where it differs between rounds, so mismatches located beside this may be the rounding's -- "
         "export at least 3 decimals (0.001 mm)"))
 
 
