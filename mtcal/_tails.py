@@ -23,6 +23,11 @@ def chi2_ppf(p, k):
     return special.chdtri(k, 1.0 - np.asarray(p, float))
 
 
+def chi2_isf(q, k):
+    """The chi^2 value with k degrees of freedom exceeded with probability q (exact for tiny q)."""
+    return special.chdtri(k, q)
+
+
 def f_sf(x, k1, k2):
     """P(X > x) for X ~ F(k1, k2)."""
     return special.fdtrc(k1, k2, x)

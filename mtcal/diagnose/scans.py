@@ -17,6 +17,7 @@ from mtcal import _tails
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.engine import ALIAS_TOL, Engine
 from mtcal.diagnose.prepare import Prepared
+from mtcal.diagnose.prepared import LEVEL
 
 FACTORS = ("direction", "round", "position", "point", "time")
 
@@ -43,76 +44,99 @@ class Located:
         return asdict(self)
 
 
-SEEN = 3.0  # a displacement's component larger than this many of its standard deviations is one the data see
+SEEN = 3.0  # the least size, in its standard deviations, of a displacement's component the data see (seen_z)
+
+
+def seen_z(columns: int, among: int = 1) -> float:
+    """The standardised size beyond which a component of an entry's displacement is one the data see: the two-sided
+    normal quantile at the diagnosis' default level (prepared.LEVEL), Bonferroni over the ``columns`` independent
+    components of the entry's fit and the ``among`` fits its size was chosen from (a scan's groups), never below
+    SEEN: a reported entry is the most extreme of many, and a component as large as the largest of their noise is
+    not one the data see."""
+    return max(SEEN, math.sqrt(float(_tails.chi2_isf(LEVEL / (max(columns, 1) * max(among, 1)), 1))))
 
 
 @dataclass
 class Beyond:
-    """What columns' fit adds beyond another fit: ``theta`` and ``cov`` their estimate (Frisch-Waugh on that fit,
-    whitened) and covariance, ``disp`` (n, 3) mm the displacement they add at every reading beyond what that fit's
-    columns can take of it in the machine frame, ``J`` (n, 3, k) mm per parameter (its Jacobian), ``moved`` (n,) the
-    readings the columns touch."""
+    """What columns' fit adds beyond another fit (beyond_fit): ``theta`` their coefficients in the whitened fit
+    beside it (Frisch-Waugh: what the fit says, e.g. where it moves the readings most); ``coef`` and ``cov`` the
+    same columns fitted in mm to the readings' part beyond that fit's columns, and its covariance (the size's
+    estimate); ``J`` (n, 3, k) mm per parameter, the columns' displacement beyond what that fit's columns can take
+    of it in the machine frame; ``disp`` (n, 3) mm = J coef; ``moved`` (n,) the readings the columns touch;
+    ``among`` the fits (a scan's groups) the entry was chosen from (seen_z)."""
 
     theta: np.ndarray
+    coef: np.ndarray
     cov: np.ndarray
     disp: np.ndarray
     J: np.ndarray
     moved: np.ndarray | None = None
+    among: int = 1
 
     def seen(self) -> tuple[np.ndarray, np.ndarray]:
         """((n, 3) mm, (n,) mm^2): the part of every reading's displacement the data determine -- its components,
-        in the principal axes of its covariance J cov J^T, larger than SEEN standard deviations (the others are
+        in the principal axes of its covariance J cov J^T, larger than seen_z standard deviations (the others are
         the noise of a direction the readings hardly see: across a tracker's beam, a free form's 3-vector is mostly
         that, and its norm is biased up by it) -- and the variance those kept components carry (their noise's
         expected share of its squared norm)."""
         C = np.einsum("nik,kl,njl->nij", self.J, self.cov, self.J)
         lam, V = np.linalg.eigh(C)
         a = np.einsum("nji,nj->ni", V, self.disp)
-        keep = np.abs(a) > SEEN * np.sqrt(np.maximum(lam, 0.0))
+        keep = np.abs(a) > seen_z(len(self.coef), self.among) * np.sqrt(np.maximum(lam, 0.0))
         return np.einsum("nij,nj->ni", V, np.where(keep, a, 0.0)), np.sum(np.where(keep, lam, 0.0), axis=1)
 
     def largest(self) -> tuple[int, float, float]:
         """(reading, size mm, its standard uncertainty mm) of the largest displacement the data determine at a
-        reading the columns move (``seen``; where none is, the largest displacement), its noise removed by its
-        expected value: sqrt(|d|^2 - the variance of its kept components), the estimate of the true displacement's
-        norm under the fit's error term (a largest norm over many readings of a many-column fit is otherwise the
-        largest of its noise)."""
+        reading the columns move (``seen``), its noise removed by its expected value: sqrt(|d|^2 - the variance of
+        its kept components), the estimate of the true displacement's norm under the fit's error term (a largest
+        norm over many readings of a many-column fit is otherwise the largest of its noise).  Where no component
+        is seen the size is 0, with the standard uncertainty of the largest displacement: what the data cannot
+        see beyond the base is not given a size."""
         d, var = self.seen()
-        size2 = np.sum(d ** 2, axis=1)
-        if not size2.any():
-            d, size2 = self.disp, np.sum(self.disp ** 2, axis=1)
-            var = np.zeros(len(d))
-        size2 = np.maximum(size2 - var, 0.0)
+        size2 = np.maximum(np.sum(d ** 2, axis=1) - var, 0.0)
         if self.moved is not None and self.moved.any():  # at the readings the columns move (the base's own
             size2 = np.where(self.moved, size2, 0.0)     # motion spread over the others is not the entry's)
-        k = int(np.argmax(size2))
+        if not size2.any():
+            d = self.disp * (self.moved[:, None] if self.moved is not None and self.moved.any() else 1.0)
+            k = int(np.argmax(np.sum(d ** 2, axis=1)))
+        else:
+            k = int(np.argmax(size2))
         norm = float(np.linalg.norm(d[k]))
         g = d[k] / norm if norm > 0 else np.zeros(3)
         Jk = g @ self.J[k]
         return k, float(math.sqrt(size2[k])), float(math.sqrt(max(Jk @ self.cov @ Jk, 0.0)))
 
 
-def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float) -> Beyond:
-    """The displacement the whitened columns ``G`` (3n, k) add beyond the fit ``beside``: their coefficients fitted
-    to its residual with its columns projected out (Frisch-Waugh, whitened by ``W`` (n, 3, 3)); their displacement
-    (mm) then taken beyond what ``beside``'s columns can take of it in the machine frame (least squares in mm, the
-    metric of a displacement: in the whitened one, the part beyond the fit moves a reading across the beam by
-    many times what it moves it along -- a cyclic error of the tracker's distances of 4 um was located at up to
-    49 um, tests/test_diagnose_sizes.py).  ``sigma``: the residual scale of the covariance.  What the base (or
-    another entry) can take is not counted: a reported size is what the data show beyond it, never a raw
-    coefficient of columns the base trades against."""
+def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float, among: int = 1) -> Beyond:
+    """The displacement the whitened columns ``G`` (3n, k) add beyond the fit ``beside``, in mm (machine frame):
+    the columns un-whitened (``W`` (n, 3, 3) the whitening) and taken beyond what ``beside``'s columns can take of
+    them (J = (I - P) G_mm, P the least-squares projection in mm on those columns), fitted by least squares in mm
+    to the readings' own part beyond those columns ((I - P) y = (I - P) of the whitened fit's residual,
+    un-whitened); the covariance the sandwich of that fit under the noise law (sigma^2 W^-1 W^-T per reading,
+    ``sigma`` the residual scale).  In mm throughout: the weighted fit is efficient where the columns are the
+    physics, but a located group or a free form is a shape near it, and there the weighted fit lets the base trade
+    a reading's across-beam position (cheap under the law) for the along-beam misfit of others, and the columns
+    carry that trade: gen3 1010/0, an AT960-like tracker 0.6 um along the beam, 17.7 um across it, a cyclic
+    distance error of 2.3 um located in groups sized at up to 23 um (10 sigma across the beam, all of it the base's
+    trade).  The mm fit is a projection of what the raw readings show beyond the base: it cannot exceed it, and
+    its noise is stated (``cov``; ``seen`` keeps what stands out of it).  ``theta``: the whitened fit's
+    coefficients (Frisch-Waugh), for what the fit says.  ``among``: the fits the entry is chosen from (Beyond)."""
     n = len(W)
     A = G - beside.project(G)
     theta, *_ = np.linalg.lstsq(A, beside.r, rcond=None)
-    cov = sigma ** 2 * np.linalg.pinv(A.T @ A)
     moved = np.any(G.reshape(n, 3, -1) != 0, axis=(1, 2))
     Wi = np.linalg.inv(W)
     raw = np.zeros((n, 3, G.shape[1]))
     raw[moved] = np.einsum("nij,njk->nik", Wi[moved], G.reshape(n, 3, -1)[moved])
     U = _mm_basis(Wi, beside)
     on = np.repeat(moved, 3)
-    J = (raw.reshape(3 * n, -1) - U @ (U[on].T @ raw.reshape(3 * n, -1)[on])).reshape(n, 3, -1)
-    return Beyond(theta, cov, np.einsum("nik,k->ni", J, theta), J, moved)
+    Jf = raw.reshape(3 * n, -1) - U @ (U[on].T @ raw.reshape(3 * n, -1)[on])
+    x = np.einsum("nij,nj->ni", Wi, beside.r.reshape(n, 3)).ravel()  # the residual in mm: (I - P) y is its
+    coef, *_ = np.linalg.lstsq(Jf, x - U @ (U.T @ x), rcond=None)     # part beyond the columns in mm
+    J = Jf.reshape(n, 3, -1)
+    Hi = np.linalg.pinv(Jf.T @ Jf)
+    M = np.einsum("nip,nij,nkj,nkq->pq", J, Wi, Wi, J)  # J^T Sigma J, Sigma = W^-1 W^-T per reading
+    return Beyond(theta, coef, sigma ** 2 * Hi @ M @ Hi, np.einsum("nik,k->ni", J, coef), J, moved, among)
 
 
 _MM_BASES: "weakref.WeakKeyDictionary[Engine, tuple[int, np.ndarray]]" = weakref.WeakKeyDictionary()
@@ -128,12 +152,12 @@ def _mm_basis(Wi: np.ndarray, eng: Engine) -> np.ndarray:
     return kept[1]
 
 
-def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray) -> tuple[float, float]:
+def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray, among: int = 1) -> tuple[float, float]:
     """(size, standard uncertainty) mm of a group's common shift beyond the fit ``eng``: a translation of the
     readings ``idx`` as three columns (beyond_fit), its largest displacement at a reading."""
     G = np.zeros((len(W), 3, 3))
     G[idx] = W[idx]
-    return beyond_fit(W, eng, G.reshape(-1, 3), eng.sigma).largest()[1:]
+    return beyond_fit(W, eng, G.reshape(-1, 3), eng.sigma, among).largest()[1:]
 
 
 def _levels(prep: Prepared, on: np.ndarray) -> dict[str, list[tuple[Any, np.ndarray]]]:
@@ -209,7 +233,7 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
         padj = min(1.0, min(p_shift, p_disp) * count)
         if padj < level:
             (T, kt), (S, ks) = tests
-            size, sd = group_shift(prep.W, eng, idx)
+            size, sd = group_shift(prep.W, eng, idx, len(groups))
             out.append(Located(a, by, where,
                                float(-math.log10(max(padj, 1e-300))), padj,
                                "mean" if p_shift <= p_disp else "spread", ng, T / max(kt, 1), S / max(ks, 1),
