@@ -18,6 +18,7 @@ from mtcal.diagnose.scans import beyond_the_family, collapsed, locate
 from mtcal.diagnose.selection import (
     Columns,
     backward,
+    beside_a_mismatch,
     cv_gain,
     folds,
     forward,
@@ -154,6 +155,8 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     with_effects = with_steps(null_eng, steps, w)
     left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
     left = collapsed(left)
+    beside_a_mismatch(prep, with_effects, steps, effects, left, w)
+    effects.sort(key=lambda f: not f.significant)  # stable: a withdrawn name after the named ones
     unexplained = [free_form_located(prep, with_steps(eng, [o for o in steps if o is not s], w), s, w, after.sigma)
                    for s in free] + left
     base_info = _base_info(prep, degrees, test_degrees, null, int(after.copy_base().p), shapes)

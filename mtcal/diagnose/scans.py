@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 import weakref
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import Any, Callable
 
 import numpy as np
@@ -39,9 +39,10 @@ class Located:
     shift_mm: float
     note: str = "located but not explained by any candidate effect"
     shift_sd_mm: float | None = None  # the standard uncertainty of shift_mm, where it is a fit's (a free form's)
+    rows: np.ndarray | None = field(default=None, repr=False, compare=False)  # the group's readings (indices)
 
     def to_dict(self) -> dict:
-        return asdict(self)
+        return {f.name: getattr(self, f.name) for f in fields(self) if f.name != "rows"}
 
 
 SEEN = 3.0  # the least size, in its standard deviations, of a displacement's component the data see (seen_z)
@@ -237,7 +238,7 @@ def locate(prep: Prepared, eng: Engine, level: float, pairs: bool = True) -> lis
             out.append(Located(a, by, where,
                                float(-math.log10(max(padj, 1e-300))), padj,
                                "mean" if p_shift <= p_disp else "spread", ng, T / max(kt, 1), S / max(ks, 1),
-                               size, shift_sd_mm=sd))
+                               size, shift_sd_mm=sd, rows=idx))
     out.sort(key=lambda d: -d.score)
     return out
 
@@ -340,7 +341,8 @@ def collapsed(located: list[Located]) -> list[Located]:
                 "structure they sit on)")
         out.append(Located(axis, by, {"levels": [u.where for u in us]}, top.score,
                            top.p_adjusted, top.kind, sum(u.readings for u in us), top.mean_shift_chi2_per_dof,
-                           top.spread_chi2_per_dof, big.shift_mm, note, big.shift_sd_mm))
+                           top.spread_chi2_per_dof, big.shift_mm, note, big.shift_sd_mm,
+                           np.unique(np.concatenate([u.rows for u in us if u.rows is not None] or [[]])).astype(int)))
     out.sort(key=lambda d: -d.score)
     return out
 

@@ -1261,3 +1261,44 @@ def _absorbed_on(e: Engine, pred: np.ndarray) -> bool:
     the nominal lever arms), and its "gain" of 1e-5 came from the readings' noise in the lever arms."""
     size = float(np.linalg.norm(pred))
     return size == 0 or float(np.linalg.norm(pred - e.project(pred[:, None])[:, 0])) <= ABSORBED * size
+
+
+
+def beside_a_mismatch(prep: Prepared, eng: Engine, steps: Sequence[Step], effects: list, left: list,
+                      w: Columns) -> None:
+    """Withdraw a name that does not lead, as the explanation of its readings, the mismatch still located among
+    them.  ``left``: the located scan after the effects (scans.locate on ``eng``, the tests' null with every step;
+    beyond the family's shapes), whose every entry is reported.  For a significant finding whose readings
+    (``touched``) hold located mean shifts, the rival is their free form -- a translation of each such group's
+    readings -- fitted instead of the finding beside the base and the other steps; the finding keeps its name only
+    where its lead over that rival (_lead: the chi^2 reductions' difference in the residual variance, less
+    Akaike's penalty for the difference in columns) is at least TIE_CHI2, the likelihood ratio of 100 the ties
+    are named by.  Null: the name explains its readings at least as well as the located free form beside it;
+    the decision is a stated evidence ratio, not a test, so no multiplicity enters.  A constant backlash with one
+    stop not approached in its direction keeps its name (it leads the stop's translation by thousands); a
+    quadratic of a rotary axis beside that axis' nests displaced position by position (a tracker's cyclic distance
+    error) gives way.  A spread left among the readings (a reflector or an axis scattering more than the law) is a
+    variance, which no mean effect is asked to explain.  The withdrawn name stays in ``effects``, not significant,
+    ``inadequate`` saying why; the located entries stand."""
+    n = len(prep.rec)
+    for f in effects:
+        if not f.significant or f.touched is None or f.candidate is None:
+            continue
+        here = [u for u in left if u.kind == "mean" and u.rows is not None and len(u.rows)
+                and f.touched[u.rows].any()]
+        step = next((x for x in steps if x.candidate is f.candidate), None)
+        if not here or step is None:
+            continue
+        G = np.zeros((n, 3, 3 * len(here)))
+        for j, u in enumerate(here):
+            G[u.rows, :, 3 * j:3 * j + 3] = prep.W[u.rows]
+        others = with_steps(eng, [x for x in steps if x is not step], w)
+        own, rival = others.score(w(f.candidate)), others.score(G.reshape(3 * n, -1))
+        lead = _lead(others, Step(f.candidate, own, step.logp_adj), rival) if rival.separable else math.inf
+        if lead < TIE_CHI2:
+            f.significant = False
+            f.details["inadequate"] = (
+                f"the mismatch located among the readings it moves (axis {here[0].axis} by {here[0].by}"
+                + (f", and {len(here) - 1} more" if len(here) > 1 else "") + ") explains them as well as it does "
+                f"(its lead over them {lead:.1f}, below {TIE_CHI2:.1f}: a likelihood ratio of 100): reported "
+                "where it is located, not named")
