@@ -155,7 +155,8 @@ def _mm_basis(Wi: np.ndarray, eng: Engine) -> np.ndarray:
 
 def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray, among: int = 1) -> tuple[float, float]:
     """(size, standard uncertainty) mm of a group's common shift beyond the fit ``eng``: a translation of the
-    readings ``idx`` as three columns (beyond_fit), its largest displacement at a reading."""
+    readings ``idx`` as three columns (beyond_fit), its largest displacement at a reading; ``among``: the groups
+    it was located among (seen_z)."""
     G = np.zeros((len(W), 3, 3))
     G[idx] = W[idx]
     return beyond_fit(W, eng, G.reshape(-1, 3), eng.sigma, among).largest()[1:]

@@ -1263,7 +1263,6 @@ def _absorbed_on(e: Engine, pred: np.ndarray) -> bool:
     return size == 0 or float(np.linalg.norm(pred - e.project(pred[:, None])[:, 0])) <= ABSORBED * size
 
 
-
 def beside_a_mismatch(prep: Prepared, eng: Engine, steps: Sequence[Step], effects: list, left: list,
                       w: Columns) -> None:
     """Withdraw a name that does not lead, as the explanation of its readings, the mismatch still located among
