@@ -118,3 +118,19 @@ def test_a_component_no_larger_than_the_noise_of_all_it_was_chosen_among_is_not_
     assert size([2.4, 15.0, 0.0], 1000)[0] == pytest.approx(np.sqrt(2.4e-3 ** 2 - 0.2e-3 ** 2))
     none, sd = size([0.1, 5.0, 0.0], 1)
     assert none == 0.0 and sd == pytest.approx(4e-3, rel=1e-3)
+
+
+def test_a_located_mean_too_small_to_size_says_so_not_zero_um(capsys):
+    """`mtcal diagnose`'s text: an unexplained mean shift whose size is 0 (nothing seen beyond the base, scans.Beyond
+    .largest) is printed as too small to size, with its standard uncertainty, not as "0.00 um"."""
+    from types import SimpleNamespace
+
+    from mtcal.cli.diagnose import _print_rest
+    from mtcal.diagnose.scans import Located
+
+    u = [Located("C", "point", "P4", 20.0, 1e-20, "mean", 16, 5.0, 1.0, 0.0, shift_sd_mm=0.0018),
+         Located("C", "point", "P5", 20.0, 1e-20, "mean", 16, 5.0, 1.0, 0.0021, shift_sd_mm=0.0004)]
+    _print_rest(SimpleNamespace(located=[], unexplained=u, effects=[]))
+    out = capsys.readouterr().out.splitlines()
+    assert "(mean, too small beyond the base to size: standard uncertainty 1.80 um, p_adj = 1e-20)" in out[0], out
+    assert "(mean, 2.10 +- 0.40 um, p_adj = 1e-20)" in out[1], out
