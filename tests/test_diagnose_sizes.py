@@ -122,7 +122,8 @@ def test_a_component_no_larger_than_the_noise_of_all_it_was_chosen_among_is_not_
 
 def test_a_located_mean_too_small_to_size_says_so_not_zero_um(capsys):
     """`mtcal diagnose`'s text: an unexplained mean shift whose size is 0 (nothing seen beyond the base, scans.Beyond
-    .largest) is printed as too small to size, with its standard uncertainty, not as "0.00 um"."""
+    .largest) is printed as too small to size, with its standard uncertainty, not as "0.00 um"; entries beyond the
+    eight printed are counted, not dropped silently."""
     from types import SimpleNamespace
 
     from mtcal.cli.diagnose import _print_rest
@@ -134,3 +135,6 @@ def test_a_located_mean_too_small_to_size_says_so_not_zero_um(capsys):
     out = capsys.readouterr().out.splitlines()
     assert "(mean, too small beyond the base to size: standard uncertainty 1.80 um, p_adj = 1e-20)" in out[0], out
     assert "(mean, 2.10 +- 0.40 um, p_adj = 1e-20)" in out[1], out
+    _print_rest(SimpleNamespace(located=[], unexplained=u * 5, effects=[]))  # ten: eight shown, the rest counted
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) == 9 and out[-1] == "  ... and 2 more unexplained entries (the first 8 shown; --json lists all)"

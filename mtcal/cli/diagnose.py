@@ -170,23 +170,33 @@ def _print_effects(d, out: dict, level: float) -> None:
             print(f"    {e['note']}")
 
 
+SHOWN = 8  # located and unexplained entries printed of each; --json holds them all
+
+
+def _more(count: int, what: str) -> None:
+    if count > SHOWN:
+        print(f"  ... and {count - SHOWN} more {what} entries (the first {SHOWN} shown; --json lists all)")
+
+
 def _size(u) -> str:
     """A located mean's size beyond the base in words (um, with its standard uncertainty): where nothing is seen
     beyond the base (size 0, scans.Beyond.largest), that it is too small to size; a spread has none."""
     if u.kind != "mean" or u.shift_mm is None:
         return ""
-    sd = f"{u.shift_sd_mm * 1e3:.2f}" if u.shift_sd_mm is not None else "?"
+    sd = "" if u.shift_sd_mm is None else f"{u.shift_sd_mm * 1e3:.2f}"
     if u.shift_mm == 0:
-        return f", too small beyond the base to size: standard uncertainty {sd} um"
-    return f", {u.shift_mm * 1e3:.2f} +- {sd} um" if u.shift_sd_mm is not None else f", {u.shift_mm * 1e3:.2f} um"
+        return ", too small beyond the base to size" + (f": standard uncertainty {sd} um" if sd else "")
+    return f", {u.shift_mm * 1e3:.2f}" + (f" +- {sd}" if sd else "") + " um"
 
 
 def _print_rest(d) -> None:
     """The located and unexplained mismatches, what was not named and what cannot be separated."""
-    for loc in d.located[:8]:
+    for loc in d.located[:SHOWN]:
         print(f"  located: axis {loc.axis} by {loc.by} = {loc.where} (score {loc.score:.1f}, {loc.kind})")
-    for u in d.unexplained[:8]:
+    _more(len(d.located), "located")
+    for u in d.unexplained[:SHOWN]:
         print(f"  UNEXPLAINED: axis {u.axis} by {u.by} = {u.where} ({u.kind}{_size(u)}, p_adj = {u.p_adjusted:.2g})")
+    _more(len(d.unexplained), "unexplained")
     for e in d.effects:
         if e.get("inadequate"):
             print(f"  not named: {e['name']} {e['axis'] or ''} {e['where']}: {e['inadequate']}")
