@@ -157,9 +157,16 @@ def group_shift(W: np.ndarray, eng: Engine, idx: np.ndarray, among: int = 1) -> 
     """(size, standard uncertainty) mm of a group's common shift beyond the fit ``eng``: a translation of the
     readings ``idx`` as three columns (beyond_fit), its largest displacement at a reading; ``among``: the groups
     it was located among (seen_z)."""
-    G = np.zeros((len(W), 3, 3))
-    G[idx] = W[idx]
-    return beyond_fit(W, eng, G.reshape(-1, 3), eng.sigma, among).largest()[1:]
+    return beyond_fit(W, eng, translations(W, [idx]), eng.sigma, among).largest()[1:]
+
+
+def translations(W: np.ndarray, groups: list[np.ndarray]) -> np.ndarray:
+    """(3n, 3m) whitened columns (``W`` (n, 3, 3) the whitening): a translation (mm, machine frame) of each of
+    the m groups' readings (indices)."""
+    G = np.zeros((len(W), 3, 3 * len(groups)))
+    for j, idx in enumerate(groups):
+        G[idx, :, 3 * j:3 * j + 3] = W[idx]
+    return G.reshape(3 * len(W), -1)
 
 
 def _levels(prep: Prepared, on: np.ndarray) -> dict[str, list[tuple[Any, np.ndarray]]]:

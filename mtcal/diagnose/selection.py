@@ -47,7 +47,7 @@ from mtcal.diagnose.places import (
     unsteady,
 )
 from mtcal.diagnose.prepare import Prepared
-from mtcal.diagnose.scans import change_points
+from mtcal.diagnose.scans import change_points, translations
 from mtcal.diagnose.separate import separate_by
 
 CONFOUND_COS = 0.9
@@ -1279,7 +1279,6 @@ def beside_a_mismatch(prep: Prepared, eng: Engine, steps: Sequence[Step], effect
     error) gives way.  A spread left among the readings (a reflector or an axis scattering more than the law) is a
     variance, which no mean effect is asked to explain.  The withdrawn name stays in ``effects``, not significant,
     ``inadequate`` saying why; the located entries stand."""
-    n = len(prep.rec)
     for f in effects:
         if not f.significant or f.touched is None or f.candidate is None:
             continue
@@ -1288,11 +1287,8 @@ def beside_a_mismatch(prep: Prepared, eng: Engine, steps: Sequence[Step], effect
         step = next((x for x in steps if x.candidate is f.candidate), None)
         if not here or step is None:
             continue
-        G = np.zeros((n, 3, 3 * len(here)))
-        for j, u in enumerate(here):
-            G[u.rows, :, 3 * j:3 * j + 3] = prep.W[u.rows]
         others = with_steps(eng, [x for x in steps if x is not step], w)
-        own, rival = others.score(w(f.candidate)), others.score(G.reshape(3 * n, -1))
+        own, rival = others.score(w(f.candidate)), others.score(translations(prep.W, [u.rows for u in here]))
         lead = _lead(others, Step(f.candidate, own, step.logp_adj), rival) if rival.separable else math.inf
         if lead < TIE_CHI2:
             f.significant = False
