@@ -136,8 +136,8 @@ def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float, among
     coef, *_ = np.linalg.lstsq(Jf, x - U @ (U.T @ x), rcond=None)     # part beyond the columns in mm
     J = Jf.reshape(n, 3, -1)
     Hi = np.linalg.pinv(Jf.T @ Jf)
-    M = np.einsum("nip,nij,nkj,nkq->pq", J, Wi, Wi, J)  # J^T Sigma J, Sigma = W^-1 W^-T per reading
-    return Beyond(theta, coef, sigma ** 2 * Hi @ M @ Hi, np.einsum("nik,k->ni", J, coef), J, moved, among)
+    B = np.einsum("nij,nip->njp", Wi, J).reshape(3 * n, -1)  # W^-T J: J^T Sigma J = B^T B, Sigma = W^-1 W^-T
+    return Beyond(theta, coef, sigma ** 2 * Hi @ (B.T @ B) @ Hi, np.einsum("nik,k->ni", J, coef), J, moved, among)
 
 
 _MM_BASES: "weakref.WeakKeyDictionary[Engine, tuple[int, np.ndarray]]" = weakref.WeakKeyDictionary()
