@@ -248,6 +248,41 @@ def test_signal_leaves_no_temporary(tmp_path, sig, code, word):
     assert sorted(os.listdir(tmp_path)) == ["p.nc"]
 
 
+# A command busy comparing the readings' labels (np.str_): NumPy drops the exception a signal handler raises there
+_LABEL_LOOP = """
+import sys, numpy as np
+import mtcal.cli.plan as cmd
+def run(args):
+    labels = np.array(["table", "spindle"] * 5000)
+    print("busy", flush=True)
+    while True:
+        [lab == "table" for lab in labels]
+cmd.run = run
+from mtcal.cli import main
+sys.exit(main(["plan"]))
+"""
+
+
+@pytest.mark.parametrize("sig, code, word", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+def test_one_signal_stops_a_command_that_numpy_would_let_run_on(sig, code, word):
+    """One Ctrl-C (or SIGTERM) stops the command even where NumPy drops the exception its handler raises (the
+    handler's repeat, mtcal.cli._signals): one signal, exit code and one line within 30 s.  Without the repeat
+    the loop ran on (`mtcal plan --monte-carlo 2000000` hung after a Ctrl-C in CI)."""
+    proc = subprocess.Popen([sys.executable, "-c", _LABEL_LOOP], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, preexec_fn=_default_sigint)
+    assert proc.stdout.readline().strip() == "busy"
+    time.sleep(0.2)
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        pytest.fail(f"{sig.name} was lost: the command ran on for 30 s")
+    assert proc.returncode == code, err
+    assert err.strip().splitlines() == [f"mtcal plan: {word}"]
+
+
 _DATA = Path(__file__).resolve().parent.parent / "mtcal" / "data"
 
 

@@ -16,21 +16,17 @@ import importlib
 import logging
 import pkgutil
 import re
-import signal
 import sys
 import traceback
 import warnings
 from pathlib import Path
 
 from mtcal.cli._options import add_common_arguments, force_argument, join_negative_values
+from mtcal.cli._signals import Terminated, caught
 from mtcal.errors import InputError
 
 EXIT_OK, EXIT_BUG, EXIT_INPUT, EXIT_INTERRUPT, EXIT_TERMINATED = 0, 1, 2, 130, 143
 REPORT_URL = "the mtcal issue tracker"
-
-
-class Terminated(BaseException):
-    """SIGTERM as an exception, so that every ``finally``/cleanup (temporary files) runs on the way out."""
 
 
 def _commands() -> dict[str, tuple[str, str]]:
@@ -121,6 +117,14 @@ class _Folding(logging.StreamHandler):
         self.repeats = 0
 
 
+def _stopped(prog: str, how: type[BaseException], why: str, remove_temporaries) -> int:
+    """Interrupted (Ctrl-C) or terminated (SIGTERM): no temporary left, one line, the exit code."""
+    remove_temporaries()
+    word, code = ("terminated", EXIT_TERMINATED) if how is Terminated else ("interrupted", EXIT_INTERRUPT)
+    print(f"{prog}: {word}" + (f": {why}" if why else ""), file=sys.stderr)
+    return code
+
+
 class _logging:
     """Progress of every module goes through `logging` (logger "mtcal.<module>") to stderr as
     "mtcal COMMAND: message", a line repeating the one before it folded (``_Folding``); -q keeps warnings only.
@@ -181,10 +185,6 @@ def describe_os_error(exc: OSError) -> str:
     return f"{paths}: {problem}"
 
 
-def _terminate(signum, frame):  # pragma: no cover - exercised through a subprocess
-    raise Terminated()
-
-
 def _show_warning(message, category, filename, lineno, file=None, line=None, prog: str = "mtcal",
                   flags: dict[str, str] | None = None) -> None:
     print(f"{prog}: warning: {to_flags(str(message), flags or {})}", file=sys.stderr)
@@ -208,12 +208,12 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_INTERRUPT
     from mtcal.io import remove_temporaries, replace_allowed  # after parsing: `mtcal --help` stays light
     prog = f"mtcal {args.command}"
-    old_term = _install(signal.SIGTERM, _terminate)
     old_show = warnings.showwarning
     flags = args._flags
     warnings.showwarning = lambda *a, **k: _show_warning(*a, prog=prog, flags=flags)
+    signals = caught()
     try:
-        with _logging(args.command, getattr(args, "quiet", False), flags), \
+        with signals, _logging(args.command, getattr(args, "quiet", False), flags), \
                 contextlib.redirect_stdout(_FlagWriter(sys.stdout, flags)), \
                 replace_allowed(getattr(args, "replace", False)):
             return int(args._run(args) or 0)
@@ -223,15 +223,11 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"{prog}: error: {describe_os_error(exc)}", file=sys.stderr)
         return EXIT_INPUT
-    except KeyboardInterrupt as exc:  # its message, where it has one, says what was kept (mtcal uncertainty)
-        remove_temporaries()
-        print(f"{prog}: interrupted" + (f": {to_flags(str(exc), flags)}" if str(exc) else ""), file=sys.stderr)
-        return EXIT_INTERRUPT
-    except Terminated:
-        remove_temporaries()
-        print(f"{prog}: terminated", file=sys.stderr)
-        return EXIT_TERMINATED
-    except Exception as exc:  # a bug: say so, never disguise it as bad input
+    except (KeyboardInterrupt, Terminated) as exc:  # its message, where it has one, says what was kept (uncertainty)
+        return _stopped(prog, type(exc), to_flags(str(exc), flags), remove_temporaries)
+    except Exception as exc:
+        if signals.received is not None:  # the signal's exception turned into another on its way (an extension
+            return _stopped(prog, signals.received, "", remove_temporaries)  # module's init: ImportError)
         print(f"{prog}: internal error ({type(exc).__name__}: {exc}); this is a bug in mtcal, please report it "
               f"to {REPORT_URL} with the command line{'' if args.debug else ' and the output of --debug'}",
               file=sys.stderr)
@@ -240,15 +236,5 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_BUG
     finally:
         warnings.showwarning = old_show
-        if old_term is not None:
-            signal.signal(signal.SIGTERM, old_term)
-
-
-def _install(sig: int, handler):
-    """Install a signal handler (main thread only; elsewhere, e.g. in a test thread, leave signals alone)."""
-    try:
-        return signal.signal(sig, handler)
-    except ValueError:
-        return None
 
 
