@@ -573,6 +573,8 @@ def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
         checks.append(_reversal_differs)
     if g.where.at == "nest" and g.step:
         checks.append(_knock_does_not_persist)
+    if g.where.at == "nest" and "time" in g.how.on:
+        checks.append(_moves_with_the_pose)
     if "t0_s" in c.extra:
         checks.append(_knock_keeps_growing)
     if g.what == "translation" and g.how.gradual and g.where.at in ("side", "frame"):
@@ -961,6 +963,26 @@ def _knock_does_not_persist(prep: Prepared, eng: Engine, c: fx.Candidate, w: Col
     if t_all @ t_late <= 0:
         return "the later readings are displaced the other way: a one-off reading or a bump, not a knock"
     return None
+
+
+POSE_DEGREE = 2  # the smooth member of a nest's displacement with the pose: a quadratic in each axis' position
+
+
+def _moves_with_the_pose(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float) -> str | None:
+    """Why a nest's motion in time (a step, a creep) is not one, or None: with it fitted, the nest's own
+    displacement with the pose of the machine (the same in every round and either direction: fx.by_pose, free at
+    each pose, and its sharper member smooth in each axis' position, POSE_DEGREE; Bonferroni over the two) must
+    not be needed beside it.  A motion in time moves the nest whatever the pose; a reflector whose apparent
+    centre depends on how it faces the beam, or a side sagging with the pose, moves with the pose in every round,
+    before the "step" too."""
+    g, x = prep.geometry, c.extra
+    forms = [f for f in (fx.by_pose(g, x["point"], x["side"], d) for d in (POSE_DEGREE, None)) if f is not None]
+    found = [sc for sc in (_significant_beside(eng, w(c), w(f), level / len(forms)) for f in forms) if sc]
+    sc = min(found, key=lambda s: s.logp, default=None)
+    return None if sc is None else (
+        f"the nest's displacement changes with the machine's pose, the same in every round (a translation with "
+        f"the pose beside it: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): the reflector seen differently at "
+        "each pose, or its side bending with the pose, not moving with time")
 
 
 def _drift_grows_with_position(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
