@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mtcal.diagnose import diagnose, effects as fx
+from mtcal.diagnose import diagnose
+from mtcal.diagnose import effects as fx
 from mtcal.diagnose.prepare import prepare
 from mtcal.measurement.recordings import read_recording
 
