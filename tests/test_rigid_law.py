@@ -6,6 +6,7 @@ at the origin, law TrackerSpec(0.5, 0.3, 2.0, 1.5) (sigma 0.68 um along, 3.1 um 
 and an 8 um / 4 urad pose-to-pose motion shared by the three."""
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -20,6 +21,7 @@ from mtcal.measurement.tracker_position import (
     ACROSS,
     NU,
     T_CONSISTENCY,
+    _profile_end,
     estimate_shape,
     refine,
     rigid_law,
@@ -341,3 +343,22 @@ def test_the_fixed_beams_likelihood_is_the_direct_one_and_its_concentrated_scale
             assert value == pytest.approx(lik.given(parts, logs), rel=1e-12)
             line = [lik.given(parts, logs + d) for d in np.linspace(-0.05, 0.05, 11)]
             assert value <= min(line) + 1e-9 * abs(value), (kind, theta)
+
+
+def test_a_law_whose_profile_cannot_be_bracketed_leaves_its_end_unknown_not_the_diagnosis_stopped(tmp_path):
+    """gen2 seed 3690 campaign 3 (benchmarks/gen2: a knocked nest and a growing scale), its readings as the
+    benchmark gives them: a pass's transverse covariance is singular, the restricted likelihood's A indefinite by
+    rounding at scales here and there, and the profile of a scale infinite beside finite values.  Before:
+    brentq's ValueError ("f(a) and f(b) must have different signs") stopped `mtcal diagnose`.  Now that end of the
+    interval is not known and the scale not determined."""
+    import diagnose_gen2_rates as R  # benchmarks/ is on the path (above)
+
+    from mtcal.diagnose import diagnose
+
+    path = R.generate(str(tmp_path), 1, 3690, 3, "v3")[0]
+    for _, text in R.cases(path.read_text()):
+        assert diagnose(R.parse_recording(text, path.name)).effects is not None
+    # the end itself: a crossing where the profile brackets zero, else not known
+    assert _profile_end(lambda g: g * g - 4.0, 0.0, 3.0) == pytest.approx(math.exp(1.0), rel=1e-3)  # g = 2
+    assert _profile_end(lambda g: math.inf if g > 1 else g * g - 4.0, 0.0, 3.0) is None
+    assert _profile_end(lambda g: math.nan if g < 1 else g * g - 4.0, 0.0, 3.0) is None

@@ -808,11 +808,26 @@ def _scale_intervals(fb: FixedBeams, intervals: bool = True) -> dict:
                     g = best[k] + sign * h
                     break
                 inside = best[k] + sign * h
-            ends.append(None if g is None else math.exp(0.5 * optimize.brentq(prof, inside, g, xtol=1e-3)))
+            ends.append(None if g is None else _profile_end(prof, inside, g))
         lo, hi = ends
         out[name] = {"factor": math.exp(0.5 * best[k]), "interval_95": [lo, hi],
                      "determined": bool(lo is not None and hi is not None and hi / lo < RIGID_DETERMINED)}
     return out
+
+
+def _profile_end(prof, inside: float, outside: float) -> float | None:
+    """The sigma factor where the profile ``prof`` (of a log scale) crosses zero between ``inside`` and
+    ``outside``, or None (that end not known) where it cannot be bracketed there: the restricted likelihood's A is
+    indefinite by rounding at scales here and there when the pass's transverse covariance is singular, and its
+    profile is then infinite or not a number beside finite values (gen2 3690/3 stopped the diagnosis with a
+    ValueError).  An end not known leaves the scale not determined."""
+    a, b = prof(inside), prof(outside)
+    if not (math.isfinite(a) and math.isfinite(b) and a <= 0 < b):
+        return None
+    try:
+        return math.exp(0.5 * optimize.brentq(prof, inside, outside, xtol=1e-3))
+    except (ValueError, RuntimeError):  # a value not a number met inside the bracket
+        return None
 
 
 def _within(x: float, interval: list) -> bool:
