@@ -359,6 +359,10 @@ def test_a_law_whose_profile_cannot_be_bracketed_leaves_its_end_unknown_not_the_
     for _, text in R.cases(path.read_text()):
         assert diagnose(R.parse_recording(text, path.name)).effects is not None
     # the end itself: a crossing where the profile brackets zero, else not known
-    assert _profile_end(lambda g: g * g - 4.0, 0.0, 3.0) == pytest.approx(math.exp(1.0), rel=1e-3)  # g = 2
-    assert _profile_end(lambda g: math.inf if g > 1 else g * g - 4.0, 0.0, 3.0) is None
-    assert _profile_end(lambda g: math.nan if g < 1 else g * g - 4.0, 0.0, 3.0) is None
+    def prof(g):
+        return g * g - 4.0
+
+    assert _profile_end(prof, 0.0, 3.0, prof(0.0), prof(3.0)) == pytest.approx(math.exp(1.0), rel=1e-3)  # g = 2
+    assert _profile_end(prof, 0.0, 3.0, prof(0.0), math.inf) is None
+    assert _profile_end(prof, 0.0, 3.0, math.nan, prof(3.0)) is None
+    assert _profile_end(lambda g: math.nan, 0.0, 3.0, prof(0.0), prof(3.0)) is None  # not a number inside

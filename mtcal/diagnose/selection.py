@@ -977,7 +977,8 @@ def _moves_with_the_pose(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
     before the "step" too."""
     g, x = prep.geometry, c.extra
     forms = [f for f in (fx.by_pose(g, x["point"], x["side"], d) for d in (POSE_DEGREE, None)) if f is not None]
-    found = [sc for sc in (_significant_beside(eng, w(c), w(f), level / len(forms)) for f in forms) if sc]
+    found = [sc for sc in (_significant_beside(eng, w(c), w(f), level / len(forms)) for f in forms)
+             if sc is not None]
     sc = min(found, key=lambda s: s.logp, default=None)
     return None if sc is None else (
         f"the nest's displacement changes with the machine's pose, the same in every round (a translation with "

@@ -802,26 +802,26 @@ def _scale_intervals(fb: FixedBeams, intervals: bool = True) -> dict:
             return 2.0 * (o.fun - f_best) - _tails.chi2_ppf(0.95, 1)
         ends = []
         for sign in (-1.0, 1.0):
-            inside, g = best[k], None
+            inside, g, at = best[k], None, [-_tails.chi2_ppf(0.95, 1), None]  # prof's values at inside and g
             for h in PROFILE_STEPS:
-                if prof(best[k] + sign * h) > 0:
-                    g = best[k] + sign * h
+                v = prof(best[k] + sign * h)
+                if v > 0:
+                    g, at[1] = best[k] + sign * h, v
                     break
-                inside = best[k] + sign * h
-            ends.append(None if g is None else _profile_end(prof, inside, g))
+                inside, at[0] = best[k] + sign * h, v
+            ends.append(None if g is None else _profile_end(prof, inside, g, *at))
         lo, hi = ends
         out[name] = {"factor": math.exp(0.5 * best[k]), "interval_95": [lo, hi],
                      "determined": bool(lo is not None and hi is not None and hi / lo < RIGID_DETERMINED)}
     return out
 
 
-def _profile_end(prof, inside: float, outside: float) -> float | None:
+def _profile_end(prof, inside: float, outside: float, a: float, b: float) -> float | None:
     """The sigma factor where the profile ``prof`` (of a log scale) crosses zero between ``inside`` and
-    ``outside``, or None (that end not known) where it cannot be bracketed there: the restricted likelihood's A is
-    indefinite by rounding at scales here and there when the pass's transverse covariance is singular, and its
-    profile is then infinite or not a number beside finite values (gen2 3690/3 stopped the diagnosis with a
-    ValueError).  An end not known leaves the scale not determined."""
-    a, b = prof(inside), prof(outside)
+    ``outside`` (``a``, ``b``: its values there), or None (that end not known) where it cannot be bracketed there:
+    the restricted likelihood's A is indefinite by rounding at scales here and there when the pass's transverse
+    covariance is singular, and its profile is then infinite or not a number beside finite values (gen2 3690/3
+    stopped the diagnosis with a ValueError).  An end not known leaves the scale not determined."""
     if not (math.isfinite(a) and math.isfinite(b) and a <= 0 < b):
         return None
     try:
