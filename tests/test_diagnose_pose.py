@@ -5,24 +5,16 @@ needed beside it.  Campaigns of benchmarks/gen3 (a generator written from the ph
 its development seed 1010."""
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
 import pytest
+from test_diagnose_beside import _gen3
 
 from mtcal.diagnose import diagnose
 from mtcal.diagnose import effects as fx
 from mtcal.diagnose.prepare import prepare
 from mtcal.measurement.recordings import read_recording
-
-
-def _gen3():
-    spec = importlib.util.spec_from_file_location(
-        "gen3", Path(__file__).resolve().parents[1] / "benchmarks" / "gen3" / "gen3.py")
-    gen3 = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(gen3)
-    return gen3
 
 
 @pytest.mark.slow
