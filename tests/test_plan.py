@@ -126,6 +126,17 @@ def test_cli_json_and_plot(tmp_path, capsys):
     assert np.all(mp["translational"] > 0.001) and np.all(mp["translational"] < 0.05)
 
 
+def test_the_joint_monte_carlo_says_how_far_it_is(capsys):
+    """A long `plan --monte-carlo` says how many campaigns are done at each tenth (stderr, one line each), and
+    nothing with --quiet."""
+    assert main(["plan", "--monte-carlo", "10", "--axes", "X"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    done = [ln for ln in err if "Monte Carlo of the joint fit" in ln]
+    assert done == [f"mtcal plan: Monte Carlo of the joint fit: {k} of 10 campaigns done" for k in range(1, 10)]
+    assert main(["plan", "--monte-carlo", "10", "--axes", "X", "-q"]) == 0
+    assert "Monte Carlo" not in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("args, message", [
     (["--tracker", "1,2"], "--tracker: expected three numbers x,y,z in mm, got '1,2'"),
     (["--monte-carlo", "1"], "at least 2"),

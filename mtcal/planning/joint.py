@@ -10,6 +10,8 @@ same joint fit; the standard deviation of the N estimates.  Per position of ever
 rad, of the estimate from all rounds."""
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from mtcal.campaign.plans import Plan
@@ -18,6 +20,9 @@ from mtcal.campaign.stations import simulate_stations
 from mtcal.identify.joint import axis_result, joint_fit
 from mtcal.kinematics.machine import Machine
 from mtcal.measurement import tracker as trk
+
+log = logging.getLogger(__name__)
+PROGRESS_STEPS = 10  # the Monte Carlo says how far it is this many times (each tenth of its campaigns)
 
 
 def _campaign(m: Machine, pl: Plan, noise: bool, seed: int, spec: trk.TrackerSpec = trk.AT960):
@@ -46,10 +51,13 @@ def joint_sigma(m: Machine, pl: Plan, spec: trk.TrackerSpec = trk.AT960) -> dict
 def joint_monte_carlo(m: Machine, pl: Plan, n: int, seed: int = 0,
                       spec: trk.TrackerSpec = trk.AT960) -> dict[str, tuple[np.ndarray, np.ndarray]]:
     """{axis: (positions, standard deviation (n_positions, 6))} of the joint fit's estimates over ``n`` noisy
-    campaigns of the plan (module docstring)."""
+    campaigns of the plan (module docstring); logs how many are done at each tenth."""
     est: dict[str, list[np.ndarray]] = {}
     pos: dict[str, np.ndarray] = {}
+    every = max(1, n // PROGRESS_STEPS)
     for k in range(n):
+        if k and k % every == 0:
+            log.info("Monte Carlo of the joint fit: %d of %d campaigns done", k, n)
         rec, t = _campaign(m, pl, noise=True, seed=seed + k, spec=spec)
         res = joint_fit(rec, m, t, spec)
         for axis in rec.axes():
