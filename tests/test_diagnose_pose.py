@@ -41,7 +41,7 @@ def test_the_pose_forms_are_the_nests_own_and_the_same_in_every_round():
     g = prepare(rec).geometry
     point, side = str(g.point[0]), str(g.side[0])
     on = (g.point == point) & (g.side == side)
-    free, smooth = fx.by_pose(g, point, side), fx.by_pose(g, point, side, 2)
+    smooth, free = fx.by_pose(g, point, side, 2)
     poses = {(a, p) for a, p in zip(g.axis[on].tolist(), g.position[on].tolist())}
     assert free.G.shape[-1] == 3 * len(poses)
     assert smooth.G.shape[-1] == 3 * 3 * len(set(g.axis[on].tolist()))

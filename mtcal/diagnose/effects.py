@@ -514,33 +514,32 @@ def repeated(g: Geometry, c: Candidate) -> Candidate:
     return _others_shifted(c, key, "outlier (other rounds)", "same places, other rounds")
 
 
-def by_pose(g: Geometry, point: str, side: str, degree: int | None = None) -> Candidate | None:
+def by_pose(g: Geometry, point: str, side: str, degree: int) -> list[Candidate]:
     """The nest ``point`` on ``side`` displaced on its own with the pose of the machine, the same in every round
-    and either direction, a translation (mm, machine frame): at each pose it is read at more than once (station,
-    axis, position), or with ``degree``, smoothly: a polynomial of that degree in each axis' position per station
-    and axis (Legendre, the axis' travel scaled to [-1, 1]).  The free form of a nest's displacement that depends
-    on the pose and not on the time; None where no pose repeats."""
+    and either direction, a translation (mm, machine frame): [smoothly: a polynomial of ``degree`` in each axis'
+    position per station and axis (Legendre, the axis' travel scaled to [-1, 1]), the sharper member; free: at
+    each pose it is read at more than once (station, axis, position)].  The free form of a nest's displacement
+    that depends on the pose and not on the time; [] where no pose repeats."""
     on = (g.point == point) & (g.side == side)
     st = g.station if g.station is not None else np.full(len(on), "")
     key = np.array([f"{s}|{a}|{p!r}" for s, a, p in zip(st, g.axis, g.position)])
     ids, counts = np.unique(key[on], return_counts=True)
     if not (counts >= 2).any():
-        return None
-    if degree is None:
-        cols = [(on & (key == k)).astype(float) for k in ids[counts >= 2]]
-    else:
-        cols = []
-        for s, a in sorted(set(zip(st[on].tolist(), g.axis[on].tolist()))):
-            rows = on & (st == s) & (g.axis == a)
-            x = g.position[rows]
-            t = (2 * x - x.max() - x.min()) / ((x.max() - x.min()) or 1.0)
-            for d in range(degree + 1 if len(set(x.tolist())) > degree else 1):
-                col = np.zeros(len(on))
-                col[rows] = np.polynomial.legendre.legval(t, [0] * d + [1])
-                cols.append(col)
-    G = np.concatenate([S.outlier_signature(c) for c in cols], axis=-1)
-    return Candidate(UNEXPLAINED, None, f"point {point} ({side} side) displaced with the pose", G,
-                     [f"pose term {j + 1} {x} (mm)" for j in range(len(cols)) for x in "xyz"], family="check")
+        return []
+    smooth = []
+    for s, a in sorted(set(zip(st[on].tolist(), g.axis[on].tolist()))):
+        rows = on & (st == s) & (g.axis == a)
+        x = g.position[rows]
+        t = (2 * x - x.max() - x.min()) / ((x.max() - x.min()) or 1.0)
+        for d in range(degree + 1 if len(set(x.tolist())) > degree else 1):
+            col = np.zeros(len(on))
+            col[rows] = np.polynomial.legendre.legval(t, [0] * d + [1])
+            smooth.append(col)
+    free = [(on & (key == k)).astype(float) for k in ids[counts >= 2]]
+    return [Candidate(UNEXPLAINED, None, f"point {point} ({side} side) displaced with the pose{how}",
+                      np.concatenate([S.outlier_signature(c) for c in cols], axis=-1),
+                      [f"pose term {j + 1} {x} (mm)" for j in range(len(cols)) for x in "xyz"], family="check")
+            for cols, how in ((smooth, ", smoothly"), (free, ""))]
 
 
 def same_stops(g: Geometry, c: Candidate, stop: np.ndarray) -> Candidate:

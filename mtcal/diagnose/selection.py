@@ -976,7 +976,7 @@ def _moves_with_the_pose(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
     centre depends on how it faces the beam, or a side sagging with the pose, moves with the pose in every round,
     before the "step" too."""
     g, x = prep.geometry, c.extra
-    forms = [f for f in (fx.by_pose(g, x["point"], x["side"], d) for d in (POSE_DEGREE, None)) if f is not None]
+    forms = fx.by_pose(g, x["point"], x["side"], POSE_DEGREE)
     found = [sc for sc in (_significant_beside(eng, w(c), w(f), level / len(forms)) for f in forms)
              if sc is not None]
     sc = min(found, key=lambda s: s.logp, default=None)
