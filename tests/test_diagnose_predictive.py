@@ -69,3 +69,19 @@ def test_a_drift_changing_within_one_growing_axis_block_is_said_to_be_confounded
     for r in runs:
         assert r["verdict"] != "wrong", (r["how"], r["wrong"])
         assert r["status"]["growing_scale"] == "found", r
+
+
+def test_the_text_output_prints_a_failed_check_beside_its_finding(capsys):
+    """A named finding whose predictive check fails carries an ``unexplained`` entry in ``confounded_with`` with
+    what the check left (``why``) and no rival's ``separate_by``: the text output prints it; before, it stopped
+    with KeyError 'separate_by' as an internal error (met on gen3 1010/9 in a trial of this session's selection)."""
+    from types import SimpleNamespace
+
+    from mtcal.cli.diagnose import _print_effects
+
+    why = "simulated at its estimate it reproduces 0.50 of the pattern, misfit left chi^2/dof 3.10"
+    e = {"name": "scale", "axis": "C", "where": "E_CC", "significant": True, "estimate": 1.0, "uncertainty": 0.1,
+         "unit": "ppm", "sigma_after": 0.0155, "evidence": {"F": 18.8, "p_adjusted": 6e-4, "cv_gain": None},
+         "confounded_with": [{"name": "unexplained", "axis": "C", "where": "the readings it moves", "why": why}]}
+    _print_effects(SimpleNamespace(effects=[e]), {"noise_model": {}}, 0.005)
+    assert f"confounded with unexplained C the readings it moves: {why}" in capsys.readouterr().out

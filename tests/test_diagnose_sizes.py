@@ -59,7 +59,8 @@ def test_a_cyclic_distance_error_is_not_sized_by_what_the_base_moves_across_the_
     the base is cheap, and un-whitened it sized located shifts at up to 49 um (13x the 3.8 um the base cannot take
     in mm); with the whitened fit's coefficients taken beyond the base in mm, at up to 2.0x (a group's translation
     carried the base's across-beam trade at its readings).  Fitted in mm to the readings' part beyond the base
-    (scans.beyond_fit), each is within issue 52's 1.5x of it."""
+    (scans.beyond_fit), each is within issue 52's 1.5x of it.  (Taken one at a time, scans.one_at_a_time, three
+    entries stand where every group the misfit leaked into was listed before; one of them is sized.)"""
     c = C.make(C.Design(rounds=4), (), 1)
     beam = c.recording.xyz - np.array(c.tracker)
     dist = np.linalg.norm(beam, axis=1)
@@ -69,7 +70,7 @@ def test_a_cyclic_distance_error_is_not_sized_by_what_the_base_moves_across_the_
     planted = _planted_beyond_the_base(d, delta)
     assert 0.0035 < planted < 0.0041
     sized = [u for u in d.to_dict()["unexplained"] if u["size_mm"]]
-    assert len(sized) >= 3, d.to_dict()["unexplained"]
+    assert len(sized) >= 1, d.to_dict()["unexplained"]
     for u in sized:
         assert u["size_mm"] < 1.5 * planted and u["size_sd_mm"] > 0, (u["by"], u["where"], u["size_mm"] / planted)
 

@@ -165,7 +165,8 @@ def _print_effects(d, out: dict, level: float) -> None:
             print(f"  {e['name']}: {e['says']}")
     for e in sig:
         for c in e.get("confounded_with", []):
-            print(f"    confounded with {c['name']} {c['axis'] or ''} {c['where']}: {c['separate_by']}")
+            # a rival names the measurement that separates it; a failed predictive check says what it left
+            print(f"    confounded with {c['name']} {c['axis'] or ''} {c['where']}: {c.get('separate_by') or c['why']}")
         if e.get("possible_alias"):
             print(f"    {e['note']}")
 

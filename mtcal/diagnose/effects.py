@@ -542,6 +542,37 @@ def by_pose(g: Geometry, point: str, side: str, degree: int) -> list[Candidate]:
             for cols, how in ((smooth, ", smoothly"), (free, ""))]
 
 
+def by_station(g: Geometry, point: str, side: str) -> Candidate | None:
+    """The nest of ``point`` on ``side`` read differently from each station: a translation (mm, machine frame) of
+    its readings from every station but the first (the first's is its reference position); None where it is read
+    from one station only."""
+    on = (g.point == point) & (g.side == side)
+    stations = [] if g.station is None else sorted(set(g.station[on].tolist()))
+    if len(stations) < 2:
+        return None
+    G = np.concatenate([S.outlier_signature((on & (g.station == st)).astype(float)) for st in stations[1:]], axis=-1)
+    return Candidate(UNEXPLAINED, None, f"point {point} ({side} side) per station", G,
+                     [f"{st} {x} (mm)" for st in stations[1:] for x in "xyz"], family="check")
+
+
+def by_cell(g: Geometry, rows: np.ndarray) -> Candidate:
+    """The readings ``rows`` (indices) displaced freely in every cell they fall in -- one nest at one pose and
+    direction of approach (station, axis, position, direction), pooled over the rounds: a 3-vector (mm, machine
+    frame) per cell, each cell's readings (outlier_signature).  Whatever a located group's readings do that repeats
+    at its poses, and every reading of a group read once (a round, a time window)."""
+    rows = np.asarray(rows, dtype=int)
+    st = g.station if g.station is not None else np.full(len(g.axis), "")
+    key = np.array([f"{p}|{s}|{a}|{q!r}|{d}" for p, s, a, q, d in
+                    zip(g.point[rows], st[rows], g.axis[rows], g.position[rows], g.direction[rows])])
+    cols = []
+    for k in np.unique(key):
+        on = np.zeros(len(g.axis))
+        on[rows[key == k]] = 1.0
+        cols.append(S.outlier_signature(on))
+    return Candidate(UNEXPLAINED, None, "the group's readings free in every cell", np.concatenate(cols, axis=-1),
+                     [f"cell {j + 1} {x} (mm)" for j in range(len(cols)) for x in "xyz"], family="check")
+
+
 def same_stops(g: Geometry, c: Candidate, stop: np.ndarray) -> Candidate:
     """The other readings of the stops of a scanned outlier or a re-seated nest (``stop``: every reading's stop,
     mtcal.diagnose.prepared.Prepared.stop; the other nests read while the machine stood there), shifted by one
@@ -659,30 +690,37 @@ def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, stat
                      nested=knock, grammar=_g("frame", what="rotation", on=("time",), law=LAW_STEP, station=station))
 
 
-def air_grammar(law: str = "") -> Grammar:
-    """The air's drift in the grammar: an expansion about every station, changing with time."""
-    return _g("air", what="expansion", on=("time",), law=law)
-
-
 def air_index_drift(g: Geometry, t0: float, tau: float | None = None, station: str = "given") -> Candidate:
     """The air's refractive index drifting from t0 (s) while the tracker's weather compensation keeps its value
     there: every reading of every station scales about its own station by the same 1e-6 e h(t) (one air, one law;
     derive/grammar.py's expansion about the tracker x ramp_h or lag): a ramp (``tau`` None: e in ppm per hour) or a
     first-order lag of time constant ``tau`` (e in ppm, the final change).  ``station``: "given" (the tracker
-    position(s) of the recording or --tracker) or "estimated" (mtcal.diagnose.noise's, determined by the data)."""
-    G = np.zeros((len(g.axis), 3))
+    position(s) of the recording or --tracker), "estimated" (mtcal.diagnose.noise's, determined by the data) or
+    "fitted" (one station whose position the data do not determine; a lag only): the scale about the readings'
+    centroid c and three more columns, the same law's expansion at unit offsets, i.e. e (c - station) in ppm mm --
+    every reading scaling about one point the fit places, which is the frame drifting with that law (its
+    ``nested`` member, fx.thermal_drift of the tracker) and a scale beside it."""
+    G = np.zeros((len(g.axis), 3, 4 if station == "fitted" else 1))
     dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
     for st in g.stations():
         on, tracker, _ = g.at(st)
-        G[on] = (S.air_index_drift_ramp_signature(g.xyz[on], tracker, dt[on]) if tau is None else
-                 S.air_index_drift_lag_signature(g.xyz[on], tracker, dt[on], float(tau)))
+        about = [g.xyz[on].mean(axis=0)] + [-u for u in np.eye(3)] if station == "fitted" else [tracker]
+        for k, centre in enumerate(about):
+            xyz = g.xyz[on] if k == 0 else np.zeros_like(g.xyz[on])
+            G[on, :, k] = (S.air_index_drift_ramp_signature(xyz, centre, dt[on]) if tau is None else
+                           S.air_index_drift_lag_signature(xyz, centre, dt[on], float(tau)))
     law = "ramp" if tau is None else f"lag, tau={tau:.0f} s"
-    n = len(g.stations())
-    c = Candidate("air_index_drift", None, f"about the tracker{' (every station)' if n > 1 else ''}, {law}",
-                  G[:, :, None], ["e (ppm/h)" if tau is None else "e (ppm)"], family="air_index_drift",
+    n, unit = len(g.stations()), "ppm/h" if tau is None else "ppm"
+    about = "a station the fit places" if station == "fitted" else "the tracker"
+    c = Candidate("air_index_drift", None, f"about {about}{' (every station)' if n > 1 else ''}, {law}", G,
+                  [f"e ({unit})"] + ([f"e (centroid - station)_{k} ({unit} mm)" for k in "xyz"]
+                                     if station == "fitted" else []), family="air_index_drift",
                   extra={"law": "ramp" if tau is None else "lag", "t0_s": float(t0),
                          **({} if tau is None else {"tau_s": float(tau)}), "stations": n, "tracker_from": station,
-                         "t_end_s": float(np.nanmax(g.time_s))}, grammar=air_grammar("ramp" if tau is None else "lag"))
+                         "t_end_s": float(np.nanmax(g.time_s)),
+                         **({"centroid_mm": g.xyz.mean(axis=0).tolist()} if station == "fitted" else {})},
+                  grammar=_g("air", what="expansion", on=("time",), law="ramp" if tau is None else "lag"),
+                  nested=thermal_drift(g, "tracker", float(tau), t0) if station == "fitted" else None)
     if tau is not None:
         c.refine = lambda t: air_index_drift(g, t0, t, station)
         c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)

@@ -14,7 +14,7 @@ from mtcal.diagnose.predictive import predictive_checks
 from mtcal.diagnose.prepare import TIE_POSITIONS, prepare, shared_axes
 from mtcal.diagnose.prepared import LEVEL, STAGES
 from mtcal.diagnose.report import Diagnosis, free_form_located, rejected_findings, selected_findings
-from mtcal.diagnose.scans import beyond_the_family, collapsed, locate
+from mtcal.diagnose.scans import beyond_the_family, collapsed, locate, one_at_a_time
 from mtcal.diagnose.selection import (
     Columns,
     backward,
@@ -25,7 +25,6 @@ from mtcal.diagnose.selection import (
     growing_confounds,
     select_degrees,
     steps_per_place,
-    untested_confounds,
     with_steps,
 )
 from mtcal.errors import InputError
@@ -123,7 +122,6 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
     steps = steps_per_place(backward(eng, steps, w, level, say), say)
     growing_confounds(prep, eng, steps, w)
-    untested_confounds(steps, notes)
     null = ("the given model" if prep.given_model else
             f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)})"
             ) + " + the effects selected before"
@@ -156,6 +154,7 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
     left = collapsed(left)
     beside_a_mismatch(prep, with_effects, steps, effects, left, w)
+    left = one_at_a_time(prep, with_effects, left, w, level)
     effects.sort(key=lambda f: not f.significant)  # stable: a withdrawn name after the named ones
     unexplained = [free_form_located(prep, with_steps(eng, [o for o in steps if o is not s], w), s, w, after.sigma)
                    for s in free] + left

@@ -378,6 +378,59 @@ def beyond_the_family(prep: Prepared, eng: Engine, located: list[Located],
     return keep, [replace(u, note=SHAPE_NOTE) for u in located if (u.axis, u.by, repr(u.where)) not in still]
 
 
+MAX_ENTRIES = 8  # located entries taken one at a time (one_at_a_time); the rest follow as located beside them
+
+
+def one_at_a_time(prep: Prepared, eng: Engine, located: list[Located],
+                  w: Callable[[fx.Candidate], np.ndarray], level: float) -> list[Located]:
+    """The located entries, taken one at a time while the fit still locates any of ``located``'s groups (found on
+    ``eng``, collapsed).  A misfit at one place leaks through the base's shared freedoms -- a reflector's position
+    fitted from every axis it is read on, an axis' error motions from every nest -- into the readings of other
+    places, at times more strongly than it shows where it is: freed where it is, the leak goes with it, which
+    freeing the leak does not do.  So the places tried at each step are the groups located on the current fit and
+    every reflector as read on each axis (its readings there); each is freed in every cell (fx.by_cell: a nest at a
+    pose and direction, pooled over rounds) with the base refitted beside it, and the one that explains the misfit
+    with the strongest evidence (the smallest p of that F test) is taken; the groups are then located again on the
+    fit with it.
+
+    Tests: an entry taken from the located groups keeps locate's test on the fit with the entries before it (null:
+    the group's readings have no mean shift and no extra spread beyond that fit; alternative: they have; error
+    term: the fit's residual, studentized; Bonferroni over the groups x 2).  A reflector taken on an axis enters
+    with its free form's F test (null: its readings on that axis add no mean at any cell beyond the fit; error
+    term: the fit's residual), Bonferroni over the places tried; it is taken only where that is below ``level``.
+    The steps stop where nothing of ``located`` is located any more (a shape beyond the family stays a shape); after
+    MAX_ENTRIES steps what is still located beside them follows as it is."""
+    keys = {(u.axis, u.by, repr(u.where)) for u in located}
+    rec, g = prep.rec, prep.geometry
+    nests = [(a, p, np.flatnonzero((rec.axis == a) & (rec.point == p)))
+             for a in prep.axes for p in sorted(set(rec.point[rec.axis == a].tolist()))]
+    out: list[Located] = []
+    e, todo = eng, [u for u in located if u.rows is not None and len(u.rows)]
+    while todo and len(out) < MAX_ENTRIES:
+        tried = [(u, u.rows) for u in todo] + [((a, p), rows) for a, p, rows in nests
+                                               if not any(u.axis == a and u.by == "point" and u.where == p
+                                                          for u in todo + out)]
+        scores = [e.score(w(fx.by_cell(g, rows))) for _, rows in tried]
+        logp = [sc.logp if sc.separable else 0.0 for sc in scores]
+        j = min((i for i, (u, _) in enumerate(tried)
+                 if isinstance(u, Located) or logp[i] + math.log(len(tried)) < math.log(level)),
+                key=lambda i: logp[i])
+        (u, rows), padj = tried[j], min(1.0, math.exp(logp[j]) * len(tried))
+        if not isinstance(u, Located):
+            size, sd = group_shift(prep.W, e, rows, len(tried))
+            u = Located(u[0], "point", u[1], float(-math.log10(max(padj, 1e-300))), padj, "mean", len(rows),
+                        scores[j].F, 0.0, size, shift_sd_mm=sd, rows=rows,
+                        note="located where freeing the reflector's readings on this axis explains what was "
+                             "located on the fit (it leaks from here through the base's shared freedoms)")
+        out.append(u)
+        e = e.copy()
+        e.add(e.residualized(w(fx.by_cell(g, rows))))
+        taken = {(x.axis, x.by, repr(x.where)) for x in out}
+        todo = [x for x in collapsed([x for x in locate(prep, e, level) if (x.axis, x.by, repr(x.where)) in keys])
+                if (x.axis, x.by, repr(x.where)) not in taken and x.rows is not None and len(x.rows)]
+    return out + todo + [x for x in located if x.rows is None or not len(x.rows)]
+
+
 def outlier_scan(prep: Prepared, eng: Engine) -> tuple[dict, int]:
     """Best single-reading and bumped-nest (rest of the round) displacement; returns (best, family size)."""
     n = len(prep.rec)

@@ -974,16 +974,30 @@ def _moves_with_the_pose(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
     each pose, and its sharper member smooth in each axis' position, POSE_DEGREE; Bonferroni over the two) must
     not be needed beside it.  A motion in time moves the nest whatever the pose; a reflector whose apparent
     centre depends on how it faces the beam, or a side sagging with the pose, moves with the pose in every round,
-    before the "step" too."""
+    before the "step" too.  Nor, read from several stations, may the nest's translation per station
+    (fx.by_station) explain the motion as well: the motion must still be needed beside it (F test at ``level``) --
+    the stations are read one after another, so a nest seen differently from each station moves in time too, and
+    the data do not tell which (gen3 1013/20: a reflector reading long with its incidence, from three stations,
+    was named creeping)."""
     g, x = prep.geometry, c.extra
     forms = fx.by_pose(g, x["point"], x["side"], POSE_DEGREE)
     found = [sc for sc in (_significant_beside(eng, w(c), w(f), level / len(forms)) for f in forms)
              if sc is not None]
     sc = min(found, key=lambda s: s.logp, default=None)
-    return None if sc is None else (
-        f"the nest's displacement changes with the machine's pose, the same in every round (a translation with "
-        f"the pose beside it: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): the reflector seen differently at "
-        "each pose, or its side bending with the pose, not moving with time")
+    if sc is not None:
+        return (f"the nest's displacement changes with the machine's pose, the same in every round (a translation "
+                f"with the pose beside it: F = {sc.F:.1f}, p = {math.exp(sc.logp):.2g}): the reflector seen "
+                "differently at each pose, or its side bending with the pose, not moving with time")
+    per_station = fx.by_station(g, x["point"], x["side"])
+    if per_station is None:
+        return None
+    with_it = eng.copy()
+    with_it.add(w(per_station))
+    own = with_it.score(w(c))
+    return None if own.separable and own.logp < math.log(level) else (
+        f"its motion is as well the nest read differently from each station (beside a translation of the nest per "
+        f"station it adds F = {own.F:.1f}, p = {math.exp(own.logp):.2g}): the reflector facing each station's beam "
+        "at its own angle, or moving with time -- measure the nest from the first station again at the end")
 
 
 def _drift_grows_with_position(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
@@ -1082,27 +1096,6 @@ def _moves_in_time(c: fx.Candidate) -> bool:
     """A member translating a side or the tracker's frame with time."""
     g = c.grammar
     return not c.free and g.what == "translation" and g.where.at in ("side", "frame") and "time" in g.how.on
-
-
-def untested_confounds(steps: list[Step], notes: list[dict]) -> None:
-    """Where a member could not be tested because the data do not locate its place (a note carrying the member's
-    grammar, ``untested``: the air's drift about a station that is not determined or not placed at all,
-    mtcal.diagnose.candidates.air_index_drift), a selected gradual translation of a side or of the tracker with
-    the same dependence (its grammar) lists it in ``confounded_with``: an expansion about a place the data do not
-    locate is, to first order, a translation along the unknown direction with a remainder too small to tell apart
-    (gen2 seed 9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air
-    came out as a drift of the table alone; seed 3537 campaign 12, an isotropic tracker whose rounds show no shape
-    to place it: a 5 ppm ramp a drift of the tracker)."""
-    for nt in (nt for nt in notes if "untested" in nt):
-        g = nt["untested"]
-        other = fx.Candidate(nt["name"], nt["axis"], nt["where"], np.zeros((0, 3, 0)), [], grammar=g)
-        for s in steps:
-            c = s.candidate
-            if (_moves_in_time(c) and c.grammar.how.gradual and c.grammar.how.on == g.how.on
-                    and all(o["name"] != nt["name"] for o in s.confounded_with)):
-                s.confounded_with.append({"name": nt["name"], "axis": nt["axis"], "where": nt["where"],
-                                          "overlap_cos": None, "p_adjusted": None, "why": nt["not_separable"],
-                                          "separate_by": separate_by(c, other)})
 
 
 def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
@@ -1288,20 +1281,21 @@ def _absorbed_on(e: Engine, pred: np.ndarray) -> bool:
 
 def beside_a_mismatch(prep: Prepared, eng: Engine, steps: Sequence[Step], effects: list, left: list,
                       w: Columns) -> None:
-    """Withdraw a name that does not lead, as the explanation of its readings, the mismatch still located among
-    them.  ``left``: the located scan after the effects (scans.locate on ``eng``, the tests' null with every step;
-    beyond the family's shapes), whose every entry is reported.  For a significant finding whose readings
+    """Withdraw a name that does not lead, as the explanation of its readings, the mismatch still located among them.
+    ``left``: the located scan after the effects (scans.locate on ``eng``, the tests' null with every step; beyond
+    the family's shapes), every group it locates (before scans.one_at_a_time keeps those still located beside the
+    ones before them: a group the misfit leaks into is a rival too). For a significant finding whose readings
     (``touched``) hold located mean shifts, the rival is their free form -- a translation of each such group's
     readings -- fitted instead of the finding beside the base and the other steps; the finding keeps its name only
-    where its lead over that rival (_lead: the chi^2 reductions' difference in the residual variance, less
-    Akaike's penalty for the difference in columns) is at least TIE_CHI2, the likelihood ratio of 100 the ties
-    are named by.  Null: the name explains its readings at least as well as the located free form beside it;
-    the decision is a stated evidence ratio, not a test, so no multiplicity enters.  A constant backlash with one
-    stop not approached in its direction keeps its name (it leads the stop's translation by thousands); a
-    quadratic of a rotary axis beside that axis' nests displaced position by position (a tracker's cyclic distance
-    error) gives way.  A spread left among the readings (a reflector or an axis scattering more than the law) is a
-    variance, which no mean effect is asked to explain.  The withdrawn name stays in ``effects``, not significant,
-    ``inadequate`` saying why; the located entries stand."""
+    where its lead over that rival (_lead: the chi^2 reductions' difference in the residual variance, less Akaike's
+    penalty for the difference in columns) is at least TIE_CHI2, the likelihood ratio of 100 the ties are named by.
+    Null: the name explains its readings at least as well as the located free form beside it; the decision is a
+    stated evidence ratio, not a test, so no multiplicity enters. A constant backlash with one stop not approached
+    in its direction keeps its name (it leads the stop's translation by thousands); a quadratic of a rotary axis
+    beside that axis' nests displaced position by position (a tracker's cyclic distance error) gives way. A spread
+    left among the readings (a reflector or an axis scattering more than the law) is a variance, which no mean
+    effect is asked to explain. The withdrawn name stays in ``effects``, not significant, ``inadequate`` saying why;
+    the located entries stand."""
     for f in effects:
         if not f.significant or f.touched is None or f.candidate is None:
             continue
