@@ -4,7 +4,9 @@ beside the ones before it, the first the group whose readings, freed in every ce
 Campaigns of benchmarks/gen3 (written from the physics, not from mtcal/diagnose) on its development seeds."""
 from __future__ import annotations
 
+import json
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -31,7 +33,7 @@ def test_a_misfit_is_located_where_it_is_not_where_it_leaks(tmp_path, seed, inde
     on, an axis' error motions from every nest) carried part of the misfit there.  Now every unexplained entry is
     at an axis and a nest the physics moves."""
     _gen3().write_campaign(seed, index, str(tmp_path), 0.0, "all", [physics])
-    truth = __import__("json").loads((tmp_path / f"campaign_{index:04d}.truth.json").read_text())
+    truth = json.loads((tmp_path / f"campaign_{index:04d}.truth.json").read_text())
     shows = truth["classes"][0]["shows_at"]
     d = diagnose(read_recording(tmp_path / f"campaign_{index:04d}.csv"))
     assert d.unexplained, "nothing located"
@@ -43,8 +45,6 @@ def test_a_misfit_is_located_where_it_is_not_where_it_leaks(tmp_path, seed, inde
 def test_a_cell_is_one_nest_at_one_pose_and_direction_over_the_rounds():
     """fx.by_cell on the demo campaign's first axis: one 3-vector per (nest, station, axis, position, direction),
     the same column for every round of a cell, nothing on readings outside the group."""
-    from pathlib import Path
-
     rec = read_recording(Path(__file__).resolve().parents[1] / "mtcal" / "data" / "demo_campaign.csv")
     prep = prepare(rec)
     g = prep.geometry
