@@ -166,7 +166,7 @@ def test_the_air_is_tested_where_the_rounds_do_not_place_the_station(tmp_path):
     air = [c for c in rivals if c["name"] == "air_index_drift"]
     assert len(air) == 1, [c["name"] for c in rivals]
     assert "a station the fit places" in air[0]["where"] and air[0]["separate_by"].startswith("measure from a")
-    assert not any(n.get("name") == "air_index_drift" and n.get("not_separable") for n in d.to_dict()["notes"])
+    assert not [f for f in d.effects if f.name == "air_index_drift" and f.get("not_separable")]
     assert R.judge(d.to_dict(), R.planted_of(truth, rec)).verdict == "right"
 
 
