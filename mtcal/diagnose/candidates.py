@@ -46,6 +46,13 @@ NOT_SEPARABLE = {
                              "right angle to the others",
     "backlash": BIDIRECTIONAL,
     "thermal_drift": "the recording has no time_s column",
+    "air_index_drift station": "the tracker's position is not known (the scatter of the rounds shows no tracker "
+                               "shape): a scale of the distances about it cannot be placed; give the tracker's "
+                               "position (--tracker or the tracker_x,y,z columns)",
+    "air_index_drift undetermined": "the station is not determined by the data (its profile interval, "
+                                    "noise_model.station_interval): a scale of the distances about it would be "
+                                    "about a guessed point; give the tracker's position (--tracker or the "
+                                    "tracker_x,y,z columns) and log the air's temperature and pressure",
     "tracker_settling undetermined": "the station is not determined by the data (its profile interval, "
                                      "noise_model.station_interval): a turn about it would be about a guessed "
                                      "point (a turn and a shift of the readings, which the drifts and knocks "
@@ -221,19 +228,21 @@ def undetermined(prep: Prepared) -> bool:
 
 def air_index_drift(prep: Prepared, notes: list[dict]) -> list[fx.Candidate]:
     """The air's refractive index drifting from the first reading on, one law for every station (a ramp, or a lag
-    over fx.TAUS_S): about the station(s) where they are known -- given (--tracker, the tracker_x,y,z columns), or
-    estimated from the scatter of the rounds and determined by it (mtcal.diagnose.noise's station interval); about a
-    station the fit places (a lag only, fx.air_index_drift's "fitted") where one station's position is not known or
-    not determined; else (no time) a note says why not."""
+    over fx.TAUS_S): offered where the station(s) are known -- given (--tracker, the tracker_x,y,z columns), or
+    estimated from the scatter of the rounds and determined by it (mtcal.diagnose.noise's station interval); else
+    a note says why not (a scale about a station the data do not place is not this effect's shape)."""
     g, rec = prep.geometry, prep.rec
     interval = prep.noise.details.get("station_interval")
-    if not np.isfinite(rec.time_s).all():
-        notes.append({"name": "air_index_drift", "axis": None, "not_separable": NOT_SEPARABLE["thermal_drift"]})
+    why = (NOT_SEPARABLE["thermal_drift"] if not np.isfinite(rec.time_s).all() else
+           NOT_SEPARABLE["air_index_drift station"] if g.tracker is None and not g.trackers else
+           NOT_SEPARABLE["air_index_drift undetermined"] if undetermined(prep) else None)
+    if why is not None:
+        notes.append({"name": "air_index_drift", "axis": None, "not_separable": why,
+                      **({"kind": "station undetermined", "untested": fx.air_grammar(),
+                          "where": "the air's refractive index drifting (not tested: the station is not determined)"}
+                         if why != NOT_SEPARABLE["thermal_drift"] else {})})
         return []
-    t0 = float(np.min(rec.time_s))
-    if (g.tracker is None and not g.trackers) or undetermined(prep):
-        return [fx.air_index_drift(g, t0, tau, "fitted") for tau in fx.TAUS_S]
-    how = "estimated" if interval is not None else "given"
+    t0, how = float(np.min(rec.time_s)), "estimated" if interval is not None else "given"
     return [fx.air_index_drift(g, t0, None, how)] + [fx.air_index_drift(g, t0, tau, how) for tau in fx.TAUS_S]
 
 

@@ -690,37 +690,30 @@ def tracker_relevel(g: Geometry, after: np.ndarray, t0: float, where: dict, stat
                      nested=knock, grammar=_g("frame", what="rotation", on=("time",), law=LAW_STEP, station=station))
 
 
+def air_grammar(law: str = "") -> Grammar:
+    """The air's drift in the grammar: an expansion about every station, changing with time."""
+    return _g("air", what="expansion", on=("time",), law=law)
+
+
 def air_index_drift(g: Geometry, t0: float, tau: float | None = None, station: str = "given") -> Candidate:
     """The air's refractive index drifting from t0 (s) while the tracker's weather compensation keeps its value
     there: every reading of every station scales about its own station by the same 1e-6 e h(t) (one air, one law;
     derive/grammar.py's expansion about the tracker x ramp_h or lag): a ramp (``tau`` None: e in ppm per hour) or a
     first-order lag of time constant ``tau`` (e in ppm, the final change).  ``station``: "given" (the tracker
-    position(s) of the recording or --tracker), "estimated" (mtcal.diagnose.noise's, determined by the data) or
-    "fitted" (one station whose position the data do not determine; a lag only): the scale about the readings'
-    centroid c and three more columns, the same law's expansion at unit offsets, i.e. e (c - station) in ppm mm --
-    every reading scaling about one point the fit places, which is the frame drifting with that law (its
-    ``nested`` member, fx.thermal_drift of the tracker) and a scale beside it."""
-    G = np.zeros((len(g.axis), 3, 4 if station == "fitted" else 1))
+    position(s) of the recording or --tracker) or "estimated" (mtcal.diagnose.noise's, determined by the data)."""
+    G = np.zeros((len(g.axis), 3))
     dt = np.where(np.isfinite(g.time_s), np.maximum(g.time_s - t0, 0.0), 0.0)
     for st in g.stations():
         on, tracker, _ = g.at(st)
-        about = [g.xyz[on].mean(axis=0)] + [-u for u in np.eye(3)] if station == "fitted" else [tracker]
-        for k, centre in enumerate(about):
-            xyz = g.xyz[on] if k == 0 else np.zeros_like(g.xyz[on])
-            G[on, :, k] = (S.air_index_drift_ramp_signature(xyz, centre, dt[on]) if tau is None else
-                           S.air_index_drift_lag_signature(xyz, centre, dt[on], float(tau)))
+        G[on] = (S.air_index_drift_ramp_signature(g.xyz[on], tracker, dt[on]) if tau is None else
+                 S.air_index_drift_lag_signature(g.xyz[on], tracker, dt[on], float(tau)))
     law = "ramp" if tau is None else f"lag, tau={tau:.0f} s"
-    n, unit = len(g.stations()), "ppm/h" if tau is None else "ppm"
-    about = "a station the fit places" if station == "fitted" else "the tracker"
-    c = Candidate("air_index_drift", None, f"about {about}{' (every station)' if n > 1 else ''}, {law}", G,
-                  [f"e ({unit})"] + ([f"e (centroid - station)_{k} ({unit} mm)" for k in "xyz"]
-                                     if station == "fitted" else []), family="air_index_drift",
+    n = len(g.stations())
+    c = Candidate("air_index_drift", None, f"about the tracker{' (every station)' if n > 1 else ''}, {law}",
+                  G[:, :, None], ["e (ppm/h)" if tau is None else "e (ppm)"], family="air_index_drift",
                   extra={"law": "ramp" if tau is None else "lag", "t0_s": float(t0),
                          **({} if tau is None else {"tau_s": float(tau)}), "stations": n, "tracker_from": station,
-                         "t_end_s": float(np.nanmax(g.time_s)),
-                         **({"centroid_mm": g.xyz.mean(axis=0).tolist()} if station == "fitted" else {})},
-                  grammar=_g("air", what="expansion", on=("time",), law="ramp" if tau is None else "lag"),
-                  nested=thermal_drift(g, "tracker", float(tau), t0) if station == "fitted" else None)
+                         "t_end_s": float(np.nanmax(g.time_s))}, grammar=air_grammar("ramp" if tau is None else "lag"))
     if tau is not None:
         c.refine = lambda t: air_index_drift(g, t0, t, station)
         c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)

@@ -115,8 +115,6 @@ def _of_readings(n: str, f: Finding, prep: Prepared, th: np.ndarray, x: dict) ->
     if n == "air_index_drift":
         if x["stations"] > 1:
             return "an effect of several stations: the simulator has one tracker"
-        if x["tracker_from"] == "fitted":
-            return "a scale about a point the fit places: the simulator scales about its tracker"
         law = {"ppm_per_h": float(th[0])} if x["law"] == "ramp" else {"ppm": float(th[0]), "tau_s": x["tau_s"]}
         return [Effect(n, {"law": x["law"], "t0_s": x["t0_s"], **law})]
     if n == "tracker_relevel":

@@ -376,24 +376,14 @@ def _air_index_drift_head(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -
     record = x["t_end_s"] - x["t0_s"]
     slow = x["law"] == "lag" and x["tau_s"] > record > 0
     scale = (1.0 - math.exp(-record / x["tau_s"])) / (record / 3600.0) if slow else 1.0
-    v, u, ci = _linear(np.eye(len(theta))[0] * scale, theta, cov)  # the scale e (then its station's columns)
+    v, u, ci = _linear(np.array([scale]), theta, cov)
     ramp_law = x["law"] == "ramp" or slow
     return {"estimate": v, "uncertainty": u, "unit": "ppm/h" if ramp_law else "ppm", "interval_95": ci,
-            "tracker": x["tracker_from"], **_station_fitted(c, theta, cov),
+            "tracker": x["tracker_from"],
             **({"law": "ramp over the record", "record_s": record,
                 "note": f"time constant beyond the record ({x['tau_s']:.0f} s > {record:.0f} s): the mean rate "
                         "over the record is reported, no final value"} if slow else {}),
             "says": _air_says(x, v, ci, ramp_law)}
-
-
-def _station_fitted(c: fx.Candidate, theta: np.ndarray, cov: np.ndarray) -> dict:
-    """The air's drift about a station the fit places (fx.air_index_drift's "fitted"): that point (mm, machine
-    frame), the readings' centroid plus _centre's offset, with its standard uncertainty to first order; {} else."""
-    if c.extra["tracker_from"] != "fitted" or not (d := _centre(theta, cov)):
-        return {}
-    centroid = c.extra["centroid_mm"]
-    return {"station_fitted_mm": [a + b for a, b in zip(centroid, d["centre_from_centroid_mm"])],
-            "station_fitted_uncertainty_mm": d["centre_uncertainty_mm"]}
 
 
 def _air_says(x: dict, v: float, ci: list[float], ramp_law: bool) -> str:
@@ -401,9 +391,7 @@ def _air_says(x: dict, v: float, ci: list[float], ramp_law: bool) -> str:
     size = (f"{abs(v):.2g} ppm per hour (95 %: {ci[0]:.2g} to {ci[1]:.2g})" if ramp_law else
             f"by {abs(v):.2g} ppm with a time constant of {x['tau_s']:.0f} s (95 %: {ci[0]:.2g} to {ci[1]:.2g} ppm)")
     stations = "every station's" if x["stations"] > 1 else "the tracker's"
-    where = {"given": "", "estimated": " (about the station estimated from the rounds' scatter)",
-             "fitted": " (about a point the fit places, station_fitted_mm: the rounds' scatter does not place the "
-                       "station)"}[x["tracker_from"]]
+    where = "" if x["tracker_from"] == "given" else " (about the station estimated from the rounds' scatter)"
     return (f"{stations} distances {'lengthen' if v >= 0 else 'shorten'} {size}{where}: the air's refractive index "
             f"drifted and the weather compensation did not follow (the air {'cooling' if v >= 0 else 'warming'} by "
             f"about {abs(v):.2g} K{' per hour' if ramp_law else ''} at 1 ppm per K, or its pressure changing)")

@@ -25,6 +25,7 @@ from mtcal.diagnose.selection import (
     growing_confounds,
     select_degrees,
     steps_per_place,
+    untested_confounds,
     with_steps,
 )
 from mtcal.errors import InputError
@@ -122,6 +123,7 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     steps, last, inadequate = forward(prep, eng, cands, w, level, max_effects, say)
     steps = steps_per_place(backward(eng, steps, w, level, say), say)
     growing_confounds(prep, eng, steps, w)
+    untested_confounds(steps, notes)
     null = ("the given model" if prep.given_model else
             f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)})"
             ) + " + the effects selected before"

@@ -1098,6 +1098,27 @@ def _moves_in_time(c: fx.Candidate) -> bool:
     return not c.free and g.what == "translation" and g.where.at in ("side", "frame") and "time" in g.how.on
 
 
+def untested_confounds(steps: list[Step], notes: list[dict]) -> None:
+    """Where a member could not be tested because the data do not locate its place (a note carrying the member's
+    grammar, ``untested``: the air's drift about a station that is not determined or not placed at all,
+    mtcal.diagnose.candidates.air_index_drift), a selected gradual translation of a side or of the tracker with
+    the same dependence (its grammar) lists it in ``confounded_with``: an expansion about a place the data do not
+    locate is, to first order, a translation along the unknown direction with a remainder too small to tell apart
+    (gen2 seed 9000 campaign 2, B and C from one station, the tracker columns removed: a 4.6 ppm ramp of the air
+    came out as a drift of the table alone; seed 3537 campaign 12, an isotropic tracker whose rounds show no shape
+    to place it: a 5 ppm ramp a drift of the tracker)."""
+    for nt in (nt for nt in notes if "untested" in nt):
+        g = nt["untested"]
+        other = fx.Candidate(nt["name"], nt["axis"], nt["where"], np.zeros((0, 3, 0)), [], grammar=g)
+        for s in steps:
+            c = s.candidate
+            if (_moves_in_time(c) and c.grammar.how.gradual and c.grammar.how.on == g.how.on
+                    and all(o["name"] != nt["name"] for o in s.confounded_with)):
+                s.confounded_with.append({"name": nt["name"], "axis": nt["axis"], "where": nt["where"],
+                                          "overlap_cos": None, "p_adjusted": None, "why": nt["not_separable"],
+                                          "separate_by": separate_by(c, other)})
+
+
 def backward(eng: Engine, selected: list[Step], w: Columns, level: float,
              say: Callable[[str], None]) -> list[Step]:
     """Drop a selected effect that the others have made insignificant -- unless a LATER, smaller effect that
