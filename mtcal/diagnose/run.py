@@ -149,13 +149,12 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
     effects.sort(key=lambda f: (not f.significant, -f.evidence["F"] * f.evidence["dof"][0]))
     effects += rejected_findings(last, {s.candidate.family for s in steps}, notes, inadequate)
     # located against the tests' null with the effects (a misfit a smooth error function of the family explains
-    # is no effect, so not unexplained either), not the BIC-selected base that is reported; what the error
-    # functions tabulated at the measured positions explain is a shape beyond the family's degree (quasi-static),
-    # reported with the base
+    # is no effect, so not unexplained either), not the reported BIC base; what the error functions tabulated at
+    # the measured positions explain is a shape beyond the family's degree (quasi-static), reported with the base
     with_effects = with_steps(null_eng, steps, w)
     left, shapes = beyond_the_family(prep, with_effects, locate(prep, with_effects, level), w, level)
     left = collapsed(left)
-    beside_a_mismatch(prep, with_effects, steps, effects, left, w)
+    beside_a_mismatch(prep, with_effects, steps, effects, left, w)  # every group a rival, then one at a time
     left = one_at_a_time(prep, with_effects, left, w, level)
     effects.sort(key=lambda f: not f.significant)  # stable: a withdrawn name after the named ones
     unexplained = [free_form_located(prep, with_steps(eng, [o for o in steps if o is not s], w), s, w, after.sigma)
