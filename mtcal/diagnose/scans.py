@@ -402,20 +402,21 @@ def one_at_a_time(prep: Prepared, eng: Engine, located: list[Located],
     MAX_ENTRIES steps what is still located beside them follows as it is."""
     keys = {(u.axis, u.by, repr(u.where)) for u in located}
     rec, g = prep.rec, prep.geometry
-    nests = [(a, p, np.flatnonzero((rec.axis == a) & (rec.point == p)))
-             for a in prep.axes for p in sorted(set(rec.point[rec.axis == a].tolist()))]
+    nests = [((a, p), fx.by_cell(g, rows), rows) for a in prep.axes
+             for p in sorted(set(rec.point[rec.axis == a].tolist()))
+             for rows in [np.flatnonzero((rec.axis == a) & (rec.point == p))]]  # each freed once, whitened once
     out: list[Located] = []
     e, todo = eng, [u for u in located if u.rows is not None and len(u.rows)]
     while todo and len(out) < MAX_ENTRIES:
-        tried = [(u, u.rows) for u in todo] + [((a, p), rows) for a, p, rows in nests
-                                               if not any(u.axis == a and u.by == "point" and u.where == p
-                                                          for u in todo + out)]
-        scores = [e.score(w(fx.by_cell(g, rows))) for _, rows in tried]
+        tried = [(u, fx.by_cell(g, u.rows), u.rows) for u in todo] + [
+            n for n in nests if not any(u.axis == n[0][0] and u.by == "point" and u.where == n[0][1]
+                                        for u in todo + out)]
+        scores = [e.score(w(free)) for _, free, _ in tried]
         logp = [sc.logp if sc.separable else 0.0 for sc in scores]
-        j = min((i for i, (u, _) in enumerate(tried)
+        j = min((i for i, (u, _, _) in enumerate(tried)
                  if isinstance(u, Located) or logp[i] + math.log(len(tried)) < math.log(level)),
                 key=lambda i: logp[i])
-        (u, rows), padj = tried[j], min(1.0, math.exp(logp[j]) * len(tried))
+        (u, free, rows), padj = tried[j], min(1.0, math.exp(logp[j]) * len(tried))
         if not isinstance(u, Located):
             size, sd = group_shift(prep.W, e, rows, len(tried))
             u = Located(u[0], "point", u[1], float(-math.log10(max(padj, 1e-300))), padj, "mean", len(rows),
@@ -424,7 +425,7 @@ def one_at_a_time(prep: Prepared, eng: Engine, located: list[Located],
                              "located on the fit (it leaks from here through the base's shared freedoms)")
         out.append(u)
         e = e.copy()
-        e.add(e.residualized(w(fx.by_cell(g, rows))))
+        e.add(e.residualized(w(free)))
         taken = {(x.axis, x.by, repr(x.where)) for x in out}
         todo = [x for x in collapsed([x for x in locate(prep, e, level) if (x.axis, x.by, repr(x.where)) in keys])
                 if (x.axis, x.by, repr(x.where)) not in taken and x.rows is not None and len(x.rows)]
