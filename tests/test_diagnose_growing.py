@@ -13,6 +13,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -55,3 +56,40 @@ def test_a_straightness_bowing_as_it_warms_is_located_on_its_axis_with_its_motio
         return
     assert (u["axis"], u["by"]) == (axis, "position x time"), u
     assert u["where"] == motion or f"{motion} fit" in u["note"] or f"or {motion}" in u["note"], u["note"]
+
+
+@pytest.mark.parametrize("seed, index, axis", [(1013, 43, "X"), (1013, 46, "X"), (1014, 35, "X")])
+def test_a_scale_growing_again_in_each_stations_block_is_located_not_named(tmp_path, seed, index, axis):
+    """gen3 (gen2's growing_scale, several stations, the tracker given): the axis' scale ramps up within each block
+    it is measured in (a station's rounds of it, one after another), 25-66 ppm by the block's end, and starts
+    again in the next (the screw cooling while the other axes are measured).  Before, the growth was tested over
+    the axis' whole span of time only, which is constant within each block: 1013/43 named a knock of the tracker,
+    1013/46 and 1014/35 (one round per block: the back run later than the forward one at every position) a
+    backlash of X.  The growth from each block's mid time (fx.growing_free, per_block) now locates it on its axis
+    by position x time, nothing named."""
+    from test_diagnose_beside import _gen3
+
+    from mtcal.diagnose import diagnose
+    from mtcal.measurement.recordings import read_recording
+
+    _gen3().write_campaign(seed, index, str(tmp_path), 0.0, "all", ["growing_scale"])
+    truth = json.loads((tmp_path / f"campaign_{index:04d}.truth.json").read_text())
+    assert truth["classes"][0]["place"] == {"kind": "axis", "axis": axis}
+    d = diagnose(read_recording(tmp_path / f"campaign_{index:04d}.csv"))
+    assert not [f.name for f in d.effects if f.significant], [(f.name, f.axis) for f in d.effects if f.significant]
+    assert [(u.axis, u.by) for u in d.unexplained] == [(axis, "position x time")], \
+        [(u.axis, u.by, u.where) for u in d.unexplained]
+
+
+def test_an_axis_block_is_an_uninterrupted_stretch_of_its_readings_in_time():
+    """fx.axis_blocks: readings of X at t = 0, 1, 5 with Y at 2 and 3 between: X's blocks {0, 1} and {5}; a block's
+    tau runs from -1/2 to 1/2 over its own readings."""
+    from types import SimpleNamespace
+
+    from mtcal.diagnose import effects as fx
+
+    g = SimpleNamespace(axis=np.array(["X", "Y", "X", "Y", "X", "X"]), time_s=np.array([1.0, 2, 0, 3, 5, 7]))
+    blocks = fx.axis_blocks(g, "X")
+    assert [np.flatnonzero(b).tolist() for b in blocks] == [[0, 2], [4, 5]]
+    assert fx._block_time(g, "X", True).tolist() == [0.5, 0, -0.5, 0, -0.5, 0.5]
+    assert fx._block_time(g, "X", False).tolist() == [-5 / 14, 0, -0.5, 0, 1.5 / 7, 0.5]

@@ -143,6 +143,8 @@ def _axis_candidates(prep: Prepared, a: str, max_degree: int, notes: list[dict])
         out += [fx.growing_free(g, a, full) for full in ((False, True) if rounds > 2 else (False,))]
         if rounds > 2:  # two rounds: one motion's bow changing between them is as much its stops' scatter
             out += [fx.growing_free(g, a, motion=e) for e in prep.machine.error_motions(a)]  # (gen2 3502/16)
+        if len(fx.axis_blocks(g, a)) > 1:  # measured in several blocks: growing again in each
+            out.append(fx.growing_free(g, a, full=False, per_block=True))
     for e in prep.machine.error_motions(a):
         out.append(fx.second_order(g, a, e))
     notes.append({"name": "cross_axis", "axis": a, "not_separable": NOT_SEPARABLE["cross_axis"]})

@@ -464,7 +464,34 @@ def reversal_free(g: Geometry, axis: str) -> Candidate:
                      grammar=_g("axis", axis, on=("direction",), free=True))
 
 
-def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None = None) -> Candidate:
+def axis_blocks(g: Geometry, axis: str) -> list[np.ndarray]:
+    """The blocks of ``axis`` (bool (n,) each, in time order): its readings cut where the reading before one in time
+    is of another axis -- one uninterrupted stretch of measuring the axis (a station's rounds of it, one after
+    another).  Needs every reading's time."""
+    order = np.argsort(g.time_s, kind="stable")
+    mine = g.axis[order] == axis
+    starts = mine & ~np.r_[False, mine[:-1]]
+    label = np.cumsum(starts) * mine
+    out = []
+    for b in range(1, int(label.max(initial=0)) + 1):
+        sel = np.zeros(len(g.axis), bool)
+        sel[order[label == b]] = True
+        out.append(sel)
+    return out
+
+
+def _block_time(g: Geometry, axis: str, per_block: bool) -> np.ndarray:
+    """tau of growing_free (n,): (t - the mid time) / the duration, of the axis' whole span of time or of each of
+    its blocks (axis_blocks); zero off the axis."""
+    tau = np.zeros(len(g.axis))
+    for on in axis_blocks(g, axis) if per_block else [(g.axis == axis) & np.isfinite(g.time_s)]:
+        t = g.time_s[on]
+        tau[on] = (t - 0.5 * (t.min() + t.max())) / max(float(np.ptp(t)), 1e-9)
+    return tau
+
+
+def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None = None,
+                 per_block: bool = False) -> Candidate:
     """Free-form change of an axis' error motions with time while it is measured: each of its six error motions
     plus sum c_eji s_j tau_i, s_1 = s and s_2 = s^2 (s = the position from the axis' reference position over the
     travel; a rotary axis: cos and sin less their values there), tau_1 = tau and tau_2 = tau^2 - mean (tau = (t -
@@ -473,14 +500,15 @@ def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None =
     position (mtcal.measurement.passes), so a drift of the whole side stays thermal_drift's.  Selected itself, it
     is reported under "unexplained" (located by position x time), never as a named effect.  ``full`` False: the
     linear member only (s_1 tau_1 of each error motion: six columns, a scale or a slope growing steadily), the
-    family's sharper test of the commonest case.  ``motion``: one error motion's shape along the travel growing
-    steadily (s_1 tau_1 and s_2 tau_1 of that motion only: two columns), the sharpest test where one guideway
-    bows or one screw grows as it warms (gen2 3589/16: a straightness E_XY bowing 8.9 um by the end, F = 4.7 on
-    the six linear columns, missed; its own shape p = 8e-9); offered from three rounds (mtcal.diagnose.candidates)."""
+    family's sharper test of the commonest case.  ``per_block``: tau of each block of the axis (axis_blocks)
+    instead of its whole span: a screw warming while the axis moves and cooling while the others are measured,
+    the growth starting again in each block (a station's rounds).  ``motion``: one error motion's shape along the
+    travel growing steadily (s_1 tau_1 and s_2 tau_1 of that motion only: two columns), the sharpest test where
+    one guideway bows or one screw grows as it warms (gen2 3589/16: a straightness E_XY bowing 8.9 um by the end,
+    F = 4.7 on the six linear columns, missed; its own shape p = 8e-9); offered from three rounds
+    (mtcal.diagnose.candidates)."""
     on = (g.axis == axis) & np.isfinite(g.time_s)  # the caller makes sure the axis' times are all known
-    t = g.time_s[on]
-    tau = np.zeros(len(g.axis))
-    tau[on] = (t - 0.5 * (t.min() + t.max())) / max(float(np.ptp(t)), 1e-9)
+    tau = _block_time(g, axis, per_block)
     q = g.position[on]
     q0 = reference_position(q)
     if g.linear(axis):
@@ -502,8 +530,10 @@ def growing_free(g: Geometry, axis: str, full: bool = True, motion: str | None =
     label = (f"position x time, {motion} (one error motion growing steadily while measured)" if motion else
              "position x time (error motions changing while measured)" if full else
              "position x time, linear (error motions growing steadily while measured)")
+    if per_block:
+        label = label.replace("while measured", "in each block of the axis, from its mid time")
     return Candidate(UNEXPLAINED, axis, label, np.stack(cols, axis=-1), names, family=f"{UNEXPLAINED} growing {axis}",
-                     extra={"kind": "growing", "errors": errors},
+                     extra={"kind": "growing", "errors": errors, "per_block": per_block},
                      grammar=_g("axis", axis, on=("position", "time"), free=True))
 
 
