@@ -175,8 +175,7 @@ def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, b: Beyond,
     errors = c.extra["errors"]
     if len(errors) == 1:  # one motion's member: the others' own members, as alike through these beams or not
         errors = list(prep.machine.error_motions(c.axis))
-        share = [eng.score(w(fx.growing_free(prep.geometry, c.axis, motion=e, per_block=c.extra["per_block"])
-                             )).delta for e in errors]
+        share = [eng.score(w(fx.growing_free(prep.geometry, c.axis, motion=e))).delta for e in errors]
     else:
         per = len(c.params) // len(errors)
         share = [eng.score(w(fx.Candidate(c.name, c.axis, "", c.G[:, :, j * per:(j + 1) * per], []))).delta
