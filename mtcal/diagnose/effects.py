@@ -109,6 +109,14 @@ class Grammar:
         return bool(self.how.on & {"time", "temperature", "round"})
 
     @property
+    def alike_at_every_pose(self) -> bool:
+        """A translation of a side or of a station's frame, or an expansion of a side about its own layout: it moves
+        each nest of the place alike whatever the machine's pose (a turn grows with its lever, an error motion with
+        the axis' position, a scale about the tracker with the distance)."""
+        return self.what == "translation" and self.where.at in ("side", "frame") or (
+            self.what == "expansion" and self.where.at == "side")
+
+    @property
     def step(self) -> bool:
         """A change at one moment that stays (the time law LAW_STEP)."""
         return self.how.law == LAW_STEP
@@ -127,6 +135,11 @@ def _g(at: str, key: str | None = None, what: str = "translation", on: tuple = (
 def _motion(error: str) -> str:
     """The *what* of an ISO error motion (E_XX, E_YX: a translation; E_AX: a rotation)."""
     return "translation" if error[2] in "XYZ" else "rotation"
+
+
+def _target(side: str) -> str:
+    """The drift target (SIDE's key) that moves ``side``."""
+    return next(t for t, s in SIDE.items() if s == side)
 
 
 def _side_or_frame(target: str) -> tuple[str, str | None]:
@@ -652,7 +665,10 @@ def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: f
     first-order lag of time constant ``tau`` (e in ppm, the final growth): derive/grammar.py's expansion x ramp_h
     or lag.  ``centre``: about a centre the data fix instead (a spindle grows from its bearing, a table about its
     clamping, not about the reflectors): three more columns, the same law's expansion at unit offsets along the
-    side's axes, i.e. e (centroid - centre) in ppm mm (or ppm/h mm), the side's frame."""
+    side's axes, i.e. e (centroid - centre) in ppm mm (or ppm/h mm), the side's frame.  With a centre and a lag,
+    its ``nested`` member is the side's drift with that law (thermal_drift): an expansion about a centre far from
+    the reflectors is their translation, and it is named only where its growth is needed beside that
+    (selection._simplest)."""
     on = (g.side == side) & np.isfinite(g.time_s)
     dt = np.where(on, np.maximum(g.time_s - t0, 0.0), 0.0)
     R = g.rotation.reshape(-1, 9)
@@ -669,7 +685,8 @@ def side_expansion(g: Geometry, offset: np.ndarray, side: str, t0: float, tau: f
                   extra={"side": side, "law": "ramp" if tau is None else "lag", "t0_s": float(t0),
                          **({} if tau is None else {"tau_s": float(tau)}), "centre": centre,
                          "t_end_s": float(np.nanmax(g.time_s[on])) if on.any() else float(t0)},
-                  grammar=_g("side", side, "expansion", ("time",), "ramp" if tau is None else "lag"))
+                  grammar=_g("side", side, "expansion", ("time",), "ramp" if tau is None else "lag"),
+                  nested=thermal_drift(g, _target(side), tau, t0) if centre and tau is not None else None)
     if tau is not None:
         c.refine = lambda t: side_expansion(g, offset, side, t0, t, centre)
         c.refine_range, c.refine_value = (60.0, 86400.0), float(tau)

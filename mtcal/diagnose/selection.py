@@ -560,8 +560,8 @@ def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
     attributes (effects.Grammar), never its name: a member that moves whole stops is checked against them; a rigid
     shift at one moment against moving one sequence to its nest's last reading (_to_its_end); one depending on the
     direction of approach at an axis against the reversal free per reflector; a nest's step against its persisting;
-    a step in time (t0) against going on growing; a gradual translation of a side or the tracker's frame against a
-    misfit growing with an axis' position; a periodic law against the free shape over the positions; a translation
+    a step in time (t0) against going on growing; a gradual change alike at every pose (a side's or the tracker's
+    translation, a side's expansion: Grammar.alike_at_every_pose) against a misfit growing with an axis' position; a periodic law against the free shape over the positions; a translation
     of one round against recurring in the other rounds (one reading) and against the other nests of its stops."""
     g = c.grammar
     checks: list[Callable] = [_against_the_stops]
@@ -577,7 +577,7 @@ def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
         checks.append(_moves_with_the_pose)
     if "t0_s" in c.extra:
         checks.append(_knock_keeps_growing)
-    if g.what == "translation" and g.how.gradual and g.where.at in ("side", "frame"):
+    if g.alike_at_every_pose and g.how.gradual:
         checks.append(_drift_grows_with_position)
     if g.how.law == "periodic":
         checks.append(_shape_beyond_period)
@@ -1002,12 +1002,14 @@ def _moves_with_the_pose(prep: Prepared, eng: Engine, c: fx.Candidate, w: Column
 
 def _drift_grows_with_position(prep: Prepared, eng: Engine, c: fx.Candidate, w: Columns, level: float
                                ) -> str | None:
-    """Why a drift of a side (or of the tracker) is not one, or None: with it fitted, no misfit may grow with the
-    position of an axis it moves while that axis is measured (the linear member of the axis' error motions
-    changing with time, fx.growing_free; F test at ``level`` over the axes tested).  A drift moves every reading of
-    its side alike at one time, whatever the position; a scale or straightness growing while the axis is measured
-    (a ball screw warming, no temperature channel) it absorbs only in part (gen2 seed 17: growing scales of X named
-    drifts of the spindle)."""
+    """Why a gradual change alike at every pose (a drift of a side or of the tracker, a side's expansion:
+    fx.Grammar.alike_at_every_pose) is not one, or None: with it fitted, no misfit may grow with the position of an
+    axis it moves while that axis is measured (the linear member of the axis' error motions changing with time,
+    fx.growing_free; F test at ``level`` over the axes tested).  A drift moves every reading of its side alike at
+    one time, and an expansion each nest alike, whatever the position; a scale or straightness growing while the
+    axis is measured (a ball screw warming, no temperature channel) it absorbs only in part (gen2 seed 17: growing
+    scales of X named drifts of the spindle), and so does a side turning with time (a column tilting: gen3 1015/41,
+    an expansion about a centre fitted 11 m away)."""
     g, rec = prep.geometry, prep.rec
     moved = c.moved
     axes = [a for a in prep.axes if (moved & (g.axis == a)).any() and np.isfinite(g.time_s[g.axis == a]).all()
@@ -1017,7 +1019,7 @@ def _drift_grows_with_position(prep: Prepared, eng: Engine, c: fx.Candidate, w: 
         if sc is not None:
             return (f"a misfit growing with the position of {a} while it is measured is left beside it (F = "
                     f"{sc.F:.1f}, p = {math.exp(sc.logp):.2g}): an error motion of {a} changing with time, not a "
-                    "drift of the whole side")
+                    "change of the whole side alike")
     return None
 
 
