@@ -561,8 +561,9 @@ def _adequacy_checks(c: fx.Candidate) -> list[Callable]:
     shift at one moment against moving one sequence to its nest's last reading (_to_its_end); one depending on the
     direction of approach at an axis against the reversal free per reflector; a nest's step against its persisting;
     a step in time (t0) against going on growing; a gradual change alike at every pose (a side's or the tracker's
-    translation, a side's expansion: Grammar.alike_at_every_pose) against a misfit growing with an axis' position; a periodic law against the free shape over the positions; a translation
-    of one round against recurring in the other rounds (one reading) and against the other nests of its stops."""
+    translation, a side's expansion: Grammar.alike_at_every_pose) against a misfit growing with an axis' position;
+    a periodic law against the free shape over the positions; a translation of one round against recurring in the
+    other rounds (one reading) and against the other nests of its stops."""
     g = c.grammar
     checks: list[Callable] = [_against_the_stops]
     if g is None or g.free:
