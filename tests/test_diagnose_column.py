@@ -33,14 +33,14 @@ def test_a_column_tilting_with_time_is_a_spindle_drift_not_an_expansion_about_a_
 def test_an_expansion_about_a_fitted_centre_holds_its_sides_drift_as_its_nested_member():
     """With a centre fitted and a lag, the expansion's columns contain the side's drift with that law exactly (the
     drift's three columns lie in their span to rounding): the member _simplest tries first."""
+    import campaigns as C
+
     from mtcal import load_machine
     from mtcal.diagnose import effects as fx
     from mtcal.diagnose.candidates import layout_offsets
     from mtcal.diagnose.prepare import TIE_POSITIONS, prepare
     from mtcal.diagnose.run import MAX_DEGREE
     from mtcal.measurement.tracker import AT960
-
-    import campaigns as C
 
     c = C.make(C.Design(rounds=2, axes=("X", "Y")), [], 3)
     prep = prepare(c.recording, load_machine("dmu50"), None, c.tracker, MAX_DEGREE, TIE_POSITIONS, AT960)
