@@ -26,8 +26,9 @@ The judge, per run of a campaign carrying one class (the truth's `classes`):
   drift of the spindle for a column tilting), or an in-grammar class located but not named.
 * **wrong**: anything false: a name that is neither its own nor accepted, a name or a located entry at an axis (or
   reflector) it does not move, a data problem or refusal on a physics campaign, physics claimed for a data problem.
-* **out of reach**: nothing claimed, and the planted displacement beyond the stops' rigid motions (truth:
-  `displacement_um.chi2_beyond_stops`, whitened by the true noise law) below the criterion: chi2 < 40 for a shape
+* **out of reach**: nothing claimed, and the planted displacement beyond the stops' rigid motions and the nests'
+  unknown positions (truth: `displacement_um.chi2_beyond_stops`, whitened by the true noise law) below the
+  criterion: chi2 < 40 for a shape
   (a free form of ~10 columns at p = 1e-5 has about 85 % power at a noncentrality of 50, 50 % near 34), or, for a
   variance (a noisier reflector, a shaking floor, gen2's axis scatter), chi2 < max(40, 5 sqrt(6 n)) over its n
   readings (5 standard deviations of the noise's own chi2 with 3n degrees of freedom). Data problems are always
@@ -35,9 +36,9 @@ The judge, per run of a campaign carrying one class (the truth's `classes`):
 * **missed**: nothing claimed although within reach.
 A clean campaign is a **false alarm** when anything is claimed (a name, a located entry, a data problem, a refusal).
 The **size check** counts located entries whose `size_mm` exceeds 1.5x the planted displacement's largest value at
-a reading (truth `displacement_um.max_um`), and 1.5x the largest of its part beyond the stops' rigid motions
-(`beyond_stops_max_um`, nearer what issue 52 calls the displacement beyond the base); entries without a size are not
-counted.
+a reading (truth `displacement_um.max_um`), and 1.5x the largest of its part beyond the stops' rigid motions and
+the nests' positions (`beyond_stops_max_um`, nearer what issue 52 calls the displacement beyond the base); entries
+without a size are not counted.
 Bounds: one-sided 95 % Clopper-Pearson (upper for wrong and false alarms, lower for right).
 """
 from __future__ import annotations

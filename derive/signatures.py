@@ -147,6 +147,7 @@ def build(progress=lambda m: None) -> Module:
     _temperature_effects(fns, dt_arg, dt, tau_arg, tau, dT_arg, dT, warm)
     _nest_creep(fns, dt_arg, dt)
     _tracker_settling(fns, pt_arg, pt, tr_arg, tr, dt_arg, dt, tau_arg, tau, warm)
+    _tracker_spherical(fns, pt_arg, pt, tr_arg, tr)
     sv = sp.Matrix(symbols(["s_x", "s_y", "s_z"]))
     ind_arg, ind = _scalar("on", "1 for the displaced readings, 0 otherwise")
     fns.append(Function("outlier_signature", (ind_arg,), _signature((pt + ind * sv) - pt, list(sv)),
@@ -155,6 +156,26 @@ def build(progress=lambda m: None) -> Module:
     _composites(fns, {"column": (col_arg, col), "q": (q_arg, q), "d": (d_arg, d), "dt": (dt_arg, dt),
                       "tau": (tau_arg, tau), "xyz": (pt_arg, pt), "tracker": (tr_arg, tr), "on": (ind_arg, ind)})
     return Module("signatures", "signatures.py", __doc__.split("\n\n")[0], fns)
+
+
+def _tracker_spherical(fns, pt_arg, pt, tr_arg, tr) -> None:
+    """tracker_spherical: the tracker reads a point by its own coordinates about it -- distance rho, azimuth az
+    (about +z, from +x) and elevation el (from the horizontal) -- each read off by d_rho, d_az, d_el: the reading
+    T + (rho + d_rho) [cos(el + d_el) cos(az + d_az), cos(el + d_el) sin(az + d_az), sin(el + d_el)] (exact)."""
+    drho, daz, delv = symbols(["d_rho", "d_az", "d_el"])
+    v = pt - tr
+    h = sp.sqrt(v[0] ** 2 + v[1] ** 2)
+    rho, az, el = sp.sqrt(v.dot(v)), sp.atan2(v[1], v[0]), sp.atan2(v[2], h)
+    reading = tr + (rho + drho) * sp.Matrix([sp.cos(el + delv) * sp.cos(az + daz),
+                                             sp.cos(el + delv) * sp.sin(az + daz), sp.sin(el + delv)])
+    par = Arg("params", (drho, daz, delv), "[d_rho (mm), d_az (rad), d_el (rad)]")
+    fns.append(Function("tracker_spherical_reading", (pt_arg, tr_arg, par), reading,
+                        "tracker_spherical: the reading (mm) of a point when the tracker's distance, azimuth and "
+                        "elevation read off by d_rho (mm), d_az and d_el (rad)", vector_output=True))
+    fns.append(Function("tracker_spherical_signature", (pt_arg, tr_arg),
+                        _signature(reading - pt, [drho, daz, delv]),
+                        "tracker_spherical: d reading / d [d_rho, d_az, d_el] (3 x 3): the beam's unit vector, "
+                        "z x (point - T), and rho times the unit vector of rising elevation; mm per mm, mm per rad"))
 
 
 def _composites(fns, args: dict) -> None:

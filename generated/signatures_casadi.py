@@ -11,7 +11,7 @@ import functools
 
 import casadi as ca
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'outlier_signature', 'air_index_drift_ramp_model', 'air_index_drift_ramp_signature', 'air_index_drift_lag_model', 'air_index_drift_lag_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'tracker_spherical_reading', 'tracker_spherical_signature', 'outlier_signature', 'air_index_drift_ramp_model', 'air_index_drift_ramp_signature', 'air_index_drift_lag_model', 'air_index_drift_lag_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
 
 
 @functools.cache
@@ -696,6 +696,84 @@ def tracker_settling_signature():
     _out[2, 0] = _x7*dt - _x8*dt
     _out[2, 1] = _x4*_x7 - _x4*_x8
     return ca.Function('signatures_tracker_settling_signature', [xyz, tracker, about, dt, tau], [_out], ['xyz', 'tracker', 'about', 'dt', 'tau'], ['out'])
+
+
+@functools.cache
+def tracker_spherical_reading():
+    """tracker_spherical: the reading (mm) of a point when the tracker's distance, azimuth and elevation read off by d_rho (mm), d_az and d_el (rad)
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    params (..., 3): [d_rho (mm), d_az (rad), d_el (rad)]
+        [d_rho, d_az, d_el]
+    returns (..., 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    params = ca.SX.sym('params', 3)
+    d_rho = params[0]
+    d_az = params[1]
+    d_el = params[2]
+    _x0 = -ty + y
+    _x1 = -tx + x
+    _x2 = d_az + ca.atan2(_x0, _x1)
+    _x3 = -tz + z
+    _x4 = _x0**2 + _x1**2
+    _x5 = d_rho + ca.sqrt(_x3**2 + _x4)
+    _x6 = d_el + ca.atan2(_x3, ca.sqrt(_x4))
+    _x7 = _x5*ca.cos(_x6)
+    _out = ca.SX.zeros(3, 1)
+    _out[0, 0] = _x7*ca.cos(_x2) + tx
+    _out[1, 0] = _x7*ca.sin(_x2) + ty
+    _out[2, 0] = _x5*ca.sin(_x6) + tz
+    return ca.Function('signatures_tracker_spherical_reading', [xyz, tracker, params], [_out], ['xyz', 'tracker', 'params'], ['out'])
+
+
+@functools.cache
+def tracker_spherical_signature():
+    """tracker_spherical: d reading / d [d_rho, d_az, d_el] (3 x 3): the beam's unit vector, z x (point - T), and rho times the unit vector of rising elevation; mm per mm, mm per rad
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    returns (..., 3, 3)
+    """
+    xyz = ca.SX.sym('xyz', 3)
+    x = xyz[0]
+    y = xyz[1]
+    z = xyz[2]
+    tracker = ca.SX.sym('tracker', 3)
+    tx = tracker[0]
+    ty = tracker[1]
+    tz = tracker[2]
+    _x0 = tx - x
+    _x1 = -_x0
+    _x2 = tz - z
+    _x3 = ty - y
+    _x4 = _x0**2 + _x3**2
+    _x5 = 1/ca.sqrt(_x2**2 + _x4)
+    _x6 = ca.sqrt(_x4)
+    _x7 = _x2/_x6
+    _out = ca.SX.zeros(3, 3)
+    _out[0, 0] = _x1*_x5
+    _out[0, 1] = _x3
+    _out[0, 2] = -_x0*_x7
+    _out[1, 0] = -_x3*_x5
+    _out[1, 1] = _x1
+    _out[1, 2] = -_x3*_x7
+    _out[2, 0] = -_x2*_x5
+    _out[2, 1] = 0
+    _out[2, 2] = _x6
+    return ca.Function('signatures_tracker_spherical_signature', [xyz, tracker], [_out], ['xyz', 'tracker'], ['out'])
 
 
 @functools.cache

@@ -211,3 +211,37 @@ def test_export_slips_write_what_their_truth_says(written):
         assert int(r["direction"]) == (-1 if mine_di else 1) * int(r0["direction"])
         t = float(r0["time_s"]) - t_first + tr["first_time_written_s"] if mine_tr else float(r0["time_s"])
         assert float(r["time_s"]) == pytest.approx(1000 * t, abs=51)           # ms, from 0.1 s digits
+
+
+def _grown(g, P, geo, eps_of_t):
+    """gen2's noise-free readings of the plan P with every nest's layout grown by eps_of_t(time) about its side's
+    origin, less those of P itself (mm): gen2's simulator, not gen3's beyond_stops, moves the nests."""
+    law = dict(a_r_um=0.0, b_r_um_per_m=0.0, a_t_um=0.0, b_t_um_per_m=0.0)
+    X0 = g.gen2.simulate(np.random.default_rng(0), geo, P, [], law)
+    out = np.zeros_like(X0)
+    nests = dict(P["nests"])
+    for i, r in enumerate(P["rows"]):
+        side, q = nests[r["point"]]
+        P["nests"] = dict(nests, **{r["point"]: (side, q * (1 + eps_of_t(r["time"])))})
+        Pi = dict(P, rows=[r])
+        out[i] = g.gen2.simulate(np.random.default_rng(0), geo, Pi, [], law)[0] - X0[i]
+    P["nests"] = nests
+    return out
+
+
+def test_a_layout_grown_before_its_nests_are_read_is_beyond_no_reach():
+    """The nests' positions in their sides' frames are known only from the readings: a layout 30 ppm larger from
+    the first reading on is a different layout (chi2 beyond the stops and the nests ~0, where the stops alone left
+    ~3e3 before), while the same growth reached only in the campaign's second half stays visible (~500)."""
+    g = _gen3()
+    geo, P, noise, *_ = g.gen2.draw_campaign(SEED, INDEX, 0.0, "v3", ["none"], noise_free=True)
+    X0 = g.gen2.simulate(np.random.default_rng(0), geo, P, [], dict(a_r_um=0.0, b_r_um_per_m=0.0, a_t_um=0.0,
+                                                                     b_t_um_per_m=0.0))
+    beams = g.Beams(P, X0)
+    t_end = max(r["time"] for r in P["rows"])
+    always = _grown(g, P, geo, lambda t: 30e-6)
+    later = _grown(g, P, geo, lambda t: 30e-6 * max(0.0, 2 * t / t_end - 1))
+    assert np.abs(always).max() > 2e-3                       # mm: the layout moves the readings by µm
+    assert g.beyond_stops(P, beams, noise, always)[1] < 1e-6
+    assert np.abs(g.beyond_stops(P, beams, noise, always)[0]).max() < 1e-7
+    assert g.beyond_stops(P, beams, noise, later)[1] > 100

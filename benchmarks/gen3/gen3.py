@@ -387,36 +387,61 @@ BUILDERS = {name: globals()[name] for name in NEW_NAMES}
 
 # ---------------------------------------------------------------- what the data can see of a displacement
 def beyond_stops(P, beams, noise, delta):
-    """The part of `delta` (n, 3; mm) that no rigid motion of the nests per (station, axis, position) takes (least
-    squares, unweighted: in mm), and the chi^2 of the part the weighted fit leaves, whitened by the campaign's true
-    noise law (what the data can see of it). The base's error motions free at every measured position are
-    such a motion (the same in every round and direction), so this is an upper bound on what the base can absorb
-    of a pattern that is fixed in the machine's positions, and nothing of one that changes with time or direction."""
+    """The part of `delta` (n, 3; mm) that neither a rigid motion of the nests per (station, axis, position) nor a
+    constant offset of each nest in its side's frame takes (least squares, unweighted: in mm), and the chi^2 of the
+    part the weighted fit leaves, whitened by the campaign's true noise law (what the data can see of it). The base's
+    error motions free at every measured position are such a motion (the same in every round and direction); a
+    nest's position in its side's frame is known only from the readings (no calibration is told where the
+    reflectors sit), so a displacement constant in the side's frame -- a layout grown before its nests were first
+    read -- is no more visible than a different layout. This is an upper bound on what the base can absorb of a
+    pattern that is fixed in the machine's positions or the nests' frames, and nothing of one that changes with
+    time or direction."""
     sr, st = beams.law(noise)
-    out = np.zeros_like(delta)
-    chi2 = 0.0
-    cells = {}
-    for i, r in enumerate(P["rows"]):
+    u = beams.u
+    W = (u[:, :, None] * u[:, None, :]) * (1 / sr - 1 / st)[:, None, None] + np.eye(3)[None] / st[:, None, None]
+    A = _rigid_and_nests(P, beams)
+    Aw = np.einsum("nij,njk->nik", W, A).reshape(-1, A.shape[2])
+    bw = np.einsum("nij,nj->ni", W, delta).reshape(-1)
+    res = bw - Aw @ np.linalg.lstsq(Aw, bw, rcond=None)[0]
+    out = delta - np.einsum("nij,j->ni", A, np.linalg.lstsq(A.reshape(-1, A.shape[2]), delta.reshape(-1),
+                                                           rcond=None)[0])
+    return out, float(res @ res)
+
+
+def _rigid_and_nests(P, beams):
+    """(n, 3, m) columns: per (station, axis, position) cell a translation and a small rotation about the cell's
+    centre; per nest a constant offset in its side's frame, carried into the machine frame by the cell's rotation of
+    that side (Kabsch of the noise-free readings on the nests' nominal positions; the identity where a cell reads
+    fewer than three nests of the side, which the cell's rigid motion then spans anyway)."""
+    rows, n = P["rows"], len(P["rows"])
+    p = beams.S + beams.v
+    cells, nests = {}, sorted({str(r["point"]) for r in rows})
+    for i, r in enumerate(rows):
         cells.setdefault((r["station"], r["axis"], r["position"]), []).append(i)
-    for idx in cells.values():
+    A = np.zeros((n, 3, 6 * len(cells) + 3 * len(nests)))
+    for j, idx in enumerate(cells.values()):
         idx = np.array(idx)
-        p = beams.S[idx] + beams.v[idx]
-        c = p.mean(0)
-        d = p - c
-        u = beams.u[idx]
-        W = (u[:, :, None] * u[:, None, :]) * (1 / sr[idx] - 1 / st[idx])[:, None, None] + \
-            np.eye(3)[None] / st[idx][:, None, None]
-        A = np.zeros((len(idx), 3, 6))
-        A[:, :, :3] = np.eye(3)
-        A[:, :, 3:] = np.stack([np.cross(np.eye(3)[k], d) for k in range(3)], axis=2)   # w x d
-        Aw = np.einsum("nij,njk->nik", W, A).reshape(-1, 6)
-        bw = np.einsum("nij,nj->ni", W, delta[idx]).reshape(-1)
-        coef = np.linalg.lstsq(Aw, bw, rcond=None)[0]
-        res = delta[idx] - np.einsum("nij,j->ni", A, coef)
-        chi2 += float(np.sum(np.einsum("nij,nj->ni", W, res) ** 2))
-        coef = np.linalg.lstsq(A.reshape(-1, 6), delta[idx].reshape(-1), rcond=None)[0]
-        out[idx] = delta[idx] - np.einsum("nij,j->ni", A, coef)
-    return out, chi2
+        d = p[idx] - p[idx].mean(0)
+        A[idx, :, 6 * j:6 * j + 3] = np.eye(3)
+        A[idx, :, 6 * j + 3:6 * j + 6] = np.stack([np.cross(np.eye(3)[k], d) for k in range(3)], axis=2)
+        for side in {P["nests"][str(rows[i]["point"])][0] for i in idx}:
+            own = np.array([i for i in idx if P["nests"][str(rows[i]["point"])][0] == side])
+            R = _kabsch(np.array([P["nests"][str(rows[i]["point"])][1] for i in own]), p[own])
+            for i in own:
+                k = 6 * len(cells) + 3 * nests.index(str(rows[i]["point"]))
+                A[i, :, k:k + 3] = R
+    return A
+
+
+def _kabsch(q, p):
+    """The rotation R (3, 3) taking the points q (side frame) onto p (machine frame) best, or the identity where
+    fewer than three distinct points are given."""
+    if len(np.unique(np.round(q, 6), axis=0)) < 3:
+        return np.eye(3)
+    H = (q - q.mean(0)).T @ (p - p.mean(0))
+    U, _, Vt = np.linalg.svd(H)
+    D = np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T))])
+    return Vt.T @ D @ U.T
 
 
 def displacement_record(P, beams, noise, delta):

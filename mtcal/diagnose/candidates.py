@@ -108,6 +108,8 @@ def candidates(prep: Prepared, max_degree: int) -> tuple[list[fx.Candidate], lis
         notes.append({"name": "tracker_scale", "axis": None, "not_separable": NOT_SEPARABLE["tracker_scale common"]})
     elif g.tracker is not None:
         out.append(fx.tracker_scale(g))
+    out += [c for st in g.stations() for k in range(len(fx.INSTRUMENT_COORDINATES)) for n in fx.INSTRUMENT_SPANS
+            if (c := fx.instrument_map(g, k, n, st)) is not None]
     for s, (_a, r, label) in enumerate(prep.seq_keys):
         rows = np.flatnonzero(prep.seq == s)
         out.append(fx.offset(g, rows, {"round": int(r), "point": str(label)}))

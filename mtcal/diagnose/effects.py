@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+from scipy.interpolate import BSpline
 
 from mtcal.campaign.effects import NAMES
 from mtcal.generated import signatures_numpy as S
@@ -334,6 +335,41 @@ def tracker_scale(g: Geometry, station: str | None = None) -> Candidate:
                      family="tracker_scale",
                      extra={"tracker": [float(v) for v in t], **_tag(station)},
                      grammar=_g("frame", what="expansion", station=station))
+
+
+INSTRUMENT_COORDINATES = ("distance", "azimuth", "elevation")  # the tracker's own, tracker_spherical_signature's
+INSTRUMENT_SPANS = (4, 8, 16, 32, 64)  # spline intervals over a coordinate's range: the free forms' resolutions
+
+
+def instrument_map(g: Geometry, coordinate: int, spans: int, station: str | None = None) -> Candidate | None:
+    """The tracker (of ``station``) reading one of its own coordinates (INSTRUMENT_COORDINATES: its distance, in
+    mm, or its azimuth or elevation, in rad) off by a free function of that coordinate, the same in every round --
+    a distance meter's or an angle encoder's error map: the coordinate's column of tracker_spherical_signature
+    times each cubic B-spline of ``spans`` intervals, knots at quantiles of the coordinate's distinct values so that
+    every interval holds readings.  It spans a scale about the tracker (a distance error linear in the distance).
+    None where the coordinate takes fewer distinct values than the spline has columns."""
+    on, t, of = g.at(station)
+    if t is None:
+        return None
+    v = g.xyz[on] - t
+    x = [np.linalg.norm(v, axis=1), np.arctan2(v[:, 1], v[:, 0]),
+         np.arctan2(v[:, 2], np.hypot(v[:, 0], v[:, 1]))][coordinate]
+    levels = np.unique(np.round(x, 9))
+    if len(levels) < 2 * (spans + 3):
+        return None
+    inner = np.quantile(levels, np.linspace(0, 1, spans + 1))
+    knots = np.r_[[inner[0]] * 3, inner, [inner[-1]] * 3]
+    B = BSpline.design_matrix(np.clip(x, inner[0], inner[-1]), knots, 3).toarray()
+    G = np.zeros((len(on), 3, B.shape[1]))
+    G[on] = S.tracker_spherical_signature(g.xyz[on], t)[:, :, coordinate][:, :, None] * B[:, None, :]
+    what = INSTRUMENT_COORDINATES[coordinate]
+    unit = "mm" if coordinate == 0 else "rad"
+    return Candidate(UNEXPLAINED, None, f"the tracker{of}'s {what} read off as a function of it ({spans} spans)", G,
+                     [f"{what} error at spline {k + 1} ({unit})" for k in range(B.shape[1])],
+                     family=f"{UNEXPLAINED} instrument",
+                     extra={"kind": "instrument", "coordinate": what, "spans": spans, "tracker": [float(c) for c in t],
+                            **_tag(station)},
+                     grammar=_g("frame", what="expansion", on=("position",), station=station, free=True))
 
 
 def outlier(g: Geometry, rows: np.ndarray, mode: str, where: dict) -> Candidate:

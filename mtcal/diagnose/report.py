@@ -158,6 +158,8 @@ def free_form_located(prep: Prepared, beside: Engine, s, w, sigma: float) -> Loc
         return _place_located(prep, c, s, b, (c.extra.get("at_axis") or _seen_most(prep, beside, c, b.theta, w))
                               if "names" in c.extra else None)
     k, size, sd = b.largest()
+    if c.extra.get("kind") == "instrument":
+        return _instrument_located(prep, c, s, b, k, size, sd)
     note = ("the readings differ between the directions of approach, and differently for each reflector, beyond "
             "what the rigid reversals of the axis (backlash, straightness and angular reversals) explain together; "
             f"largest beyond the base: {size * 1e3:.2f} +- {sd * 1e3:.2f} um at reflector {prep.rec.point[k]} "
@@ -165,6 +167,20 @@ def free_form_located(prep: Prepared, beside: Engine, s, w, sigma: float) -> Loc
     return Located(c.axis, "direction x point", c.label, float(-s.logp_adj / math.log(10)),
                    min(1.0, math.exp(s.logp_adj)), "mean", int(np.sum(c.moved)), s.score.F,
                    0.0, size, note, sd)
+
+
+def _instrument_located(prep: Prepared, c: fx.Candidate, s, b: Beyond, k: int, size: float, sd: float) -> Located:
+    """A selected error map of the tracker (effects.instrument_map) as an unexplained mismatch at the station: the
+    tracker reads one of its own coordinates off by a function of it, the same in every round; sized as the others
+    (the largest displacement it adds beyond the base, a reading's)."""
+    what, of = c.extra["coordinate"], f" of station {c.extra['station']}" if "station" in c.extra else ""
+    note = (f"the tracker{of} reads its {what} off by a function of the {what}, the same in every round and at "
+            f"every reflector (a distance meter's or an angle encoder's error map: {c.extra['spans']} spline "
+            f"intervals over the {what}s read): up to {size * 1e3:.2f} +- {sd * 1e3:.2f} um at a reading beyond the "
+            f"base (reflector {prep.rec.point[k]}); measure from a second station, or compare the instrument with "
+            "a reference over the same distances and angles, to name it")
+    return Located(None, f"tracker {what}", c.label, float(-s.logp_adj / math.log(10)),
+                   min(1.0, math.exp(s.logp_adj)), "mean", int(b.moved.sum()), s.score.F, 0.0, size, note, sd)
 
 
 def _growing_located(prep: Prepared, eng: Engine, c: fx.Candidate, s, b: Beyond, w) -> Located:

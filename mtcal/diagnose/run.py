@@ -128,9 +128,9 @@ def _diagnose(rec, model, machine, tracker, level, max_degree, max_effects, tie_
             f"the quasi-static family at its largest degrees ({_degrees_text(test_degrees)})"
             ) + " + the effects selected before"
 
-    # the reported base: degrees by BIC with the selected effects in the fit, then base alone and with effects
-    degrees = (dict(test_degrees) if prep.given_model
-               else select_degrees(prep, wy, test_degrees, say, [w(s.candidate) for s in steps]))
+    # the reported base: degrees by BIC with the named effects (a free form is a mismatch, not the model's)
+    degrees = dict(test_degrees) if prep.given_model else select_degrees(
+        prep, wy, test_degrees, say, [w(s.candidate) for s in steps if not s.candidate.free])
     base = base_design(prep, degrees)
     eng = engine_for(prep, base, wy)
     base_sigma, base_ratio, r_before = raw_sigma(prep, eng.r, eng.dof), eng.sigma, eng.r.copy()

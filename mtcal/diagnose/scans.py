@@ -120,7 +120,11 @@ def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float, among
     carry that trade: gen3 1010/0, an AT960-like tracker 0.6 um along the beam, 17.7 um across it, a cyclic
     distance error of 2.3 um located in groups sized at up to 23 um (10 sigma across the beam, all of it the base's
     trade).  The mm fit is a projection of what the raw readings show beyond the base: it cannot exceed it, and
-    its noise is stated (``cov``; ``seen`` keeps what stands out of it).  ``theta``: the whitened fit's
+    its noise is stated (``cov``; ``seen`` keeps what stands out of it).  Columns that move every reading along one
+    direction only (_one_direction: a tracker's distance or angle read off) have no freedom across it to carry
+    that trade; there the mm fit would only add the noise across the beam to an along-beam estimate (gen3
+    1010/9's distance map, seen at p ~ 0, came out "too small to size"), so their coefficients are the whitened
+    fit's own, with its covariance, taken beyond the base in mm (J theta).  ``theta``: the whitened fit's
     coefficients (Frisch-Waugh), for what the fit says.  ``among``: the fits the entry is chosen from (Beyond)."""
     n = len(W)
     A = G - beside.project(G)
@@ -135,9 +139,22 @@ def beyond_fit(W: np.ndarray, beside: Engine, G: np.ndarray, sigma: float, among
     x = np.einsum("nij,nj->ni", Wi, beside.r.reshape(n, 3)).ravel()  # the residual in mm: (I - P) y is its
     coef, *_ = np.linalg.lstsq(Jf, x - U @ (U.T @ x), rcond=None)     # part beyond the columns in mm
     J = Jf.reshape(n, 3, -1)
-    Hi = np.linalg.pinv(Jf.T @ Jf)
-    B = np.einsum("nij,nip->njp", Wi, J).reshape(3 * n, -1)  # W^-T J: J^T Sigma J = B^T B, Sigma = W^-1 W^-T
-    return Beyond(theta, coef, sigma ** 2 * Hi @ (B.T @ B) @ Hi, np.einsum("nik,k->ni", J, coef), J, moved, among)
+    if _one_direction(raw[moved]):  # no freedom across it to carry the base's trade: the whitened fit's own
+        coef, cov = theta, sigma ** 2 * np.linalg.pinv(A.T @ A)  # coefficients, efficient under the law
+    else:
+        Hi = np.linalg.pinv(Jf.T @ Jf)
+        B = np.einsum("nij,nip->njp", Wi, J).reshape(3 * n, -1)  # W^-T J: J^T Sigma J = B^T B, Sigma = W^-1 W^-T
+        cov = sigma ** 2 * Hi @ (B.T @ B) @ Hi
+    return Beyond(theta, coef, cov, np.einsum("nik,k->ni", J, coef), J, moved, among)
+
+
+def _one_direction(G: np.ndarray) -> bool:
+    """Whether the columns ``G`` (m, 3, k; mm) move every reading along one direction only (each reading's 3 x k
+    block of rank 1: a tracker's distance or angle read off, effects.instrument_map)."""
+    if not len(G):
+        return False
+    lam = np.linalg.eigvalsh(np.einsum("nik,njk->nij", G, G))
+    return bool(np.all(lam[:, 1] <= 1e-12 * np.maximum(lam[:, 2], 1e-300)))
 
 
 _MM_BASES: "weakref.WeakKeyDictionary[Engine, tuple[int, np.ndarray]]" = weakref.WeakKeyDictionary()

@@ -181,13 +181,13 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if fallback is not None and not _within(eng, fallback.candidate, v, w):
             return fallback  # the stronger mismatch first; this one is scored again at the next step
         if v.candidate.free:
-            if v.candidate.free_in_time:
-                if _explained_by_a_name(eng, v, sig, w, level):
-                    continue  # a member of the grammar (a side expanding) moves the axis' readings so
-                return v  # no named effect changes an error motion's shape with time (without a temperature)
-            if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
-                return v  # the named reversal effects of the axis cannot explain it
-            continue
+            if "direction" in v.candidate.grammar.how.on:
+                if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
+                    return v  # the named reversal effects of the axis cannot explain it
+                continue
+            if _explained_by_a_name(eng, v, sig, w, level) or _one_place_instead(prep, eng, v, w, level):
+                continue  # a member of the grammar (a side expanding, a scale about the tracker) moves them so
+            return v  # no named effect changes an error motion's shape with time, or maps the tracker's readings
         why = (inadequate_because(prep, eng, v.candidate, w, level) or _contained_elsewhere(eng, v, sig, w)
                or _within_its_scatter(prep, eng, v, w, level))
         if why is None and (why := _stops_move_together(prep, eng, v, w, level)) and _frame_step(v.candidate):
@@ -220,6 +220,23 @@ def _explained_by_a_name(eng: Engine, v: Step, sig: list[Step], w: Columns, leve
     own = level * math.exp(-v.log_multiplicity)
     return any(_significant_beside(eng, w(o.candidate), w(v.candidate), own) is None for o in sig
                if not o.candidate.free and not o.candidate.grammar.jump)
+
+
+def _one_place_instead(prep: Prepared, eng: Engine, v: Step, w: Columns, level: float) -> bool:
+    """Whether the free form ``v``, spanning the readings of every axis (no axis of its own: the tracker's error
+    map, effects.instrument_map), fits a misfit of one place: one axis' readings free at every pose (effects.by_cell:
+    every nest, position and direction of it -- a shape of its error functions beyond the family's degree, its
+    nests sagging) or one nest free at every pose (effects.by_pose: a reflector read off with its incidence).  Null:
+    the one place's free form explains what ``v`` fits (``v`` adds nothing beside it); alternative: ``v`` adds a
+    mean; F test at ``v``'s own level (its multiplicity), one rival enough.  The mismatch is then that place's,
+    located by the scans, not the tracker's."""
+    if v.candidate.axis is not None:
+        return False
+    g, own = prep.geometry, level * math.exp(-v.log_multiplicity)
+    rivals = [fx.by_cell(g, np.flatnonzero(g.axis == a)) for a in prep.axes]
+    rivals += [f[-1] for p, side in sorted(set(zip(g.point.tolist(), g.side.tolist())))
+               if (f := fx.by_pose(g, p, side, 0))]
+    return any(_significant_beside(eng, w(r), w(v.candidate), own) is None for r in rivals)
 
 
 def _one_name(eng: Engine, v: Step, pool: list[Step], w: Columns, level: float) -> Step:
