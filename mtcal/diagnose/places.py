@@ -1,9 +1,10 @@
 """The free form of a named effect's place: one finding per mismatch (issue 34 item 2, docs/design.md).
 
-A named effect says *what* moved *where* and *how*.  Its place -- an axis' reversal, one station's tracker, one
-nest, one side -- has a free form that spans the named effect and every other motion of the same kind there: a
-reversal free at every position, a rigid step (translation and rotation about the tracker) of the station, the
-same step or creep at every nest of the side, a drift of each nest of the side on its own.  The name enters only
+A named effect says *what* moved *where* and *how*.  Its place -- an axis' reversal or poses, one station's
+tracker, one nest, one side -- has a free form that spans the named effect and every other motion of the same kind
+there: a reversal free at every position, every nest free at every pose of the axis, a rigid step (translation and
+rotation about the tracker) of the station, the same step or creep at every nest of the side, a drift of each nest
+of the side on its own.  The name enters only
 if the data do not still need that free form beside it (an F test at the diagnosis' level, nested: the free form
 spans the named effect).  When they do, the mismatch is outside the named effect; it is then reported once, as an
 ``unexplained`` entry located at the place with its shape (the free form fitted: where, along what, how large),
@@ -62,6 +63,9 @@ def place_of(prep, c: fx.Candidate, named_reversals) -> Place | None:
         return _nest_drifts(g, c)
     if c.name == "side_expansion":
         return _side_layout(g, c)
+    if c.grammar is not None and c.grammar.where.at == "axis" and not c.grammar.free \
+            and c.grammar.how.on <= {"position"}:
+        return _axis_poses(g, c)
     return None
 
 
@@ -504,6 +508,34 @@ def _turn_about(xyz: np.ndarray, centre: np.ndarray) -> np.ndarray:
     components -- tracker_settling_signature's ramp column u x (point - centre) with dt 1."""
     return np.stack([S.tracker_settling_signature(xyz, centre, u, np.ones(len(xyz)), 1.0)[:, :, 0]
                      for u in np.eye(3)], axis=-1)
+
+
+def _axis_poses(g, c: fx.Candidate) -> Place:
+    """Every nest of the axis of ``c`` (a quasi-static error motion of it: a scale, a quadratic, a periodic or
+    constant error) displaced on its own at every pose (a translation per nest, station and position, pooled over
+    the rounds and directions), beside the axis' error motions tabulated at its positions: whatever an error motion
+    moves, it moves the nests of a pose rigidly together, so what the free form adds beyond them is the nests of a
+    pose moving differently -- a reflector or the tracker reading off with the pose (a cyclic distance error, an
+    incidence), not an error motion of the axis."""
+    axis = c.axis
+    st = g.station if g.station is not None else np.full(len(g.axis), "")
+    on = g.axis == axis
+    key = np.array([f"{p}|{s}|{q!r}" for p, s, q in zip(g.point, st, g.position)])
+    cols = [S.outlier_signature((on & (key == k)).astype(float)) for k in np.unique(key[on])]
+    labels = sorted(set(g.point[on].tolist()))
+    free = fx.Candidate(fx.UNEXPLAINED, axis, f"every nest of axis {axis} displaced on its own at every pose",
+                        np.concatenate(cols, axis=-1),
+                        [f"pose {j + 1} {x} (mm)" for j in range(len(cols)) for x in "xyz"],
+                        family=f"{fx.UNEXPLAINED} place poses {axis}",
+                        extra={"kind": "place", "by": "position x point", "place": f"the nests of axis {axis}",
+                               "points": labels,
+                               "note": f"the nests of axis {axis} move differently from each other at its poses, "
+                                       "the same in every round, beyond any error motion of the axis (which moves "
+                                       "the nests of a pose together): a reflector, or the tracker, reading off "
+                                       "with the pose"})
+    return Place(free, [c, fx.tabulated(g, axis)], f"the nests of axis {axis} move differently at its poses beyond "
+                 "any error motion of it (each nest free at every pose beside the error motions tabulated there: "
+                 "F = {F}, p = {p}): not an error motion of the axis")
 
 
 def _side_nests(g, c: fx.Candidate) -> Place | None:
