@@ -40,10 +40,10 @@ def _diagnosed(kind: str, amplitude: float, period: float, seed: int):
 @pytest.mark.parametrize("kind, amplitude, period", [("distance", 0.003, 30.0), ("azimuth", 8e-6, np.deg2rad(6.0))])
 def test_a_trackers_cyclic_error_is_located_at_the_tracker_and_sized_beyond_the_base(kind, amplitude, period, seed):
     """A distance error of 3 um with a period of 30 mm of distance, or an azimuth encoder's 8 urad every 6 degrees
-    of azimuth: before, shifts located position by position on the axes (and, for the encoder, a growing scale or
-    a knock named); now nothing is named and one entry says the tracker reads its distance (its azimuth) off,
-    sized between 0.7x and 1.5x the displacement the base cannot take (the largest over many readings of a
-    35-column fit leans high by about its standard uncertainty: 4.2-4.8 um for 3.6)."""
+    of azimuth: before, nothing was claimed for the distance error, and for the encoder a nest's knock was named or
+    a shift of one nest located on X; now nothing is named and one entry says the tracker reads its distance (its
+    azimuth) off, sized between 0.7x and 1.5x the displacement the base cannot take (the largest over many readings
+    of a 35-column fit leans high by about its standard uncertainty: 4.2-4.8 um for 3.6)."""
     d, planted = _diagnosed(kind, amplitude, period, seed)
     named = [(f.name, f.axis) for f in d.effects if f.significant]
     assert not named, named

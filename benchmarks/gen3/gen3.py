@@ -412,7 +412,7 @@ def _rigid_and_nests(P, beams):
     """(n, 3, m) columns: per (station, axis, position) cell a translation and a small rotation about the cell's
     centre; per nest a constant offset in its side's frame, carried into the machine frame by the cell's rotation of
     that side (Kabsch of the noise-free readings on the nests' nominal positions; the identity where a cell reads
-    fewer than three nests of the side, which the cell's rigid motion then spans anyway)."""
+    fewer than three nests of the side, which gen2's plans never do: every stop reads each nest of its side)."""
     rows, n = P["rows"], len(P["rows"])
     p = beams.S + beams.v
     cells, nests = {}, sorted({str(r["point"]) for r in rows})

@@ -4,12 +4,12 @@ A named effect says *what* moved *where* and *how*.  Its place -- an axis' rever
 tracker, one nest, one side -- has a free form that spans the named effect and every other motion of the same kind
 there: a reversal free at every position, every nest free at every pose of the axis, a rigid step (translation and
 rotation about the tracker) of the station, the same step or creep at every nest of the side, a drift of each nest
-of the side on its own.  The name enters only
-if the data do not still need that free form beside it (an F test at the diagnosis' level, nested: the free form
-spans the named effect).  When they do, the mismatch is outside the named effect; it is then reported once, as an
-``unexplained`` entry located at the place with its shape (the free form fitted: where, along what, how large),
-and the selection goes on beside it, so that what the name would have left behind is not named again by others
-(a warming table's nests moving apart, taken nest by nest, came out as a creep and three knocks).
+of the side on its own.  The name enters only if the data do not still need that free form beside it (an F test at
+the diagnosis' level, nested: the free form spans the named effect).  When they do, the mismatch is outside the
+named effect; it is then reported once, as an ``unexplained`` entry located at the place with its shape (the free
+form fitted: where, along what, how large), and the selection goes on beside it, so that what the name would have
+left behind is not named again by others (a warming table's nests moving apart, taken nest by nest, came out as a
+creep and three knocks).
 
 Every free form is built from the generated signatures (generated/signatures_numpy.py, derive/signatures.py): a
 reading's displacement (outlier_signature: I3 on the chosen readings), a nest's motion in its side's frame
