@@ -169,6 +169,9 @@ def _tracker_spherical(fns, pt_arg, pt, tr_arg, tr) -> None:
     reading = tr + (rho + drho) * sp.Matrix([sp.cos(el + delv) * sp.cos(az + daz),
                                              sp.cos(el + delv) * sp.sin(az + daz), sp.sin(el + delv)])
     par = Arg("params", (drho, daz, delv), "[d_rho (mm), d_az (rad), d_el (rad)]")
+    fns.append(Function("tracker_spherical_coordinates", (pt_arg, tr_arg), sp.Matrix([rho, az, el]),
+                        "tracker_spherical: the point's coordinates about the tracker, [rho (mm), az (rad), el (rad)]",
+                        vector_output=True))
     fns.append(Function("tracker_spherical_reading", (pt_arg, tr_arg, par), reading,
                         "tracker_spherical: the reading (mm) of a point when the tracker's distance, azimuth and "
                         "elevation read off by d_rho (mm), d_az and d_el (rad)", vector_output=True))

@@ -11,7 +11,7 @@ import numpy
 
 from mtcal._gensupport import as_arg, out_array
 
-FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'tracker_spherical_reading', 'tracker_spherical_signature', 'outlier_signature', 'air_index_drift_ramp_model', 'air_index_drift_ramp_signature', 'air_index_drift_lag_model', 'air_index_drift_lag_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
+FUNCTIONS = ('backlash_model', 'backlash_signature', 'reversal_angular_model', 'reversal_angular_signature', 'thermal_temperature_model', 'thermal_temperature_signature', 'scale_model', 'scale_signature', 'second_order_model', 'second_order_signature', 'cross_axis_model', 'cross_axis_signature', 'periodic_model', 'periodic_signature', 'thermal_drift_displacement', 'thermal_drift_signature', 'thermal_drift_dtau', 'tracker_scale_reading', 'tracker_scale_signature', 'thermal_temperature_displacement', 'thermal_temperature_drift_signature', 'thermal_temperature_curve', 'nest_creep_model', 'nest_creep_signature', 'tracker_settling_angle', 'tracker_settling_reading', 'tracker_settling_signature', 'tracker_spherical_coordinates', 'tracker_spherical_reading', 'tracker_spherical_signature', 'outlier_signature', 'air_index_drift_ramp_model', 'air_index_drift_ramp_signature', 'air_index_drift_lag_model', 'air_index_drift_lag_signature', 'side_expansion_ramp_model', 'side_expansion_ramp_signature', 'side_expansion_lag_model', 'side_expansion_lag_signature', 'backlash_travel_model', 'backlash_travel_signature', 'tracker_relevel_signature')
 
 
 def backlash_model(d, params):
@@ -668,6 +668,34 @@ def tracker_settling_signature(xyz, tracker, about, dt, tau):
     _out[..., 1, 1] = -_x4*_x5 + _x4*_x6*u_z
     _out[..., 2, 0] = _x7*dt - _x8*dt
     _out[..., 2, 1] = _x4*_x7 - _x4*_x8
+    return _out
+
+
+def tracker_spherical_coordinates(xyz, tracker):
+    """tracker_spherical: the point's coordinates about the tracker, [rho (mm), az (rad), el (rad)]
+
+    xyz (..., 3): measured point, machine frame, mm
+        [x, y, z]
+    tracker (..., 3): tracker position, machine frame, mm
+        [tx, ty, tz]
+    returns (..., 3)
+    """
+    xyz = as_arg(xyz, 3, 'xyz', 'tracker_spherical_coordinates')
+    tracker = as_arg(tracker, 3, 'tracker', 'tracker_spherical_coordinates')
+    x = xyz[..., 0]
+    y = xyz[..., 1]
+    z = xyz[..., 2]
+    tx = tracker[..., 0]
+    ty = tracker[..., 1]
+    tz = tracker[..., 2]
+    _x0 = -tz + z
+    _x1 = -tx + x
+    _x2 = -ty + y
+    _x3 = _x1**2 + _x2**2
+    _out = out_array((xyz.shape[:-1], tracker.shape[:-1],), (3,))
+    _out[..., 0] = numpy.sqrt(_x0**2 + _x3)
+    _out[..., 1] = numpy.arctan2(_x2, _x1)
+    _out[..., 2] = numpy.arctan2(_x0, numpy.sqrt(_x3))
     return _out
 
 

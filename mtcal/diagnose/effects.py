@@ -351,9 +351,7 @@ def instrument_map(g: Geometry, coordinate: int, spans: int, station: str | None
     on, t, of = g.at(station)
     if t is None:
         return None
-    v = g.xyz[on] - t
-    x = [np.linalg.norm(v, axis=1), np.arctan2(v[:, 1], v[:, 0]),
-         np.arctan2(v[:, 2], np.hypot(v[:, 0], v[:, 1]))][coordinate]
+    x = S.tracker_spherical_coordinates(g.xyz[on], t)[:, coordinate]
     levels = np.unique(np.round(x, 9))
     if len(levels) < 2 * (spans + 3):
         return None
@@ -634,15 +632,17 @@ def by_station(g: Geometry, point: str, side: str) -> Candidate | None:
                      [f"{st} {x} (mm)" for st in stations[1:] for x in "xyz"], family="check")
 
 
-def by_cell(g: Geometry, rows: np.ndarray) -> Candidate:
+def by_cell(g: Geometry, rows: np.ndarray, directions: bool = True) -> Candidate:
     """The readings ``rows`` (indices) displaced freely in every cell they fall in -- one nest at one pose and
-    direction of approach (station, axis, position, direction), pooled over the rounds: a 3-vector (mm, machine
-    frame) per cell, each cell's readings (outlier_signature).  Whatever a located group's readings do that repeats
-    at its poses, and every reading of a group read once (a round, a time window)."""
+    direction of approach (station, axis, position, direction; ``directions`` False: both directions one cell),
+    pooled over the rounds: a 3-vector (mm, machine frame) per cell, each cell's readings (outlier_signature).
+    Whatever a located group's readings do that repeats at its poses, and every reading of a group read once (a
+    round, a time window)."""
     rows = np.asarray(rows, dtype=int)
     st = g.station if g.station is not None else np.full(len(g.axis), "")
-    key = np.array([f"{p}|{s}|{a}|{q!r}|{d}" for p, s, a, q, d in
-                    zip(g.point[rows], st[rows], g.axis[rows], g.position[rows], g.direction[rows])])
+    d = g.direction[rows] if directions else np.zeros(len(rows))
+    key = np.array([f"{p}|{s}|{a}|{q!r}|{e}" for p, s, a, q, e in
+                    zip(g.point[rows], st[rows], g.axis[rows], g.position[rows], d)])
     cols = []
     for k in np.unique(key):
         on = np.zeros(len(g.axis))

@@ -518,15 +518,11 @@ def _axis_poses(g, c: fx.Candidate) -> Place:
     pose moving differently -- a reflector or the tracker reading off with the pose (a cyclic distance error, an
     incidence), not an error motion of the axis."""
     axis = c.axis
-    st = g.station if g.station is not None else np.full(len(g.axis), "")
     on = g.axis == axis
-    key = np.array([f"{p}|{s}|{q!r}" for p, s, q in zip(g.point, st, g.position)])
-    cols = [S.outlier_signature((on & (key == k)).astype(float)) for k in np.unique(key[on])]
+    cells = fx.by_cell(g, np.flatnonzero(on), directions=False)
     labels = sorted(set(g.point[on].tolist()))
     free = fx.Candidate(fx.UNEXPLAINED, axis, f"every nest of axis {axis} displaced on its own at every pose",
-                        np.concatenate(cols, axis=-1),
-                        [f"pose {j + 1} {x} (mm)" for j in range(len(cols)) for x in "xyz"],
-                        family=f"{fx.UNEXPLAINED} place poses {axis}",
+                        cells.G, cells.params, family=f"{fx.UNEXPLAINED} place poses {axis}",
                         extra={"kind": "place", "by": "position x point", "place": f"the nests of axis {axis}",
                                "points": labels,
                                "note": f"the nests of axis {axis} move differently from each other at its poses, "

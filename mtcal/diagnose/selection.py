@@ -181,7 +181,7 @@ def _strongest_adequate(prep: Prepared, eng: Engine, sig: list[Step], w: Columns
         if fallback is not None and not _within(eng, fallback.candidate, v, w):
             return fallback  # the stronger mismatch first; this one is scored again at the next step
         if v.candidate.free:
-            if "direction" in v.candidate.grammar.how.on:
+            if v.candidate.grammar is None or "direction" in v.candidate.grammar.how.on:
                 if _reversal_misfit(prep, eng, v.candidate.axis, w, level) is not None:
                     return v  # the named reversal effects of the axis cannot explain it
                 continue
